@@ -1,0 +1,131 @@
+"""Argument validation shared by every entry point (a leaf module).
+
+Each check raises :class:`fogts.errors.DataError` with a message that names the argument,
+echoes the bad value and says what is allowed (DESIGN.md, convention 4).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Collection
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from fogts._typing import FloatArray
+from fogts.errors import DataError, InsufficientDataError
+
+__all__ = [
+    "as_rng",
+    "check_choice",
+    "check_fraction",
+    "check_int",
+    "check_positive",
+    "is_pandas",
+    "pandas_index",
+    "to_float_array",
+]
+
+
+def check_positive(name: str, value: Any, *, allow_zero: bool = False) -> float:
+    """Return ``value`` as a float if it is finite and > 0 (>= 0 with ``allow_zero``)."""
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise DataError(f"{name} must be a number, got {value!r}") from None
+    if not math.isfinite(v) or v < 0 or (v == 0 and not allow_zero):
+        op = ">= 0" if allow_zero else "> 0"
+        raise DataError(f"{name} must be a finite number {op}, got {value!r}")
+    return v
+
+
+def check_int(name: str, value: Any, *, minimum: int | None = None,
+              maximum: int | None = None) -> int:
+    """Return ``value`` as an int within ``[minimum, maximum]``."""
+    if isinstance(value, bool) or not isinstance(value, int | np.integer):
+        if isinstance(value, float | np.floating) and float(value).is_integer():
+            value = int(value)
+        else:
+            raise DataError(f"{name} must be an integer, got {value!r}")
+    v = int(value)
+    if minimum is not None and v < minimum:
+        raise DataError(f"{name} must be >= {minimum}, got {v}")
+    if maximum is not None and v > maximum:
+        raise DataError(f"{name} must be <= {maximum}, got {v}")
+    return v
+
+
+def check_fraction(name: str, value: Any) -> float:
+    """Return ``value`` as a float strictly between 0 and 1."""
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise DataError(f"{name} must be a number in (0, 1), got {value!r}") from None
+    if not 0.0 < v < 1.0:
+        raise DataError(f"{name} must be in (0, 1), got {value!r}")
+    return v
+
+
+def check_choice(name: str, value: Any, allowed: Collection[str]) -> str:
+    """Return ``value`` if it is one of ``allowed``."""
+    if not isinstance(value, str) or value not in allowed:
+        raise DataError(f"{name} must be one of {', '.join(map(str, allowed))}; got {value!r}")
+    return value
+
+
+def is_pandas(x: object) -> bool:
+    """True for a pandas Series or DataFrame."""
+    return isinstance(x, pd.Series | pd.DataFrame)
+
+
+def pandas_index(x: object) -> pd.Index | None:
+    """The index of a pandas object, else None (kept to re-wrap outputs)."""
+    return x.index if isinstance(x, pd.Series | pd.DataFrame) else None
+
+
+def to_float_array(x: Any, name: str = "x", *, min_length: int = 2,
+                   allow_nonfinite: bool = False, ndim: int = 1) -> FloatArray:
+    """Convert ``x`` to a contiguous float64 array and check it.
+
+    Parameters
+    ----------
+    x : array_like or pandas.Series
+        The data.
+    name : str
+        Argument name used in error messages.
+    min_length : int
+        Fewer samples raise :class:`InsufficientDataError`.
+    allow_nonfinite : bool
+        If False, NaN or inf raise :class:`DataError` naming the first bad position.
+    ndim : int
+        1 for a single series; 2 accepts ``(n,)`` or ``(n, axes)``.
+    """
+    if isinstance(x, pd.Series | pd.DataFrame):
+        x = x.to_numpy()
+    try:
+        arr = np.ascontiguousarray(np.asarray(x, dtype=np.float64))
+    except (TypeError, ValueError) as exc:
+        raise DataError(f"{name} must be numeric, could not convert to float64: {exc}") from None
+    if arr.ndim == 0 or arr.ndim > ndim:
+        allowed = "a 1-D array" if ndim == 1 else "a 1-D or 2-D array"
+        raise DataError(f"{name} must be {allowed}, got shape {arr.shape}")
+    if arr.shape[0] < min_length:
+        raise InsufficientDataError(
+            f"{name} needs at least {min_length} samples, got {arr.shape[0]}")
+    if not allow_nonfinite:
+        bad = ~np.isfinite(arr)
+        if bad.any():
+            pos = int(np.argwhere(bad)[0][0])
+            raise DataError(f"{name} contains a non-finite value ({arr.flat[np.argmax(bad)]!r}) "
+                            f"at position {pos}; remove or interpolate it first")
+    return arr
+
+
+def as_rng(rng: Any) -> np.random.Generator:
+    """Turn ``rng`` (Generator, int seed or None) into a Generator; no global state is used."""
+    if isinstance(rng, np.random.Generator):
+        return rng
+    if rng is None or isinstance(rng, int | np.integer):
+        return np.random.default_rng(rng)
+    raise DataError(f"rng must be a numpy Generator, an int seed or None, got {rng!r}")

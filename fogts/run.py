@@ -1,0 +1,145 @@
+"""The :class:`Run` record: one static gyro recording as read from a file or a frame.
+
+Kept apart from :mod:`fogts.io` (which reads files) so that analysis modules can accept a
+Run without importing the reader.  ``Run`` is produced by :func:`fogts.io.read_run`,
+:func:`fogts.simulate.simulate_gyro` and :func:`fogts.thermal.compensate`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from fogts._typing import FloatArray
+from fogts.errors import DataError
+
+__all__ = ["Run", "SamplingReport"]
+
+
+@dataclass(frozen=True)
+class SamplingReport:
+    """How regular the time base is.
+
+    Attributes
+    ----------
+    median_dt_s : float
+        Median time step (the nominal sample period).
+    n_gaps : int
+        Number of steps longer than 1.5 x the median.
+    max_gap_s : float
+        Longest step.
+    gap_rows : tuple of int
+        Row index (0-based, data rows) *after* which each gap occurs (first 100 kept).
+    jitter_s : float
+        Standard deviation of the time steps that are not gaps.
+    jitter_rel : float
+        ``jitter_s / median_dt_s``.
+    regular : bool
+        True when there are no gaps and relative jitter is below 1 %.
+    from_time_column : bool
+        False when the time base was built from ``fs_hz`` (so it is regular by construction).
+    """
+
+    median_dt_s: float
+    n_gaps: int
+    max_gap_s: float
+    gap_rows: tuple[int, ...]
+    jitter_s: float
+    jitter_rel: float
+    regular: bool
+    from_time_column: bool
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "median_dt_s": self.median_dt_s,
+            "n_gaps": self.n_gaps,
+            "max_gap_s": self.max_gap_s,
+            "gap_rows": list(self.gap_rows),
+            "jitter_s": self.jitter_s,
+            "jitter_rel": self.jitter_rel,
+            "regular": self.regular,
+            "from_time_column": self.from_time_column,
+        }
+
+
+@dataclass(frozen=True)
+class Run:
+    """One gyro recording.
+
+    Attributes
+    ----------
+    rate : ndarray of float64, shape (n,) or (n, n_axes)
+        Angular rate in ``units``.
+    time : ndarray of float64, shape (n,)
+        Seconds since the first sample.
+    fs_hz : float
+        Sample rate (from the median time step, or given).
+    units : str
+        Rate unit, one of :data:`fogts.units.RATE_UNITS`.
+    axes : tuple of str
+        Name of each rate column (one per axis).
+    temperature : ndarray of float64 or None
+        Temperature in degC, shape (n,), if a temperature column was found.
+    columns : tuple of str
+        All columns present in the source.
+    source : str
+        Path, or a description such as ``"<DataFrame>"``.
+    sampling : SamplingReport
+        Gaps and jitter of the time base.
+    start_time : str or None
+        ISO-8601 time of the first sample if the source had absolute time stamps.
+    comments : tuple of str
+        ``#`` comment lines found in a text file, in order.
+    """
+
+    rate: FloatArray
+    time: FloatArray
+    fs_hz: float
+    units: str
+    axes: tuple[str, ...]
+    temperature: FloatArray | None = None
+    columns: tuple[str, ...] = ()
+    source: str = "<array>"
+    sampling: SamplingReport | None = None
+    start_time: str | None = None
+    comments: tuple[str, ...] = field(default=())
+
+    @property
+    def n(self) -> int:
+        """Number of samples."""
+        return int(self.rate.shape[0])
+
+    @property
+    def n_axes(self) -> int:
+        """Number of rate axes."""
+        return 1 if self.rate.ndim == 1 else int(self.rate.shape[1])
+
+    @property
+    def duration_s(self) -> float:
+        """Time span covered: ``n / fs_hz``."""
+        return self.n / self.fs_hz
+
+    def axis(self, name_or_index: str | int = 0) -> FloatArray:
+        """The rate of one axis as a 1-D float64 array."""
+        if isinstance(name_or_index, str):
+            if name_or_index not in self.axes:
+                raise DataError(f"axis {name_or_index!r} not found; axes are: "
+                                f"{', '.join(self.axes)}")
+            i = self.axes.index(name_or_index)
+        else:
+            i = int(name_or_index)
+            if not -self.n_axes <= i < self.n_axes:
+                raise DataError(f"axis index must be in [0, {self.n_axes - 1}], got {i}")
+        return self.rate if self.rate.ndim == 1 else np.ascontiguousarray(self.rate[:, i])
+
+    def to_frame(self) -> pd.DataFrame:
+        """Columns ``time``, one per axis, and ``temperature`` if present."""
+        data: dict[str, Any] = {"time": self.time}
+        for i, name in enumerate(self.axes):
+            data[name] = self.axis(i)
+        if self.temperature is not None:
+            data["temperature"] = self.temperature
+        return pd.DataFrame(data)
