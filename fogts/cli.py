@@ -14,15 +14,20 @@ Exit codes (DESIGN.md): 0 success, 1 negative verdict, 2 bad usage/input/interna
 
 from __future__ import annotations
 
-import json
 import sys
-from collections.abc import Callable, Iterator
+import warnings
+from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
 from typing import Annotated, Any
 
 import typer
 from rich.console import Console
+
+try:  # typer >= 0.16 vendors click as typer._click
+    from typer._click import exceptions as _click_exc
+except ImportError:  # pragma: no cover - older typer uses click itself
+    from click import exceptions as _click_exc  # type: ignore[no-redef]
 from rich.table import Table
 
 from fogts import __version__
@@ -46,7 +51,7 @@ RateColOpt = Annotated[str | None, typer.Option("--rate-column", help="Rate colu
 TimeColOpt = Annotated[str | None, typer.Option("--time-column", help="Time column; default: auto-detect.")]
 TempColOpt = Annotated[str | None, typer.Option("--temperature-column", help="Temperature column; default: auto-detect.")]
 FsOpt = Annotated[float | None, typer.Option("--fs", help="Sample rate in Hz (overrides the time column).")]
-UnitsOpt = Annotated[str, typer.Option("--units", help="Rate unit of the input: deg/h, deg/s, rad/s, arcsec/s.")]
+UnitsOpt = Annotated[str | None, typer.Option("--units", help="Rate unit of the input: deg/h, deg/s, rad/s, arcsec/s [default: from a unit in the column name such as gyro_x_deg_s, else deg/h].")]
 JsonOpt = Annotated[str | None, typer.Option("--json", help="Write JSON to PATH, or '-' for stdout.")]
 
 
@@ -74,23 +79,37 @@ def _main_options(
 
 @contextmanager
 def _guard() -> Iterator[None]:
-    """Map every exception to ``error: ...`` on stderr and exit 2."""
-    try:
-        yield
-    except (typer.Exit, typer.Abort):
-        raise
-    except Exception as exc:
-        if _STATE["debug"]:
+    """Run a command body: warnings become ``warning: ...`` lines on stderr (each once),
+    and any exception becomes one line ``error: ...`` on stderr with exit code 2."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("default")
+        try:
+            yield
+        except (typer.Exit, typer.Abort):
             raise
-        msg = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
-        if not isinstance(exc, FogtsError | ValueError | OSError):
-            msg = f"internal error ({type(exc).__name__}): {msg}"
-        err_console.print(f"error: {msg}", markup=False, soft_wrap=True)
-        raise typer.Exit(ExitCode.ERROR) from None
+        except Exception as exc:
+            if _STATE["debug"]:
+                raise
+            msg = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
+            if not isinstance(exc, FogtsError | ValueError | OSError):
+                msg = f"internal error ({type(exc).__name__}): {msg}"
+            err_console.print(f"error: {msg}", markup=False, soft_wrap=True)
+            raise typer.Exit(ExitCode.ERROR) from None
+        finally:
+            _report_warnings(caught)
+
+
+def _report_warnings(caught: list[warnings.WarningMessage]) -> None:
+    seen: set[str] = set()
+    for w in caught:
+        text = str(w.message).strip().splitlines()[0] if str(w.message).strip() else ""
+        if text and text not in seen:
+            seen.add(text)
+            err_console.print(f"warning: {text}", markup=False, soft_wrap=True)
 
 
 def _read(path: Path, rate_column: str | None, time_column: str | None,
-          temperature_column: str | None, fs: float | None, units: str) -> Any:
+          temperature_column: str | None, fs: float | None, units: str | None) -> Any:
     from fogts.io import read_run
 
     rate_cols: str | list[str] | None = None
@@ -134,12 +153,51 @@ def _print(*objects: Any, quiet_json: str | None = None) -> None:
 # (each command lives in its own section below; keep them independent)
 
 
+# ---- info -------------------------------------------------------------------------------
+def _info_payload(run: Any) -> dict[str, Any]:
+    from fogts.report import run_info
+
+    return run_info(run)
+
+
+@app.command("info")
+def info_cmd(
+    file: FileArg,
+    rate_column: RateColOpt = None,
+    time_column: TimeColOpt = None,
+    temperature_column: TempColOpt = None,
+    fs: FsOpt = None,
+    units: UnitsOpt = None,
+    json_out: JsonOpt = None,
+) -> None:
+    """Show what was read: columns, sample rate, duration, gaps, jitter and statistics."""
+    with _guard():
+        run = _read(file, rate_column, time_column, temperature_column, fs, units)
+        payload = _info_payload(run)
+        _emit_json(payload, json_out)
+        if json_out != "-":
+            from fogts.report import info_text
+
+            console.print(info_text(payload), markup=False, soft_wrap=True)
+
+
 def main(argv: list[str] | None = None) -> None:
-    """Console-script entry point."""
+    """Console-script entry point: usage errors become one line ``error: ...``, exit 2."""
     try:
-        app(args=argv, prog_name="fogts", standalone_mode=True)
-    except SystemExit as exc:  # pragma: no cover - passthrough
-        raise exc
-
-
-_unused: Callable[..., Any] | None = None
+        rv = app(args=argv, prog_name="fogts", standalone_mode=False)
+    except _click_exc.NoArgsIsHelpError as exc:
+        console.print(exc.format_message(), markup=False, soft_wrap=True)
+        raise SystemExit(ExitCode.OK) from None
+    except _click_exc.ClickException as exc:
+        ctx = getattr(exc, "ctx", None)
+        name = ctx.command.name if ctx is not None and ctx.command is not None else None
+        hint = f" (see 'fogts {name} --help')" if name and name != "fogts" else \
+            " (see 'fogts --help')"
+        err_console.print(f"error: {exc.format_message()}{hint}", markup=False, soft_wrap=True)
+        raise SystemExit(ExitCode.ERROR) from None
+    except typer.Exit as exc:
+        raise SystemExit(exc.exit_code) from None
+    except typer.Abort:
+        err_console.print("error: aborted", markup=False)
+        raise SystemExit(ExitCode.ERROR) from None
+    raise SystemExit(rv if isinstance(rv, int) else 0)

@@ -15,7 +15,9 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["json_dumps", "to_jsonable"]
+from fogts.run import Run
+
+__all__ = ["info_text", "json_dumps", "run_info", "to_jsonable"]
 
 
 def to_jsonable(obj: Any) -> Any:
@@ -47,3 +49,85 @@ def to_jsonable(obj: Any) -> Any:
 def json_dumps(obj: Any, *, indent: int | None = 2) -> str:
     """Deterministic JSON text of ``obj`` (see module docstring)."""
     return json.dumps(to_jsonable(obj), indent=indent, allow_nan=False, ensure_ascii=False)
+
+
+# --------------------------------------------------------------------------- run info
+
+
+def _stats(x: np.ndarray) -> dict[str, float]:
+    return {"mean": float(np.mean(x)), "std": float(np.std(x, ddof=1)) if x.size > 1 else 0.0,
+            "min": float(np.min(x)), "max": float(np.max(x))}
+
+
+def run_info(run: Run) -> dict[str, Any]:
+    """The ``fogts info`` JSON payload (DESIGN.md contract).
+
+    Keys: ``source, n, fs_hz, duration_s, columns, units, axes, gaps, jitter, stats``
+    (plus ``start_time``, ``temperature``, ``fs_source`` and ``comments``).
+    """
+    sampling = run.sampling
+    assert sampling is not None
+    stats = {name: _stats(run.axis(i)) for i, name in enumerate(run.axes)}
+    if run.temperature is not None:
+        stats["temperature"] = _stats(run.temperature)
+    return {
+        "source": run.source,
+        "n": run.n,
+        "fs_hz": run.fs_hz,
+        "duration_s": run.duration_s,
+        "columns": list(run.columns),
+        "units": run.units,
+        "axes": list(run.axes),
+        "gaps": {"count": sampling.n_gaps, "max_s": sampling.max_gap_s,
+                 "threshold_s": 1.5 / run.fs_hz, "after_rows": list(sampling.gap_rows)},
+        "jitter": {"std_s": sampling.jitter_s, "relative": sampling.jitter_rel,
+                   "median_dt_s": sampling.median_dt_s, "mean_dt_s": sampling.mean_dt_s,
+                   "regular": sampling.regular},
+        "stats": stats,
+        "fs_source": sampling.fs_source,
+        "time_from_column": sampling.from_time_column,
+        "start_time": run.start_time,
+        "temperature": run.temperature is not None,
+        "comments": list(run.comments),
+    }
+
+
+def _duration_text(seconds: float) -> str:
+    if seconds >= 3600:
+        return f"{seconds / 3600:.3g} h ({seconds:.6g} s)"
+    if seconds >= 60:
+        return f"{seconds / 60:.3g} min ({seconds:.6g} s)"
+    return f"{seconds:.6g} s"
+
+
+def info_text(info: Mapping[str, Any]) -> str:
+    """Plain-text rendering of :func:`run_info` for the terminal."""
+    gaps, jitter = info["gaps"], info["jitter"]
+    lines = [
+        f"source      {info['source']}",
+        f"samples     {info['n']}",
+        f"sample rate {info['fs_hz']:.6g} Hz (from {info['fs_source']})",
+        f"duration    {_duration_text(info['duration_s'])}",
+        f"columns     {', '.join(info['columns'])}",
+        f"rate axes   {', '.join(info['axes'])}  [{info['units']}]",
+    ]
+    if info["start_time"]:
+        lines.append(f"start time  {info['start_time']}")
+    if info["time_from_column"]:
+        regular = "regular" if jitter["regular"] else "IRREGULAR"
+        lines.append(f"time base   {regular}: {gaps['count']} gap(s) > {gaps['threshold_s']:.4g} s"
+                     f" (longest {gaps['max_s']:.4g} s), jitter {jitter['std_s']:.3g} s "
+                     f"({100 * jitter['relative']:.2g} % of the step); median step "
+                     f"{jitter['median_dt_s']:.6g} s, mean step {jitter['mean_dt_s']:.6g} s")
+    else:
+        lines.append("time base   none in the file: built from the sample rate")
+    lines.append("")
+    lines.append(f"{'column':<24}{'mean':>14}{'std':>14}{'min':>14}{'max':>14}")
+    for name, st in info["stats"].items():
+        lines.append(f"{name:<24}{st['mean']:>14.6g}{st['std']:>14.6g}{st['min']:>14.6g}"
+                     f"{st['max']:>14.6g}")
+    for c in info["comments"][:5]:
+        lines.append(f"comment     {c}")
+    if len(info["comments"]) > 5:
+        lines.append(f"            ... {len(info['comments']) - 5} more comment line(s)")
+    return "\n".join(lines)

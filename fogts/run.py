@@ -41,6 +41,12 @@ class SamplingReport:
         True when there are no gaps and relative jitter is below 1 %.
     from_time_column : bool
         False when the time base was built from ``fs_hz`` (so it is regular by construction).
+    mean_dt_s : float
+        Mean time step, ``(t[-1] - t[0]) / (n - 1)``.
+    fs_source : str
+        Where ``fs_hz`` came from: ``"given"``, ``"median step"``, ``"mean step"`` (used
+        when burst-logged stamps make the median step disagree with the mean step by more
+        than 10 %), ``"file"`` (an ``fs_hz`` key in an .npz).
     """
 
     median_dt_s: float
@@ -51,6 +57,8 @@ class SamplingReport:
     jitter_rel: float
     regular: bool
     from_time_column: bool
+    mean_dt_s: float = float("nan")
+    fs_source: str = "given"
 
     def to_dict(self) -> dict[str, Any]:
         return {
@@ -62,6 +70,8 @@ class SamplingReport:
             "jitter_rel": self.jitter_rel,
             "regular": self.regular,
             "from_time_column": self.from_time_column,
+            "mean_dt_s": self.mean_dt_s,
+            "fs_source": self.fs_source,
         }
 
 

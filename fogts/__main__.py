@@ -1,0 +1,5 @@
+"""``python -m fogts`` runs the command line."""
+
+from fogts.cli import main
+
+main()

@@ -1,0 +1,389 @@
+"""Prepare one gyro axis for modelling: outliers, trend, mean, decimation, stationarity.
+
+Seed 000 removes the trend by polynomial fitting ("多项式拟合去除其趋势项") and the mean
+before time-series modelling; Stable32 removes outliers with a MAD-based sigma factor.
+Every step taken is listed on the :class:`Prepared` result, and nothing is dropped without
+being recorded.
+"""
+
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from fogts._typing import FloatArray, IntArray
+from fogts._validate import check_int, check_positive, pandas_index, to_float_array
+from fogts.errors import DataError, InsufficientDataError
+from fogts.run import Run
+from fogts.units import parse_rate_unit
+
+__all__ = ["OutlierReport", "Prepared", "StationarityReport", "prepare"]
+
+#: MAD -> sigma for Gaussian data: 1 / Phi^{-1}(3/4).
+MAD_TO_SIGMA = 1.482602218505602
+#: Stationarity tests run on block means of at most this many points (ADF regressions on
+#: millions of rows cost seconds and the low-frequency structure they probe survives).
+STATIONARITY_MAX_POINTS = 20_000
+#: Cap on the ADF lag search (Schwert's 12 (n/100)^(1/4) would be 45 at 20,000 points;
+#: statsmodels' default search over that many lags costs ~17 s at 1e5 points).
+ADF_MAX_LAG = 24
+#: Fewest samples :func:`prepare` accepts.
+MIN_PREPARE_SAMPLES = 10
+
+
+@dataclass(frozen=True)
+class OutlierReport:
+    """Samples replaced as outliers (Stable32-style MAD sigma factor).
+
+    Attributes
+    ----------
+    sigma_factor : float
+        Threshold in robust sigmas (``MAD * 1.4826``) from the median.
+    threshold : float
+        Absolute deviation from the median above which a sample is an outlier.
+    indices : ndarray of int64
+        Positions (in the input series) of the replaced samples.
+    values : ndarray of float64
+        Their original values.
+    """
+
+    sigma_factor: float
+    threshold: float
+    indices: IntArray
+    values: FloatArray
+
+    @property
+    def count(self) -> int:
+        return int(self.indices.size)
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"sigma_factor": self.sigma_factor, "threshold": self.threshold,
+                "count": self.count, "indices": self.indices[:1000].tolist(),
+                "values": self.values[:1000].tolist()}
+
+
+@dataclass(frozen=True)
+class StationarityReport:
+    """ADF (H0: unit root) and KPSS (H0: level-stationary) results from statsmodels.
+
+    ``verdict`` combines them at the 5 % level: ``"stationary"`` (ADF rejects, KPSS does
+    not), ``"non-stationary"`` (KPSS rejects, ADF does not), ``"inconclusive"`` otherwise.
+    """
+
+    adf_stat: float
+    adf_pvalue: float
+    adf_lags: int
+    kpss_stat: float
+    kpss_pvalue: float
+    kpss_lags: int
+    n_tested: int
+    block: int
+    verdict: str
+    notes: tuple[str, ...] = ()
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"adf": {"stat": self.adf_stat, "pvalue": self.adf_pvalue, "lags": self.adf_lags},
+                "kpss": {"stat": self.kpss_stat, "pvalue": self.kpss_pvalue,
+                         "lags": self.kpss_lags},
+                "n_tested": self.n_tested, "block": self.block, "verdict": self.verdict,
+                "notes": list(self.notes)}
+
+
+@dataclass(frozen=True)
+class Prepared:
+    """One axis, ready for Allan or ARMA analysis.
+
+    Attributes
+    ----------
+    x : ndarray of float64
+        The prepared series.
+    fs_hz : float
+        Sample rate after decimation.
+    units : str
+        Rate unit.
+    axis : str
+        Name of the axis.
+    time : ndarray of float64
+        Time of each prepared sample in seconds (block start after decimation).
+    index : pandas.Index or None
+        The input Series' index (decimated alongside), to re-wrap outputs.
+    steps : tuple of str
+        Human-readable list of what was done, in order.
+    n_input : int
+        Samples before decimation.
+    outliers : OutlierReport or None
+    trend_order : int or None
+        Polynomial order removed (0 = mean only), or None.
+    trend_coefficients : tuple of float
+        Coefficients of the removed polynomial in powers of time in seconds (lowest first).
+    decimate : int
+        Block-averaging factor (1 = none).
+    dropped_tail : int
+        Samples at the end that did not fill a last decimation block.
+    stationarity : StationarityReport or None
+    run : Run or None
+        The Run this came from.
+    """
+
+    x: FloatArray
+    fs_hz: float
+    units: str
+    axis: str
+    time: FloatArray
+    index: pd.Index | None = None
+    steps: tuple[str, ...] = ()
+    n_input: int = 0
+    outliers: OutlierReport | None = None
+    trend_order: int | None = None
+    trend_coefficients: tuple[float, ...] = ()
+    decimate: int = 1
+    dropped_tail: int = 0
+    stationarity: StationarityReport | None = None
+    run: Run | None = field(default=None, repr=False)
+
+    @property
+    def n(self) -> int:
+        return int(self.x.size)
+
+    def series(self) -> pd.Series:
+        """The prepared data as a Series (with the input's index if it had one)."""
+        index = self.index if self.index is not None else pd.Index(self.time, name="time_s")
+        return pd.Series(self.x, index=index, name=self.axis)
+
+    def to_frame(self) -> pd.DataFrame:
+        return pd.DataFrame({"time": self.time, self.axis: self.x})
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "axis": self.axis,
+            "units": self.units,
+            "n_input": self.n_input,
+            "n": self.n,
+            "fs_hz": self.fs_hz,
+            "steps": list(self.steps),
+            "outliers": self.outliers.to_dict() if self.outliers else None,
+            "detrend": None if self.trend_order is None else {
+                "order": self.trend_order, "coefficients": list(self.trend_coefficients)},
+            "decimate": self.decimate,
+            "dropped_tail": self.dropped_tail,
+            "stationarity": self.stationarity.to_dict() if self.stationarity else None,
+        }
+
+    def summary(self) -> str:
+        lines = [f"Prepared {self.axis!r}: {self.n} samples at {self.fs_hz:g} Hz ({self.units})"]
+        lines += [f"  - {s}" for s in self.steps] or ["  - no preprocessing"]
+        return "\n".join(lines)
+
+
+def prepare(
+    data: Run | FloatArray | pd.Series | Any,
+    *,
+    fs_hz: float | None = None,
+    units: str | None = None,
+    axis: int | str = 0,
+    outliers: float | None = None,
+    detrend: int | None = None,
+    demean: bool = True,
+    decimate: int | None = None,
+    stationarity: bool = True,
+) -> Prepared:
+    """Prepare one axis of a recording for modelling.
+
+    Steps, in this order, each recorded on the result:
+
+    1. outliers: samples farther than ``outliers`` robust sigmas (MAD x 1.4826) from the
+       median are replaced by linear interpolation between their good neighbours
+       (replaced, not dropped, so the time base stays regular);
+    2. decimation by block averaging over ``decimate`` samples (a partial last block is
+       dropped and recorded);
+    3. polynomial trend removal of order ``detrend`` (seed 000); order 0 is mean removal;
+    4. mean removal if ``demean`` and no trend was removed;
+    5. ADF and KPSS stationarity tests (statsmodels) on the result.
+
+    Parameters
+    ----------
+    data : Run, ndarray or Series
+        The recording; a Run carries its own sample rate and units.
+    fs_hz : float, optional
+        Sample rate; required for ndarray input (a Series with a DatetimeIndex or
+        TimedeltaIndex supplies it).
+    units : str, optional
+        Rate unit of array/Series input (default deg/h); a Run carries its own.
+    axis : int or str
+        Which axis of a multi-axis Run.
+    outliers : float, optional
+        Sigma factor for outlier replacement (Stable32 uses e.g. 5); None skips.
+    detrend : int, optional
+        Polynomial order to remove (0..10); None skips.
+    demean : bool
+        Remove the mean (implied by any ``detrend``).
+    decimate : int, optional
+        Block-averaging factor (>= 2); None or 1 skips.
+    stationarity : bool
+        Run ADF and KPSS.
+
+    Returns
+    -------
+    Prepared
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> p = prepare(np.arange(100.0) + np.sin(np.arange(100)), fs_hz=10, detrend=1)
+    >>> p.steps[0]
+    'removed a polynomial trend of order 1'
+    """
+    run = data if isinstance(data, Run) else None
+    x, fs, units, name, index = _unpack(data, fs_hz, axis)
+    if units is not None:
+        units = parse_rate_unit(units)
+    else:
+        units = run.units if run is not None else "deg/h"
+    if np.ptp(x) == 0:
+        raise InsufficientDataError(f"{name!r} is constant (every value is {x[0]:g}); nothing "
+                                    "to model")
+    time = np.arange(x.size, dtype=np.float64) / fs
+    if run is not None and run.time.size == x.size:
+        time = run.time
+    steps: list[str] = []
+    n_input = x.size
+
+    report = None
+    if outliers is not None:
+        x, report = _replace_outliers(x, check_positive("outliers", outliers))
+        steps.append(f"replaced {report.count} outlier(s) beyond {report.sigma_factor:g} robust "
+                     f"sigma (|x - median| > {report.threshold:.6g}) by linear interpolation")
+
+    k, dropped_tail = 1, 0
+    if decimate is not None and decimate != 1:
+        k = check_int("decimate", decimate, minimum=2)
+        if x.size // k < MIN_PREPARE_SAMPLES:
+            raise InsufficientDataError(f"decimate={k} leaves {x.size // k} samples; at least "
+                                        f"{MIN_PREPARE_SAMPLES} are needed")
+        x, time, index, dropped_tail = _block_average(x, time, index, k)
+        fs = fs / k
+        steps.append(f"decimated by block averaging over {k} samples -> {fs:g} Hz"
+                     + (f" (dropped {dropped_tail} tail samples)" if dropped_tail else ""))
+
+    order: int | None = None
+    coefs: tuple[float, ...] = ()
+    if detrend is not None:
+        order = check_int("detrend", detrend, minimum=0, maximum=10)
+        x, coefs = _remove_polynomial(x, time, order)
+        steps.append(f"removed a polynomial trend of order {order}" if order else
+                     "removed the mean (trend order 0)")
+    elif demean:
+        mean = float(np.mean(x))
+        x = x - mean
+        steps.append(f"removed the mean ({mean:.6g} {units})")
+
+    stat = _stationarity(x) if stationarity else None
+    if stat is not None:
+        steps.append(f"stationarity: {stat.verdict} (ADF p={stat.adf_pvalue:.3g}, "
+                     f"KPSS p={stat.kpss_pvalue:.3g})")
+    return Prepared(x=np.ascontiguousarray(x), fs_hz=fs, units=units, axis=name, time=time,
+                    index=index, steps=tuple(steps), n_input=n_input, outliers=report,
+                    trend_order=order, trend_coefficients=coefs,
+                    decimate=k, dropped_tail=dropped_tail, stationarity=stat, run=run)
+
+
+def _unpack(data: Any, fs_hz: float | None, axis: int | str
+            ) -> tuple[FloatArray, float, str | None, str, pd.Index | None]:
+    if isinstance(data, Prepared):
+        raise DataError("data is already Prepared; pass the Run or the raw series")
+    if isinstance(data, Run):
+        x = data.axis(axis)
+        fs = check_positive("fs_hz", fs_hz) if fs_hz is not None else data.fs_hz
+        name = data.axes[axis] if isinstance(axis, int) else axis
+        return (to_float_array(x, name, min_length=MIN_PREPARE_SAMPLES), fs, data.units,
+                name, None)
+    index = pandas_index(data)
+    if isinstance(data, pd.DataFrame):
+        raise DataError("data must be a Run, ndarray or Series; for a DataFrame use "
+                        "fogts.io.read_run(frame) first")
+    if fs_hz is None and isinstance(index, pd.DatetimeIndex | pd.TimedeltaIndex) and index.size > 1:
+        steps = pd.TimedeltaIndex(index[1:] - index[:-1]).total_seconds()
+        fs_hz = 1.0 / float(np.median(np.asarray(steps)))
+    if fs_hz is None:
+        raise DataError("fs_hz is required for array input (or pass a Run, or a Series with "
+                        "a DatetimeIndex)")
+    fs = check_positive("fs_hz", fs_hz)
+    name = str(data.name) if isinstance(data, pd.Series) and data.name is not None else "rate"
+    x = to_float_array(data, "data", min_length=MIN_PREPARE_SAMPLES)
+    return x, fs, None, name, index
+
+
+def _replace_outliers(x: FloatArray, sigma_factor: float) -> tuple[FloatArray, OutlierReport]:
+    """Replace samples beyond ``sigma_factor`` robust sigmas by linear interpolation."""
+    median = float(np.median(x))
+    mad = float(np.median(np.abs(x - median)))
+    if mad == 0.0:
+        # Quantized data can have MAD = 0; fall back to the standard deviation.
+        mad = float(np.std(x)) / MAD_TO_SIGMA
+    threshold = sigma_factor * MAD_TO_SIGMA * mad
+    bad = np.abs(x - median) > threshold
+    idx = np.flatnonzero(bad)
+    if idx.size == x.size:
+        raise DataError(f"outliers={sigma_factor:g} marks every sample as an outlier; use a "
+                        "larger sigma factor")
+    out = x.copy()
+    if idx.size:
+        good = np.flatnonzero(~bad)
+        out[idx] = np.interp(idx, good, x[good])
+    return out, OutlierReport(sigma_factor, threshold, idx.astype(np.int64), x[idx].copy())
+
+
+def _block_average(x: FloatArray, time: FloatArray, index: pd.Index | None, k: int
+                   ) -> tuple[FloatArray, FloatArray, pd.Index | None, int]:
+    m = x.size // k
+    tail = x.size - m * k
+    xd = x[: m * k].reshape(m, k).mean(axis=1)
+    td = time[: m * k : k].copy()
+    idx = index[: m * k : k] if index is not None else None
+    return xd, td, idx, tail
+
+
+def _remove_polynomial(x: FloatArray, time: FloatArray, order: int
+                       ) -> tuple[FloatArray, tuple[float, ...]]:
+    """Least-squares polynomial in time (scaled domain for conditioning)."""
+    if x.size <= order + 1:
+        raise InsufficientDataError(f"detrend={order} needs more than {order + 1} samples, "
+                                    f"got {x.size}")
+    poly = np.polynomial.Polynomial.fit(time, x, order)
+    residual = np.asarray(x - poly(time), dtype=np.float64)
+    return residual, tuple(float(c) for c in poly.convert().coef)
+
+
+def _stationarity(x: FloatArray) -> StationarityReport:
+    from statsmodels.tools.sm_exceptions import InterpolationWarning
+    from statsmodels.tsa.stattools import adfuller, kpss
+
+    block = max(1, int(np.ceil(x.size / STATIONARITY_MAX_POINTS)))
+    y = x if block == 1 else x[: x.size // block * block].reshape(-1, block).mean(axis=1)
+    notes: list[str] = []
+    if block > 1:
+        notes.append(f"tested on block means of {block} samples ({y.size} points)")
+    if y.size < 20 or np.ptp(y) == 0:
+        nan = float("nan")
+        return StationarityReport(nan, nan, 0, nan, nan, 0, int(y.size), block, "not tested",
+                                  ("too few points for ADF/KPSS",))
+    maxlag = min(ADF_MAX_LAG, int(12 * (y.size / 100.0) ** 0.25))
+    adf = adfuller(y, maxlag=maxlag, autolag="AIC", regression="c", result_object=True)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", InterpolationWarning)
+        kp = kpss(y, regression="c", nlags="auto", result_object=True)
+    for w in caught:
+        notes.append(f"KPSS: {str(w.message).splitlines()[0]}")
+    adf_p, kpss_p = float(adf.pvalue), float(kp.pvalue)
+    if adf_p < 0.05 <= kpss_p:
+        verdict = "stationary"
+    elif kpss_p < 0.05 <= adf_p:
+        verdict = "non-stationary"
+    else:
+        verdict = "inconclusive"
+    return StationarityReport(float(adf.statistic), adf_p, int(adf.lags), float(kp.statistic),
+                              kpss_p, int(kp.lags), int(y.size), block, verdict, tuple(notes))

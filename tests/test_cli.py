@@ -1,0 +1,117 @@
+"""CLI shell tests: --version, info, one-line errors with exit code 2 and no traceback."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+from typer.testing import CliRunner
+
+from fogts import __version__
+from fogts.cli import app, main
+from tests.conftest import shared_path
+
+runner = CliRunner()
+
+
+def _run_main(args: list[str], capsys: pytest.CaptureFixture[str]) -> tuple[int, str, str]:
+    with pytest.raises(SystemExit) as exc:
+        main(args)
+    out, err = capsys.readouterr()
+    return int(exc.value.code or 0), out, err
+
+
+def test_version(capsys: pytest.CaptureFixture[str]) -> None:
+    code, out, _ = _run_main(["--version"], capsys)
+    assert code == 0 and out.strip() == f"fogts {__version__}"
+
+
+def test_info_fog_file_json(tmp_path: Path) -> None:
+    target = tmp_path / "info.json"
+    res = runner.invoke(app, ["info", str(shared_path("fog", "fog_0917.txt")), "--json",
+                              str(target)])
+    assert res.exit_code == 0, res.output
+    info = json.loads(target.read_text())
+    assert set(info) >= {"source", "n", "fs_hz", "duration_s", "columns", "units", "axes",
+                         "gaps", "jitter", "stats"}
+    assert info["n"] == 6110 and info["columns"] == ["time", "fog", "T"]
+    assert info["axes"] == ["fog"] and info["units"] == "deg/h"
+    assert "sample rate 99.0099 Hz" in res.output
+
+
+def test_info_json_to_stdout_is_pure_json() -> None:
+    res = runner.invoke(app, ["info", str(shared_path("fog", "fog_0917.txt")), "--json", "-"])
+    assert res.exit_code == 0
+    assert json.loads(res.stdout)["n"] == 6110
+
+
+def test_info_mpu6050_reports_irregular_sampling() -> None:
+    res = runner.invoke(app, ["info", str(shared_path("imu",
+                                                      "mpu6050_gyro_temp_converted.csv.gz"))])
+    assert res.exit_code == 0
+    assert "IRREGULAR" in res.stdout
+    assert "warning: " in res.stderr and "burst-logged" in res.stderr
+    assert "[deg/s]" in res.stdout
+
+
+def test_info_is_deterministic(tmp_path: Path) -> None:
+    f = tmp_path / "a.csv"
+    f.write_text("time,rate\n0,1\n0.1,2\n0.2,0.5\n0.3,1.5\n")
+    a = runner.invoke(app, ["info", str(f), "--json", "-"]).stdout
+    b = runner.invoke(app, ["info", str(f), "--json", "-"]).stdout
+    assert a == b
+
+
+@pytest.mark.parametrize(("content", "args", "message"), [
+    (None, [], "error: file not found"),
+    ("", [], "is empty"),
+    ("time,rate\n0,1\n0.1,x\n0.2,3\n", [], "non-numeric value 'x'"),
+    ("rate\n1\n2\n3\n", [], "no time column found"),
+    ("rate\n1\n2\n3\n", ["--fs", "-10"], "fs_hz must be a finite number > 0, got -10.0"),
+    ("time,fog\n0,1\n0.1,2\n0.2,3\n", ["--rate-column", "rate"],
+     "rate column 'rate' not found; columns are: time, fog"),
+    ("time,rate\n0,1\n0.1,2\n0.2,3\n", ["--units", "mph"], "units must be one of"),
+    ("time,rate\n0,1\n0.1,2\n0.05,3\n", [], "'time' is decreasing at data row 2"),
+])
+def test_info_errors_one_line_exit_2(tmp_path: Path, content: str | None, args: list[str],
+                                     message: str) -> None:
+    f = tmp_path / "in.csv"
+    if content is not None:
+        f.write_text(content)
+    res = runner.invoke(app, ["info", str(f), *args])
+    assert res.exit_code == 2
+    lines = res.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("error: ")
+    assert message in lines[0]
+    assert "Traceback" not in res.output
+
+
+def test_usage_error_is_one_line(capsys: pytest.CaptureFixture[str]) -> None:
+    code, _out, err = _run_main(["info", "--bogus", "x"], capsys)
+    assert code == 2
+    assert err.strip().splitlines() == ["error: No such option: --bogus (see 'fogts info --help')"]
+
+
+def test_missing_argument(capsys: pytest.CaptureFixture[str]) -> None:
+    code, _, err = _run_main(["info"], capsys)
+    assert code == 2 and err.startswith("error: Missing argument")
+
+
+def test_debug_shows_traceback(tmp_path: Path) -> None:
+    f = tmp_path / "empty.csv"
+    f.write_text("")
+    res = subprocess.run([sys.executable, "-m", "fogts", "--debug", "info", str(f)],
+                         capture_output=True, text=True, check=False)
+    assert res.returncode != 0 and "Traceback" in res.stderr
+
+
+def test_console_script_no_traceback(tmp_path: Path) -> None:
+    f = tmp_path / "bin.csv"
+    f.write_bytes(b"\x00\x01" * 100)
+    res = subprocess.run([sys.executable, "-m", "fogts", "info", str(f)], capture_output=True,
+                         text=True, check=False)
+    assert res.returncode == 2
+    assert res.stderr.strip().startswith("error: ") and "Traceback" not in res.stderr
