@@ -115,3 +115,34 @@ def test_console_script_no_traceback(tmp_path: Path) -> None:
                          text=True, check=False)
     assert res.returncode == 2
     assert res.stderr.strip().startswith("error: ") and "Traceback" not in res.stderr
+
+
+def _cli_args(kwargs: dict[str, object]) -> list[str]:
+    names = {"rate_column": "--rate-column", "time_column": "--time-column",
+             "temperature_column": "--temperature-column", "fs_hz": "--fs", "units": "--units"}
+    args: list[str] = []
+    for key, value in kwargs.items():
+        args += [names[key], str(value)]
+    return args
+
+
+def _hostile_cases() -> list[tuple[str, str | bytes, dict[str, object]]]:
+    from tests.test_io import HOSTILE
+
+    return [(name, content, kwargs) for name, content, kwargs, _, _ in HOSTILE]
+
+
+@pytest.mark.parametrize(("name", "content", "kwargs"), _hostile_cases(),
+                         ids=[c[0] for c in _hostile_cases()])
+def test_hostile_corpus_through_cli(tmp_path: Path, name: str, content: str | bytes,
+                                    kwargs: dict[str, object]) -> None:
+    f = tmp_path / name
+    if isinstance(content, bytes):
+        f.write_bytes(content)
+    else:
+        f.write_text(content)
+    res = runner.invoke(app, ["info", str(f), *_cli_args(kwargs)])
+    assert res.exit_code == 2, res.output
+    lines = res.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("error: "), res.stderr
+    assert "Traceback" not in res.output
