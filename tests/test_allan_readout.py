@@ -1,0 +1,67 @@
+"""Tests for fogts.allan.readout (curve read-outs: minimum, slopes, regions)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from fogts.allan.readout import read_curve
+from fogts.errors import DataError, InsufficientDataError
+
+
+def _theory(tau: np.ndarray, n: float = 0.1, b: float = 0.01, k: float = 1e-4) -> dict[str, np.ndarray]:
+    # IEEE 952 Annex C terms: sigma_N = N/sqrt(tau), sigma_B = B*sqrt(2 ln2/pi),
+    # sigma_K = K*sqrt(tau/3)
+    return {"N": n / np.sqrt(tau), "B": np.full_like(tau, b * np.sqrt(2 * np.log(2) / np.pi)),
+            "K": k * np.sqrt(tau / 3)}
+
+
+def test_power_law_slopes_are_exact() -> None:
+    tau = np.logspace(-2, 5, 29)
+    terms = _theory(tau)
+    total = np.sqrt(sum(v**2 for v in terms.values()))
+    r = read_curve(tau, terms["N"])
+    np.testing.assert_allclose(r.segment_slope, -0.5, atol=1e-12)
+    r = read_curve(tau, terms["K"])
+    np.testing.assert_allclose(r.segment_slope, 0.5, atol=1e-12)
+    r = read_curve(tau, total, term_curves=terms)
+    assert [d.term for d in r.dominant] == ["N", "B", "K"]
+    # N and B cross where N^2/tau = B^2 * 2ln2/pi
+    cross = 0.1**2 / (0.01**2 * 2 * np.log(2) / np.pi)
+    n_range = r.dominant[0]
+    assert n_range.tau_to_s <= cross <= r.dominant[1].tau_from_s
+    assert n_range.slope == -0.5
+
+
+def test_minimum_and_regions_with_ci() -> None:
+    tau = np.logspace(-1, 5, 41)
+    total = np.sqrt(sum(v**2 for v in _theory(tau).values()))
+    lo, hi = total * 0.9, total * 1.1
+    r = read_curve(tau, total, lo, hi)
+    i = int(np.argmin(total))
+    assert r.tau_min_s == tau[i] and r.dev_min == total[i]
+    assert r.dev_min_ci == (lo[i], hi[i])
+    assert r.bias_instability_floor == pytest.approx(total[i] / 0.664)
+    b, c, d = r.regions["B"], r.regions["C"], r.regions["D"]
+    assert b is not None and c is not None and d is not None
+    assert b[0] == tau[0] and b[1] == c[0] and c[1] == d[0] and d[1] == tau[-1]
+    assert c[0] <= r.tau_min_s <= c[1]
+    assert np.all(total[(tau >= c[0]) & (tau <= c[1])] <= hi[i])
+    assert r.to_frame().shape == (40, 3)
+    assert r.to_dict()["minimum"]["tau"] == tau[i]
+    assert "minimum: sigma" in r.summary()
+
+
+def test_monotone_curve_has_no_region_d() -> None:
+    tau = np.logspace(0, 2, 5)
+    r = read_curve(tau, 1 / np.sqrt(tau))
+    assert r.regions["D"] is None and r.tau_min_s == 100.0
+
+
+def test_bad_input() -> None:
+    with pytest.raises(DataError, match="equal length"):
+        read_curve([1, 2, 3], [1, 2])
+    with pytest.raises(InsufficientDataError, match="at least 2 finite positive points, got 1"):
+        read_curve([1, 2], [1, np.nan])
+    with pytest.raises(DataError, match="strictly increasing"):
+        read_curve([1, 3, 2], [1, 2, 3])
