@@ -181,6 +181,760 @@ def info_cmd(
             console.print(info_text(payload), markup=False, soft_wrap=True)
 
 
+# ---- batch ------------------------------------------------------------------------------
+@app.command("batch")
+def batch_cmd(
+    patterns: Annotated[list[str], typer.Argument(help="Input files or glob patterns (quote them to let fogts expand '**').")],
+    output: Annotated[Path, typer.Option("--output", "-o", help="Summary table (.csv or .parquet): one row per run and axis.")],
+    json_dir: Annotated[Path | None, typer.Option("--json-dir", help="Folder for the per-run JSON [default: <summary name>_runs beside the summary].")] = None,
+    workers: Annotated[int | None, typer.Option("--workers", help="Local worker processes [default: number of CPUs].")] = None,
+    scheduler: Annotated[str | None, typer.Option("--scheduler", help="Dask scheduler address (tcp://host:8786): run on that cluster instead of locally (needs fogts[dask]).")] = None,
+    resume: Annotated[bool, typer.Option("--resume", help="Skip runs whose per-run JSON already exists.")] = False,
+    rate_column: RateColOpt = None,
+    time_column: TimeColOpt = None,
+    temperature_column: TempColOpt = None,
+    fs: FsOpt = None,
+    units: UnitsOpt = None,
+    kind: Annotated[str, typer.Option("--kind", help="Allan estimator: adev, oadev, mdev, hdev, ohdev, totdev.")] = "oadev",
+    taus: Annotated[str, typer.Option("--taus", help="Tau grid: octave, decade, dense, all.")] = "octave",
+    detrend: Annotated[int | None, typer.Option("--detrend", help="Polynomial order removed before the ARMA selection.")] = None,
+    decimate: Annotated[int | None, typer.Option("--decimate", help="Block-average K samples before the ARMA selection.")] = None,
+    criterion: Annotated[str, typer.Option("--criterion", help="ARMA ranking criterion: aic, bic, hqic, aicc.")] = "aic",
+    no_select: Annotated[bool, typer.Option("--no-select", help="Skip the ARMA selection (info and Allan only).")] = False,
+) -> None:
+    """Run info, allan and select on many files; write one summary row per run and axis.
+
+    A bad file gives a row with status=error and the message; the batch goes on. Exit code 1
+    if any run failed, 0 if all are ok.
+    """
+    from rich.progress import (BarColumn, MofNCompleteColumn, Progress, SpinnerColumn,
+                               TextColumn, TimeElapsedColumn, TimeRemainingColumn)
+
+    from fogts.batch import BatchOptions, BatchProgress, run_batch
+
+    with _guard():
+        options = BatchOptions(rate_column=rate_column, time_column=time_column,
+                               temperature_column=temperature_column, fs_hz=fs, units=units,
+                               kind=kind, taus=taus, detrend=detrend, decimate=decimate,
+                               criterion=criterion, select=not no_select)
+        bar = Progress(SpinnerColumn(), TextColumn("{task.description}"), BarColumn(),
+                       MofNCompleteColumn(),
+                       TextColumn("failed {task.fields[failed]}, remaining "
+                                  "{task.fields[remaining]}"),
+                       TimeElapsedColumn(), TextColumn("ETA"), TimeRemainingColumn(),
+                       console=err_console, transient=False)
+        task_id: list[Any] = []
+
+        def on_progress(p: BatchProgress) -> None:
+            if not task_id:
+                task_id.append(bar.add_task("runs", total=p.total, completed=p.done,
+                                            failed=p.failed, remaining=p.remaining))
+            else:
+                bar.update(task_id[0], completed=p.done, failed=p.failed,
+                           remaining=p.remaining)
+
+        with bar:
+            result = run_batch(patterns, summary_path=output, json_dir=json_dir,
+                               workers=workers, scheduler=scheduler, resume=resume,
+                               options=options, progress=on_progress)
+        console.print(result.summary(), markup=False, soft_wrap=True)
+        errors = [r for r in result.rows if r["status"] == "error"]
+        if errors:
+            from rich.text import Text
+
+            failed = Table(title="failed runs", title_justify="left")
+            for c in ("file", "axis", "error"):
+                failed.add_column(c)
+            for r in errors:  # Text(): file names and messages are not rich markup
+                failed.add_row(Text(r["file"]), Text(r["axis"] or ""), Text(r["error"]))
+            console.print(failed)
+    if result.interrupted:
+        err_console.print("error: interrupted; rerun with --resume to finish", markup=False)
+        raise typer.Exit(ExitCode.ERROR)
+    raise typer.Exit(ExitCode.NEGATIVE if errors else ExitCode.OK)
+
+
+# ---- report -----------------------------------------------------------------------------
+@app.command("report")
+def report_cmd(
+    file: FileArg,
+    output: Annotated[Path, typer.Option("--output", "-o", help="HTML file to write (self-contained: figures embedded, no network needed).")],
+    rate_column: RateColOpt = None,
+    time_column: TimeColOpt = None,
+    temperature_column: TempColOpt = None,
+    fs: FsOpt = None,
+    units: UnitsOpt = None,
+    title: Annotated[str | None, typer.Option("--title", help="Document title [default: 'Gyro report: <file name>'].")] = None,
+    outliers: Annotated[float | None, typer.Option("--outliers", help="Replace samples beyond this many robust sigmas before the ARMA analysis.")] = None,
+    detrend: Annotated[int | None, typer.Option("--detrend", help="Polynomial order removed before the ARMA analysis.")] = None,
+    decimate: Annotated[int | None, typer.Option("--decimate", help="Block-average K samples before the ARMA analysis.")] = None,
+    kind: Annotated[str, typer.Option("--kind", help="Allan estimator: adev, oadev, mdev, hdev, ohdev, totdev.")] = "oadev",
+    taus: Annotated[str, typer.Option("--taus", help="Tau grid: octave, decade, dense, all.")] = "octave",
+    criterion: Annotated[str, typer.Option("--criterion", help="ARMA ranking criterion: aic, bic, hqic, aicc.")] = "aic",
+    davar_window: Annotated[float | None, typer.Option("--davar-window", help="Dynamic Allan window in seconds [default: a tenth of the record].")] = None,
+) -> None:
+    """Write one self-contained HTML report: input, time series, Allan and noise terms, ARMA
+    selection, prediction, DAVar and the thermal model (when they apply).
+
+    Exit code 1 if a section could not be computed (the report is still written and says why).
+    """
+    from fogts.report_html import build_report, write_report
+
+    with _guard():
+        run = _read(file, rate_column, time_column, temperature_column, fs, units)
+        rep = build_report(run, title=title, outliers=outliers, detrend=detrend,
+                           decimate=decimate, kind=kind, taus=taus, criterion=criterion,
+                           davar_window_s=davar_window)
+        write_report(output, rep)
+        failed = [s for s in rep.sections if s.status != "ok"]
+        for s in failed:
+            err_console.print(f"warning: {s.title}: {s.message}", markup=False, soft_wrap=True)
+        console.print(f"wrote {output} ({len(rep.sections)} sections, {rep.n_figures} "
+                      f"figures)", markup=False, soft_wrap=True)
+        for part, why in rep.omitted:
+            console.print(f"not included: {part}: {why}", markup=False, soft_wrap=True)
+    raise typer.Exit(ExitCode.NEGATIVE if failed else ExitCode.OK)
+
+
+# ---- simulate ---------------------------------------------------------------------------
+_SIM_SUFFIXES = (".csv", ".csv.gz", ".tsv", ".txt", ".parquet", ".pq")
+
+
+def _pair(text: str | None, option: str, names: str) -> tuple[float, float] | None:
+    """Parse ``"a,b"`` into two floats (for --markov and --sine)."""
+    import math
+
+    from fogts.errors import DataError
+
+    if text is None:
+        return None
+    parts = [p.strip() for p in text.split(",")]
+    try:
+        a, b = (float(p) for p in parts) if len(parts) == 2 else (math.nan, math.nan)
+    except ValueError:
+        a = b = math.nan
+    if not (math.isfinite(a) and math.isfinite(b)):
+        raise DataError(f"{option} must be two numbers '{names}', got {text!r}")
+    return a, b
+
+
+def _coefficients(text: str | None, option: str) -> dict[str, float] | None:
+    """Parse ``"T=0.02,dT=30,1=0.5"`` into a dict."""
+    from fogts.errors import DataError
+
+    if text is None:
+        return None
+    out: dict[str, float] = {}
+    for part in text.split(","):
+        key, sep, value = part.partition("=")
+        try:
+            out[key.strip()] = float(value)
+        except ValueError:
+            sep = ""
+        if not sep:
+            raise DataError(f"{option} must look like 'T=0.02,dT=30,1=0.5', got {text!r}")
+    return out
+
+
+@app.command("simulate")
+def simulate_cmd(
+    output: Annotated[Path, typer.Option("--output", "-o", help="Output file: .csv, .csv.gz, .tsv, .txt or .parquet. The true parameters go to OUTPUT.json beside it.")],
+    fs: Annotated[float, typer.Option("--fs", help="Sample rate in Hz.")] = 100.0,
+    duration: Annotated[str, typer.Option("--duration", help="Record length: 3h, 90min, 600s, 1d, 1h30min or seconds.")] = "1h",
+    q_term: Annotated[float, typer.Option("--Q", help="Angle quantisation Q in arcsec.")] = 0.0,
+    n_term: Annotated[float, typer.Option("--N", help="Angle random walk N in deg/sqrt(h).")] = 0.0,
+    b_term: Annotated[float, typer.Option("--B", help="Bias instability B in deg/h (Allan plateau 0.664 B).")] = 0.0,
+    k_term: Annotated[float, typer.Option("--K", help="Rate random walk K in deg/h^1.5.")] = 0.0,
+    r_term: Annotated[float, typer.Option("--R", help="Rate ramp R in deg/h^2.")] = 0.0,
+    markov: Annotated[str | None, typer.Option("--markov", help="First-order Markov term 'q_c,T_c': q_c in deg/h/sqrt(s), T_c in s.")] = None,
+    sine: Annotated[str | None, typer.Option("--sine", help="Sinusoid 'amplitude,frequency': deg/h and Hz.")] = None,
+    bias: Annotated[float, typer.Option("--bias", help="Constant rate offset in deg/h.")] = 0.0,
+    arma: Annotated[str | None, typer.Option("--arma", help="ARMA drift added to the rate, e.g. 'ar=0.9,-0.2;ma=0.3;sigma2=1e-4' (statsmodels signs; deg/h).")] = None,
+    noise_json: Annotated[Path | None, typer.Option("--from-json", help="Take the noise terms from a JSON file: 'fogts allan --json' output, a NoiseModel dict or a simulate sidecar; --Q/--N/... override single terms.")] = None,
+    axes: Annotated[int, typer.Option("--axes", help="Number of independent axes (rate_x, rate_y, rate_z).")] = 1,
+    temperature_profile: Annotated[str | None, typer.Option("--temperature-profile", help="Temperature column: 'constant:T', 'warmup:START,END,TAU' (degC; TAU like 20min) or 'ramp:START,END'.")] = None,
+    thermal: Annotated[str | None, typer.Option("--thermal", help="Temperature-driven drift D = a T dT + b T^2 + c T + d dT^2 + e dT + f, as 'T*dT=a,T2=b,T=c,dT2=d,dT=e,1=f' (deg/h; dT in degC/s); needs --temperature-profile.")] = None,
+    flicker: Annotated[str, typer.Option("--flicker", help="Flicker (B) synthesis: markov (sum of Markov processes, chunked) or kasdin (Kasdin-Walter, in memory).")] = "markov",
+    seed: Annotated[int | None, typer.Option("--seed", help="Random seed [default: a fresh one, recorded in the sidecar JSON].")] = None,
+    units: Annotated[str, typer.Option("--units", help="Unit of the output rate: deg/h, deg/s, rad/s, arcsec/s (coefficients stay in deg/h-based units).")] = "deg/h",
+    decimals: Annotated[int | None, typer.Option("--decimals", help="Round the rate and temperature to this many decimals (smaller files).")] = None,
+) -> None:
+    """Simulate a static gyro record from IEEE-952 noise coefficients (seed 000 Table 1).
+
+    Writes time, rate (rate_x, rate_y, rate_z with --axes 3) and temperature (with a
+    profile), and a sidecar JSON OUTPUT.json with the true parameters and the closed-form
+    Allan deviation.
+    """
+    import dataclasses
+    import json
+
+    import numpy as np
+
+    from fogts import __version__ as version
+    from fogts.errors import DataError
+    from fogts.io import write_frame_atomic, write_text_atomic
+    from fogts.report import json_dumps
+    from fogts.simulate import (
+        ArmaSpec,
+        NoiseSpec,
+        TemperatureProfile,
+        parse_duration,
+        simulate_gyro,
+    )
+
+    with _guard():
+        if not output.name.lower().endswith(_SIM_SUFFIXES):
+            raise DataError(f"--output must end in {', '.join(_SIM_SUFFIXES)}; got "
+                             f"{output.name!r}")
+        duration_s = parse_duration(duration, "--duration")
+        values: dict[str, float] = {}
+        if noise_json is not None:
+            try:
+                loaded = json.loads(noise_json.read_text(encoding="utf-8"))
+            except json.JSONDecodeError as exc:
+                raise DataError(f"--from-json {str(noise_json)!r} is not JSON: {exc}") from None
+            values.update(dataclasses.asdict(NoiseSpec.from_any(loaded)))
+        given = {"Q": q_term, "N": n_term, "B": b_term, "K": k_term, "R": r_term, "bias": bias}
+        values.update({k: v for k, v in given.items() if v != 0.0 or k not in values})
+        pm = _pair(markov, "--markov", "q_c,T_c")
+        if pm is not None:
+            values["q_c"], values["T_c"] = pm
+        ps = _pair(sine, "--sine", "amplitude,frequency")
+        if ps is not None:
+            values["Omega_0"], values["f_0"] = ps
+        spec = NoiseSpec(**values)
+        arma_spec = ArmaSpec.parse(arma) if arma is not None else None
+        profile = TemperatureProfile.parse(temperature_profile) \
+            if temperature_profile is not None else None
+        coefs = _coefficients(thermal, "--thermal")
+        if decimals is not None and not 0 <= decimals <= 15:
+            raise DataError(f"--decimals must be in 0..15, got {decimals}")
+        if seed is None:
+            seed = int(np.random.SeedSequence().generate_state(1, np.uint64)[0] >> np.uint64(1))
+        run = simulate_gyro(spec, fs_hz=fs, duration_s=duration_s, rng=seed, units=units,
+                            n_axes=axes, arma=arma_spec, temperature=profile,
+                            thermal_coefficients=coefs,
+                            flicker=flicker)  # type: ignore[arg-type]
+        frame = run.to_frame()
+        frame["time"] = np.round(frame["time"].to_numpy(), 9)
+        if decimals is not None:
+            for col in frame.columns[1:]:
+                frame[col] = np.round(frame[col].to_numpy(), decimals)
+        m = 2 ** np.arange(int(np.log2(max(run.n // 4, 1))) + 1)
+        sidecar = {
+            "generator": f"fogts {version} simulate", "output": output.name, "seed": seed,
+            "fs_hz": run.fs_hz, "duration_s": run.duration_s, "n": run.n, "units": run.units,
+            "columns": list(frame.columns), "axes": list(run.axes), "flicker": flicker,
+            "decimals": decimals, "noise": spec.to_dict(),
+            "arma": arma_spec.to_dict() if arma_spec is not None else None,
+            "temperature_profile": profile.to_dict() if profile is not None else None,
+            "thermal_coefficients": coefs,
+            "closed_form": {"kind": "oadev", "units": run.units, "tau": (m / run.fs_hz).tolist(),
+                            "dev": spec.adev(m / run.fs_hz, units=run.units).tolist(),
+                            "note": "IEEE 952 Table C.1 closed form of the noise terms "
+                                    "(without ARMA and thermal drift)"},
+        }
+        write_frame_atomic(output, frame)
+        side = output.with_name(output.name + ".json")
+        write_text_atomic(side, json_dumps(sidecar) + "\n")
+        console.print(f"wrote {output}: {run.n:,} samples x {run.n_axes} axis(es) at "
+                      f"{run.fs_hz:g} Hz ({run.duration_s:g} s), rate in {run.units}, seed "
+                      f"{seed}; true parameters in {side}", markup=False, soft_wrap=True)
+        console.print(spec.summary(), markup=False, soft_wrap=True)
+
+
+# ---- davar ------------------------------------------------------------------------------
+def _save_figure(fig: Any, path: str | Path) -> None:
+    """Save a Figure atomically; the format follows the suffix (.png, .svg, .pdf)."""
+    from fogts.errors import DataError
+    from fogts.io import atomic_path
+
+    target = Path(path)
+    fmt = target.suffix.lstrip(".").lower()
+    if fmt not in ("png", "svg", "pdf"):
+        raise DataError(f"--plot must end in .png, .svg or .pdf; got {target.name!r}")
+    with atomic_path(target) as tmp:
+        fig.savefig(tmp, format=fmt, dpi=150)
+
+
+@app.command("davar")
+def davar_cmd(
+    file: FileArg,
+    window: Annotated[str, typer.Option("--window", help="Window length: 200s, 5min, ... (the seed paper uses 201 s).")] = "200s",
+    step: Annotated[str, typer.Option("--step", help="Step between windows: 20s, 1min, ...")] = "20s",
+    kind: Annotated[str, typer.Option("--kind", help="Estimator per window: oadev, mdev, ohdev (fast), adev, hdev, totdev.")] = "oadev",
+    taus: Annotated[str, typer.Option("--taus", help="Tau grid within the window: octave, decade, dense, all, or taus in s separated by commas.")] = "octave",
+    axis: Annotated[str | None, typer.Option("--axis", help="Analyse one axis (name or index) [default: every axis].")] = None,
+    confidence: Annotated[float, typer.Option("--confidence", help="Confidence level of each window's interval.")] = 0.683,
+    rate_column: RateColOpt = None,
+    time_column: TimeColOpt = None,
+    temperature_column: TempColOpt = None,
+    fs: FsOpt = None,
+    units: UnitsOpt = None,
+    json_out: JsonOpt = None,
+    plot: Annotated[Path | None, typer.Option("--plot", help="Heat map of log deviation over (time, tau): .png, .svg or .pdf.")] = None,
+) -> None:
+    """Dynamic Allan deviation (DAVAR, Galleani & Tavella 2009): the deviation in a
+    window sliding along the record, and a non-stationarity score."""
+    from fogts.allan.dynamic import dynamic_allan
+    from fogts.errors import DataError
+    from fogts.simulate import parse_duration
+
+    with _guard():
+        window_s = parse_duration(window, "--window")
+        step_s = parse_duration(step, "--step")
+        tau_spec: Any = taus
+        if taus not in ("octave", "decade", "dense", "all"):
+            try:
+                tau_spec = [float(t) for t in taus.split(",") if t.strip()]
+            except ValueError:
+                raise DataError(f"--taus must be octave, decade, dense, all or numbers "
+                                 f"separated by commas; got {taus!r}") from None
+        pick: int | str | None = int(axis) if axis is not None and axis.isdigit() else axis
+        run = _read(file, rate_column, time_column, temperature_column, fs, units)
+        result = dynamic_allan(run, window_s=window_s, step_s=step_s, kind=kind,  # type: ignore[arg-type]
+                               taus=tau_spec, confidence=confidence, axis=pick)
+        payload = {"input": str(file), **result.to_dict()}
+        _emit_json(payload, json_out)
+        if plot is not None:
+            from fogts.plots import plot_dynamic_allan
+
+            _save_figure(plot_dynamic_allan(result), plot)
+        target = err_console if json_out == "-" else console
+        target.print(result.summary(), markup=False, soft_wrap=True)
+
+
+# ---- filter (issue 6: Kalman; issue 8 adds --method iir|moving-average) -----------------
+FILTER_METHODS = ("kalman",)
+
+
+def _save_plot(fig: Any, path: Path) -> None:
+    """Save a figure with the davar section's atomic writer."""
+    _save_figure(fig, path)
+
+
+def _say(lines: list[str], json_out: str | None) -> None:
+    """Print text lines unwrapped (to stderr when the JSON goes to stdout)."""
+    target = err_console if json_out == "-" else console
+    target.print("\n".join(lines), markup=False, soft_wrap=True)
+
+
+@app.command("filter")
+def filter_cmd(
+    file: FileArg,
+    output: Annotated[Path, typer.Option("-o", "--output", help="Output table (.csv or .parquet): time, observed, filtered, smoothed, predicted.")],
+    method: Annotated[str, typer.Option("--method", help="Filter: kalman (ARMA drift model in Harvey state-space form).")] = "kalman",
+    model: Annotated[str, typer.Option("--model", help="Drift model for --method kalman: auto (run the ARMA selection), AR(1), AR(2), AR(3), ARMA(1,1), ARMA(2,1).")] = "auto",
+    measurement_noise: Annotated[str, typer.Option("--measurement-noise", help="Kalman measurement-noise variance in (rate unit)^2, or 'estimate' (ML with the ARMA parameters fixed).")] = "estimate",
+    axis: Annotated[str, typer.Option("--axis", help="Axis to filter (name or index).")] = "0",
+    rate_column: RateColOpt = None,
+    time_column: TimeColOpt = None,
+    temperature_column: TempColOpt = None,
+    fs: FsOpt = None,
+    units: UnitsOpt = None,
+    json_out: JsonOpt = None,
+    plot: Annotated[Path | None, typer.Option("--plot", help="Observed / filtered / smoothed figure: .png, .svg or .pdf.")] = None,
+) -> None:
+    """Filter a gyro record: Kalman filter and smoother with an ARMA drift model (seed 004)."""
+    import numpy as np
+    import pandas as pd
+
+    from fogts._validate import check_choice
+    from fogts.errors import DataError
+
+    with _guard():
+        check_choice("--method", method, FILTER_METHODS)
+        noise: Any = measurement_noise
+        if measurement_noise != "estimate":
+            try:
+                noise = float(measurement_noise)
+            except ValueError:
+                raise DataError("--measurement-noise must be 'estimate' or a variance in "
+                                f"(rate unit)^2; got {measurement_noise!r}") from None
+        run = _read(file, rate_column, time_column, temperature_column, fs, units)
+        pick: int | str = int(axis) if axis.lstrip("-").isdigit() else axis
+        x = run.axis(pick)
+        from fogts.kalman import arma_kalman, resolve_arma_model
+
+        fit = resolve_arma_model(x, model)
+        result = arma_kalman(x, fit, measurement_noise=noise)
+        from fogts.io import write_frame_atomic
+
+        frame = pd.DataFrame({"time": run.time, "observed": x,
+                              "filtered": np.asarray(result.filtered),
+                              "smoothed": np.asarray(result.smoothed),
+                              "predicted": np.asarray(result.predicted)})
+        write_frame_atomic(output, frame)
+        fit_dict = fit.to_dict() if hasattr(fit, "to_dict") else {}
+        _emit_json({"input": str(file), "method": method, "units": run.units,
+                    "model": fit_dict, "kalman": result.to_dict(), "output": str(output)},
+                   json_out)
+        if plot is not None:
+            from fogts.plots import plot_kalman
+
+            _save_plot(plot_kalman(result, time_s=run.time, units=run.units), plot)
+        equation = fit.equation() if hasattr(fit, "equation") else result.model
+        _say([f"drift model ({'selected by AIC' if model == 'auto' else 'given'}): {equation}",
+              result.summary(), f"wrote {output} ({run.n} rows)"], json_out)
+
+
+# ---- compensate (issue 6: seed-004 start-up drift compensation) ---------------------------
+def _load_thermal_model(path: Path) -> Any:
+    import json
+
+    from fogts.errors import DataError
+    from fogts.thermal import ThermalModel
+
+    try:
+        data = json.loads(Path(path).read_text(encoding="utf-8"))
+    except json.JSONDecodeError as exc:
+        raise DataError(f"thermal model {str(path)!r} is not valid JSON: {exc}") from None
+    if isinstance(data, dict) and "thermal" in data and "terms" not in data:
+        data = data["thermal"].get("model", data["thermal"])  # a `compensate --json` file
+    return ThermalModel.from_dict(data)
+
+
+@app.command("compensate")
+def compensate_cmd(
+    file: FileArg,
+    output: Annotated[Path | None, typer.Option("-o", "--output", help="Output table (.csv or .parquet): time, raw, trend, used, compensated, temperature.")] = None,
+    emd: Annotated[bool, typer.Option("--emd/--no-emd", help="Separate the trend by EMD and Kalman-filter the rest before fitting (seed 004).")] = True,
+    save_model: Annotated[Path | None, typer.Option("--save-model", help="Save the fitted thermal model as JSON.")] = None,
+    model: Annotated[Path | None, typer.Option("--model", help="Apply a saved thermal model (JSON) instead of fitting one.")] = None,
+    calibration: Annotated[list[Path] | None, typer.Option("--calibration", help="Further calibration run(s) fitted together with FILE (repeat the option), e.g. cold starts at other ambient temperatures.")] = None,
+    arma_model: Annotated[str, typer.Option("--arma-model", help="ARMA model of the EMD rest: auto, AR(1), AR(2), AR(3), ARMA(1,1), ARMA(2,1).")] = "auto",
+    average: Annotated[float, typer.Option("--average", help="Averaging time of the bias stability in seconds (GJB/IEEE: 10 s).")] = 10.0,
+    dt_smoothing: Annotated[float, typer.Option("--dt-smoothing", help="Window in seconds of the temperature-rate (dT/dt) estimate.")] = 60.0,
+    axis: Annotated[str, typer.Option("--axis", help="Axis to compensate (name or index).")] = "0",
+    rate_column: RateColOpt = None,
+    time_column: TimeColOpt = None,
+    temperature_column: TempColOpt = None,
+    fs: FsOpt = None,
+    units: UnitsOpt = None,
+    json_out: JsonOpt = None,
+    plot: Annotated[Path | None, typer.Option("--plot", help="Raw rate, trend, compensated rate and temperature: .png, .svg or .pdf.")] = None,
+) -> None:
+    """Fit the seed-004 temperature-drift model D = aT·dT + bT² + cT + d·dT² + e·dT + f and
+    compensate; prints the model and the bias stability before and after."""
+    from fogts.thermal import startup_compensation
+
+    with _guard():
+        run = _read(file, rate_column, time_column, temperature_column, fs, units)
+        pick: int | str = int(axis) if axis.lstrip("-").isdigit() else axis
+        given = _load_thermal_model(model) if model is not None else None
+        extra = [_read(c, rate_column, time_column, temperature_column, fs, units)
+                 for c in (calibration or [])]
+        if extra and given is not None:
+            from fogts.errors import DataError
+
+            raise DataError("--calibration fits a model; it cannot be combined with --model")
+        result = startup_compensation(run, axis=pick, emd=emd, model=given,
+                                      arma_model=arma_model, dT_smoothing_s=dt_smoothing,
+                                      average_s=average, calibration=extra)
+        if output is not None:
+            from fogts.io import write_frame_atomic
+
+            write_frame_atomic(output, result.to_frame())
+        if save_model is not None:
+            from fogts.io import write_text_atomic
+            from fogts.report import json_dumps
+
+            write_text_atomic(save_model, json_dumps(result.model.to_dict()) + "\n")
+        payload = {"input": str(file), **result.to_dict()}
+        if given is not None:
+            payload["thermal"]["source"] = str(model)
+        _emit_json(payload, json_out)
+        if plot is not None:
+            from fogts.plots import plot_compensation
+
+            _save_plot(plot_compensation(result), plot)
+        lines = [result.summary()]
+        if output is not None:
+            lines.append(f"wrote {output} ({run.n} rows)")
+        if save_model is not None:
+            lines.append(f"saved the thermal model to {save_model}")
+        _say(lines, json_out)
+
+
+# ---- northfind (issue 6: four-position north seeking) -------------------------------------
+def _position_rates(files: list[Path], *, position_column: str, rate_column: str | None,
+                    time_column: str | None, temperature_column: str | None, fs: float | None,
+                    units: str | None, thermal: Any) -> tuple[dict[int, Any], dict[int, float] | None, float, str]:
+    import numpy as np
+
+    from fogts.errors import DataError
+    from fogts.northfind import POSITIONS_DEG, positions_from_frame
+    from fogts.thermal import compensate
+
+    if len(files) == 1:
+        run = _read(files[0], f"{rate_column or 'rate'},{position_column}", time_column,
+                    temperature_column, fs, units)
+        if thermal is not None:
+            run = compensate(run, thermal, axis=0)
+        import pandas as pd
+
+        frame = pd.DataFrame({"position_deg": run.rate[:, 1], "rate": run.rate[:, 0],
+                              "time": run.time})
+        rates = positions_from_frame(frame)
+        keys = np.round(frame["position_deg"].to_numpy()) % 360
+        times = {p: float(frame["time"].to_numpy()[keys == p].mean()) for p in POSITIONS_DEG}
+        return rates, times, run.fs_hz, run.units
+    if len(files) != 4:
+        raise DataError(f"give one file with a {position_column!r} column, or four files (0, 90, "
+                        f"180, 270 degrees in that order); got {len(files)} files")
+    rates = {}
+    fs_hz, unit = 0.0, "deg/h"
+    for p, path in zip(POSITIONS_DEG, files, strict=True):
+        run = _read(path, rate_column, time_column, temperature_column, fs, units)
+        if thermal is not None:
+            run = compensate(run, thermal, axis=0)
+        rates[p] = run.axis(0)
+        fs_hz, unit = run.fs_hz, run.units
+    return rates, None, fs_hz, unit
+
+
+@app.command("northfind")
+def northfind_cmd(
+    files: Annotated[list[Path] | None, typer.Argument(help="One CSV with position_deg and rate columns, or four files for 0/90/180/270 degrees (omit with --simulate).")] = None,
+    latitude: Annotated[float, typer.Option("--latitude", help="Latitude in degrees (|L| <= 89).")] = ...,  # type: ignore[assignment]
+    thermal_model: Annotated[Path | None, typer.Option("--thermal-model", help="Compensate the rates with a saved thermal model (JSON from 'fogts compensate --save-model').")] = None,
+    position_column: Annotated[str, typer.Option("--position-column", help="Column holding the position in degrees (0/90/180/270).")] = "position_deg",
+    transition: Annotated[float, typer.Option("--transition", help="Seconds spent turning between positions (four-file input).")] = 0.0,
+    bias_sigma: Annotated[float, typer.Option("--bias-sigma", help="1-sigma position-to-position bias variation in deg/h for the error budget.")] = 0.0,
+    simulate: Annotated[int | None, typer.Option("--simulate", help="Simulation mode: repeat cold-start north seeking N times, with and without thermal compensation.")] = None,
+    seed: Annotated[int, typer.Option("--seed", help="Random seed of the simulation mode.")] = 4,
+    rate_column: RateColOpt = None,
+    time_column: TimeColOpt = None,
+    temperature_column: TempColOpt = None,
+    fs: FsOpt = None,
+    units: UnitsOpt = None,
+    json_out: JsonOpt = None,
+    plot: Annotated[Path | None, typer.Option("--plot", help="Simulation mode: azimuth error per trial (.png, .svg, .pdf).")] = None,
+) -> None:
+    """Four-position north seeking (seed 004): azimuth of the input axis at position 0,
+    clockwise from true north, with its error budget; or, with --simulate N, the cold-start
+    error with and without thermal compensation."""
+    from fogts.errors import DataError
+    from fogts.northfind import four_position, simulate_north_seeking
+
+    with _guard():
+        thermal = _load_thermal_model(thermal_model) if thermal_model is not None else None
+        if simulate is not None:
+            if files:
+                raise DataError("--simulate takes no input files")
+            notes = []
+            if thermal is None:
+                from fogts.northfind import simulated_calibration
+
+                thermal = simulated_calibration((15.0, 20.0, 25.0), rng=seed + 1_000_003)
+                notes.append("thermal model fitted on three separate simulated calibration cold "
+                             "starts (ambient 15, 20, 25 degC)")
+            study = simulate_north_seeking(simulate, latitude_deg=latitude, model=thermal,
+                                           rng=seed)
+            payload = {"mode": "simulate", "seed": seed, **study.to_dict(), "notes": notes}
+            _emit_json(payload, json_out)
+            if plot is not None:
+                from fogts.plots import plot_north_seeking
+
+                _save_plot(plot_north_seeking(study), plot)
+            _say([study.summary(), *notes], json_out)
+            return
+        if not files:
+            raise DataError("give one positions file or four files, or --simulate N")
+        rates, times, fs_hz, unit = _position_rates(
+            files, position_column=position_column, rate_column=rate_column,
+            time_column=time_column, temperature_column=temperature_column, fs=fs, units=units,
+            thermal=thermal)
+        result = four_position(rates, latitude_deg=latitude, fs_hz=fs_hz, units=unit,
+                               position_time_s=times, transition_s=transition,
+                               bias_sigma_deg_h=bias_sigma)
+        payload = {"input": [str(f) for f in files],
+                   "thermal_model": None if thermal_model is None else str(thermal_model),
+                   **result.to_dict()}
+        _emit_json(payload, json_out)
+        if plot is not None:
+            raise DataError("--plot is available in --simulate mode only")
+        _say([result.summary()], json_out)
+
+
+# ---- select -----------------------------------------------------------------------------
+def _fmt(v: Any, spec: str = ".4g") -> str:
+    import math
+
+    return "–" if v is None or (isinstance(v, float) and not math.isfinite(v)) else \
+        format(v, spec)
+
+
+def _select_notes(c: Any) -> str:
+    """Short notes for one candidate row: why not white, redundancy, convergence."""
+    if not c.ok:
+        return f"fit failed: {c.reason}"
+    notes = []
+    if c.flagged("near_cancellation"):
+        notes.append("AR/MA roots nearly cancel")
+    insig = [f.details["param"] for f in c.flagged("insignificant")]
+    if insig:
+        notes.append(f"{', '.join(insig)} not significant")
+    if not c.converged:
+        notes.append("did not converge")
+    return "; ".join(notes)
+
+
+def _select_table(sel: Any) -> Table:
+    from rich.text import Text
+
+    crit = sel.criterion.upper()
+    best = sel.selected.criterion_value if sel.selected is not None else float("nan")
+    band = 1.96 / sel.n ** 0.5
+    title = f"ARMA candidates ranked by {crit}, white residuals first"
+    if sel.selected is not None:
+        title += f" ({crit} of #1: {best:.2f})"
+    table = Table(title=title, title_justify="left", box=None, pad_edge=False, padding=(0, 1),
+                  header_style="bold underline")
+    for name in ("#", "model", f"Δ{crit}", "σ_a²", "ρ_a,2", "ρ_ax,3",
+                 *[f"LB p({lag})" for lag in sel.lags], "white"):
+        table.add_column(name, justify="left" if name == "model" else "right", no_wrap=True)
+    for c in sel.candidates:
+        if not c.ok:
+            table.add_row("–", c.model, *["–"] * (4 + len(sel.lags)), Text("failed", "red"))
+            continue
+        d = c.diagnostics
+
+        def chk(value: float, ok: bool | None) -> Text:
+            return Text(_fmt(value, "+.4f"), "" if ok in (True, None) else "red")
+
+        lbs = [Text(_fmt(x.pvalue, ".3g"), "" if x.passed in (True, None) else "red")
+               for x in d.ljung_box]
+        table.add_row(str(c.rank), Text(c.model, "bold" if c is sel.selected else ""),
+                      _fmt(c.criterion_value - best, "+.2f"), _fmt(c.sigma2, ".3g"),
+                      chk(d.rho_a2.value, d.rho_a2.passed), chk(d.rho_ax3.value, d.rho_ax3.passed),
+                      *lbs, Text("yes", "green") if c.white else Text("no", "red"))
+    table.caption = (f"white: |ρ_a,2|, |ρ_ax,3| ≤ 1.96/√n = {band:.3g} (seed eqs. 11, 12) and "
+                     f"Ljung–Box p ≥ 0.05 at each lag (model_df = p+q); red: check fails")
+    table.caption_justify = "left"
+    return table
+
+
+def _select_params(c: Any, units: str | None) -> list[str]:
+    lines = []
+    for k, v in c.params.items():
+        se = c.bse.get(k)
+        t = v / se if se else float("nan")
+        unit = f" ({units})²" if k == "sigma2" and units else ""
+        sig = "" if k == "sigma2" else f"  t = {t:+.1f}"
+        lines.append(f"  {k:<7} = {v: .6g} ± {_fmt(se, '.2g')}{unit}{sig}")
+    return lines
+
+
+@app.command("select")
+def select_cmd(
+    file: FileArg,
+    rate_column: RateColOpt = None,
+    time_column: TimeColOpt = None,
+    temperature_column: TempColOpt = None,
+    fs: FsOpt = None,
+    units: UnitsOpt = None,
+    axis: Annotated[str | None, typer.Option("--axis", help="Axis to model (name or index) [default: the first].")] = None,
+    outliers: Annotated[float | None, typer.Option("--outliers", help="Replace samples beyond this many robust sigmas first.")] = None,
+    detrend: Annotated[int | None, typer.Option("--detrend", help="Remove a polynomial trend of this order (0 = mean only) [default: remove the mean].")] = None,
+    decimate: Annotated[int | None, typer.Option("--decimate", help="Block-average K samples first (e.g. 100 Hz -> 1 Hz with K=100).")] = None,
+    candidates: Annotated[str | None, typer.Option("--candidates", help="Models to compare, e.g. 'AR(1),AR(2),ARMA(1,1)' [default: AR(1),AR(2),AR(3),ARMA(1,1),ARMA(2,1)].")] = None,
+    criterion: Annotated[str, typer.Option("--criterion", help="Ranking criterion: aic, bic, hqic, aicc.")] = "aic",
+    json_out: JsonOpt = None,
+    plot: Annotated[Path | None, typer.Option("--plot", help="Diagnostics figure (data ACF/PACF, residual ACF, Q-Q, prediction): .png, .svg or .pdf.")] = None,
+    predict: Annotated[Path | None, typer.Option("--predict", help="Write the one-step prediction as CSV (time, observed, predicted, residual); .csv, .csv.gz, .tsv or .parquet.")] = None,
+) -> None:
+    """Select the ARMA model of the drift (seed 000): fit AR(1), AR(2), AR(3), ARMA(1,1) and
+    ARMA(2,1), check that their residuals are white, rank them and predict one step ahead.
+
+    Exit code 0 if the selected model leaves white residuals, 1 if no candidate does (the best
+    one is still reported), 2 on bad input.
+    """
+    from rich.text import Text
+
+    from fogts.arma.select import parse_candidates, select_arma
+    from fogts.errors import DataError
+    from fogts.preprocess import prepare
+
+    with _guard():
+        if criterion not in ("aic", "bic", "hqic", "aicc"):
+            raise DataError(f"--criterion must be one of aic, bic, hqic, aicc; got {criterion!r}")
+        orders = parse_candidates(candidates)
+        if plot is not None and plot.suffix.lower() not in (".png", ".svg", ".pdf"):
+            raise DataError(f"--plot must end in .png, .svg or .pdf; got {plot.name!r}")
+        run = _read(file, rate_column, time_column, temperature_column, fs, units)
+        pick: int | str = 0 if axis is None else (int(axis) if axis.isdigit() else axis)
+        if isinstance(pick, str) and pick not in run.axes:
+            raise DataError(f"--axis {pick!r} not found; axes are: {', '.join(run.axes)}")
+        if isinstance(pick, int) and not 0 <= pick < run.n_axes:
+            raise DataError(f"--axis must be 0..{run.n_axes - 1}, got {pick}")
+        prepared = prepare(run, axis=pick, outliers=outliers, detrend=detrend,
+                           decimate=decimate)
+        sel = select_arma(prepared, candidates=orders, criterion=criterion)  # type: ignore[arg-type]
+        payload = sel.to_dict()
+        payload["input"] = {**payload["input"], "file": str(file)}
+        _emit_json(payload, json_out)
+        if plot is not None:
+            from fogts.plots import plot_selection
+
+            _save_figure(plot_selection(sel), plot)
+        pred = None
+        if predict is not None and sel.selected is not None:
+            from fogts.io import write_frame_atomic
+
+            pred = sel.selected.predict()
+            frame = pred.to_frame().reset_index(drop=True)
+            if "time" not in frame:
+                frame.insert(0, "time", prepared.time)
+            write_frame_atomic(predict, frame[["time", "observed", "predicted", "residual"]])
+
+        out = err_console if json_out == "-" else console
+
+        def say(text: str = "", style: str = "") -> None:
+            out.print(Text(text, style), soft_wrap=True)
+
+        dur = run.duration_s
+        dur_text = f"{dur / 3600:.3g} h" if dur >= 3600 else (
+            f"{dur / 60:.3g} min" if dur >= 60 else f"{dur:.3g} s")
+        say(f"read      {file}: {run.n:,} samples of {prepared.axis!r} at {run.fs_hz:g} Hz "
+            f"({dur_text}), rate in {run.units}")
+        for i, step in enumerate(prepared.steps):
+            say(f"{'prepared' if i == 0 else '':<10}{step}")
+        say(f"{'modelled':<10}{sel.n:,} samples at {prepared.fs_hz:g} Hz")
+        corr = sel.correlogram
+        say(f"{'ACF/PACF':<10}ACF {corr.acf_pattern.describe()}, PACF "
+            f"{corr.pacf_pattern.describe()} -> {corr.suggestion}")
+        out.print(_select_table(sel))
+        for c in sel.candidates:
+            note = _select_notes(c)
+            if note:
+                say(f"{'note':<10}{c.model}: {note}")
+        best = sel.selected
+        if best is not None:
+            how = (f"lowest {sel.criterion.upper()} among the white candidates" if best.white
+                   else f"lowest {sel.criterion.upper()}; residuals NOT white")
+            say(f"selected  {best.model} ({how}), drift in {prepared.units}:", "bold")
+            say(f"  {best.equation()}", "bold")
+            for line in _select_params(best, prepared.units):
+                say(line)
+            for f in best.flags:
+                say(f"  note: {f.message}")
+            bp = best.predict()
+            say(f"  one-step prediction: std {bp.variance_observed ** 0.5:.4g} -> "
+                f"{bp.variance_residual ** 0.5:.4g} {prepared.units} "
+                f"({100 * bp.variance_removed:.1f} % of the variance removed)")
+        say(f"verdict   {sel.verdict}", "green" if sel.exit_code == 0 else "red")
+        if json_out not in (None, "-"):
+            say(f"wrote     {json_out}")
+        if plot is not None:
+            say(f"wrote     {plot}")
+        if pred is not None:
+            say(f"wrote     {predict}")
+        elif predict is not None:
+            say(f"not written {predict}: no candidate could be fitted")
+    raise typer.Exit(sel.exit_code)
+
+
 def main(argv: list[str] | None = None) -> None:
     """Console-script entry point: usage errors become one line ``error: ...``, exit 2."""
     try:

@@ -1,0 +1,39 @@
+"""Allan-family analysis: tau grids, phase-based estimators, confidence, noise terms.
+
+Public entry point: :func:`allan_deviation` (-> :class:`AllanResult` or
+:class:`AllanResultSet`); the kernels live in :mod:`fogts.allan.estimators`.
+"""
+
+from __future__ import annotations
+
+from fogts.allan.api import allan_deviation
+from fogts.allan.estimators import (
+    ESTIMATORS,
+    EstimatorOutput,
+    adev,
+    hdev,
+    mdev,
+    oadev,
+    ohdev,
+    totdev,
+)
+from fogts.allan.result import AllanResult, AllanResultSet
+from fogts.allan.taus import KINDS, DroppedTau, TauGrid, tau_grid
+
+__all__ = [
+    "ESTIMATORS",
+    "KINDS",
+    "AllanResult",
+    "AllanResultSet",
+    "DroppedTau",
+    "EstimatorOutput",
+    "TauGrid",
+    "adev",
+    "allan_deviation",
+    "hdev",
+    "mdev",
+    "oadev",
+    "ohdev",
+    "tau_grid",
+    "totdev",
+]

@@ -1,0 +1,553 @@
+"""The benchmark runner: every suite, one JSON result, a markdown table, and ``--compare``.
+
+Result format (``--out``)::
+
+    {"schema": 1, "date": ISO-8601 UTC, "quick": bool, "machine": {...}, "versions": {...},
+     "git": commit or null, "seconds": wall time,
+     "suites": {name: {"status": "ok"|"failed"|"missing", "seconds", "error"}},
+     "metrics": [{"id", "suite", "title", "kind": "speed"|"accuracy", "value", "unit",
+                  "better": "higher"|"lower", "tolerance", "abs_tolerance",
+                  "seconds": {name: s}, "details": {...}}]}
+
+* A **speed** metric's value is a ratio measured in one run: peer seconds / fogts seconds
+  (higher is better).  Absolute seconds are stored in ``seconds`` and shown, never compared.
+* An **accuracy** metric is an error (lower is better) or a rate (higher is better) measured
+  on simulated data with fixed seeds.
+* Metric ids carry the problem size (``speed.oadev.n=1e7``), so a ``--quick`` run and a full
+  run never compare figures of different sizes.
+
+``--compare OLD`` flags a metric whose value got worse than OLD's by more than its tolerance
+(10 % relative by default, and more than ``abs_tolerance`` absolute), and a metric of OLD that
+is missing now; it exits 1 if anything is flagged.  Timing noise is not a regression: a suite
+with a flagged speed metric is measured again (``--confirm`` times, default 2) and the best
+value of each speed metric is kept, so only a reproducible slowdown is reported.
+
+Each suite runs in its own Python process, so one suite's imports, caches or memory peak do
+not affect another, and a crash is reported as that suite's failure.
+"""
+
+from __future__ import annotations
+
+import argparse
+import datetime as _dt
+import importlib
+import json
+import os
+import platform
+import subprocess
+import sys
+import tempfile
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+SCHEMA = 1
+DEFAULT_TOLERANCE = 0.10
+ROOT = Path(__file__).resolve().parents[1]
+
+Metric = dict[str, Any]
+
+
+# --------------------------------------------------------------------------- metric helpers
+
+
+def speed_metric(id: str, title: str, *, fogts_s: float, peer_s: float, peer: str,
+                 suite: str = "", tolerance: float = DEFAULT_TOLERANCE,
+                 details: dict[str, Any] | None = None) -> Metric:
+    """A speed figure: ``peer_s / fogts_s`` ("x faster than the peer"; higher is better)."""
+    return {"id": id, "suite": suite, "title": title, "kind": "speed",
+            "value": peer_s / fogts_s if fogts_s > 0 else float("nan"),
+            "unit": f"x vs {peer}", "better": "higher", "tolerance": tolerance,
+            "abs_tolerance": 0.0, "seconds": {"fogts": fogts_s, peer: peer_s},
+            "details": details or {}}
+
+
+def accuracy_metric(id: str, title: str, *, value: float, better: str, unit: str = "",
+                    suite: str = "", tolerance: float = DEFAULT_TOLERANCE,
+                    abs_tolerance: float = 0.0, details: dict[str, Any] | None = None) -> Metric:
+    """An accuracy figure (an error: ``better="lower"``; a rate: ``better="higher"``)."""
+    if better not in ("lower", "higher"):
+        raise ValueError(f"better must be 'lower' or 'higher', got {better!r}")
+    return {"id": id, "suite": suite, "title": title, "kind": "accuracy", "value": value,
+            "unit": unit, "better": better, "tolerance": tolerance,
+            "abs_tolerance": abs_tolerance, "seconds": {}, "details": details or {}}
+
+
+def best_time(fn: Callable[[], Any], *, repeat: int = 3, warmup: int = 0) -> float:
+    """Smallest wall time of ``repeat`` calls of ``fn`` (after ``warmup`` untimed calls).
+
+    The minimum is the least noisy estimate on a shared machine: noise only adds time.
+    """
+    for _ in range(warmup):
+        fn()
+    best = float("inf")
+    for _ in range(max(1, repeat)):
+        t0 = time.perf_counter()
+        fn()
+        best = min(best, time.perf_counter() - t0)
+    return best
+
+
+def paired_times(fogts_fn: Callable[[], Any], peer_fn: Callable[[], Any], *, repeat: int = 3,
+                 min_total_s: float = 0.0, max_repeat: int = 50) -> tuple[float, float]:
+    """Best wall times of ``fogts_fn`` and ``peer_fn``, measured alternately.
+
+    Alternating puts both under the same machine load, and the minimum of each discards the
+    time lost to other processes.  At least ``repeat`` pairs are timed, more (up to
+    ``max_repeat``) until the pairs took ``min_total_s`` in all, which steadies fast calls.
+    """
+    best_a = best_b = float("inf")
+    total = 0.0
+    i = 0
+    while i < repeat or (total < min_total_s and i < max_repeat):
+        for k, fn in enumerate((fogts_fn, peer_fn) if i % 2 == 0 else (peer_fn, fogts_fn)):
+            t0 = time.perf_counter()
+            fn()
+            dt = time.perf_counter() - t0
+            total += dt
+            is_fogts = (k == 0) == (i % 2 == 0)
+            if is_fogts:
+                best_a = min(best_a, dt)
+            else:
+                best_b = min(best_b, dt)
+        i += 1
+    return best_a, best_b
+
+
+# --------------------------------------------------------------------------- suites
+
+
+@dataclass(frozen=True)
+class Suite:
+    """A benchmark suite: ``module:function`` called as ``function(quick) -> list[Metric]``."""
+
+    name: str
+    target: str
+    description: str
+
+    def load(self) -> Callable[[bool], list[Metric]]:
+        module, _, func = self.target.partition(":")
+        return getattr(importlib.import_module(module), func)  # type: ignore[no-any-return]
+
+    def module_path(self) -> Path:
+        """The module's file (``x.py`` or ``x/__init__.py``)."""
+        base = ROOT.joinpath(*self.target.partition(":")[0].split("."))
+        package = base / "__init__.py"
+        return package if package.exists() else base.with_suffix(".py")
+
+
+#: Every suite, in the order they run.  A suite module exposes ``metrics(quick) -> list``
+#: of :func:`speed_metric` / :func:`accuracy_metric` dicts, and runs alone as a script.
+SUITES: tuple[Suite, ...] = (
+    Suite("allan", "benchmarks.bench_allan:metrics",
+          "oadev and every estimator against allantools; memory"),
+    Suite("arma", "benchmarks.bench_arma:metrics",
+          "select_arma against the statsmodels ARIMA loop"),
+    Suite("davar", "benchmarks.bench_davar:metrics",
+          "dynamic Allan deviation against looping allantools.oadev"),
+    Suite("io", "benchmarks.bench_io:metrics",
+          "read_run MB/s on CSV and Parquet against pandas"),
+    Suite("noise_fit", "benchmarks.bench_noise_fit:metrics",
+          "noise-coefficient round trip by sensor grade"),
+    Suite("selection_rate", "benchmarks.bench_selection_rate:metrics",
+          "ARMA selection hit rate by true model"),
+    Suite("emd_kalman", "benchmarks.bench_emd_kalman:metrics",
+          "EMD, Kalman filter and thermal coefficient recovery"),
+    Suite("accuracy", "benchmarks.accuracy:metrics",
+          "round-trip accuracy reports (benchmarks/accuracy)"),
+)
+
+
+# --------------------------------------------------------------------------- machine
+
+
+def _cpu_model() -> str:
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.lower().startswith("model name"):
+                return line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return platform.processor() or platform.machine()
+
+
+def _memory_gib() -> float | None:
+    try:
+        for line in Path("/proc/meminfo").read_text().splitlines():
+            if line.startswith("MemTotal:"):
+                return round(int(line.split()[1]) / 2**20, 1)
+    except (OSError, ValueError):
+        pass
+    return None
+
+
+def machine_info() -> dict[str, Any]:
+    """CPU, cores, memory, OS, Python and the load average when the run started."""
+    load = os.getloadavg() if hasattr(os, "getloadavg") else None
+    return {"cpu": _cpu_model(), "cores": os.cpu_count(), "memory_gib": _memory_gib(),
+            "platform": platform.platform(), "python": platform.python_version(),
+            "loadavg_at_start": [round(v, 2) for v in load] if load else None}
+
+
+def library_versions() -> dict[str, str | None]:
+    """Versions of fogts and of every library a suite measures against."""
+    from importlib import metadata
+
+    out: dict[str, str | None] = {}
+    for dist in ("fogts", "numpy", "scipy", "pandas", "statsmodels", "allantools", "pyarrow",
+                 "matplotlib", "dask", "distributed"):
+        try:
+            out[dist] = metadata.version(dist)
+        except metadata.PackageNotFoundError:
+            out[dist] = None
+    return out
+
+
+def _git_commit() -> str | None:
+    try:
+        res = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "HEAD"], capture_output=True,
+                             text=True, timeout=10, check=False)
+    except (OSError, subprocess.SubprocessError):
+        return None
+    commit = res.stdout.strip()
+    if res.returncode != 0 or not commit:
+        return None
+    dirty = subprocess.run(["git", "-C", str(ROOT), "status", "--porcelain", "--",
+                            "fogts", "benchmarks"], capture_output=True, text=True,
+                           timeout=10, check=False).stdout.strip()
+    return commit + ("+dirty" if dirty else "")
+
+
+# --------------------------------------------------------------------------- running
+
+
+def _run_child(suite: Suite, quick: bool, timeout_s: float | None) -> tuple[dict[str, Any],
+                                                                           list[Metric]]:
+    """Run one suite in a fresh interpreter; return (status record, metrics)."""
+    if not suite.module_path().exists():
+        return {"status": "missing", "seconds": 0.0,
+                "error": f"{suite.module_path().relative_to(ROOT)} does not exist"}, []
+    fd, out = tempfile.mkstemp(prefix=f"bench-{suite.name}-", suffix=".json")
+    os.close(fd)
+    cmd = [sys.executable, "-m", "benchmarks._runner", "--child", suite.name, "--child-out", out]
+    if quick:
+        cmd.append("--quick")
+    t0 = time.perf_counter()
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join(
+        [str(ROOT), *filter(None, [os.environ.get("PYTHONPATH")])])}
+    try:
+        res = subprocess.run(cmd, cwd=ROOT, env=env, capture_output=True, text=True,
+                             timeout=timeout_s, check=False, stdin=subprocess.DEVNULL)
+        seconds = time.perf_counter() - t0
+        if res.returncode != 0:
+            tail = (res.stderr or res.stdout).strip().splitlines()[-15:]
+            return {"status": "failed", "seconds": seconds,
+                    "error": f"exit code {res.returncode}: " + "\n".join(tail)}, []
+        metrics = json.loads(Path(out).read_text())
+    except subprocess.TimeoutExpired:
+        return {"status": "failed", "seconds": time.perf_counter() - t0,
+                "error": f"timed out after {timeout_s:.0f} s"}, []
+    finally:
+        Path(out).unlink(missing_ok=True)
+    for m in metrics:
+        m["suite"] = suite.name
+    return {"status": "ok", "seconds": seconds, "error": ""}, metrics
+
+
+def _child_main(name: str, quick: bool, out: str) -> int:
+    suite = next(s for s in SUITES if s.name == name)
+    metrics = suite.load()(quick)
+    Path(out).write_text(json.dumps(metrics, allow_nan=True))
+    return 0
+
+
+def run_suites(suites: list[Suite], *, quick: bool, timeout_s: float | None,
+               log: Callable[[str], None]) -> dict[str, Any]:
+    """Run ``suites`` and return the full result document."""
+    t0 = time.perf_counter()
+    doc: dict[str, Any] = {
+        "schema": SCHEMA,
+        "date": _dt.datetime.now(_dt.UTC).replace(microsecond=0).isoformat(),
+        "quick": quick, "machine": machine_info(), "versions": library_versions(),
+        "git": _git_commit(), "seconds": 0.0, "suites": {}, "metrics": [],
+    }
+    for suite in suites:
+        log(f"== {suite.name}: {suite.description}")
+        status, metrics = _run_child(suite, quick, timeout_s)
+        doc["suites"][suite.name] = status
+        doc["metrics"].extend(metrics)
+        if status["status"] == "ok":
+            log(f"   {len(metrics)} figure(s) in {status['seconds']:.1f} s")
+        else:
+            log(f"   {status['status'].upper()}: {status['error']}")
+    doc["seconds"] = time.perf_counter() - t0
+    return doc
+
+
+# --------------------------------------------------------------------------- comparing
+
+
+def _worse_by(new: float, old: float, better: str) -> float:
+    """Relative change in the bad direction (positive = worse)."""
+    if old == 0:
+        return float("inf") if (new > 0 if better == "lower" else new < 0) else 0.0
+    change = (new - old) / abs(old)
+    return -change if better == "higher" else change
+
+
+def compare(new: dict[str, Any], old: dict[str, Any]) -> list[dict[str, Any]]:
+    """One row per metric of either document: ``{id, title, old, new, change, verdict}``.
+
+    ``verdict`` is ``ok``, ``better``, ``REGRESSION``, ``MISSING`` (in old, not in new: the
+    figure is no longer measured), ``new`` or ``not comparable`` (a NaN value).
+    """
+    old_by = {m["id"]: m for m in old.get("metrics", [])}
+    new_by = {m["id"]: m for m in new.get("metrics", [])}
+    rows: list[dict[str, Any]] = []
+    for mid, m in new_by.items():
+        o = old_by.get(mid)
+        row = {"id": mid, "title": m["title"], "unit": m.get("unit", ""), "new": m["value"],
+               "old": None if o is None else o["value"], "change": None}
+        if o is None:
+            row["verdict"] = "new"
+        elif not _is_number(m["value"]) or not _is_number(o["value"]):
+            row["verdict"] = "not comparable"
+        else:
+            worse = _worse_by(float(m["value"]), float(o["value"]), m["better"])
+            row["change"] = worse
+            tol = float(m.get("tolerance", DEFAULT_TOLERANCE))
+            abs_tol = float(m.get("abs_tolerance", 0.0))
+            if worse > tol and abs(float(m["value"]) - float(o["value"])) > abs_tol:
+                row["verdict"] = "REGRESSION"
+            else:
+                row["verdict"] = "better" if worse < -tol else "ok"
+        rows.append(row)
+    quick = bool(new.get("quick"))
+    for mid, o in old_by.items():
+        if mid not in new_by:
+            # A quick run measures fewer/smaller problems: only figures of the same mode
+            # (same id, same run mode) can go missing.
+            same_mode = bool(old.get("quick")) == quick
+            rows.append({"id": mid, "title": o["title"], "unit": o.get("unit", ""),
+                         "old": o["value"], "new": None, "change": None,
+                         "verdict": "MISSING" if same_mode else "not measured"})
+    return rows
+
+
+def _is_number(v: Any) -> bool:
+    return isinstance(v, int | float) and v == v and v not in (float("inf"), float("-inf"))
+
+
+def _merge_best(doc: dict[str, Any], again: list[Metric]) -> None:
+    """Keep, for every speed metric, the better of the two measurements."""
+    by_id = {m["id"]: m for m in again}
+    for i, m in enumerate(doc["metrics"]):
+        n = by_id.get(m["id"])
+        if n is None or m["kind"] != "speed" or not _is_number(n["value"]):
+            continue
+        if not _is_number(m["value"]) or _worse_by(n["value"], m["value"], m["better"]) < 0:
+            n = {**n, "details": {**n.get("details", {}), "remeasured": True}}
+            doc["metrics"][i] = n
+
+
+# --------------------------------------------------------------------------- rendering
+
+
+def _fmt(v: Any, digits: int = 3) -> str:
+    if v is None:
+        return "-"
+    if isinstance(v, bool):
+        return str(v)
+    if isinstance(v, int):
+        return str(v)
+    if isinstance(v, float):
+        if v != v:
+            return "nan"
+        if v == 0:
+            return "0"
+        if abs(v) >= 1e4 or abs(v) < 1e-3:
+            return f"{v:.{digits}g}"
+        return f"{v:.{digits}g}" if abs(v) < 1 else f"{v:.{max(digits - 1, 1)}f}".rstrip(
+            "0").rstrip(".")
+    return str(v)
+
+
+def _md_escape(text: str) -> str:
+    return str(text).replace("|", "\\|").replace("\n", " ")
+
+
+def render_markdown(doc: dict[str, Any]) -> str:
+    """The result as markdown: a header line (machine, versions, date) and one table per kind."""
+    m = doc.get("machine", {})
+    v = doc.get("versions", {})
+    libs = ", ".join(f"{k} {val}" for k, val in v.items() if val)
+    lines: list[str] = []
+    if m:
+        lines += [f"Measured {doc.get('date', '?')} on {m.get('cpu', '?')} "
+                  f"({m.get('cores', '?')} cores, {m.get('memory_gib', '?')} GiB, load average "
+                  f"{_fmt((m.get('loadavg_at_start') or [None])[0])} at start), Python "
+                  f"{m.get('python', '?')}; {libs}."
+                  + (" Quick mode (smaller problems)." if doc.get("quick") else ""), ""]
+    elif doc.get("quick"):
+        lines += ["Quick mode (smaller problems).", ""]
+    speed = [x for x in doc.get("metrics", []) if x["kind"] == "speed"]
+    acc = [x for x in doc.get("metrics", []) if x["kind"] == "accuracy"]
+    if speed:
+        lines += ["| speed | fogts (s) | peer (s) | ratio |", "|---|---:|---:|---:|"]
+        for x in speed:
+            secs = x.get("seconds", {})
+            peer = next((k for k in secs if k != "fogts"), "peer")
+            lines.append(f"| {_md_escape(x['title'])} | {_fmt(secs.get('fogts'))} | "
+                         f"{_fmt(secs.get(peer))} ({_md_escape(peer)}) | "
+                         f"**{_fmt(x['value'])}x** |")
+        lines.append("")
+    if acc:
+        lines += ["| accuracy | value | better |", "|---|---:|---|"]
+        for x in acc:
+            unit = f" {x['unit']}" if x.get("unit") else ""
+            lines.append(f"| {_md_escape(x['title'])} | {_fmt(x['value'])}{_md_escape(unit)} "
+                         f"| {x['better']} |")
+        lines.append("")
+    bad = {k: s for k, s in doc.get("suites", {}).items() if s["status"] != "ok"}
+    for name, s in bad.items():
+        first = s["error"].splitlines()[0] if s.get("error") else ""
+        lines.append(f"- suite `{name}`: {s['status']} {_md_escape(first)}")
+    return "\n".join(lines).rstrip() + "\n"
+
+
+def render_comparison(rows: list[dict[str, Any]]) -> str:
+    lines = ["| figure | old | new | worse by | verdict |", "|---|---:|---:|---:|---|"]
+    for r in rows:
+        change = "-" if r["change"] is None else f"{100 * r['change']:+.1f} %"
+        lines.append(f"| {_md_escape(r['title'])} | {_fmt(r['old'])} | {_fmt(r['new'])} | "
+                     f"{change} | {r['verdict']} |")
+    return "\n".join(lines) + "\n"
+
+
+def _write_atomic(path: Path, text: str) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    with os.fdopen(fd, "w", encoding="utf-8") as fh:
+        fh.write(text)
+    os.replace(tmp, path)
+
+
+# --------------------------------------------------------------------------- CLI
+
+
+def _parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(prog="python -m benchmarks", description=__doc__.split("\n")[0])
+    p.add_argument("--quick", action="store_true", help="small problems (a CI smoke run)")
+    p.add_argument("--out", type=Path, help="write the JSON result here")
+    p.add_argument("--md", type=Path, help="write the markdown table here")
+    p.add_argument("--compare", type=Path, metavar="OLD_JSON",
+                   help="flag figures worse than OLD_JSON's by more than their tolerance; "
+                        "exit 1 if any")
+    p.add_argument("--confirm", type=int, default=2,
+                   help="re-measure a suite with a flagged speed figure up to N times")
+    p.add_argument("--only", help="comma-separated suite names (default: all): "
+                   + ", ".join(s.name for s in SUITES))
+    p.add_argument("--against", type=Path, metavar="NEW_JSON",
+                   help="with --compare: compare this stored result instead of running")
+    p.add_argument("--render", type=Path, metavar="JSON",
+                   help="do not run anything: render JSON as markdown (to --md or stdout)")
+    p.add_argument("--timeout", type=float, default=None,
+                   help="seconds allowed per suite (default: none; 600 with --quick)")
+    p.add_argument("--list", action="store_true", help="list the suites and exit")
+    p.add_argument("--child", help=argparse.SUPPRESS)
+    p.add_argument("--child-out", help=argparse.SUPPRESS)
+    return p
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Entry point; returns the exit code (0 ok, 1 regression or failed suite, 2 usage)."""
+    args = _parser().parse_args(argv)
+    if args.child:
+        return _child_main(args.child, args.quick, args.child_out)
+
+    def log(msg: str) -> None:
+        print(msg, file=sys.stderr, flush=True)
+
+    if args.list:
+        for s in SUITES:
+            state = "" if s.module_path().exists() else "  (module missing)"
+            print(f"{s.name:<18} {s.description}{state}")
+        return 0
+    if args.render:
+        text = render_markdown(json.loads(args.render.read_text()))
+        if args.md:
+            _write_atomic(args.md, text)
+        else:
+            sys.stdout.write(text)
+        return 0
+
+    suites = list(SUITES)
+    if args.only:
+        names = [n.strip() for n in args.only.split(",") if n.strip()]
+        unknown = [n for n in names if n not in {s.name for s in SUITES}]
+        if unknown:
+            log(f"error: unknown suite(s) {', '.join(unknown)}; suites are: "
+                f"{', '.join(s.name for s in SUITES)}")
+            return 2
+        suites = [s for s in SUITES if s.name in names]
+    old = json.loads(args.compare.read_text()) if args.compare else None
+    timeout = args.timeout if args.timeout is not None else (600.0 if args.quick else None)
+
+    if args.against is not None:
+        if old is None:
+            log("error: --against needs --compare OLD_JSON")
+            return 2
+        rows = compare(json.loads(args.against.read_text()), old)
+        print(render_comparison(rows))
+        bad = [r for r in rows if r["verdict"] in ("REGRESSION", "MISSING")]
+        if bad:
+            log(f"{len(bad)} figure(s) got worse by more than their tolerance or went "
+                "missing: " + ", ".join(r["id"] for r in bad))
+        return 1 if bad else 0
+
+    doc = run_suites(suites, quick=args.quick, timeout_s=timeout, log=log)
+    rows = []
+    if old is not None:
+        rows = compare(doc, old)
+        for attempt in range(max(0, args.confirm)):
+            flagged = {r["id"] for r in rows if r["verdict"] == "REGRESSION"}
+            again = sorted({m["suite"] for m in doc["metrics"]
+                            if m["id"] in flagged and m["kind"] == "speed"})
+            if not again:
+                break
+            log(f"== re-measuring {', '.join(again)} (speed regression flagged; attempt "
+                f"{attempt + 1} of {args.confirm})")
+            for name in again:
+                suite = next(s for s in SUITES if s.name == name)
+                status, metrics = _run_child(suite, args.quick, timeout)
+                if status["status"] == "ok":
+                    _merge_best(doc, metrics)
+            rows = compare(doc, old)
+
+    text = render_markdown(doc)
+    print(text)
+    if args.out:
+        _write_atomic(args.out, json.dumps(doc, indent=2, allow_nan=True) + "\n")
+    if args.md:
+        _write_atomic(args.md, text)
+    failed = [n for n, s in doc["suites"].items() if s["status"] == "failed"]
+    code = 0
+    if failed:
+        log(f"FAILED suite(s): {', '.join(failed)}")
+        code = 1
+    if old is not None:
+        print(render_comparison(rows))
+        bad = [r for r in rows if r["verdict"] in ("REGRESSION", "MISSING")]
+        if bad:
+            log(f"{len(bad)} figure(s) got worse by more than their tolerance or went missing: "
+                + ", ".join(r["id"] for r in bad))
+            code = 1
+        else:
+            log(f"no regression against {args.compare}")
+    return code
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,289 @@
+"""Allan-family speed and memory against allantools, measured in the same run.
+
+Figures (ratio = allantools seconds / fogts seconds, > 1 means fogts is faster):
+
+* ``fogts.allan.oadev`` against ``allantools.oadev(y, rate=fs, data_type="freq", taus=...)``
+  on 10^7 white+random-walk rate samples and 100 log-spaced taus (same taus for both),
+  with the default thread pool and with one thread; the largest relative difference of
+  the deviations (must be <= 1e-9);
+* peak extra memory of each call (tracemalloc, numpy allocations included) as a multiple of
+  the input array;
+* every estimator (adev, oadev, mdev, hdev, ohdev, totdev) on 10^6 samples, octave taus;
+* ``--huge``: the end-to-end time on a 10^8-sample ``.npy`` (about 800 MB) of
+  ``read_run`` + ``allan_deviation`` (with confidence intervals), and of the whole
+  ``fogts allan`` command when it exists, against ``numpy.load`` + ``allantools.oadev``
+  on the same octave taus; each side runs in a fresh interpreter.
+
+The machine is shared, so both sides are timed alternately and the best of each is kept
+(``benchmarks._runner.paired_times``); the load average is printed with the table.
+
+Run: ``python benchmarks/bench_allan.py [--quick] [--huge]``; the table is written to
+``benchmarks/results/allan.md``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import functools
+import gc
+import importlib.util
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+import tracemalloc
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+try:
+    from benchmarks._runner import (
+        Metric,
+        accuracy_metric,
+        machine_info,
+        paired_times,
+        render_markdown,
+        speed_metric,
+    )
+except ImportError:  # run as a script: python benchmarks/bench_allan.py
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+    from benchmarks._runner import (
+        Metric,
+        accuracy_metric,
+        machine_info,
+        paired_times,
+        render_markdown,
+        speed_metric,
+    )
+
+RESULTS = Path(__file__).resolve().parent / "results" / "allan.md"
+FS_HZ = 100.0
+N_FULL, N_QUICK, N_HUGE = 10_000_000, 1_000_000, 100_000_000
+N_TAUS_FULL, N_TAUS_QUICK = 100, 30
+
+
+def gyro_rate(n: int, seed: int = 0) -> np.ndarray:
+    """White rate noise plus a small rate random walk and a bias (float64)."""
+    rng = np.random.default_rng(seed)
+    y = rng.normal(0.0, 0.1, n)
+    y += np.cumsum(rng.normal(0.0, 1e-4, n))
+    y += 12.0
+    return y
+
+
+def log_taus(n: int, count: int, fs_hz: float) -> np.ndarray:
+    """``count`` distinct log-spaced taus (whole samples) up to oadev's largest m."""
+    from fogts.allan.taus import max_m
+
+    top = max_m("oadev", n)
+    k = count
+    while True:
+        m = np.unique(np.rint(np.geomspace(1, top, k)).astype(np.int64))
+        if m.size >= count or k > 50 * count:
+            break
+        k += 1
+    return m[-count:] / fs_hz if m.size > count else m / fs_hz
+
+
+def peak_extra_bytes(fn: Callable[[], Any]) -> int:
+    """Peak memory allocated during ``fn()`` (tracemalloc sees numpy's allocations)."""
+    gc.collect()
+    tracemalloc.start()
+    try:
+        out = fn()
+        _, peak = tracemalloc.get_traced_memory()
+    finally:
+        tracemalloc.stop()
+    del out
+    return int(peak)
+
+
+def _oadev_metrics(quick: bool) -> list[Metric]:
+    import allantools
+
+    from fogts.allan.estimators import oadev
+
+    n = N_QUICK if quick else N_FULL
+    count = N_TAUS_QUICK if quick else N_TAUS_FULL
+    y = gyro_rate(n)
+    taus = log_taus(n, count, FS_HZ)
+    m = np.rint(taus * FS_HZ).astype(np.int64)
+    tag = f"n=1e{round(np.log10(n))}"
+
+    ours = oadev(y, fs_hz=FS_HZ, m=m)
+    ref = allantools.oadev(y, rate=FS_HZ, data_type="freq", taus=taus)
+    assert np.array_equal(np.rint(ref[0] * FS_HZ).astype(np.int64), m), "tau sets differ"
+    assert np.array_equal(ref[3].astype(np.int64), ours.n), "term counts differ"
+    rel = float(np.max(np.abs(ours.dev / ref[1] - 1.0)))
+
+    repeat = 3 if quick else 2
+    t_auto, t_at = paired_times(lambda: oadev(y, fs_hz=FS_HZ, m=m),
+                                lambda: allantools.oadev(y, rate=FS_HZ, data_type="freq",
+                                                         taus=taus), repeat=repeat)
+    t_one, t_at2 = paired_times(lambda: oadev(y, fs_hz=FS_HZ, m=m, workers=1),
+                                lambda: allantools.oadev(y, rate=FS_HZ, data_type="freq",
+                                                         taus=taus), repeat=repeat)
+    t_at = min(t_at, t_at2)
+    mem_ours = peak_extra_bytes(lambda: oadev(y, fs_hz=FS_HZ, m=m))
+    mem_one = peak_extra_bytes(lambda: oadev(y, fs_hz=FS_HZ, m=m, workers=1))
+    mem_at = peak_extra_bytes(lambda: allantools.oadev(y, rate=FS_HZ, data_type="freq",
+                                                        taus=taus))
+    threads = os.cpu_count() or 1
+    size = f"{n:.0e}".replace("+0", "").replace("+", "")
+    return [
+        speed_metric(f"speed.oadev.{tag}", f"oadev, {size} samples, {m.size} taus, "
+                     f"{threads} threads", fogts_s=t_auto, peer_s=t_at, peer="allantools",
+                     details={"taus": int(m.size), "threads": threads}),
+        speed_metric(f"speed.oadev.1thread.{tag}", f"oadev, {size} samples, {m.size} taus, "
+                     "1 thread", fogts_s=t_one, peer_s=t_at, peer="allantools",
+                     details={"taus": int(m.size), "threads": 1}),
+        accuracy_metric(f"accuracy.oadev_vs_allantools.{tag}", f"oadev, {size} samples: "
+                        "largest relative difference to allantools", value=rel,
+                        better="lower", abs_tolerance=1e-9),
+        accuracy_metric(f"memory.oadev.{tag}", f"oadev peak extra memory, {threads} threads",
+                        value=mem_ours / y.nbytes, better="lower", unit="x input",
+                        details={"bytes": mem_ours}),
+        accuracy_metric(f"memory.oadev.1thread.{tag}", "oadev peak extra memory, 1 thread",
+                        value=mem_one / y.nbytes, better="lower", unit="x input",
+                        details={"bytes": mem_one}),
+        accuracy_metric(f"memory.allantools_oadev.{tag}", "allantools.oadev peak extra memory",
+                        value=mem_at / y.nbytes, better="lower", unit="x input",
+                        details={"bytes": mem_at}),
+    ]
+
+
+def _all_kinds_metrics(quick: bool) -> list[Metric]:
+    import allantools
+
+    from fogts.allan.estimators import ESTIMATORS
+    from fogts.allan.taus import tau_grid
+
+    n = N_QUICK // 10 if quick else N_QUICK
+    y = gyro_rate(n, seed=1)
+    out: list[Metric] = []
+    for kind, fn in ESTIMATORS.items():
+        grid = tau_grid("octave", fs_hz=FS_HZ, n_samples=n, kind=kind)
+        peer = getattr(allantools, kind)
+        res = fn(y, fs_hz=FS_HZ, m=grid.m)
+        ref = peer(y, rate=FS_HZ, data_type="freq", taus=grid.tau_s)
+        rel = float(np.max(np.abs(res.dev / ref[1] - 1.0)))
+        t_ours, t_at = paired_times(functools.partial(fn, y, fs_hz=FS_HZ, m=grid.m),
+                                    functools.partial(peer, y, rate=FS_HZ, data_type="freq",
+                                                      taus=grid.tau_s), repeat=3)
+        out.append(speed_metric(f"speed.{kind}.octave.n={n}", f"{kind}, {n:,} samples, "
+                                f"{grid.m.size} octave taus (max rel. diff {rel:.1e})",
+                                fogts_s=t_ours, peer_s=t_at, peer="allantools",
+                                details={"max_rel_diff": rel}))
+    return out
+
+
+def _write_npy(path: Path, n: int, seed: int = 7) -> None:
+    """Write an ``n``-sample rate ``.npy`` in blocks (never two copies in memory)."""
+    arr = np.lib.format.open_memmap(path, mode="w+", dtype=np.float64, shape=(n,))
+    rng = np.random.default_rng(seed)
+    block = 10_000_000
+    level = 0.0
+    for s in range(0, n, block):
+        e = min(s + block, n)
+        walk = np.cumsum(rng.normal(0.0, 1e-4, e - s)) + level
+        level = float(walk[-1])
+        arr[s:e] = rng.normal(0.0, 0.1, e - s) + walk + 12.0
+    arr.flush()
+    del arr
+
+
+def _has_allan_command() -> bool:
+    from fogts.cli import app
+
+    return any((c.name or getattr(c.callback, "__name__", "")) in ("allan", "allan_cmd")
+               for c in app.registered_commands)
+
+
+def _timed_child(cmd: list[str], env: dict[str, str]) -> float:
+    t0 = time.perf_counter()
+    subprocess.run(cmd, check=True, env=env, capture_output=True, text=True)
+    return time.perf_counter() - t0
+
+
+def _huge_metrics() -> list[Metric]:
+    """End to end on a 1e8-sample .npy, each side in a fresh interpreter."""
+    from fogts.allan.taus import tau_grid
+
+    folder = Path(tempfile.mkdtemp(prefix="fogts-bench-allan-"))
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join(
+        [str(Path(__file__).resolve().parents[1]),
+         *filter(None, [os.environ.get("PYTHONPATH")])])}
+    out: list[Metric] = []
+    try:
+        path = folder / "rate_1e8.npy"
+        _write_npy(path, N_HUGE)
+        taus = tau_grid("octave", fs_hz=FS_HZ, n_samples=N_HUGE, kind="oadev").tau_s
+        peer_code = ("import sys, numpy as np, allantools; y = np.load(sys.argv[1]); "
+                     f"allantools.oadev(y, rate={FS_HZ}, data_type='freq', "
+                     f"taus=np.array({taus.tolist()!r}))")
+        t_peer = _timed_child([sys.executable, "-c", peer_code, str(path)], env)
+        api_code = ("import sys; from fogts.io import read_run; "
+                    "from fogts.allan import allan_deviation; "
+                    f"r = read_run(sys.argv[1], fs_hz={FS_HZ}); "
+                    "res = allan_deviation(r, kind='oadev', taus='octave')")
+        t_api = _timed_child([sys.executable, "-c", api_code, str(path)], env)
+        peer = "np.load+allantools.oadev"
+        out.append(speed_metric(
+            "speed.allan_deviation_end_to_end.n=1e8", f"1e8-sample .npy (800 MB), "
+            f"{taus.size} octave taus: read_run + allan_deviation (oadev with noise id, EDF "
+            "and CIs)", fogts_s=t_api, peer_s=t_peer, peer=peer))
+        if _has_allan_command():
+            cmd = [sys.executable, "-m", "fogts", "allan", str(path), "--fs", str(FS_HZ),
+                   "--json", str(folder / "out.json")]
+            t_cli = _timed_child(cmd, env)
+            out.append(speed_metric(
+                "speed.allan_cli_end_to_end.n=1e8", "1e8-sample .npy: the whole `fogts allan` "
+                "command (read, oadev, CIs, noise fit, JSON)", fogts_s=t_cli, peer_s=t_peer,
+                peer=peer))
+    finally:
+        shutil.rmtree(folder, ignore_errors=True)
+    return out
+
+
+def metrics(quick: bool, huge: bool = False) -> list[Metric]:
+    """Measure and return the figures (the runner's entry point)."""
+    out = _oadev_metrics(quick)
+    out += _all_kinds_metrics(quick)
+    if huge:
+        out += _huge_metrics()
+    return out
+
+
+def main(argv: list[str] | None = None) -> int:
+    p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    p.add_argument("--quick", action="store_true", help="1e6 samples and 30 taus")
+    p.add_argument("--huge", action="store_true",
+                   help="also time the end-to-end analysis of a 1e8-sample .npy (~800 MB)")
+    p.add_argument("--out", type=Path, default=None,
+                   help=f"write the markdown table here (default {RESULTS} for a full run)")
+    args = p.parse_args(argv)
+    if importlib.util.find_spec("allantools") is None:
+        print("error: allantools is not installed", file=sys.stderr)
+        return 2
+    start = machine_info()
+    figures = metrics(args.quick, huge=args.huge)
+    load_end = os.getloadavg() if hasattr(os, "getloadavg") else None
+    text = render_markdown({"metrics": figures, "quick": args.quick, "machine": start,
+                            "date": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())})
+    text += (f"\nLoad average at start {start.get('loadavg_at_start')}, at end "
+             f"{[round(v, 2) for v in load_end] if load_end else None} "
+             f"(the machine is shared; ratios are paired, best-of-N).\n")
+    print(text)
+    target = args.out if args.out is not None else (None if args.quick else RESULTS)
+    if target is not None:
+        target.parent.mkdir(parents=True, exist_ok=True)
+        target.write_text(text)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,155 @@
+"""``read_run`` throughput on a large CSV and on Parquet, against pandas in the same run.
+
+The file holds ``time,rate,temperature`` (100 Hz, white-noise rate, a slow temperature
+ramp), written by pyarrow.  The full run uses a 1 GB CSV (about 22 million rows) and the
+same table as Parquet; ``--quick`` uses about 20 MB.  The page cache is warmed before each
+timing, so the figures are parsing speed, not disk speed.
+
+Figures (ratio = peer seconds / fogts seconds, > 1 means fogts is faster):
+
+* ``read_run`` on CSV against ``pandas.read_csv`` (C engine, the usual way to load a bench
+  file) and against ``pyarrow.csv.read_csv`` (multi-threaded);
+* ``read_run`` on Parquet against ``pandas.read_parquet``.
+
+``read_run`` does more than the peers: it detects columns and units, checks every value is
+finite and the time base is monotonic, and measures gaps and jitter.
+
+Run: ``python benchmarks/bench_io.py [--quick]``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import gc
+import shutil
+import sys
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+try:
+    from benchmarks._runner import Metric, paired_times, render_markdown, speed_metric
+except ImportError:  # run as a script: python benchmarks/bench_io.py
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+    from benchmarks._runner import Metric, paired_times, render_markdown, speed_metric
+
+FULL_CSV_BYTES = 1_000_000_000
+QUICK_CSV_BYTES = 20_000_000
+FS_HZ = 100.0
+
+
+def _table(n: int, rng: np.random.Generator):  # type: ignore[no-untyped-def]
+    import pyarrow as pa
+
+    t = np.arange(n, dtype=np.float64) / FS_HZ
+    rate = rng.normal(0.0, 0.05, n) + 0.3
+    temp = 25.0 + 10.0 * (1.0 - np.exp(-t / 3600.0)) + rng.normal(0.0, 0.01, n)
+    return pa.table({"time": t, "rate": rate, "temperature": temp})
+
+
+def write_files(folder: Path, target_bytes: int, *, seed: int = 0) -> tuple[Path, Path, int]:
+    """Write ``bench.csv`` of about ``target_bytes`` and ``bench.parquet`` with the same rows."""
+    import pyarrow.csv as pacsv
+    import pyarrow.parquet as pq
+
+    rng = np.random.default_rng(seed)
+    probe = folder / "probe.csv"
+    pacsv.write_csv(_table(10_000, rng), probe)
+    per_row = probe.stat().st_size / 10_000
+    probe.unlink()
+    n = int(target_bytes / per_row)
+    csv, parquet = folder / "bench.csv", folder / "bench.parquet"
+    chunk = 2_000_000
+    with pacsv.CSVWriter(csv, _table(1, rng).schema) as writer:
+        for start in range(0, n, chunk):
+            tab = _table(min(chunk, n - start), rng)
+            import pyarrow as pa
+            import pyarrow.compute as pc
+
+            tab = tab.set_column(0, "time", pc.add(tab["time"], pa.scalar(start / FS_HZ)))
+            writer.write_table(tab)
+    pq.write_table(pacsv.read_csv(csv), parquet)
+    return csv, parquet, n
+
+
+def _warm(path: Path) -> None:
+    with path.open("rb") as fh:
+        while fh.read(1 << 24):
+            pass
+
+
+def metrics(quick: bool) -> list[Metric]:
+    """Measure and return the figures (the runner's entry point)."""
+    import pandas as pd
+    import pyarrow.csv as pacsv
+
+    from fogts.io import read_run
+
+    target = QUICK_CSV_BYTES if quick else FULL_CSV_BYTES
+    repeat = 3 if quick else 2
+    folder = Path(tempfile.mkdtemp(prefix="fogts-bench-io-"))
+    try:
+        csv, parquet, n = write_files(folder, target)
+        mb = csv.stat().st_size / 1e6
+        mb_pq = parquet.stat().st_size / 1e6
+        size = f"{mb / 1000:.2g} GB" if mb >= 1000 else f"{mb:.0f} MB"
+        tag = "1GB" if not quick else f"{mb:.0f}MB"
+
+        def timed(fn):  # type: ignore[no-untyped-def]
+            def go() -> None:
+                out = fn()
+                del out
+                gc.collect()
+            return go
+
+        _warm(csv)
+        check = read_run(csv)
+        assert check.n == n and check.temperature is not None, (check.n, n)
+        del check
+        budget = 0.0 if not quick else 2.0
+        t_fogts, t_pandas = paired_times(timed(lambda: read_run(csv)),
+                                         timed(lambda: pd.read_csv(csv)), repeat=repeat,
+                                         min_total_s=budget)
+        t_fogts2, t_arrow = paired_times(timed(lambda: read_run(csv)),
+                                         timed(lambda: pacsv.read_csv(csv)), repeat=repeat,
+                                         min_total_s=budget)
+        t_fogts = min(t_fogts, t_fogts2)
+        _warm(parquet)
+        t_fogts_pq, t_pandas_pq = paired_times(timed(lambda: read_run(parquet)),
+                                               timed(lambda: pd.read_parquet(parquet)),
+                                               repeat=max(repeat, 5), min_total_s=2 * budget)
+    finally:
+        shutil.rmtree(folder, ignore_errors=True)
+
+    details = {"rows": n, "csv_mb": round(mb, 1), "fogts_mb_per_s": round(mb / t_fogts, 1),
+               "pandas_mb_per_s": round(mb / t_pandas, 1)}
+    return [
+        speed_metric(f"speed.read_run.csv.{tag}", f"read_run, {size} CSV "
+                     f"({mb / t_fogts:.0f} MB/s), vs pandas.read_csv",
+                     fogts_s=t_fogts, peer_s=t_pandas, peer="pandas.read_csv", details=details),
+        speed_metric(f"speed.read_run.csv_arrow.{tag}", f"read_run, {size} CSV, vs "
+                     "pyarrow.csv.read_csv (multi-threaded)",
+                     fogts_s=t_fogts, peer_s=t_arrow, peer="pyarrow.csv",
+                     details={**details, "arrow_mb_per_s": round(mb / t_arrow, 1)}),
+        speed_metric(f"speed.read_run.parquet.{tag}", f"read_run, Parquet of the same {n:,} "
+                     f"rows ({mb_pq / t_fogts_pq:.0f} MB/s of file), vs pandas.read_parquet",
+                     fogts_s=t_fogts_pq, peer_s=t_pandas_pq, peer="pandas.read_parquet",
+                     details={"rows": n, "parquet_mb": round(mb_pq, 1)}),
+    ]
+
+
+def main(argv: list[str] | None = None) -> int:
+    p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    p.add_argument("--quick", action="store_true", help="about 20 MB instead of 1 GB")
+    p.add_argument("--out", type=Path, help="also write the markdown table here")
+    args = p.parse_args(argv)
+    text = render_markdown({"metrics": metrics(args.quick), "quick": args.quick})
+    print(text)
+    if args.out:
+        args.out.write_text(text)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,560 @@
+"""Four-position north seeking with a single level gyro (seed 004, step 8).
+
+Convention (stated once, used everywhere):
+
+* ψ is the azimuth of the gyro's input axis at position 0, measured clockwise from true
+  north, in [0°, 360°);
+* position k (k = 0, 1, 2, 3; 0°, 90°, 180°, 270°) is reached by turning the axis clockwise,
+  seen from above, by k·90°;
+* at position k the gyro senses  ω_k = Ω·cos(L)·cos(ψ + k·90°) + b,  with Ω the Earth rate
+  (WGS-84, :data:`fogts.units.EARTH_RATE_RAD_S`), L the latitude and b the bias.
+
+Then ω₀ - ω₁₈₀ = 2Ω_h cos ψ and ω₂₇₀ - ω₉₀ = 2Ω_h sin ψ, so
+
+    ψ = atan2(ω₂₇₀ - ω₉₀, ω₀ - ω₁₈₀),     b = (ω₀ + ω₉₀ + ω₁₈₀ + ω₂₇₀) / 4,
+
+independent of the bias and of the scale factor.  Ω_h = Ω cos L enters only the error
+budget: with σ_m the standard error of each position's mean rate, the azimuth error is
+σ_ψ = σ_m / (√2 Ω_h) rad (first-order propagation through atan2).  A bias that drifts
+linearly at r (°/h per s) between positions measured at times t_k adds the deterministic
+error  δψ = [-sin ψ · r (t₀ - t₂) + cos ψ · r (t₃ - t₁)] / (2 Ω_h).
+
+Seed 004 measures 60 s per position at 1 Hz.  Near the poles Ω_h → 0 and the azimuth is
+undefined: latitudes beyond ±89° are refused.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from fogts._typing import FloatArray, RngLike
+from fogts._validate import as_rng, check_int, check_positive, to_float_array
+from fogts.errors import DataError, InsufficientDataError
+from fogts.run import Run
+from fogts.units import earth_rate_component, parse_rate_unit, to_deg_per_hour_factor
+
+__all__ = [
+    "POSITIONS_DEG",
+    "NorthFinding",
+    "NorthSeekingStudy",
+    "four_position",
+    "positions_from_frame",
+    "simulate_north_seeking",
+    "simulated_calibration",
+]
+
+#: The four positions, in measuring order.
+POSITIONS_DEG: tuple[int, ...] = (0, 90, 180, 270)
+#: Largest |latitude| accepted (Ω cos L must stay measurable).
+MAX_LATITUDE_DEG = 89.0
+#: Fewest samples per position.
+MIN_POSITION_SAMPLES = 3
+
+
+@dataclass(frozen=True)
+class NorthFinding:
+    """Result of a four-position north finding.
+
+    Attributes
+    ----------
+    azimuth_deg : float
+        ψ, azimuth of the input axis at position 0, clockwise from true north, in [0, 360).
+    sigma_deg : float
+        1σ azimuth uncertainty from the error budget (``budget_deg`` added in quadrature).
+    budget_deg : dict
+        ``{"arw": ..., "bias": ..., "drift": ...}`` in degrees: white-noise (ARW) part from the
+        within-position scatter, the position-to-position bias variation given as
+        ``bias_sigma_deg_h``, and the magnitude of the error caused by the bias drift measured
+        inside the positions.
+    latitude_deg : float
+    earth_rate_h_deg_h : float
+        Ω cos L, the horizontal Earth rate, in °/h.
+    mean_rates : dict
+        Mean rate at each position (°/h), keyed by position in degrees.
+    std_rates : dict
+        Sample standard deviation at each position (°/h).
+    n_samples : dict
+        Samples at each position.
+    bias_deg_h : float
+        Residual bias estimate b (mean of the four means), °/h.
+    amplitude_deg_h : float
+        ½·|(ω₀ - ω₁₈₀, ω₂₇₀ - ω₉₀)|, which should equal ``earth_rate_h_deg_h``.
+    drift_rate_deg_h_per_s : float
+        Pooled within-position slope of the rate (bias drift), °/h per s.
+    drift_error_deg : float
+        Signed azimuth error that drift predicts (first order).
+    sigma_mean_deg_h : float
+        Standard error of one position mean used in the budget (°/h).
+    position_time_s : dict
+        Centre time of each position (s from the start of the first).
+    """
+
+    azimuth_deg: float
+    sigma_deg: float
+    budget_deg: dict[str, float]
+    latitude_deg: float
+    earth_rate_h_deg_h: float
+    mean_rates: dict[int, float]
+    std_rates: dict[int, float]
+    n_samples: dict[int, int]
+    bias_deg_h: float
+    amplitude_deg_h: float
+    drift_rate_deg_h_per_s: float
+    drift_error_deg: float
+    sigma_mean_deg_h: float
+    position_time_s: dict[int, float] = field(default_factory=dict)
+
+    @property
+    def scale_check(self) -> float:
+        """``amplitude / (Ω cos L)``: about 1 for a healthy gyro and the right latitude."""
+        return self.amplitude_deg_h / self.earth_rate_h_deg_h
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "azimuth_deg": self.azimuth_deg,
+            "sigma_deg": self.sigma_deg,
+            "budget_deg": dict(self.budget_deg),
+            "latitude_deg": self.latitude_deg,
+            "earth_rate_h_deg_h": self.earth_rate_h_deg_h,
+            "positions": [{"position_deg": p, "mean_rate": self.mean_rates[p],
+                           "std": self.std_rates[p], "n": self.n_samples[p],
+                           "time_s": self.position_time_s.get(p)} for p in POSITIONS_DEG],
+            "mean_rates": {str(p): self.mean_rates[p] for p in POSITIONS_DEG},
+            "bias_deg_h": self.bias_deg_h,
+            "amplitude_deg_h": self.amplitude_deg_h,
+            "scale_check": self.scale_check,
+            "drift_rate_deg_h_per_s": self.drift_rate_deg_h_per_s,
+            "drift_error_deg": self.drift_error_deg,
+            "sigma_mean_deg_h": self.sigma_mean_deg_h,
+            "unit": "deg/h",
+            "convention": ("azimuth of the input axis at position 0, clockwise from true north; "
+                           "position k = axis turned clockwise by k*90 deg; "
+                           "rate_k = Omega cos(L) cos(psi + k*90) + bias"),
+        }
+
+    def to_frame(self) -> pd.DataFrame:
+        return pd.DataFrame({"position_deg": list(POSITIONS_DEG),
+                             "mean_rate": [self.mean_rates[p] for p in POSITIONS_DEG],
+                             "std": [self.std_rates[p] for p in POSITIONS_DEG],
+                             "n": [self.n_samples[p] for p in POSITIONS_DEG]})
+
+    def summary(self) -> str:
+        lines = [f"Four-position north finding at latitude {self.latitude_deg:g}° "
+                 f"(Ω cos L = {self.earth_rate_h_deg_h:.4f} °/h)",
+                 "  position   mean rate [°/h]    std [°/h]      n"]
+        for p in POSITIONS_DEG:
+            lines.append(f"  {p:>6d}°  {self.mean_rates[p]:16.5f}  {self.std_rates[p]:11.4f}  "
+                         f"{self.n_samples[p]:5d}")
+        b = self.budget_deg
+        lines.append(f"  azimuth ψ = {self.azimuth_deg:.4f}° ± {self.sigma_deg:.4f}° (1σ: ARW "
+                     f"{b['arw']:.4f}°, bias {b['bias']:.4f}°, drift {b['drift']:.4f}°)")
+        lines.append(f"  residual bias {self.bias_deg_h:.4f} °/h; measured Earth-rate amplitude "
+                     f"{self.amplitude_deg_h:.4f} °/h (ratio {self.scale_check:.3f})")
+        return "\n".join(lines)
+
+
+def _check_latitude(latitude_deg: float) -> float:
+    try:
+        lat = float(latitude_deg)
+    except (TypeError, ValueError):
+        raise DataError(f"latitude_deg must be a number in degrees, got {latitude_deg!r}") from None
+    if not math.isfinite(lat) or abs(lat) > 90.0:
+        raise DataError(f"latitude_deg must be in [-90, 90], got {latitude_deg!r}")
+    if abs(lat) > MAX_LATITUDE_DEG:
+        raise DataError(f"latitude_deg={lat:g} is within {90 - MAX_LATITUDE_DEG:g}° of the pole: the "
+                        "horizontal Earth rate Ω cos L is too small to find north "
+                        f"(allowed |latitude| <= {MAX_LATITUDE_DEG:g}°)")
+    return lat
+
+
+def _normalise_positions(rates_by_position: Any) -> dict[int, FloatArray]:
+    if isinstance(rates_by_position, pd.DataFrame):
+        return {p: v for p, v in positions_from_frame(rates_by_position).items()}
+    if not isinstance(rates_by_position, Mapping):
+        raise DataError("rates_by_position must map each position (0, 90, 180, 270) to its rate "
+                        f"samples, or be a DataFrame with position_deg and rate; got "
+                        f"{type(rates_by_position).__name__}")
+    out: dict[int, FloatArray] = {}
+    for key, val in rates_by_position.items():
+        try:
+            p = round(float(key)) % 360
+        except (TypeError, ValueError):
+            raise DataError(f"position {key!r} is not a number of degrees; positions are "
+                            "0, 90, 180, 270") from None
+        if p not in POSITIONS_DEG or abs(float(key) % 360 - p) > 1e-6:
+            raise DataError(f"position {key!r} is not one of 0, 90, 180, 270")
+        out[p] = to_float_array(val, f"rate at position {p}", min_length=MIN_POSITION_SAMPLES)
+    missing = [p for p in POSITIONS_DEG if p not in out]
+    if missing:
+        raise DataError(f"positions {', '.join(map(str, missing))} are missing; four-position "
+                        "north finding needs 0, 90, 180 and 270 (got "
+                        f"{', '.join(map(str, sorted(out))) or 'none'})")
+    return out
+
+
+def positions_from_frame(frame: pd.DataFrame, *, position_column: str = "position_deg",
+                         rate_column: str = "rate") -> dict[int, FloatArray]:
+    """Split a table with a position column (0/90/180/270) into rate arrays per position.
+
+    Examples
+    --------
+    >>> df = pd.DataFrame({"position_deg": [0] * 3 + [90] * 3 + [180] * 3 + [270] * 3,
+    ...                    "rate": np.arange(12.0)})
+    >>> positions_from_frame(df)[180].tolist()
+    [6.0, 7.0, 8.0]
+    """
+    for col in (position_column, rate_column):
+        if col not in frame.columns:
+            raise DataError(f"column {col!r} not found; columns are: "
+                            f"{', '.join(map(str, frame.columns))}")
+    pos = to_float_array(frame[position_column], position_column, min_length=1)
+    rate = to_float_array(frame[rate_column], rate_column, min_length=1)
+    keys = np.round(pos).astype(np.int64) % 360
+    bad = ~np.isin(keys, POSITIONS_DEG) | (np.abs(pos % 360 - keys) > 1e-6)
+    if bad.any():
+        i = int(np.argmax(bad))
+        raise DataError(f"{position_column} must be 0, 90, 180 or 270; row {i} has {float(pos[i])!r}")
+    out = {int(p): rate[keys == p] for p in POSITIONS_DEG if np.any(keys == p)}
+    return _normalise_positions(out)
+
+
+def four_position(
+    rates_by_position: Mapping[Any, Any] | pd.DataFrame,
+    *,
+    latitude_deg: float,
+    fs_hz: float = 1.0,
+    units: str = "deg/h",
+    position_time_s: Mapping[int, float] | None = None,
+    transition_s: float = 0.0,
+    bias_sigma_deg_h: float = 0.0,
+) -> NorthFinding:
+    """Azimuth from the mean rates at four positions (seed 004; convention in the module doc).
+
+    Parameters
+    ----------
+    rates_by_position : mapping or DataFrame
+        ``{0: rate, 90: rate, 180: rate, 270: rate}`` (arrays or Series of samples), or a
+        DataFrame with columns ``position_deg`` and ``rate``.
+    latitude_deg : float
+        Latitude L in degrees, |L| <= 89.
+    fs_hz : float
+        Sample rate (for the drift slope and the position times).
+    units : str
+        Rate unit of the samples.
+    position_time_s : mapping, optional
+        Centre time of each position in seconds.  Default: positions measured back to back in
+        the order 0, 90, 180, 270, separated by ``transition_s``.
+    transition_s : float
+        Time to turn between positions (used for the default position times).
+    bias_sigma_deg_h : float
+        1σ variation of the bias from one position to the next beyond white noise (for
+        example the bias stability at the position duration); enters the budget.
+
+    Returns
+    -------
+    NorthFinding
+
+    Raises
+    ------
+    DataError
+        A position is missing or unknown, latitude beyond ±89°, bad option.
+    InsufficientDataError
+        Fewer than 3 samples at a position.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from fogts.units import earth_rate_component
+    >>> om = earth_rate_component(32.05, axis="north")
+    >>> rates = {k: np.full(60, om * np.cos(np.radians(30.0 + k)) + 0.5) for k in (0, 90, 180, 270)}
+    >>> round(four_position(rates, latitude_deg=32.05).azimuth_deg, 9)
+    30.0
+    """
+    lat = _check_latitude(latitude_deg)
+    fs = check_positive("fs_hz", fs_hz)
+    factor = to_deg_per_hour_factor(parse_rate_unit(units))
+    check_positive("transition_s", transition_s, allow_zero=True)
+    sig_b = check_positive("bias_sigma_deg_h", bias_sigma_deg_h, allow_zero=True)
+    data = {p: v * factor for p, v in _normalise_positions(rates_by_position).items()}
+    omega_h = earth_rate_component(lat, unit="deg/h", axis="north")
+
+    means = {p: float(np.mean(data[p])) for p in POSITIONS_DEG}
+    stds = {p: float(np.std(data[p], ddof=1)) for p in POSITIONS_DEG}
+    counts = {p: int(data[p].size) for p in POSITIONS_DEG}
+    dx = means[0] - means[180]
+    dy = means[270] - means[90]
+    psi = math.degrees(math.atan2(dy, dx)) % 360.0
+    if psi >= 360.0:  # atan2 of -0.0 rounding
+        psi = 0.0
+    bias = float(np.mean(list(means.values())))
+    amplitude = 0.5 * math.hypot(dx, dy)
+
+    # within-position linear fits: pooled slope (bias drift) and residual scatter (white)
+    sxx = syy = sxy = 0.0
+    dof = 0
+    for p in POSITIONS_DEG:
+        v = data[p]
+        t = np.arange(v.size) / fs
+        tc = t - t.mean()
+        vc = v - v.mean()
+        sxx += float(tc @ tc)
+        sxy += float(tc @ vc)
+        syy += float(vc @ vc)
+        dof += v.size - 2
+    slope = sxy / sxx if sxx > 0 else 0.0
+    resid_var = max(syy - slope * sxy, 0.0) / max(dof, 1)
+    n_eff = float(np.mean(list(counts.values())))
+    sigma_mean = math.sqrt(resid_var / n_eff)
+
+    if position_time_s is None:
+        times: dict[int, float] = {}
+        start = 0.0
+        for p in POSITIONS_DEG:
+            dur = counts[p] / fs
+            times[p] = start + 0.5 * dur
+            start += dur + float(transition_s)
+    else:
+        times = {}
+        for p in POSITIONS_DEG:
+            if p not in position_time_s:
+                raise DataError(f"position_time_s lacks position {p}; give all of 0, 90, 180, 270")
+            times[p] = float(position_time_s[p])
+    rad = math.radians(psi)
+    ex = slope * (times[0] - times[180]) / 2.0
+    ey = slope * (times[270] - times[90]) / 2.0
+    drift_err = math.degrees((-math.sin(rad) * ex + math.cos(rad) * ey) / omega_h)
+    arw_deg = math.degrees(sigma_mean / (math.sqrt(2.0) * omega_h))
+    bias_deg = math.degrees(sig_b / (math.sqrt(2.0) * omega_h))
+    budget = {"arw": arw_deg, "bias": bias_deg, "drift": abs(drift_err)}
+    sigma = math.sqrt(sum(v * v for v in budget.values()))
+    return NorthFinding(azimuth_deg=psi, sigma_deg=sigma, budget_deg=budget, latitude_deg=lat,
+                        earth_rate_h_deg_h=omega_h, mean_rates=means, std_rates=stds,
+                        n_samples=counts, bias_deg_h=bias, amplitude_deg_h=amplitude,
+                        drift_rate_deg_h_per_s=slope, drift_error_deg=drift_err,
+                        sigma_mean_deg_h=sigma_mean, position_time_s=times)
+
+
+def angle_error_deg(estimate_deg: Any, truth_deg: Any) -> FloatArray:
+    """Signed circular difference ``estimate - truth`` wrapped to [-180, 180).
+
+    Examples
+    --------
+    >>> float(angle_error_deg(359.5, 0.5))
+    -1.0
+    """
+    d = (np.asarray(estimate_deg, dtype=float) - np.asarray(truth_deg, dtype=float) + 180.0) % 360.0
+    return d - 180.0
+
+
+# --------------------------------------------------------------------------- simulation study
+
+
+@dataclass(frozen=True)
+class NorthSeekingStudy:
+    """Repeated cold-start north finding, raw and thermally compensated.
+
+    Attributes
+    ----------
+    truth_deg : ndarray
+        True azimuth of each trial.
+    raw_deg, compensated_deg : ndarray
+        Azimuths found without and with the thermal compensation.
+    latitude_deg : float
+    position_s : float
+        Seconds measured at each position.
+    fs_hz : float
+    params : dict
+        Simulation settings.
+    """
+
+    truth_deg: FloatArray
+    raw_deg: FloatArray
+    compensated_deg: FloatArray | None
+    latitude_deg: float
+    position_s: float
+    fs_hz: float
+    params: dict[str, Any]
+
+    @staticmethod
+    def _stats(err: FloatArray) -> dict[str, float]:
+        return {"mean_deg": float(np.mean(err)), "std_deg": float(np.std(err, ddof=1)),
+                "rms_deg": float(np.sqrt(np.mean(err ** 2))),
+                "max_abs_deg": float(np.max(np.abs(err)))}
+
+    @property
+    def raw_error_deg(self) -> FloatArray:
+        return angle_error_deg(self.raw_deg, self.truth_deg)
+
+    @property
+    def compensated_error_deg(self) -> FloatArray | None:
+        if self.compensated_deg is None:
+            return None
+        return angle_error_deg(self.compensated_deg, self.truth_deg)
+
+    @property
+    def improvement(self) -> float:
+        """RMS error raw / RMS error compensated."""
+        comp = self.compensated_error_deg
+        if comp is None:
+            return math.nan
+        return self._stats(self.raw_error_deg)["rms_deg"] / self._stats(comp)["rms_deg"]
+
+    def to_dict(self) -> dict[str, Any]:
+        comp = self.compensated_error_deg
+        return {"n_trials": int(self.truth_deg.size), "latitude_deg": self.latitude_deg,
+                "position_s": self.position_s, "fs_hz": self.fs_hz,
+                "raw": self._stats(self.raw_error_deg),
+                "compensated": None if comp is None else self._stats(comp),
+                "improvement_rms": self.improvement, "params": self.params}
+
+    def to_frame(self) -> pd.DataFrame:
+        data: dict[str, Any] = {"truth_deg": self.truth_deg, "raw_deg": self.raw_deg,
+                                "raw_error_deg": self.raw_error_deg}
+        if self.compensated_deg is not None:
+            data["compensated_deg"] = self.compensated_deg
+            data["compensated_error_deg"] = self.compensated_error_deg
+        return pd.DataFrame(data)
+
+    def summary(self) -> str:
+        d = self.to_dict()
+        lines = [f"Cold-start north seeking, {d['n_trials']} trials at latitude "
+                 f"{self.latitude_deg:g}°, {self.position_s:g} s per position at {self.fs_hz:g} Hz",
+                 "  case           mean [°]   std [°]   RMS [°]   max |err| [°]"]
+        for name in ("raw", "compensated"):
+            s = d[name]
+            if s is not None:
+                lines.append(f"  {name:<12s} {s['mean_deg']:9.4f} {s['std_deg']:9.4f} "
+                             f"{s['rms_deg']:9.4f} {s['max_abs_deg']:12.4f}")
+        if d["compensated"] is not None:
+            lines.append(f"  RMS error reduced {self.improvement:.2f}x by the thermal compensation")
+        return "\n".join(lines)
+
+
+def simulate_north_seeking(
+    n_trials: int = 50,
+    *,
+    latitude_deg: float = 32.05,
+    model: Any = None,
+    position_s: float = 60.0,
+    fs_hz: float = 1.0,
+    transition_s: float = 10.0,
+    start_delay_s: float = 0.0,
+    ambient_degC: tuple[float, float] = (15.0, 25.0),
+    rng: RngLike = None,
+    **startup: Any,
+) -> NorthSeekingStudy:
+    """Repeat four-position north seeking from a cold start, with and without compensation.
+
+    Each trial: switch on at an ambient temperature drawn uniformly from ``ambient_degC``,
+    wait ``start_delay_s``, then measure 0°, 90°, 180°, 270° in turn for ``position_s`` each
+    (``transition_s`` to turn between them) while the gyro warms up
+    (:func:`fogts.simulate_startup.simulate_startup`); the true azimuth is uniform in
+    [0, 360).  The thermal drift changes between positions, which is the start-up error
+    seed 004 removes.  With a ``model`` the recorded rates are also compensated
+    (:func:`fogts.thermal.compensate`) before north finding.
+
+    Parameters
+    ----------
+    n_trials : int
+    latitude_deg : float
+    model : ThermalModel, optional
+        Thermal model fitted on a separate calibration run.
+    position_s, fs_hz, transition_s, start_delay_s : float
+    ambient_degC : (low, high)
+    rng : Generator, int or None
+    **startup
+        Passed to :func:`~fogts.simulate_startup.simulate_startup` (coefficients, ar, noise).
+
+    Returns
+    -------
+    NorthSeekingStudy
+
+    Examples
+    --------
+    >>> st = simulate_north_seeking(3, rng=4)
+    >>> st.truth_deg.size
+    3
+    """
+    from fogts.simulate_startup import simulate_startup
+    from fogts.thermal import ThermalModel, compensate
+
+    n = check_int("n_trials", n_trials, minimum=2)
+    lat = _check_latitude(latitude_deg)
+    fs = check_positive("fs_hz", fs_hz)
+    pos_s = check_positive("position_s", position_s)
+    trans = check_positive("transition_s", transition_s, allow_zero=True)
+    delay = check_positive("start_delay_s", start_delay_s, allow_zero=True)
+    if model is not None and not isinstance(model, ThermalModel):
+        raise DataError(f"model must be a ThermalModel or None, got {type(model).__name__}")
+    lo, hi = (float(ambient_degC[0]), float(ambient_degC[1]))
+    if not hi >= lo:
+        raise DataError(f"ambient_degC must be (low, high) with high >= low, got {ambient_degC!r}")
+    gen = as_rng(rng)
+    omega_h = earth_rate_component(lat, unit="deg/h", axis="north")
+    m = round(pos_s * fs)
+    if m < MIN_POSITION_SAMPLES:
+        raise InsufficientDataError(f"position_s * fs_hz gives {m} samples per position; at "
+                                    f"least {MIN_POSITION_SAMPLES} needed")
+    gap = round(trans * fs)
+    total_s = delay + 4 * pos_s + 3 * trans
+    truth = gen.uniform(0.0, 360.0, n)
+    raw = np.empty(n)
+    comp = np.empty(n) if model is not None else None
+    for i in range(n):
+        sim = simulate_startup(duration_s=total_s, fs_hz=fs,
+                               ambient_degC=float(gen.uniform(lo, hi)),
+                               rng=gen, **startup)
+        run = sim.run
+        start = round(delay * fs)
+        earth = np.zeros(run.n)
+        slices: dict[int, slice] = {}
+        for k, p in enumerate(POSITIONS_DEG):
+            sl = slice(start + k * (m + gap), start + k * (m + gap) + m)
+            slices[p] = sl
+            earth[sl] = omega_h * math.cos(math.radians(truth[i] + p))
+        run_e = Run(rate=run.rate + earth, time=run.time, fs_hz=fs, units=run.units,
+                    axes=run.axes, temperature=run.temperature, source=run.source)
+        times = {p: (slices[p].start + 0.5 * m) / fs for p in POSITIONS_DEG}
+        raw[i] = four_position({p: run_e.rate[slices[p]] for p in POSITIONS_DEG},
+                               latitude_deg=lat, fs_hz=fs, position_time_s=times).azimuth_deg
+        if comp is not None and model is not None:
+            cr = compensate(run_e, model)
+            comp[i] = four_position({p: cr.rate[slices[p]] for p in POSITIONS_DEG},
+                                    latitude_deg=lat, fs_hz=fs,
+                                    position_time_s=times).azimuth_deg
+    params = {"transition_s": trans, "start_delay_s": delay, "ambient_degC": [lo, hi],
+              **{k: v for k, v in startup.items() if isinstance(v, int | float | str)}}
+    return NorthSeekingStudy(truth_deg=truth, raw_deg=raw, compensated_deg=comp,
+                             latitude_deg=lat, position_s=m / fs, fs_hz=fs, params=params)
+
+
+def simulated_calibration(ambient_degC: tuple[float, ...] = (15.0, 20.0, 25.0), *,
+                          duration_s: float = 3600.0, fs_hz: float = 1.0, emd: bool = False,
+                          rng: RngLike = None, **startup: Any) -> Any:
+    """Thermal model from simulated calibration cold starts, one per ambient temperature.
+
+    Mirrors a temperature-chamber calibration: each run is a full warm-up
+    (:func:`fogts.simulate_startup.simulate_startup`), and the model is fitted to all of
+    them together (:func:`fogts.thermal.startup_compensation` with ``calibration``).
+
+    Examples
+    --------
+    >>> m = simulated_calibration(rng=4)
+    >>> sorted(m.terms)
+    ['1', 'T', 'T*dT', 'T2', 'dT', 'dT2']
+    """
+    from fogts.simulate_startup import simulate_startup
+    from fogts.thermal import startup_compensation
+
+    if len(ambient_degC) < 1:
+        raise DataError("ambient_degC needs at least one calibration temperature")
+    gen = as_rng(rng)
+    runs = [simulate_startup(duration_s=duration_s, fs_hz=fs_hz, ambient_degC=float(a), rng=gen,
+                             **startup).run for a in ambient_degC]
+    return startup_compensation(runs[0], emd=emd, calibration=runs[1:]).model

@@ -1,0 +1,281 @@
+"""ARMA candidate selection: selection rate on simulated data with known order, the seed paper's
+ARMA(2,1), the ranking rule, the JSON contract and bad input.
+
+Truth comes from simulation with fixed seeds (scipy.signal.lfilter with a 2000-sample burn-in).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import warnings
+
+import numpy as np
+import pandas as pd
+import pytest
+from scipy.signal import lfilter
+
+import fogts.arma.select as select_mod
+from fogts.arma import DEFAULT_FIVE, parse_candidates, select_arma
+from fogts.arma.fit import fit_arma
+from fogts.errors import (
+    ConvergenceWarning,
+    DataError,
+    InsufficientDataError,
+    ModelFitError,
+    NotWhiteWarning,
+)
+from fogts.report import json_dumps
+
+#: The five candidates of seed 000 with clearly identified coefficients.
+TRUE_MODELS = {
+    "AR(1)": ([0.6], []),
+    "AR(2)": ([0.5, 0.3], []),
+    "AR(3)": ([0.5, -0.3, 0.2], []),
+    "ARMA(1,1)": ([0.6], [0.4]),
+    "ARMA(2,1)": ([0.5, 0.2], [0.5]),
+}
+#: Seeds per model in the test (benchmarks/bench_selection_rate.py runs 50).
+RATE_SEEDS = 12
+CONTRACT_KEYS = {"model", "p", "q", "status", "rank", "aic", "bic", "llf", "sigma2", "params",
+                 "bse", "rho_a2", "rho_ax3", "ljung_box", "white", "roots", "warnings"}
+
+
+def _arma(ar: list[float], ma: list[float], n: int, seed: int, scale: float = 1.0,
+          burn: int = 2000) -> np.ndarray:
+    e = np.random.default_rng(seed).standard_normal(n + burn) * scale
+    return np.asarray(lfilter(np.r_[1.0, ma], np.r_[1.0, -np.asarray(ar)], e)[burn:])
+
+
+@pytest.fixture(scope="module")
+def ar1_selection() -> select_mod.Selection:
+    return select_arma(_arma([0.6], [], 3000, 1, scale=2e-3), fs_hz=10.0)
+
+
+def test_selection_rate_true_order_ranks_first() -> None:
+    rates = {}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", NotWhiteWarning)
+        for name, (ar, ma) in TRUE_MODELS.items():
+            hits = sum(select_arma(_arma(ar, ma, 10_000, seed)).best.model == name  # type: ignore[union-attr]
+                       for seed in range(RATE_SEEDS))
+            rates[name] = hits / RATE_SEEDS
+    table = ", ".join(f"{k}: {v:.0%}" for k, v in rates.items())
+    print(f"\nselection rate by AIC, n = 10^4, {RATE_SEEDS} seeds each: {table}")
+    assert all(r > 0.5 for r in rates.values()), table           # a majority for each model
+    assert sum(rates.values()) / len(rates) >= 0.7, table        # and clearly overall
+
+
+def test_seed_paper_arma21_near_cancellation_prefers_low_order() -> None:
+    # seed 000's fitted drift: x_t = -0.2699 x_{t-1} - 0.002968 x_{t-2} + a_t + 0.277 a_{t-1},
+    # 10 Hz x 3 h = 108,000 samples
+    chosen = []
+    for seed in range(3):
+        sel = select_arma(_arma([-0.2699, -0.002968], [0.277], 108_000, seed, scale=1e-3))
+        arma21 = sel["ARMA(2,1)"]
+        assert arma21.ok and arma21.flagged("near_cancellation"), arma21.flags
+        assert sel.best is not None and sel.best.model != "ARMA(2,1)"
+        chosen.append(sel.best.p + sel.best.q)
+    assert sorted(chosen)[1] == 1, chosen      # a one-parameter model in most runs
+
+
+def test_ranking_white_first_then_by_criterion() -> None:
+    x = _arma([0.5], [0.3], 20_000, 0, scale=3e-3)
+    for criterion in ("aic", "bic", "hqic", "aicc"):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", NotWhiteWarning)
+            sel = select_arma(x, criterion=criterion)  # type: ignore[arg-type]
+        ranked = [c for c in sel.candidates if c.ok]
+        assert [c.rank for c in ranked] == list(range(1, len(ranked) + 1))
+        keys = [(not c.white, getattr(c, criterion)) for c in ranked]
+        assert keys == sorted(keys)
+        assert sel.best is ranked[0]
+        assert sel.all_white_failed == (not any(c.white for c in ranked))
+
+
+def test_selected_model_parameters_and_units(ar1_selection: select_mod.Selection) -> None:
+    best = ar1_selection.best
+    assert best is not None and best.model == "AR(1)" and best.white
+    assert best.params["ar.L1"] == pytest.approx(0.6, abs=0.05)
+    assert best.sigma2 == pytest.approx(4e-6, rel=0.1)          # original units, not scaled
+    assert best.fit is not None and best.fit.standardized
+    assert ar1_selection.exit_code == 0 and not ar1_selection.all_white_failed
+    assert best.equation().startswith("x_t = 0.")
+    frame = best.to_frame()
+    assert list(frame.index) == ["ar.L1", "sigma2"] and list(frame.columns) == ["estimate",
+                                                                               "bse", "t"]
+    assert "AR(1)" in best.summary() and "AR(1)" in ar1_selection.summary()
+    assert ar1_selection["ar(1)"] is best
+    with pytest.raises(KeyError, match="no candidate 'MA.9.'"):
+        ar1_selection["MA(9)"]
+
+
+@pytest.mark.parametrize(("theta", "sign"), [(0.6, "+"), (-0.6, "-")])
+def test_equation_shows_ma_sign(theta: float, sign: str) -> None:
+    sel = select_arma(_arma([0.3], [theta], 5000, 3), candidates="ARMA(1,1)")
+    assert sel.best is not None
+    ma = sel.best.params["ma.L1"]
+    assert np.sign(ma) == np.sign(theta)
+    assert f"+ a_t {sign} {abs(ma):.4g} a_{{t-1}}" in sel.best.equation()
+
+
+def test_json_contract_and_determinism(ar1_selection: select_mod.Selection) -> None:
+    d = json.loads(json_dumps(ar1_selection.to_dict()))
+    assert {"input", "preprocessing", "candidates", "selected"} <= set(d)
+    assert len(d["candidates"]) == 5
+    for c in d["candidates"]:
+        assert CONTRACT_KEYS <= set(c), CONTRACT_KEYS - set(c)
+        assert set(c["params"]) == set(c["bse"])
+        assert all(set(lb) >= {"lag", "q", "pvalue"} for lb in c["ljung_box"])
+        assert [lb["lag"] for lb in c["ljung_box"]] == [10, 20]
+    assert d["candidates"][0]["rank"] == 1
+    assert d["selected"]["model"] == d["candidates"][0]["model"] == "AR(1)"
+    assert d["input"]["fs_hz"] == 10.0
+    assert d["preprocessing"]["steps"][0].startswith("removed the mean")
+    again = select_arma(_arma([0.6], [], 3000, 1, scale=2e-3), fs_hz=10.0)
+    assert json_dumps(again.to_dict()) == json_dumps(ar1_selection.to_dict())
+
+
+def test_frame_has_one_row_per_candidate(ar1_selection: select_mod.Selection) -> None:
+    f = ar1_selection.to_frame()
+    assert list(f.index) == [c.model for c in ar1_selection.candidates]
+    assert {"rank", "aic", "rho_a2", "rho_ax3", "lb_p_10", "lb_p_20", "white"} <= set(f.columns)
+
+
+def test_prepared_input() -> None:
+    from fogts.preprocess import prepare
+
+    x = _arma([0.6], [], 4000, 2) + 1e-3 * np.arange(4000)
+    prep = prepare(x, fs_hz=10.0, detrend=1, stationarity=False)
+    sel = select_arma(prep)
+    assert sel.preprocessing == prep.to_dict()
+    assert sel.input["fs_hz"] == 10.0 and sel.fs_hz == 10.0
+    assert sel.best is not None
+    pred = sel.best.predict()
+    assert np.array_equal(pred.time, prep.time)
+
+
+def test_series_input_keeps_index() -> None:
+    idx = pd.date_range("2024-01-01", periods=3000, freq="100ms")
+    s = pd.Series(_arma([0.6], [], 3000, 4), index=idx, name="fog")
+    sel = select_arma(s, candidates=["AR(1)", (1, 1)])
+    assert sel.input["axis"] == "fog"
+    assert sel.best is not None
+    frame = sel.best.predict().to_frame()
+    assert frame.index.equals(idx)
+
+
+def test_none_white_warns_and_reports_best() -> None:
+    x = _arma([0.5, -0.3, 0.3], [], 5000, 5)
+    with pytest.warns(NotWhiteWarning, match="no candidate leaves white residuals"):
+        sel = select_arma(x, candidates="AR(1)")
+    assert sel.all_white_failed and sel.exit_code == 1
+    assert sel.best is not None and sel.best.model == "AR(1)" and sel.best.rank == 1
+    assert sel.verdict.startswith("No candidate leaves white residuals")
+
+
+def test_explosive_series_gives_failed_rows_not_a_crash() -> None:
+    x = _arma([1.1], [], 300, 0, burn=0)
+    sel = select_arma(x)
+    assert all(c.status == "failed" and c.rank is None for c in sel.candidates)
+    assert all("explosive" in (c.reason or "") for c in sel.candidates)
+    assert sel.best is None and sel.all_white_failed and sel.exit_code == 1
+    assert sel.verdict.startswith("No candidate could be fitted")
+    d = json.loads(json_dumps(sel.to_dict()))
+    assert d["selected"] is None and d["candidates"][0]["status"] == "failed"
+    with pytest.raises(ModelFitError, match="explosive"):
+        sel.require_best()
+    with pytest.raises(ModelFitError, match="was not fitted"):
+        sel.candidates[0].predict()
+
+
+def test_a_failed_fit_stays_in_the_table(monkeypatch: pytest.MonkeyPatch) -> None:
+    real = fit_arma
+
+    def flaky(x: np.ndarray, p: int, q: int, **kw: object) -> object:
+        if (p, q) == (2, 1):
+            raise ModelFitError("ARMA(2,1): the likelihood could not be maximised")
+        return real(x, p, q, **kw)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(select_mod, "fit_arma", flaky)
+    sel = select_arma(_arma([0.6], [], 2000, 6))
+    failed = sel["ARMA(2,1)"]
+    assert failed.status == "failed" and failed.rank is None
+    assert failed.reason == "ARMA(2,1): the likelihood could not be maximised"
+    assert sel.candidates[-1] is failed and len(sel.candidates) == 5
+    assert sel.to_frame().loc["ARMA(2,1)", "reason"] == failed.reason
+
+
+def test_non_converged_fit_is_a_warning_on_the_candidate(monkeypatch: pytest.MonkeyPatch) -> None:
+    real = fit_arma
+
+    def stalled(x: np.ndarray, p: int, q: int, **kw: object) -> object:
+        return dataclasses.replace(real(x, p, q, **kw), converged=False)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(select_mod, "fit_arma", stalled)
+    with pytest.warns(ConvergenceWarning, match="AR.1.: the optimiser did not converge"):
+        sel = select_arma(_arma([0.6], [], 2000, 7), candidates="AR(1)")
+    c = sel["AR(1)"]
+    assert c.ok and not c.converged and any("did not converge" in w for w in c.warnings)
+
+
+def test_statsmodels_path_gives_the_same_ranking() -> None:
+    x = _arma([0.6], [0.3], 1500, 8)
+    fast = select_arma(x, candidates="AR(1),AR(2),ARMA(1,1)")
+    slow = select_arma(x, candidates="AR(1),AR(2),ARMA(1,1)", method="statsmodels")
+    assert [c.model for c in fast.candidates] == [c.model for c in slow.candidates]
+    for a, b in zip(fast.candidates, slow.candidates, strict=True):
+        assert a.aic <= b.aic + 0.05
+
+
+def test_parse_candidates() -> None:
+    assert parse_candidates(None) == DEFAULT_FIVE
+    assert parse_candidates("AR(1), arma(2, 1),MA(2)") == ((1, 0), (2, 1), (0, 2))
+    assert parse_candidates([(1, 0), "ARMA(1,1)"]) == ((1, 0), (1, 1))
+
+
+@pytest.mark.parametrize(("spec", "match"), [
+    ("ARMA(1)", r"'ARMA\(1\)' needs two orders"),
+    ("AR(1,1)", r"'AR\(1,1\)' takes one order"),
+    ("ARIMA(1,1)", r"cannot read 'ARIMA\(1,1\)'"),
+    ("AR(0)", r"p \+ q = 0"),
+    ("AR(11)", r"has an order above 10"),
+    ("AR(1),AR(1)", r"lists AR\(1\) twice"),
+    ("", r"must name at least one model"),
+    ([(1, 2, 3)], r"each entry must be a name"),
+    (5, r"candidates must be a string"),
+])
+def test_bad_candidates(spec: object, match: str) -> None:
+    with pytest.raises(DataError, match=match):
+        parse_candidates(spec)
+
+
+def test_bad_input() -> None:
+    from fogts.run import Run
+
+    x = _arma([0.5], [], 500, 9)
+    with pytest.raises(InsufficientDataError,
+                       match="too short for ARMA selection: 30 samples, need at least 50"):
+        select_arma(x[:30])
+    with pytest.raises(InsufficientDataError, match="need at least 60"):
+        select_arma(x[:55], lags=(30,))
+    with pytest.raises(InsufficientDataError, match="x is constant"):
+        select_arma(np.full(500, 3.0))
+    with pytest.raises(DataError, match="non-finite value"):
+        select_arma(np.r_[x[:100], np.nan, x[100:]])
+    with pytest.raises(DataError, match="criterion must be one of aic, bic, hqic, aicc; got 'foo'"):
+        select_arma(x, criterion="foo")  # type: ignore[arg-type]
+    with pytest.raises(DataError, match="method must be one of fast, statsmodels"):
+        select_arma(x, method="exact")  # type: ignore[arg-type]
+    with pytest.raises(DataError, match="lags must be >= 1, got 0"):
+        select_arma(x, lags=(0, 10))
+    with pytest.raises(DataError, match="lags must be a non-empty sequence"):
+        select_arma(x, lags=())
+    with pytest.raises(DataError, match="got a DataFrame"):
+        select_arma(pd.DataFrame({"a": x}))
+    with pytest.raises(DataError, match="fs_hz must be a finite number > 0"):
+        select_arma(x, fs_hz=-1.0)
+    run = Run(rate=x, time=np.arange(500) / 10.0, fs_hz=10.0, units="deg/h", axes=("x",),
+              columns=("time", "x"))
+    with pytest.raises(DataError, match="x is a Run; prepare one axis first"):
+        select_arma(run)

@@ -1,0 +1,106 @@
+"""`fogts compensate`: fit, save, re-apply a thermal model; JSON contract; bad input."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+from typer.testing import CliRunner
+
+from fogts.cli import app
+from fogts.simulate_startup import simulate_startup
+from tests.conftest import shared_path
+
+runner = CliRunner()
+
+
+def _write(sim_seed: int, ambient: float, path: Path) -> Path:
+    sim = simulate_startup(duration_s=1800.0, ambient_degC=ambient, rng=sim_seed)
+    pd.DataFrame({"time": sim.run.time, "rate": sim.run.rate,
+                  "temperature": sim.run.temperature}).to_csv(path, index=False)
+    return path
+
+
+def test_compensate_json_contract_model_round_trip(tmp_path: Path) -> None:
+    src = _write(1, 20.0, tmp_path / "cold.csv")
+    out, model, js, png = (tmp_path / "c.csv", tmp_path / "m.json", tmp_path / "c.json",
+                           tmp_path / "c.png")
+    res = runner.invoke(app, ["compensate", str(src), "--temperature-column", "temperature",
+                              "--save-model", str(model), "-o", str(out), "--json", str(js),
+                              "--plot", str(png), "--arma-model", "AR(2)"])
+    assert res.exit_code == 0, res.output
+    payload = json.loads(js.read_text())
+    assert set(payload) >= {"input", "emd", "thermal", "bias_stability"}
+    assert set(payload["emd"]) >= {"k", "imf_energy"}
+    assert set(payload["thermal"]) >= {"terms", "r2"}
+    assert set(payload["thermal"]["terms"]["T*dT"]) == {"value", "stderr"}
+    bs = payload["bias_stability"]
+    assert bs["average_s"] == 10.0 and bs["unit"] == "deg/h" and bs["after"] < bs["before"]
+    assert "bias stability (10 s average" in res.output and "D = " in res.output
+    frame = pd.read_csv(out)
+    assert {"time", "raw", "compensated", "temperature"} <= set(frame.columns)
+    assert png.stat().st_size > 1000
+    # re-apply the saved model to another run (no fitting), without EMD
+    other = _write(2, 22.0, tmp_path / "other.csv")
+    res2 = runner.invoke(app, ["compensate", str(other), "--model", str(model), "--json", "-"])
+    assert res2.exit_code == 0, res2.output
+    p2 = json.loads(res2.stdout)
+    assert p2["thermal"]["source"] == str(model) and p2["emd"] is None
+    assert p2["thermal"]["terms"] == payload["thermal"]["terms"]
+
+
+def test_compensate_with_calibration_runs(tmp_path: Path) -> None:
+    main = _write(3, 20.0, tmp_path / "a.csv")
+    cal = _write(4, 15.0, tmp_path / "b.csv")
+    res = runner.invoke(app, ["compensate", str(main), "--no-emd", "--calibration", str(cal),
+                              "--json", "-"])
+    assert res.exit_code == 0, res.output
+    payload = json.loads(res.stdout)
+    assert payload["thermal"]["model"]["n"] == 3600
+    assert any("fitted on 2 runs" in n for n in payload["notes"])
+
+
+def test_compensate_real_mpu6050_file_runs(tmp_path: Path) -> None:
+    path = shared_path("imu", "mpu6050_gyro_temp_converted.csv.gz")
+    res = runner.invoke(app, ["compensate", str(path), "--rate-column", "gyro_z_deg_s",
+                              "--no-emd", "--json", "-"])
+    assert res.exit_code == 0, res.output
+    payload = json.loads(res.stdout)
+    assert payload["bias_stability"]["unit"] == "deg/h"
+    assert np.isfinite(payload["bias_stability"]["after"])
+
+
+def test_compensate_bad_input(tmp_path: Path) -> None:
+    path = tmp_path / "no_temp.csv"
+    pd.DataFrame({"time": np.arange(200.0), "rate": np.random.default_rng(0).normal(size=200)}
+                 ).to_csv(path, index=False)
+    res = runner.invoke(app, ["compensate", str(path)])
+    assert res.exit_code == 2 and "has no temperature column" in res.stderr
+    bad = tmp_path / "bad.json"
+    bad.write_text("{not json")
+    src = _write(5, 20.0, tmp_path / "s.csv")
+    res = runner.invoke(app, ["compensate", str(src), "--model", str(bad)])
+    assert res.exit_code == 2 and "is not valid JSON" in res.stderr
+    res = runner.invoke(app, ["compensate", str(src), "--model", str(tmp_path / "nope.json")])
+    assert res.exit_code == 2 and res.stderr.startswith("error: ")
+    good = tmp_path / "m.json"
+    assert runner.invoke(app, ["compensate", str(src), "--no-emd", "--save-model",
+                               str(good)]).exit_code == 0
+    res = runner.invoke(app, ["compensate", str(src), "--model", str(good), "--calibration",
+                              str(src)])
+    assert res.exit_code == 2 and "cannot be combined with --model" in res.stderr
+
+
+@pytest.mark.parametrize("const", [True])
+def test_compensate_constant_temperature_says_unidentifiable(tmp_path: Path, const: bool) -> None:
+    path = tmp_path / "const.csv"
+    rng = np.random.default_rng(1)
+    pd.DataFrame({"time": np.arange(600.0), "rate": rng.normal(size=600),
+                  "temperature": np.full(600, 25.0)}).to_csv(path, index=False)
+    res = runner.invoke(app, ["compensate", str(path), "--no-emd", "--json", "-"])
+    assert res.exit_code == 0, res.output
+    assert "unidentifiable term(s) left out" in res.stderr
+    assert list(json.loads(res.stdout)["thermal"]["terms"]) == ["1"]

@@ -1,0 +1,65 @@
+"""`fogts filter` (Kalman method): output table, JSON, plot and one-line errors."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+from scipy.signal import lfilter
+from typer.testing import CliRunner
+
+from fogts.cli import app
+
+runner = CliRunner()
+
+
+@pytest.fixture
+def ar_file(tmp_path: Path) -> Path:
+    rng = np.random.default_rng(6)
+    drift = lfilter([1.0], [1.0, -0.9], rng.normal(0, 0.2, 1500))
+    y = drift + rng.normal(0, 0.5, drift.size)
+    path = tmp_path / "gyro.csv"
+    pd.DataFrame({"time": np.arange(y.size) * 0.1, "rate": y}).to_csv(path, index=False)
+    return path
+
+
+def test_filter_fixed_model_writes_table_json_and_plot(ar_file: Path, tmp_path: Path) -> None:
+    out, js, png = tmp_path / "f.csv", tmp_path / "f.json", tmp_path / "f.png"
+    res = runner.invoke(app, ["filter", str(ar_file), "--model", "AR(1)", "--measurement-noise",
+                              "0.25", "-o", str(out), "--json", str(js), "--plot", str(png)])
+    assert res.exit_code == 0, res.output
+    frame = pd.read_csv(out)
+    assert list(frame.columns) == ["time", "observed", "filtered", "smoothed", "predicted"]
+    assert len(frame) == 1500
+    assert frame["filtered"].std() < frame["observed"].std()
+    payload = json.loads(js.read_text())
+    assert payload["method"] == "kalman" and payload["kalman"]["model"] == "AR(1)"
+    assert payload["kalman"]["measurement_noise"] == 0.25
+    assert png.stat().st_size > 1000
+    assert "x_t = " in res.output and "Kalman filter" in res.output
+
+
+def test_filter_auto_runs_the_selection(ar_file: Path, tmp_path: Path) -> None:
+    res = runner.invoke(app, ["filter", str(ar_file), "-o", str(tmp_path / "a.parquet"),
+                              "--json", "-"])
+    assert res.exit_code == 0, res.output
+    payload = json.loads(res.stdout)
+    assert payload["model"]["model"] in ("AR(1)", "AR(2)", "AR(3)", "ARMA(1,1)", "ARMA(2,1)")
+    assert payload["kalman"]["measurement_noise_source"] == "estimated"
+    assert (tmp_path / "a.parquet").exists()
+
+
+@pytest.mark.parametrize(("args", "message"), [
+    (["--method", "wiener"], "--method must be one of kalman"),
+    (["--model", "AR(9)"], "model must be one of auto"),
+    (["--measurement-noise", "lots"], "--measurement-noise must be 'estimate' or a variance"),
+    (["--measurement-noise", "-1"], "measurement_noise must be a finite number >= 0"),
+])
+def test_filter_bad_options(ar_file: Path, tmp_path: Path, args: list[str], message: str) -> None:
+    res = runner.invoke(app, ["filter", str(ar_file), "-o", str(tmp_path / "x.csv"), *args])
+    assert res.exit_code == 2
+    lines = res.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("error: ") and message in lines[0], res.stderr

@@ -1,0 +1,276 @@
+"""The HTML report: sections, escaping of untrusted strings, self-containment, figures, and
+the numbers it shows are the library's; plus ``fogts report`` on the command line.
+
+(The rendering in a real browser is tests/test_report_browser.py.)
+"""
+
+from __future__ import annotations
+
+import base64
+import re
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+import numpy as np
+import pytest
+from markupsafe import escape
+from matplotlib.figure import Figure
+from typer.testing import CliRunner
+
+from fogts.errors import DataError, ModelFitError
+from fogts.io import read_run
+from fogts.report import info_text, json_dumps, run_info, to_jsonable
+from fogts.report_html import (
+    DAVAR_MIN_WINDOW_SAMPLES,
+    DAVAR_MIN_WINDOWS,
+    PARTS,
+    HtmlReport,
+    build_report,
+    figure_block,
+    write_report,
+)
+from tests.conftest import shared_path
+
+runner = CliRunner()
+EVIL = "<script>alert(1)</script>"
+EVIL_NAME = "<img src=x onerror=alert(2)>"  # no '/': it is a file name
+
+
+def _write_recording(path: Path, *, n: int = 6_000, temperature: bool = True,
+                     seed: int = 5) -> None:
+    """10 Hz (10 min by default): white noise + a rate random walk + a warm-up thermal drift."""
+    rng = np.random.default_rng(seed)
+    fs = 10.0
+    t = np.arange(n) / fs
+    temp = 20.0 + 12.0 * (1.0 - np.exp(-t / 700.0)) + rng.normal(0.0, 0.02, n)
+    rate = 0.4 + rng.normal(0.0, 0.3, n) + np.cumsum(rng.normal(0.0, 0.002, n))
+    cols = [t, rate]
+    header = "time,rate"
+    if temperature:
+        rate += 0.03 * temp
+        cols = [t, rate, temp]
+        header += ",T"
+    with path.open("w") as fh:
+        fh.write(f"# operator {EVIL} & <b>bench</b>\n")
+        fh.write(f"{header},{EVIL}\n")
+        np.savetxt(fh, np.c_[(*cols, np.ones(n))], delimiter=",", fmt="%.6f")
+
+
+@pytest.fixture(scope="module")
+def built(tmp_path_factory: pytest.TempPathFactory) -> tuple[HtmlReport, str, Path]:
+    folder = tmp_path_factory.mktemp("report")
+    src = folder / f"unit {EVIL_NAME}.csv"  # an untrusted file name, too
+    _write_recording(src)
+    rep = build_report(read_run(src), title=f"Unit 7 {EVIL}")
+    out = write_report(folder / "report.html", rep)
+    return rep, out.read_text(encoding="utf-8"), src
+
+
+def test_every_section_present_and_ok(built: tuple[HtmlReport, str, Path]) -> None:
+    rep, _, _ = built
+    ids = [s.id for s in rep.sections]
+    assert ids == ["input", "timeseries", "allan-1", "arma-1", "prediction-1", "davar-1",
+                   "thermal-1"]
+    bad = [(s.id, s.message) for s in rep.sections if s.status != "ok"]
+    assert bad == []
+    assert rep.omitted == ()
+    # figures where the issue asks for them
+    figs = {s.id: len(s.figures) for s in rep.sections}
+    assert figs["timeseries"] == 1 and figs["allan-1"] == 1 and figs["prediction-1"] == 1
+    assert figs["davar-1"] == 1 and figs["thermal-1"] >= 1
+    assert "report" in rep.summary() and len(rep.to_frame()) == len(rep.sections)
+    assert json_dumps(rep.to_dict())  # JSON-safe
+
+
+def test_each_section_says_how_to_read_it_in_one_sentence(
+        built: tuple[HtmlReport, str, Path]) -> None:
+    rep, text, _ = built
+    for s in rep.sections:
+        how = s.how_to_read
+        assert how.endswith(".") and how[0].isupper(), s.id
+        assert re.search(r"[.!?]\s+[A-Z]", how) is None, f"{s.id}: more than one sentence"
+        assert str(escape(how)) in text
+    assert text.count('<p class="how">') == len(rep.sections)
+
+
+def test_untrusted_strings_are_escaped(built: tuple[HtmlReport, str, Path]) -> None:
+    _, text, _ = built
+    # the header cell, the comment line, the file name and the title are all shown as text
+    assert text.count("&lt;script&gt;alert(1)&lt;/script&gt;") >= 3  # header, comment, title
+    assert "&lt;b&gt;bench&lt;/b&gt;" in text
+    assert "&lt;img src=x onerror=alert(2)&gt;" in text
+    # ... and nothing in the document is a script, an injected tag or an event handler
+    assert "<script" not in text.lower() and "<img src=x" not in text
+    assert re.search(r"<[a-z][^>]*\son[a-z]+\s*=", text) is None
+
+
+def test_document_is_self_contained(built: tuple[HtmlReport, str, Path]) -> None:
+    _, text, _ = built
+    refs = re.findall(r'\s(?:src|href)="([^"]*)"', text)
+    assert refs, "no figure found"
+    assert all(r.startswith(("data:image/svg+xml;base64,", "data:image/png;base64,", "#"))
+               for r in refs), [r[:40] for r in refs if not r.startswith(("data:", "#"))]
+    assert "<link" not in text and "@import" not in text and "url(" not in text
+    assert "default-src 'none'" in text  # the CSP forbids loading anything else
+
+
+def test_figures_are_valid_images(built: tuple[HtmlReport, str, Path]) -> None:
+    rep, _, _ = built
+    for s in rep.sections:
+        for f in s.figures:
+            raw = base64.b64decode(f.data)
+            if f.mime == "image/svg+xml":
+                root = ET.fromstring(raw)
+                assert root.tag.endswith("svg")
+                assert len(list(root.iter())) > 50, f.id  # drawn, not empty
+            else:
+                assert raw[:8] == b"\x89PNG\r\n\x1a\n"
+            assert f.width > 100 and f.height > 100
+
+
+def test_report_numbers_are_the_library_numbers(built: tuple[HtmlReport, str, Path]) -> None:
+    from fogts.allan import allan_deviation
+    from fogts.allan.noise import fit_noise
+    from fogts.arma import select_arma
+    from fogts.preprocess import prepare
+    from fogts.thermal import fit_thermal
+
+    rep, text, src = built
+    run = read_run(src)
+    model = fit_noise(allan_deviation(run, axis=0))
+    table = next(b for b in next(s for s in rep.sections if s.id == "allan-1").blocks
+                 if b.kind == "table")
+    n_row = next(r for r in table.rows if r[0] == "N")
+    assert float(n_row[2]) == pytest.approx(model["N"].value, rel=1e-3)  # 4 digits shown
+    sel = select_arma(prepare(run, axis=0))
+    assert f"Selected model: {sel.best.name}" in text
+    thermal = fit_thermal(run.axis(0), run.temperature, fs_hz=run.fs_hz, units=run.units)
+    assert str(escape(thermal.equation())) in text
+    # the thermal drift was simulated as 0.03 * T: the compensation must reduce bias drift
+    block = next(b for b in next(s for s in rep.sections if s.id == "thermal-1").blocks
+                 if b.kind == "table" and b.caption.startswith("Bias stability"))
+    before, after = float(block.rows[0][1]), float(block.rows[1][1])
+    assert after < before
+
+
+def test_short_record_without_temperature_omits_davar_and_thermal(tmp_path: Path) -> None:
+    n = DAVAR_MIN_WINDOWS * DAVAR_MIN_WINDOW_SAMPLES - 1
+    src = tmp_path / "short.csv"
+    _write_recording(src, n=n, temperature=False)
+    rep = build_report(read_run(src), parts=("input", "davar", "thermal"))
+    assert [s.id for s in rep.sections] == ["input"]
+    reasons = dict(rep.omitted)
+    assert f"{n:,} samples" in reasons["Dynamic Allan deviation"]
+    assert "no temperature column" in reasons["Thermal model"]
+    text = rep.render()
+    assert 'id="not-included"' in text and "no temperature column" in text
+
+
+def test_a_failing_part_becomes_an_error_section(tmp_path: Path,
+                                                 monkeypatch: pytest.MonkeyPatch) -> None:
+    import fogts.report_html as rh
+
+    def broken(self: object, i: int) -> object:
+        raise ModelFitError(f"every candidate failed {EVIL}")
+
+    monkeypatch.setattr(rh._Context, "get_selection", broken)
+    src = tmp_path / "r.csv"
+    _write_recording(src, n=3000, temperature=False)
+    rep = build_report(read_run(src), parts=("input", "arma", "prediction"))
+    status = {s.id: (s.status, s.message) for s in rep.sections}
+    assert status["input"][0] == "ok"
+    assert status["arma-1"] == ("error", f"every candidate failed {EVIL}")
+    assert status["prediction-1"][0] == "error"
+    text = rep.render()
+    assert "This part could not be computed: every candidate failed &lt;script&gt;" in text
+
+
+def test_multi_axis_run_gives_one_section_per_axis(tmp_path: Path) -> None:
+    rng = np.random.default_rng(2)
+    run = read_run(rng.normal(size=(4000, 2)), fs_hz=10.0)
+    rep = build_report(run, parts=("allan",))
+    assert [s.id for s in rep.sections] == ["allan-1", "allan-2"]
+    assert all(s.status == "ok" for s in rep.sections)
+    assert rep.sections[1].title.endswith(f"axis {run.axes[1]}")
+
+
+def test_figure_block_is_deterministic_and_falls_back_to_png() -> None:
+    def fig() -> Figure:
+        f = Figure(figsize=(4, 3))
+        f.add_subplot().plot(np.arange(10.0), np.arange(10.0) ** 2)
+        return f
+
+    a, b = figure_block(fig(), id="a", alt="a"), figure_block(fig(), id="a", alt="a")
+    assert a.mime == "image/svg+xml" and a.data == b.data
+    png = figure_block(fig(), id="p", alt="p", max_svg_bytes=100)
+    assert png.mime == "image/png"
+    assert base64.b64decode(png.data)[:4] == b"\x89PNG"
+
+
+def test_bad_arguments(tmp_path: Path) -> None:
+    run = read_run(np.random.default_rng(0).normal(size=500), fs_hz=10.0)
+    with pytest.raises(DataError, match="parts must be one of .*; got 'summary'"):
+        build_report(run, parts=("input", "summary"))
+    with pytest.raises(DataError, match="kind must be one of .*; got 'xdev'"):
+        build_report(run, kind="xdev")
+    with pytest.raises(DataError, match="taus must be one of .*; got 'weekly'"):
+        build_report(run, taus="weekly")
+    with pytest.raises(DataError, match="criterion must be one of .*; got 'r2'"):
+        build_report(run, criterion="r2")
+    with pytest.raises(DataError, match="bias_average_s must be a finite number > 0, got -1"):
+        build_report(run, bias_average_s=-1)
+    with pytest.raises(DataError, match="davar_window_s must be a finite number > 0, got 0"):
+        build_report(run, davar_window_s=0)
+    with pytest.raises(DataError, match=r"run must be a fogts Run .*got ndarray"):
+        build_report(np.zeros(10))  # type: ignore[arg-type]
+
+
+def test_cli_report(tmp_path: Path) -> None:
+    from fogts.cli import app
+
+    src = tmp_path / "r.csv"
+    _write_recording(src, n=2000)
+    out = tmp_path / "r.html"
+    res = runner.invoke(app, ["report", str(src), "-o", str(out), "--title", "bench 3"])
+    assert res.exit_code == 0, res.output
+    assert f"wrote {out}" in res.output
+    assert "not included: Dynamic Allan deviation" in res.output
+    text = out.read_text()
+    assert "<title>bench 3</title>" in text and text.rstrip().endswith("</html>")
+
+
+def test_cli_report_bad_input_is_one_line_error(tmp_path: Path) -> None:
+    from fogts.cli import app
+
+    bad = tmp_path / "bad.csv"
+    bad.write_text("time,rate\n0,1\n0.1,x\n0.2,2\n")
+    res = runner.invoke(app, ["report", str(bad), "-o", str(tmp_path / "r.html")])
+    assert res.exit_code == 2
+    assert "error: column 'rate' has non-numeric value 'x'" in res.output
+    assert "Traceback" not in res.output and not (tmp_path / "r.html").exists()
+
+
+def test_cli_report_on_a_real_fog_recording(tmp_path: Path) -> None:
+    """61 s of a real FOG at 100 Hz with temperature (too short for DAVar)."""
+    from fogts.cli import app
+
+    out = tmp_path / "fog.html"
+    res = runner.invoke(app, ["report", str(shared_path("fog", "fog_0917.txt")), "-o",
+                              str(out)])
+    assert res.exit_code in (0, 1), res.output
+    text = out.read_text()
+    for title in ("Input and preprocessing", "Time series",
+                  "Allan deviation and noise coefficients", "Thermal model"):
+        assert title in text
+    assert "time, fog, T" in text
+
+
+# --------------------------------------------------------------------------- report.py
+
+
+def test_json_helpers_and_info_text() -> None:
+    assert to_jsonable({"a": np.float64("nan"), "b": np.arange(2)}) == {"a": None, "b": [0, 1]}
+    assert json_dumps({"x": 1.5}, indent=None) == '{"x": 1.5}'
+    run = read_run(np.random.default_rng(0).normal(size=100), fs_hz=10.0)
+    info = run_info(run)
+    assert info["n"] == 100 and "samples     100" in info_text(info)
