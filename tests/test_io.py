@@ -294,6 +294,18 @@ def test_atomic_write_keeps_old_file_on_failure(tmp_path: Path) -> None:
     assert [p.name for p in tmp_path.iterdir()] == ["out.txt"]  # no temp file left
 
 
+def test_atomic_write_uses_normal_permissions(tmp_path: Path) -> None:
+    import os
+    import stat
+
+    umask = os.umask(0o022)
+    try:
+        write_text_atomic(tmp_path / "p.txt", "x")
+    finally:
+        os.umask(umask)
+    assert stat.S_IMODE((tmp_path / "p.txt").stat().st_mode) == 0o644
+
+
 def test_write_frame_atomic_roundtrip(tmp_path: Path) -> None:
     df = pd.DataFrame({"time": [0.0, 0.1], "rate": [1.0 / 3.0, 2.0]})
     for name in ("a.csv", "a.parquet", "a.csv.gz"):
