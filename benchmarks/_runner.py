@@ -116,6 +116,29 @@ def paired_times(fogts_fn: Callable[[], Any], peer_fn: Callable[[], Any], *, rep
     return best_a, best_b
 
 
+def interleaved_times(fns: dict[str, Callable[[], Any]], *, repeat: int = 3,
+                      min_total_s: float = 0.0, max_repeat: int = 50) -> dict[str, float]:
+    """Best wall time of each of several calls, measured in rotating order.
+
+    Like :func:`paired_times` for more than two contenders: round ``i`` starts with the
+    ``i``-th function, so every one sees the same machine load on average.
+    """
+    names = list(fns)
+    best = dict.fromkeys(names, float("inf"))
+    total = 0.0
+    i = 0
+    while i < repeat or (total < min_total_s and i < max_repeat):
+        for k in range(len(names)):
+            name = names[(i + k) % len(names)]
+            t0 = time.perf_counter()
+            fns[name]()
+            dt = time.perf_counter() - t0
+            total += dt
+            best[name] = min(best[name], dt)
+        i += 1
+    return best
+
+
 # --------------------------------------------------------------------------- suites
 
 
@@ -126,6 +149,7 @@ class Suite:
     name: str
     target: str
     description: str
+    module: str = ""  # the measured module, if ``target`` is an adapter of it
 
     def load(self) -> Callable[[bool], list[Metric]]:
         module, _, func = self.target.partition(":")
@@ -133,7 +157,7 @@ class Suite:
 
     def module_path(self) -> Path:
         """The module's file (``x.py`` or ``x/__init__.py``)."""
-        base = ROOT.joinpath(*self.target.partition(":")[0].split("."))
+        base = ROOT.joinpath(*(self.module or self.target.partition(":")[0]).split("."))
         package = base / "__init__.py"
         return package if package.exists() else base.with_suffix(".py")
 
@@ -150,13 +174,18 @@ SUITES: tuple[Suite, ...] = (
     Suite("io", "benchmarks.bench_io:metrics",
           "read_run MB/s on CSV and Parquet against pandas"),
     Suite("noise_fit", "benchmarks.bench_noise_fit:metrics",
-          "noise-coefficient round trip by sensor grade"),
+          "noise-coefficient fit speed and accuracy"),
     Suite("selection_rate", "benchmarks.bench_selection_rate:metrics",
           "ARMA selection hit rate by true model"),
-    Suite("emd_kalman", "benchmarks.bench_emd_kalman:metrics",
-          "EMD, Kalman filter and thermal coefficient recovery"),
+    Suite("alpha_id", "benchmarks.bench_alpha_id:metrics",
+          "noise identification and confidence intervals against allantools"),
+    Suite("emd_kalman", "benchmarks._adapters:emd_kalman",
+          "EMD, steady-state Kalman filter and thermal fit speed",
+          module="benchmarks.bench_emd_kalman"),
+    Suite("thermal", "benchmarks.bench_thermal:metrics",
+          "thermal coefficient recovery on simulated cold starts"),
     Suite("accuracy", "benchmarks.accuracy:metrics",
-          "round-trip accuracy reports (benchmarks/accuracy)"),
+          "noise-coefficient round trip by sensor grade (benchmarks/accuracy)"),
 )
 
 
@@ -352,6 +381,24 @@ def _merge_best(doc: dict[str, Any], again: list[Metric]) -> None:
             doc["metrics"][i] = n
 
 
+def merge_results(base: dict[str, Any], new: dict[str, Any]) -> dict[str, Any]:
+    """``base`` with the suites of ``new`` replaced (metrics, status); header from ``new``.
+
+    Raises ValueError if one is a quick run and the other is not.
+    """
+    if bool(base.get("quick")) != bool(new.get("quick")):
+        raise ValueError("cannot merge a quick run with a full run")
+    replaced = set(new.get("suites", {}))
+    out = dict(new)
+    out["suites"] = {**{k: v for k, v in base.get("suites", {}).items() if k not in replaced},
+                     **new.get("suites", {})}
+    out["metrics"] = ([m for m in base.get("metrics", []) if m.get("suite") not in replaced]
+                      + list(new.get("metrics", [])))
+    out["seconds"] = float(base.get("seconds", 0.0)) + float(new.get("seconds", 0.0))
+    out["merged_from"] = [base.get("date"), new.get("date")]
+    return out
+
+
 # --------------------------------------------------------------------------- rendering
 
 
@@ -449,6 +496,9 @@ def _parser() -> argparse.ArgumentParser:
                    help="re-measure a suite with a flagged speed figure up to N times")
     p.add_argument("--only", help="comma-separated suite names (default: all): "
                    + ", ".join(s.name for s in SUITES))
+    p.add_argument("--update", type=Path, metavar="JSON",
+                   help="start from this result and replace only the suites run now (with "
+                        "--only: re-measure one suite of a full result)")
     p.add_argument("--against", type=Path, metavar="NEW_JSON",
                    help="with --compare: compare this stored result instead of running")
     p.add_argument("--render", type=Path, metavar="JSON",
@@ -508,6 +558,8 @@ def main(argv: list[str] | None = None) -> int:
         return 1 if bad else 0
 
     doc = run_suites(suites, quick=args.quick, timeout_s=timeout, log=log)
+    if args.update is not None:
+        doc = merge_results(json.loads(args.update.read_text()), doc)
     rows = []
     if old is not None:
         rows = compare(doc, old)

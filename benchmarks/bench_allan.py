@@ -41,24 +41,12 @@ from typing import Any
 import numpy as np
 
 try:
-    from benchmarks._runner import (
-        Metric,
-        accuracy_metric,
-        machine_info,
-        paired_times,
-        render_markdown,
-        speed_metric,
-    )
+    from benchmarks import _runner as runner
 except ImportError:  # run as a script: python benchmarks/bench_allan.py
     sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-    from benchmarks._runner import (
-        Metric,
-        accuracy_metric,
-        machine_info,
-        paired_times,
-        render_markdown,
-        speed_metric,
-    )
+    from benchmarks import _runner as runner
+
+Metric = runner.Metric
 
 RESULTS = Path(__file__).resolve().parent / "results" / "allan.md"
 FS_HZ = 100.0
@@ -120,39 +108,37 @@ def _oadev_metrics(quick: bool) -> list[Metric]:
     assert np.array_equal(ref[3].astype(np.int64), ours.n), "term counts differ"
     rel = float(np.max(np.abs(ours.dev / ref[1] - 1.0)))
 
-    repeat = 3 if quick else 2
-    t_auto, t_at = paired_times(lambda: oadev(y, fs_hz=FS_HZ, m=m),
-                                lambda: allantools.oadev(y, rate=FS_HZ, data_type="freq",
-                                                         taus=taus), repeat=repeat)
-    t_one, t_at2 = paired_times(lambda: oadev(y, fs_hz=FS_HZ, m=m, workers=1),
-                                lambda: allantools.oadev(y, rate=FS_HZ, data_type="freq",
-                                                         taus=taus), repeat=repeat)
+    repeat = 3
+    def peer_call() -> Any:
+        return allantools.oadev(y, rate=FS_HZ, data_type="freq", taus=taus)
+
+    t_auto, t_at = runner.paired_times(lambda: oadev(y, fs_hz=FS_HZ, m=m), peer_call,
+                                       repeat=repeat)
+    t_one, t_at2 = runner.paired_times(lambda: oadev(y, fs_hz=FS_HZ, m=m, workers=1),
+                                       peer_call, repeat=repeat)
     t_at = min(t_at, t_at2)
     mem_ours = peak_extra_bytes(lambda: oadev(y, fs_hz=FS_HZ, m=m))
     mem_one = peak_extra_bytes(lambda: oadev(y, fs_hz=FS_HZ, m=m, workers=1))
-    mem_at = peak_extra_bytes(lambda: allantools.oadev(y, rate=FS_HZ, data_type="freq",
-                                                        taus=taus))
+    mem_at = peak_extra_bytes(peer_call)
     threads = os.cpu_count() or 1
     size = f"{n:.0e}".replace("+0", "").replace("+", "")
+    speed, acc = runner.speed_metric, runner.accuracy_metric
+    title = f"oadev, {size} samples, {m.size} taus"
     return [
-        speed_metric(f"speed.oadev.{tag}", f"oadev, {size} samples, {m.size} taus, "
-                     f"{threads} threads", fogts_s=t_auto, peer_s=t_at, peer="allantools",
-                     details={"taus": int(m.size), "threads": threads}),
-        speed_metric(f"speed.oadev.1thread.{tag}", f"oadev, {size} samples, {m.size} taus, "
-                     "1 thread", fogts_s=t_one, peer_s=t_at, peer="allantools",
-                     details={"taus": int(m.size), "threads": 1}),
-        accuracy_metric(f"accuracy.oadev_vs_allantools.{tag}", f"oadev, {size} samples: "
-                        "largest relative difference to allantools", value=rel,
-                        better="lower", abs_tolerance=1e-9),
-        accuracy_metric(f"memory.oadev.{tag}", f"oadev peak extra memory, {threads} threads",
-                        value=mem_ours / y.nbytes, better="lower", unit="x input",
-                        details={"bytes": mem_ours}),
-        accuracy_metric(f"memory.oadev.1thread.{tag}", "oadev peak extra memory, 1 thread",
-                        value=mem_one / y.nbytes, better="lower", unit="x input",
-                        details={"bytes": mem_one}),
-        accuracy_metric(f"memory.allantools_oadev.{tag}", "allantools.oadev peak extra memory",
-                        value=mem_at / y.nbytes, better="lower", unit="x input",
-                        details={"bytes": mem_at}),
+        speed(f"speed.oadev.{tag}", f"{title}, {threads} threads", fogts_s=t_auto,
+              peer_s=t_at, peer="allantools",
+              details={"taus": int(m.size), "threads": threads}),
+        speed(f"speed.oadev.1thread.{tag}", f"{title}, 1 thread", fogts_s=t_one, peer_s=t_at,
+              peer="allantools", details={"taus": int(m.size), "threads": 1}),
+        acc(f"accuracy.oadev_vs_allantools.{tag}", f"{title}: largest relative difference "
+            "to allantools", value=rel, better="lower", abs_tolerance=1e-9),
+        acc(f"memory.oadev.{tag}", f"oadev peak extra memory, {threads} threads",
+            value=mem_ours / y.nbytes, better="lower", unit="x input",
+            details={"bytes": mem_ours}),
+        acc(f"memory.oadev.1thread.{tag}", "oadev peak extra memory, 1 thread",
+            value=mem_one / y.nbytes, better="lower", unit="x input", details={"bytes": mem_one}),
+        acc(f"memory.allantools_oadev.{tag}", "allantools.oadev peak extra memory",
+            value=mem_at / y.nbytes, better="lower", unit="x input", details={"bytes": mem_at}),
     ]
 
 
@@ -171,13 +157,14 @@ def _all_kinds_metrics(quick: bool) -> list[Metric]:
         res = fn(y, fs_hz=FS_HZ, m=grid.m)
         ref = peer(y, rate=FS_HZ, data_type="freq", taus=grid.tau_s)
         rel = float(np.max(np.abs(res.dev / ref[1] - 1.0)))
-        t_ours, t_at = paired_times(functools.partial(fn, y, fs_hz=FS_HZ, m=grid.m),
-                                    functools.partial(peer, y, rate=FS_HZ, data_type="freq",
-                                                      taus=grid.tau_s), repeat=3)
-        out.append(speed_metric(f"speed.{kind}.octave.n={n}", f"{kind}, {n:,} samples, "
-                                f"{grid.m.size} octave taus (max rel. diff {rel:.1e})",
-                                fogts_s=t_ours, peer_s=t_at, peer="allantools",
-                                details={"max_rel_diff": rel}))
+        t_ours, t_at = runner.paired_times(
+            functools.partial(fn, y, fs_hz=FS_HZ, m=grid.m),
+            functools.partial(peer, y, rate=FS_HZ, data_type="freq", taus=grid.tau_s),
+            repeat=5)
+        out.append(runner.speed_metric(
+            f"speed.{kind}.octave.n={n}", f"{kind}, {n:,} samples, {grid.m.size} octave taus "
+            f"(max rel. diff {rel:.1e})", fogts_s=t_ours, peer_s=t_at, peer="allantools",
+            details={"max_rel_diff": rel}))
     return out
 
 
@@ -232,7 +219,7 @@ def _huge_metrics() -> list[Metric]:
                     "res = allan_deviation(r, kind='oadev', taus='octave')")
         t_api = _timed_child([sys.executable, "-c", api_code, str(path)], env)
         peer = "np.load+allantools.oadev"
-        out.append(speed_metric(
+        out.append(runner.speed_metric(
             "speed.allan_deviation_end_to_end.n=1e8", f"1e8-sample .npy (800 MB), "
             f"{taus.size} octave taus: read_run + allan_deviation (oadev with noise id, EDF "
             "and CIs)", fogts_s=t_api, peer_s=t_peer, peer=peer))
@@ -240,7 +227,7 @@ def _huge_metrics() -> list[Metric]:
             cmd = [sys.executable, "-m", "fogts", "allan", str(path), "--fs", str(FS_HZ),
                    "--json", str(folder / "out.json")]
             t_cli = _timed_child(cmd, env)
-            out.append(speed_metric(
+            out.append(runner.speed_metric(
                 "speed.allan_cli_end_to_end.n=1e8", "1e8-sample .npy: the whole `fogts allan` "
                 "command (read, oadev, CIs, noise fit, JSON)", fogts_s=t_cli, peer_s=t_peer,
                 peer=peer))
@@ -269,11 +256,13 @@ def main(argv: list[str] | None = None) -> int:
     if importlib.util.find_spec("allantools") is None:
         print("error: allantools is not installed", file=sys.stderr)
         return 2
-    start = machine_info()
+    start = runner.machine_info()
     figures = metrics(args.quick, huge=args.huge)
     load_end = os.getloadavg() if hasattr(os, "getloadavg") else None
-    text = render_markdown({"metrics": figures, "quick": args.quick, "machine": start,
-                            "date": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())})
+    text = runner.render_markdown({
+        "metrics": figures, "quick": args.quick, "machine": start,
+        "versions": runner.library_versions(),
+        "date": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())})
     text += (f"\nLoad average at start {start.get('loadavg_at_start')}, at end "
              f"{[round(v, 2) for v in load_end] if load_end else None} "
              f"(the machine is shared; ratios are paired, best-of-N).\n")

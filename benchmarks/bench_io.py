@@ -2,7 +2,7 @@
 
 The file holds ``time,rate,temperature`` (100 Hz, white-noise rate, a slow temperature
 ramp), written by pyarrow.  The full run uses a 1 GB CSV (about 22 million rows) and the
-same table as Parquet; ``--quick`` uses about 20 MB.  The page cache is warmed before each
+same table as Parquet; ``--quick`` uses about 8 MB.  The page cache is warmed before each
 timing, so the figures are parsing speed, not disk speed.
 
 Figures (ratio = peer seconds / fogts seconds, > 1 means fogts is faster):
@@ -29,13 +29,13 @@ from pathlib import Path
 import numpy as np
 
 try:
-    from benchmarks._runner import Metric, paired_times, render_markdown, speed_metric
+    from benchmarks._runner import Metric, interleaved_times, render_markdown, speed_metric
 except ImportError:  # run as a script: python benchmarks/bench_io.py
     sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-    from benchmarks._runner import Metric, paired_times, render_markdown, speed_metric
+    from benchmarks._runner import Metric, interleaved_times, render_markdown, speed_metric
 
 FULL_CSV_BYTES = 1_000_000_000
-QUICK_CSV_BYTES = 20_000_000
+QUICK_CSV_BYTES = 8_000_000
 FS_HZ = 100.0
 
 
@@ -107,18 +107,16 @@ def metrics(quick: bool) -> list[Metric]:
         check = read_run(csv)
         assert check.n == n and check.temperature is not None, (check.n, n)
         del check
-        budget = 0.0 if not quick else 2.0
-        t_fogts, t_pandas = paired_times(timed(lambda: read_run(csv)),
-                                         timed(lambda: pd.read_csv(csv)), repeat=repeat,
-                                         min_total_s=budget)
-        t_fogts2, t_arrow = paired_times(timed(lambda: read_run(csv)),
-                                         timed(lambda: pacsv.read_csv(csv)), repeat=repeat,
-                                         min_total_s=budget)
-        t_fogts = min(t_fogts, t_fogts2)
+        csv_t = interleaved_times({"fogts": timed(lambda: read_run(csv)),
+                                   "pandas": timed(lambda: pd.read_csv(csv)),
+                                   "arrow": timed(lambda: pacsv.read_csv(csv))},
+                                  repeat=repeat)
+        t_fogts, t_pandas, t_arrow = csv_t["fogts"], csv_t["pandas"], csv_t["arrow"]
         _warm(parquet)
-        t_fogts_pq, t_pandas_pq = paired_times(timed(lambda: read_run(parquet)),
-                                               timed(lambda: pd.read_parquet(parquet)),
-                                               repeat=max(repeat, 5), min_total_s=2 * budget)
+        pq_t = interleaved_times({"fogts": timed(lambda: read_run(parquet)),
+                                  "pandas": timed(lambda: pd.read_parquet(parquet))},
+                                 repeat=max(repeat, 5), min_total_s=1.0 if quick else 0.0)
+        t_fogts_pq, t_pandas_pq = pq_t["fogts"], pq_t["pandas"]
     finally:
         shutil.rmtree(folder, ignore_errors=True)
 
@@ -141,7 +139,7 @@ def metrics(quick: bool) -> list[Metric]:
 
 def main(argv: list[str] | None = None) -> int:
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    p.add_argument("--quick", action="store_true", help="about 20 MB instead of 1 GB")
+    p.add_argument("--quick", action="store_true", help="about 8 MB instead of 1 GB")
     p.add_argument("--out", type=Path, help="also write the markdown table here")
     args = p.parse_args(argv)
     text = render_markdown({"metrics": metrics(args.quick), "quick": args.quick})

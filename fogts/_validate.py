@@ -117,7 +117,7 @@ def to_float_array(x: Any, name: str = "x", *, min_length: int = 2,
         bad = ~np.isfinite(arr)
         if bad.any():
             pos = int(np.argwhere(bad)[0][0])
-            raise DataError(f"{name} contains a non-finite value ({arr.flat[np.argmax(bad)]!r}) "
+            raise DataError(f"{name} contains a non-finite value ({float(arr.flat[np.argmax(bad)])!r}) "
                             f"at position {pos}; remove or interpolate it first")
     return arr
 

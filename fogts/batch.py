@@ -39,6 +39,7 @@ import json
 import math
 import os
 import time
+import uuid
 import warnings
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import asdict, dataclass, field
@@ -49,7 +50,8 @@ import numpy as np
 import pandas as pd
 
 from fogts._validate import check_choice, check_int
-from fogts.errors import DataError, FogtsError
+from fogts.errors import DataError
+from fogts.report import error_message, warning_texts
 
 __all__ = [
     "SUMMARY_COLUMNS",
@@ -254,19 +256,6 @@ class BatchResult:
 # --------------------------------------------------------------------------- helpers
 
 
-def error_message(exc: BaseException) -> str:
-    """One-line message for an exception, as the CLI prints it.
-
-    fogts' own errors (and ``ValueError``/``OSError``) are the user's business and keep their
-    message; anything else is labelled as an internal error with its type.
-    """
-    text = str(exc).strip()
-    msg = text.splitlines()[0] if text else type(exc).__name__
-    if not isinstance(exc, FogtsError | ValueError | OSError):
-        msg = f"internal error ({type(exc).__name__}): {msg}"
-    return msg
-
-
 def expand_patterns(patterns: Sequence[str]) -> list[str]:
     """Files matching shell-style ``patterns`` (``**`` recurses), de-duplicated, in order.
 
@@ -371,7 +360,7 @@ def _analyze_axis(run: Any, axis: int, options: BatchOptions) -> tuple[dict[str,
         prepared = prepare(run, axis=axis, detrend=options.detrend, decimate=options.decimate,
                            stationarity=False)
         doc["preprocessing"] = prepared.to_dict()
-        sel = select_arma(prepared, criterion=options.criterion)
+        sel = select_arma(prepared, criterion=options.criterion)  # type: ignore[arg-type]
         doc["select"] = sel.to_dict()
         fields.update(_selection_fields(sel))
     return fields, doc
@@ -394,7 +383,6 @@ def analyze_file(file: str, options: BatchOptions) -> RunOutcome:
     from fogts.io import read_run
     from fogts.report import run_info, to_jsonable
 
-    caught: list[warnings.WarningMessage] = []
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         try:
@@ -408,7 +396,8 @@ def analyze_file(file: str, options: BatchOptions) -> RunOutcome:
             info = run_info(run)
         except Exception as exc:
             msg = error_message(exc)
-            doc = _document(file, "error", msg, {}, [], _warning_texts(caught))
+            doc = _document(file, "error", msg, {}, [], warning_texts(caught))
+            doc["options"] = options.to_dict()
             return _error_outcome(file, msg, persist=True, document=doc)
 
         rows: list[dict[str, Any]] = []
@@ -430,21 +419,12 @@ def analyze_file(file: str, options: BatchOptions) -> RunOutcome:
     errors = [r["error"] for r in rows if r["status"] == "error"]
     status = "error" if errors else "ok"
     doc = _document(file, status, errors[0] if errors else "", info, axes_doc,
-                    _warning_texts(caught))
+                    warning_texts(caught))
     doc["options"] = options.to_dict()
     doc["rows"] = rows
     doc = to_jsonable(doc)
     return RunOutcome(file=file, status=status, error=errors[0] if errors else "",
                       rows=tuple(doc["rows"]), document=doc)
-
-
-def _warning_texts(caught: Iterable[warnings.WarningMessage]) -> list[str]:
-    seen: list[str] = []
-    for w in caught:
-        text = str(w.message).strip().splitlines()[0] if str(w.message).strip() else ""
-        if text and text not in seen:
-            seen.append(text)
-    return seen
 
 
 def _safe_call(analysis: Callable[[str, BatchOptions], RunOutcome], file: str,
@@ -506,10 +486,11 @@ def _dask(jobs: list[str], analysis: Callable[[str, BatchOptions], RunOutcome],
         raise DataError(f"cannot connect to the Dask scheduler at {scheduler!r}: "
                         f"{error_message(exc)}") from None
     try:
+        token = uuid.uuid4().hex[:12]  # keys unique to this batch on a shared cluster
         futures = {client.submit(_safe_call, analysis, f, options, pure=False,
-                                 key=f"fogts-batch-{run_key(f)}-{i}"): f
+                                 key=f"fogts-batch-{token}-{i}-{run_key(f)}"): f
                    for i, f in enumerate(jobs)}
-        for fut in as_completed(list(futures)):
+        for fut in as_completed(list(futures), loop=client.loop):
             file = futures[fut]
             try:
                 yield fut.result()
@@ -596,7 +577,9 @@ def run_batch(
         Address of a running Dask distributed scheduler (``tcp://host:8786``); the work is
         then sent there instead of to a local pool.  Workers must have fogts installed.
     resume : bool
-        Skip runs whose per-run JSON exists (their rows are read back from it).
+        Skip runs whose per-run JSON exists (their rows are read back from it).  A run that
+        failed because of its file also has a JSON and is skipped; delete that JSON to retry
+        it.  Runs lost to a dead worker have none and are retried.
     options : BatchOptions, optional
         Input and analysis options.
     analysis : callable

@@ -181,6 +181,231 @@ def info_cmd(
             console.print(info_text(payload), markup=False, soft_wrap=True)
 
 
+# ---- allan ------------------------------------------------------------------------------
+_TAU_GRIDS = ("octave", "decade", "dense", "all")
+
+
+def _tau_option(text: str, option: str = "--taus") -> Any:
+    """``octave``, ``decade``, ``dense``, ``all``, or taus in seconds separated by commas."""
+    from fogts.errors import DataError
+
+    if text in _TAU_GRIDS:
+        return text
+    try:
+        values = [float(t) for t in text.split(",") if t.strip()]
+    except ValueError:
+        values = []
+    if not values:
+        raise DataError(f"{option} must be {', '.join(_TAU_GRIDS)} or taus in seconds "
+                        f"separated by commas; got {text!r}")
+    return values
+
+
+def _allantools_check(y: Any, res: Any) -> dict[str, Any]:
+    """Run allantools on the same data and taus; the largest relative difference."""
+    import allantools
+    import numpy as np
+
+    funcs = {"adev": allantools.adev, "oadev": allantools.oadev, "mdev": allantools.mdev,
+             "hdev": allantools.hdev, "ohdev": allantools.ohdev, "totdev": allantools.totdev}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        taus, dev, _, n = funcs[res.kind](np.asarray(y, dtype=np.float64), rate=res.fs_hz,
+                                          data_type="freq", taus=np.asarray(res.tau_s))
+    m_peer = np.rint(np.asarray(taus) * res.fs_hz).astype(np.int64)
+    common, mine, theirs = np.intersect1d(res.m, m_peer, return_indices=True)
+    peer = np.asarray(dev, dtype=np.float64)[theirs]
+    rel = np.abs(res.dev[mine] - peer) / np.abs(peer)
+    worst = int(np.argmax(rel)) if rel.size else -1
+    return {"peer": f"allantools {allantools.__version__} {res.kind}(data_type='freq')",
+            "n_compared": int(common.size),
+            "max_rel_diff": float(rel[worst]) if rel.size else None,
+            "tau_at_max": float(res.tau_s[mine][worst]) if rel.size else None,
+            "n_terms_equal": bool(np.array_equal(res.n[mine], np.asarray(n)[theirs]))}
+
+
+def _allan_axis_payload(res: Any, model: Any, prepared: Any, check: Any) -> dict[str, Any]:
+    import numpy as np
+
+    points = res.to_dict()["points"]
+    fit = model.curve(res.tau_s) if model is not None else np.full(len(points), np.nan)
+    for p, f in zip(points, fit, strict=True):
+        p["fit"] = float(f)
+    out: dict[str, Any] = {
+        "axis": res.axis, "kind": res.kind, "units": res.units,
+        "confidence": res.confidence, "points": points,
+        "noise": model.noise_dict() if model is not None else {},
+        "noise_fit": ({k: v for k, v in model.to_dict().items() if k != "terms"}
+                      if model is not None else
+                      {"skipped": f"IEEE-952 terms are fitted to adev, oadev or totdev curves "
+                                  f"only, not {res.kind}"}),
+        "dropped": [d.to_dict() for d in res.dropped], "notes": list(res.notes),
+        "preprocessing": prepared.to_dict() if prepared is not None else None,
+    }
+    if check is not None:
+        out["allantools_check"] = check
+    return out
+
+
+def _allan_tables(res: Any, model: Any, check: Any, quiet_json: str | None) -> None:
+    import math
+
+    def g(v: float, digits: int = 5) -> str:
+        return "-" if v is None or not math.isfinite(v) else f"{v:.{digits}g}"
+
+    from rich.markup import escape
+
+    pct = f"{100 * res.confidence:.1f} % CI" if math.isfinite(res.confidence) else "no CI"
+    rows = [[g(t, 6), int(m), int(n), g(d), g(lo), g(hi), g(e, 4)]
+            for t, m, n, d, lo, hi, e in zip(res.tau_s, res.m, res.n, res.dev, res.ci_low,
+                                             res.ci_high, res.edf, strict=True)]
+    _print(_table(escape(f"{res.kind} of {res.axis} ({res.units}), {pct}"),
+                  ["tau (s)", "m", "n", "dev", "ci_low", "ci_high", "edf"], rows),
+           quiet_json=quiet_json)
+    for d in res.dropped:
+        _print(f"dropped tau = {d.tau_s:g} s (m = {d.m}): {d.reason}", quiet_json=quiet_json)
+    if model is not None:
+        trows = []
+        for t in model.terms:
+            note = "upper limit" if t.at_bound or not t.identifiable else ""
+            if not t.identifiable:
+                note += " (not identified)"
+            trows.append([t.name, f"{t.value:.4g}", g(t.stderr, 3),
+                          f"{t.ci_low:.4g} .. {t.ci_high:.4g}", t.unit, note])
+        pct = f"{100 * model.confidence:.1f} %"
+        _print(_table(escape(f"IEEE-952 noise terms of {res.axis} ({model.method.upper()} "
+                             f"fit)"),
+                      ["term", "value", "± stderr", f"{pct} interval", "unit", "note"],
+                      trows), quiet_json=quiet_json)
+        _print("seed-paper coefficients C_n (rate in deg/h, tau in s): "
+               + ", ".join(f"C{t.power:+d} = {t.c_coeff:.4g}" for t in model.terms),
+               quiet_json=quiet_json)
+        r = model.readoff
+        _print(f"slope read-offs (comparison only, not the fit): N = {r.N:.4g} deg/sqrt(h) "
+               f"(-1/2 line at tau = 1 s), K = {r.K:.4g} deg/h^1.5 (+1/2 line at tau = 3 s), "
+               f"B = {r.B:.4g} deg/h (minimum / 0.664)", quiet_json=quiet_json)
+        _print(f"fit: chi2 = {model.chi2:.4g} on {model.dof:.4g} dof, model error "
+               f"{model.model_error:.3g}; standard errors: {model.stderr_method}",
+               quiet_json=quiet_json)
+    if check is not None:
+        worst = check["max_rel_diff"]
+        _print(f"allantools check ({check['peer']}): largest relative difference "
+               f"{g(worst, 3)} over {check['n_compared']} taus"
+               + (f" (at tau = {check['tau_at_max']:g} s)" if worst is not None else "")
+               + ("" if check["n_terms_equal"] else "; the numbers of terms differ"),
+               quiet_json=quiet_json)
+
+
+@app.command("allan")
+def allan_cmd(
+    file: FileArg,
+    rate_column: RateColOpt = None,
+    time_column: TimeColOpt = None,
+    temperature_column: TempColOpt = None,
+    fs: FsOpt = None,
+    units: UnitsOpt = None,
+    kind: Annotated[str, typer.Option("--kind", help="Estimator: oadev, adev, mdev, hdev, ohdev, totdev (noise terms are fitted to adev, oadev and totdev).")] = "oadev",
+    taus: Annotated[str, typer.Option("--taus", help="Tau grid: octave, decade, dense, all, or taus in s separated by commas.")] = "octave",
+    confidence: Annotated[float, typer.Option("--confidence", help="Confidence level of the deviation and coefficient intervals.")] = 0.683,
+    terms: Annotated[str, typer.Option("--terms", help="Noise terms to fit, from Q,N,B,K,R.")] = "Q,N,B,K,R",
+    method: Annotated[str, typer.Option("--method", help="Noise fit: wls (EDF weights), gls (full covariance), ols (unweighted, comparison only).")] = "wls",
+    axis: Annotated[str | None, typer.Option("--axis", help="Analyse one axis (name or index) [default: every axis].")] = None,
+    outliers: Annotated[float | None, typer.Option("--outliers", help="Replace samples beyond this many robust sigmas first (default: raw data).")] = None,
+    detrend: Annotated[int | None, typer.Option("--detrend", help="Remove a polynomial trend of this order first (default: raw data).")] = None,
+    decimate: Annotated[int | None, typer.Option("--decimate", help="Block-average K samples first (default: raw data).")] = None,
+    json_out: JsonOpt = None,
+    csv_out: Annotated[Path | None, typer.Option("--csv", help="Write the points (and the fitted curve) to PATH (.csv, .tsv, .parquet).")] = None,
+    plot: Annotated[Path | None, typer.Option("--plot", help="Log-log figure with CIs, the fit and its term lines: .png, .svg or .pdf.")] = None,
+    check_allantools: Annotated[bool, typer.Option("--check-allantools", help="Recompute with allantools on the same data and taus; print the largest relative difference.")] = False,
+) -> None:
+    """Allan deviation with confidence intervals, and the IEEE-952 noise terms
+    (Q, N, B, K, R) with standard errors.
+
+    The data are analysed raw unless --outliers, --detrend or --decimate is given. JSON:
+    {"input", "kind", "units", "points", "noise", ...}; a multi-axis file adds "axes" (one
+    such block per axis; the top level repeats the first axis).
+    """
+    from fogts.allan import AllanResult, AllanResultSet, allan_deviation
+    from fogts.allan.noise import FITTABLE_KINDS, fit_noise, parse_terms
+    from fogts.errors import FogtsWarning
+    from fogts.io import write_frame_atomic
+
+    with _guard():
+        tau_spec = _tau_option(taus)
+        term_names = parse_terms(terms)
+        run = _read(file, rate_column, time_column, temperature_column, fs, units)
+        if axis is None:
+            picks = list(range(run.n_axes))
+        elif axis.lstrip("-").isdigit():
+            run.axis(int(axis))  # validates the index
+            picks = [int(axis) % run.n_axes]
+        else:
+            run.axis(axis)  # validates the name
+            picks = [run.axes.index(axis)]
+        results: list[AllanResult] = []
+        models: list[Any] = []
+        blocks: list[tuple[dict[str, Any], Any]] = []
+        for i in picks:
+            prepared = None
+            source: Any = run
+            y = run.axis(i)
+            if outliers is not None or detrend is not None or decimate is not None:
+                from fogts.preprocess import prepare
+
+                prepared = prepare(run, axis=i, outliers=outliers, detrend=detrend,
+                                   decimate=decimate, stationarity=False)
+                source, y = prepared, prepared.x
+            res = allan_deviation(source, kind=kind, taus=tau_spec,  # type: ignore[arg-type]
+                                  confidence=confidence, axis=None if prepared else i)
+            assert isinstance(res, AllanResult)
+            model = (fit_noise(res, terms=term_names, method=method,  # type: ignore[arg-type]
+                               confidence=confidence) if res.kind in FITTABLE_KINDS else None)
+            if model is None:
+                warnings.warn(f"noise terms are fitted to adev, oadev or totdev curves only; "
+                              f"not fitted to {res.kind}", FogtsWarning, stacklevel=1)
+            check = _allantools_check(y, res) if check_allantools else None
+            results.append(res)
+            models.append(model)
+            blocks.append((_allan_axis_payload(res, model, prepared, check), check))
+        first = blocks[0][0]
+        payload: dict[str, Any] = {
+            "input": {"source": run.source, "n": run.n, "fs_hz": run.fs_hz,
+                      "duration_s": run.duration_s, "units": run.units,
+                      "axis": first["axis"], "axes": [b[0]["axis"] for b in blocks],
+                      "columns": list(run.columns)},
+            **first,
+        }
+        if len(blocks) > 1:
+            payload["axes"] = [b[0] for b in blocks]
+        _emit_json(payload, json_out)
+        if csv_out is not None:
+            import pandas as pd
+
+            frames = []
+            for res, model in zip(results, models, strict=True):
+                frame = res.to_frame()
+                frame["fit"] = model.curve(res.tau_s) if model is not None else float("nan")
+                frames.append(frame.assign(axis=res.axis) if len(results) > 1 else frame)
+            table = pd.concat(frames, ignore_index=True)
+            if len(results) > 1:
+                table = table[["axis", *[c for c in table.columns if c != "axis"]]]
+            write_frame_atomic(csv_out, table)
+        if plot is not None:
+            from fogts.plots import plot_allan
+
+            if len(results) == 1:
+                fig = plot_allan(results[0], models[0])
+            else:
+                complete = all(m is not None for m in models)
+                fig = plot_allan(AllanResultSet(curves=tuple(results)),
+                                 models if complete else None)
+            _save_figure(fig, plot)
+        _print(f"{run.source}: {run.n} samples at {run.fs_hz:.6g} Hz "
+               f"({run.duration_s:.6g} s), rate in {run.units}", quiet_json=json_out)
+        for res, model, (_, check) in zip(results, models, blocks, strict=True):
+            _allan_tables(res, model, check, json_out)
+
+
 # ---- batch ------------------------------------------------------------------------------
 @app.command("batch")
 def batch_cmd(
@@ -189,7 +414,7 @@ def batch_cmd(
     json_dir: Annotated[Path | None, typer.Option("--json-dir", help="Folder for the per-run JSON [default: <summary name>_runs beside the summary].")] = None,
     workers: Annotated[int | None, typer.Option("--workers", help="Local worker processes [default: number of CPUs].")] = None,
     scheduler: Annotated[str | None, typer.Option("--scheduler", help="Dask scheduler address (tcp://host:8786): run on that cluster instead of locally (needs fogts[dask]).")] = None,
-    resume: Annotated[bool, typer.Option("--resume", help="Skip runs whose per-run JSON already exists.")] = False,
+    resume: Annotated[bool, typer.Option("--resume", help="Skip runs whose per-run JSON already exists (delete a failed run's JSON to retry it).")] = False,
     rate_column: RateColOpt = None,
     time_column: TimeColOpt = None,
     temperature_column: TempColOpt = None,
@@ -207,8 +432,15 @@ def batch_cmd(
     A bad file gives a row with status=error and the message; the batch goes on. Exit code 1
     if any run failed, 0 if all are ok.
     """
-    from rich.progress import (BarColumn, MofNCompleteColumn, Progress, SpinnerColumn,
-                               TextColumn, TimeElapsedColumn, TimeRemainingColumn)
+    from rich.progress import (
+        BarColumn,
+        MofNCompleteColumn,
+        Progress,
+        SpinnerColumn,
+        TextColumn,
+        TimeElapsedColumn,
+        TimeRemainingColumn,
+    )
 
     from fogts.batch import BatchOptions, BatchProgress, run_batch
 
@@ -862,6 +1094,10 @@ def select_cmd(
         orders = parse_candidates(candidates)
         if plot is not None and plot.suffix.lower() not in (".png", ".svg", ".pdf"):
             raise DataError(f"--plot must end in .png, .svg or .pdf; got {plot.name!r}")
+        if predict is not None and not predict.name.lower().endswith(
+                (".csv", ".csv.gz", ".tsv", ".txt", ".parquet", ".pq")):
+            raise DataError(f"--predict must end in .csv, .csv.gz, .tsv, .txt or .parquet; "
+                            f"got {predict.name!r}")
         run = _read(file, rate_column, time_column, temperature_column, fs, units)
         pick: int | str = 0 if axis is None else (int(axis) if axis.isdigit() else axis)
         if isinstance(pick, str) and pick not in run.axes:
@@ -907,7 +1143,7 @@ def select_cmd(
         out.print(_select_table(sel))
         for c in sel.candidates:
             note = _select_notes(c)
-            if note:
+            if note and c is not sel.selected:
                 say(f"{'note':<10}{c.model}: {note}")
         best = sel.selected
         if best is not None:

@@ -96,7 +96,8 @@ def plot_timeseries(run: Any, *, max_points: int = 4000, width_in: float = 10.0)
         ax.set_ylabel(label)
         ax.grid(True, alpha=0.3)
     axes[-1].set_xlabel(f"time [{unit}]")
-    axes[0].set_title(_mpl_text(f"{run.source}: {run.n:,} samples at {run.fs_hz:.6g} Hz"),
+    name = str(run.source).replace("\\", "/").rsplit("/", 1)[-1]
+    axes[0].set_title(_mpl_text(f"{name}: {run.n:,} samples at {run.fs_hz:.6g} Hz"),
                       fontsize="medium", loc="left")
     return fig
 

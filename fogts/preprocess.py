@@ -238,7 +238,7 @@ def prepare(
     'removed a polynomial trend of order 1'
     """
     run = data if isinstance(data, Run) else None
-    x, fs, units, name, index = _unpack(data, fs_hz, axis)
+    x, fs, name, index = _unpack(data, fs_hz, axis)
     if units is not None:
         units = parse_rate_unit(units)
     else:
@@ -292,15 +292,14 @@ def prepare(
 
 
 def _unpack(data: Any, fs_hz: float | None, axis: int | str
-            ) -> tuple[FloatArray, float, str | None, str, pd.Index | None]:
+            ) -> tuple[FloatArray, float, str, pd.Index | None]:
     if isinstance(data, Prepared):
         raise DataError("data is already Prepared; pass the Run or the raw series")
     if isinstance(data, Run):
         x = data.axis(axis)
         fs = check_positive("fs_hz", fs_hz) if fs_hz is not None else data.fs_hz
         name = data.axes[axis] if isinstance(axis, int) else axis
-        return (to_float_array(x, name, min_length=MIN_PREPARE_SAMPLES), fs, data.units,
-                name, None)
+        return to_float_array(x, name, min_length=MIN_PREPARE_SAMPLES), fs, name, None
     index = pandas_index(data)
     if isinstance(data, pd.DataFrame):
         raise DataError("data must be a Run, ndarray or Series; for a DataFrame use "
@@ -314,7 +313,7 @@ def _unpack(data: Any, fs_hz: float | None, axis: int | str
     fs = check_positive("fs_hz", fs_hz)
     name = str(data.name) if isinstance(data, pd.Series) and data.name is not None else "rate"
     x = to_float_array(data, "data", min_length=MIN_PREPARE_SAMPLES)
-    return x, fs, None, name, index
+    return x, fs, name, index
 
 
 def _replace_outliers(x: FloatArray, sigma_factor: float) -> tuple[FloatArray, OutlierReport]:

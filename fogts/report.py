@@ -10,14 +10,16 @@ from __future__ import annotations
 import dataclasses
 import json
 import math
-from collections.abc import Mapping
+import warnings
+from collections.abc import Iterable, Mapping
 from typing import Any
 
 import numpy as np
 
 from fogts.run import Run
 
-__all__ = ["info_text", "json_dumps", "run_info", "to_jsonable"]
+__all__ = ["error_message", "info_text", "json_dumps", "run_info", "to_jsonable",
+           "warning_texts"]
 
 
 def to_jsonable(obj: Any) -> Any:
@@ -49,6 +51,34 @@ def to_jsonable(obj: Any) -> Any:
 def json_dumps(obj: Any, *, indent: int | None = 2) -> str:
     """Deterministic JSON text of ``obj`` (see module docstring)."""
     return json.dumps(to_jsonable(obj), indent=indent, allow_nan=False, ensure_ascii=False)
+
+
+# --------------------------------------------------------------------------- messages
+
+
+def error_message(exc: BaseException) -> str:
+    """One line for an exception, as the CLI prints it after ``error:``.
+
+    fogts' own errors (and ``ValueError``/``OSError``) keep their message; anything else is
+    labelled as an internal error with its type.
+    """
+    from fogts.errors import FogtsError
+
+    text = str(exc).strip()
+    msg = text.splitlines()[0] if text else type(exc).__name__
+    if not isinstance(exc, FogtsError | ValueError | OSError):
+        msg = f"internal error ({type(exc).__name__}): {msg}"
+    return msg
+
+
+def warning_texts(caught: Iterable[warnings.WarningMessage]) -> list[str]:
+    """The first line of each distinct warning, in order."""
+    seen: list[str] = []
+    for w in caught:
+        text = str(w.message).strip().splitlines()[0] if str(w.message).strip() else ""
+        if text and text not in seen:
+            seen.append(text)
+    return seen
 
 
 # --------------------------------------------------------------------------- run info

@@ -46,6 +46,7 @@ from typing import Any
 import numpy as np
 
 from fogts.errors import DataError
+from fogts.report import _duration_text, error_message, run_info, warning_texts
 from fogts.run import Run
 
 __all__ = [
@@ -295,23 +296,12 @@ def _table(caption: str, columns: Sequence[str], rows: Sequence[Sequence[Any]], 
                  numeric=tuple(numeric), highlight=tuple(highlight))
 
 
-def _duration(seconds: float) -> str:
-    if seconds >= 3600:
-        return f"{seconds / 3600:.3g} h"
-    if seconds >= 60:
-        return f"{seconds / 60:.3g} min"
-    return f"{seconds:.3g} s"
-
-
 @contextmanager
 def _collect_warnings(sink: list[str]) -> Iterator[None]:
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         yield
-    for w in caught:
-        text = str(w.message).strip().splitlines()[0] if str(w.message).strip() else ""
-        if text and text not in sink:
-            sink.append(text)
+    sink.extend(t for t in warning_texts(caught) if t not in sink)
 
 
 @dataclass
@@ -367,15 +357,13 @@ class _Context:
 
 
 def _input_blocks(ctx: _Context, notes: list[str]) -> list[Block]:
-    from fogts.report import run_info
-
     info = run_info(ctx.run)
     gaps, jitter = info["gaps"], info["jitter"]
     rows: list[tuple[str, str]] = [
         ("source", str(info["source"])),
         ("samples", f"{info['n']:,}"),
         ("sample rate", f"{_num(info['fs_hz'], 6)} Hz (from {info['fs_source']})"),
-        ("duration", f"{_duration(info['duration_s'])} ({_num(info['duration_s'], 6)} s)"),
+        ("duration", _duration_text(info["duration_s"])),
         ("columns", ", ".join(info["columns"])),
         ("rate axes", f"{', '.join(info['axes'])} [{info['units']}]"),
         ("temperature", "yes" if info["temperature"] else "no temperature column"),
@@ -546,14 +534,15 @@ def _prediction_blocks(ctx: _Context, i: int, notes: list[str]) -> list[Block]:
 
 
 def _davar_blocks(ctx: _Context, i: int, notes: list[str]) -> list[Block]:
-    from fogts.allan.dynamic import dynamic_allan
+    from fogts.allan.dynamic import DynamicAllanResult, dynamic_allan
     from fogts.plots import plot_dynamic_allan
 
     window = float(ctx.options["davar_window_s"])
     step = max(window / 4.0, 1.0 / ctx.run.fs_hz)
+    kind = ctx.options["kind"] if ctx.options["kind"] in ("oadev", "mdev", "ohdev") else "oadev"
     res = dynamic_allan(ctx.run, axis=i, window_s=window, step_s=step,
-                        kind=ctx.options["kind"] if ctx.options["kind"] in (
-                            "oadev", "mdev", "ohdev") else "oadev")
+                        kind=kind)  # type: ignore[arg-type]
+    assert isinstance(res, DynamicAllanResult)  # one axis was asked for
     fig = plot_dynamic_allan(res)
     ns = res.nonstationarity
     return [figure_block(fig, id=f"davar-{i}",
@@ -574,8 +563,7 @@ def _thermal_blocks(ctx: _Context, i: int, notes: list[str]) -> list[Block]:
     res = startup_compensation(ctx.run, axis=i, emd=False,
                                average_s=ctx.options["bias_average_s"])
     model = res.model
-    notes.extend(res.notes)
-    notes.extend(f"term {t} left out: {why}" for t, why in model.dropped.items())
+    notes.extend(res.notes)  # dropped terms arrive as UnidentifiableTermWarning notes
     rows = [[t, TERM_LETTERS[t], model.coefficients[t], model.stderr[t]] for t in model.terms]
     b, a = res.before, res.after
     return [
@@ -636,8 +624,6 @@ _TITLES = {"input": "Input and preprocessing", "timeseries": "Time series",
 
 def _section(sid: str, part: str, title: str, build: Callable[[list[str]], list[Block]]
              ) -> Section:
-    from fogts.batch import error_message
-
     notes: list[str] = []
     try:
         with _collect_warnings(notes):
@@ -721,8 +707,11 @@ def build_report(
                  ) -> None:
         for i in axes:
             suffix = f" — axis {run.axes[i]}" if run.n_axes > 1 else ""
-            sections.append(_section(f"{part}-{i + 1}", part, _TITLES[part] + suffix,
-                                     lambda notes, i=i: builder(ctx, i, notes)))
+
+            def build(notes: list[str], i: int = i) -> list[Block]:
+                return builder(ctx, i, notes)
+
+            sections.append(_section(f"{part}-{i + 1}", part, _TITLES[part] + suffix, build))
 
     for part in PARTS:
         if part not in wanted:
@@ -758,7 +747,7 @@ def build_report(
     return HtmlReport(
         title=title if title else f"Gyro report: {name}",
         source=f"{run.source} — {run.n:,} samples at {_num(run.fs_hz, 6)} Hz "
-               f"({_duration(run.duration_s)}), rate in {run.units}",
+               f"({_duration_text(run.duration_s)}), rate in {run.units}",
         generated=_dt.datetime.now(_dt.UTC).strftime("%Y-%m-%d %H:%M UTC"),
         version=__version__, sections=tuple(sections), omitted=tuple(omitted))
 

@@ -409,12 +409,16 @@ def fit_thermal(
     Newey–West rule of thumb raised to ``2 n^(1/3)`` because gyro drift residuals are
     correlated over many samples.  A coarse temperature resolution (compared with the change
     over ``dT_smoothing_s``) makes ΔT noisy and biases the ΔT terms (errors in variables).
+    A single first-order warm-up T = T_end - A e^{-t/τ} has ΔT = (T_end - T)/τ, exactly
+    collinear with T and 1: the model is then not identifiable from that record (use a
+    record with a richer temperature history, or several runs via ``temperature_rate_degC_s``
+    or :func:`startup_compensation` with ``calibration``).
 
     Examples
     --------
     >>> import numpy as np
     >>> t = np.arange(3600.0)
-    >>> temp = 20 + 25 * (1 - np.exp(-t / 900))
+    >>> temp = 20 + 25 * (1 - np.exp(-t / 900)) + 2 * np.sin(2 * np.pi * t / 1800)
     >>> dT = np.gradient(temp)
     >>> gyro = 0.5 * temp + 20 * dT + 1.0 + np.random.default_rng(0).normal(0, 0.1, t.size)
     >>> m = fit_thermal(gyro, temp, fs_hz=1.0, terms=("T", "dT", "1"))

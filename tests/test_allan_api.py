@@ -76,6 +76,8 @@ def test_confidence_table_is_wired_in(rate: np.ndarray) -> None:
     np.testing.assert_array_equal(res.alpha, table.alpha)
     assert res.alpha_method == tuple(table.alpha_method)
     assert res.confidence == 0.9 and res.has_ci
+    # Every point with an interval reports the alpha behind its EDF.
+    assert [p["alpha"] for p in res.to_dict()["points"]] == res.alpha.tolist()
     ok = np.isfinite(res.ci_low)
     assert ok.sum() >= res.dev.size - 2
     assert np.all(res.ci_low[ok] < res.dev[ok]) and np.all(res.dev[ok] < res.ci_high[ok])
@@ -341,8 +343,8 @@ def test_result_set_indexing_errors(three_axes: np.ndarray) -> None:
         res[1.0]  # type: ignore[index]
     with pytest.raises(DataError, match=r"AllanResultSet needs at least one curve"):
         AllanResultSet(curves=())
-    with pytest.raises(DataError, match=r"AllanResultSet axis names must be unique, got \['rate_0', "
-                                        r"'rate_0'\]"):
+    with pytest.raises(DataError, match=r"AllanResultSet axis names must be unique, got "
+                                        r"\['rate_0', 'rate_0'\]"):
         AllanResultSet(curves=(res[0], res[0]))
 
 

@@ -279,3 +279,22 @@ def test_bad_input() -> None:
               columns=("time", "x"))
     with pytest.raises(DataError, match="x is a Run; prepare one axis first"):
         select_arma(run)
+
+
+def test_quantised_raw_rate_is_noted() -> None:
+    from fogts.preprocess import prepare
+
+    x = np.round(_arma([0.6], [], 3000, 1) * 2.0) / 2.0        # a 0.5 deg/h output step
+    sel = select_arma(x)
+    assert len(sel.notes) == 1 and "distinct values (step 0.5)" in sel.notes[0]
+    assert sel.notes[0] in sel.verdict
+    assert json.loads(json_dumps(sel.to_dict()))["notes"] == list(sel.notes)
+    # block-averaged data are no longer quantised: no note
+    assert select_arma(prepare(x, fs_hz=10.0, decimate=2, stationarity=False)).notes == ()
+    assert select_arma(_arma([0.6], [], 3000, 1)).notes == ()
+
+
+def test_nearly_white_series_says_so() -> None:
+    sel = select_arma(np.random.default_rng(2).standard_normal(5000))
+    assert sel.best is not None
+    assert "nearly white at this sample rate" in sel.verdict

@@ -83,6 +83,13 @@ def test_stationarity_verdicts() -> None:
     assert walk.stationarity is not None and walk.stationarity.verdict == "non-stationary"
 
 
+def test_units_of_array_input() -> None:
+    assert prepare(_white(100), fs_hz=1.0, units="deg/s", stationarity=False).units == "deg/s"
+    assert prepare(_white(100), fs_hz=1.0, stationarity=False).units == "deg/h"
+    with pytest.raises(DataError, match="units must be one of"):
+        prepare(_white(100), fs_hz=1.0, units="rpm")
+
+
 def test_run_input_keeps_units_and_axis() -> None:
     run = read_run(np.column_stack([_white(100), _white(100, 2)]), fs_hz=50.0, units="deg/s")
     p = prepare(run, axis=1, stationarity=False)
@@ -113,7 +120,7 @@ def test_bad_data() -> None:
         prepare(np.arange(3.0), fs_hz=1.0)
     with pytest.raises(DataError, match="fs_hz is required for array input"):
         prepare(_white(100))
-    with pytest.raises(DataError, match="non-finite value"):
+    with pytest.raises(DataError, match=r"non-finite value \(nan\) at position 100"):
         prepare(np.r_[_white(100), np.nan], fs_hz=1.0)
     with pytest.raises(DataError, match="for a DataFrame use fogts.io.read_run"):
         prepare(pd.DataFrame({"a": _white(100)}), fs_hz=1.0)

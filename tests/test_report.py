@@ -23,7 +23,6 @@ from fogts.report import info_text, json_dumps, run_info, to_jsonable
 from fogts.report_html import (
     DAVAR_MIN_WINDOW_SAMPLES,
     DAVAR_MIN_WINDOWS,
-    PARTS,
     HtmlReport,
     build_report,
     figure_block,
@@ -142,7 +141,7 @@ def test_report_numbers_are_the_library_numbers(built: tuple[HtmlReport, str, Pa
                  if b.kind == "table")
     n_row = next(r for r in table.rows if r[0] == "N")
     assert float(n_row[2]) == pytest.approx(model["N"].value, rel=1e-3)  # 4 digits shown
-    sel = select_arma(prepare(run, axis=0))
+    sel = select_arma(prepare(run, axis=0, stationarity=False))  # same series, no ADF
     assert f"Selected model: {sel.best.name}" in text
     thermal = fit_thermal(run.axis(0), run.temperature, fs_hz=run.fs_hz, units=run.units)
     assert str(escape(thermal.equation())) in text
@@ -157,8 +156,8 @@ def test_short_record_without_temperature_omits_davar_and_thermal(tmp_path: Path
     n = DAVAR_MIN_WINDOWS * DAVAR_MIN_WINDOW_SAMPLES - 1
     src = tmp_path / "short.csv"
     _write_recording(src, n=n, temperature=False)
-    rep = build_report(read_run(src), parts=("input", "davar", "thermal"))
-    assert [s.id for s in rep.sections] == ["input"]
+    rep = build_report(read_run(src), parts=("timeseries", "davar", "thermal"))
+    assert [s.id for s in rep.sections] == ["timeseries"]
     reasons = dict(rep.omitted)
     assert f"{n:,} samples" in reasons["Dynamic Allan deviation"]
     assert "no temperature column" in reasons["Thermal model"]
@@ -176,9 +175,9 @@ def test_a_failing_part_becomes_an_error_section(tmp_path: Path,
     monkeypatch.setattr(rh._Context, "get_selection", broken)
     src = tmp_path / "r.csv"
     _write_recording(src, n=3000, temperature=False)
-    rep = build_report(read_run(src), parts=("input", "arma", "prediction"))
+    rep = build_report(read_run(src), parts=("timeseries", "arma", "prediction"))
     status = {s.id: (s.status, s.message) for s in rep.sections}
-    assert status["input"][0] == "ok"
+    assert status["timeseries"][0] == "ok"
     assert status["arma-1"] == ("error", f"every candidate failed {EVIL}")
     assert status["prediction-1"][0] == "error"
     text = rep.render()

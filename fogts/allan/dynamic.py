@@ -74,6 +74,9 @@ DEFAULT_ALPHA = 0.01
 _CHUNK = 1 << 16
 #: Fewest windows a dynamic Allan analysis needs.
 MIN_WINDOWS = 2
+#: The power-law noise type of each tau is identified on this many windows' worth of
+#: samples from the middle of the record (as allan_deviation would on one window).
+ID_WINDOWS = 1
 
 
 # --------------------------------------------------------------------------- results
@@ -468,9 +471,16 @@ def _one(y: FloatArray, name: str, *, fs: float, units: str, window: float, step
 
     from fogts.allan.confidence import chi2_interval, edf_for, identify_noise
 
-    alpha = np.asarray(identify_noise(y, m, fs_hz=fs, kind=kind), dtype=np.int64)
+    # Noise type per tau from the central window (ID_WINDOWS windows): the EDF describes
+    # one window, and identifying on the whole record would cost more than the surface.
+    span = min(n, ID_WINDOWS * win_n)
+    lo = (n - span) // 2
+    alpha = np.asarray(identify_noise(y[lo:lo + span], m, fs_hz=fs, kind=kind),
+                       dtype=np.int64)
     edf = np.asarray(edf_for(kind, alpha, m, win_n + 1), dtype=np.float64)
-    low, high = chi2_interval(dev, np.broadcast_to(edf, dev.shape), confidence)
+    f_low, f_high = chi2_interval(np.ones(m.size), edf, confidence)  # per-tau factors
+    low = dev * np.asarray(f_low, dtype=np.float64)
+    high = dev * np.asarray(f_high, dtype=np.float64)
     avar = dev**2
     with np.errstate(divide="ignore", invalid="ignore"):
         reference = np.sqrt(np.mean(avar, axis=0))
@@ -483,7 +493,7 @@ def _one(y: FloatArray, name: str, *, fs: float, units: str, window: float, step
         kind=kind, units=units, axis=name, fs_hz=fs, n_samples=n, window_s=win_n / fs,
         step_s=step_n / fs, window_n=win_n, step_n=step_n, method=use, confidence=confidence,
         tau_s=grid.tau_s, m=m, n=terms, times_s=times, start_s=starts / fs, dev=dev,
-        ci_low=np.asarray(low, dtype=np.float64), ci_high=np.asarray(high, dtype=np.float64),
+        ci_low=low, ci_high=high,
         edf=edf, alpha=alpha, reference_dev=reference, outside=outside, nonstationarity=stat,
         dropped=grid.dropped, notes=(*grid.notes, *notes))
 
@@ -501,30 +511,28 @@ def _kernel_devs(y: FloatArray, *, kind: str, m: IntArray, starts: IntArray, win
 
 def _cumsum_devs(y: FloatArray, *, kind: str, m: IntArray, terms: IntArray,
                  starts: IntArray) -> FloatArray:
-    """Every window's deviation from one running sum per tau (O(n) per tau).
+    """Every window's deviation from one pass over the record per tau (O(n) per tau).
 
     Window ``i`` covers rate samples ``[s_i, s_i + L)``, i.e. phase points
     ``x[s_i .. s_i + L]``; its terms are the global terms ``s_i .. s_i + terms - 1`` of
-    the whole record's phase (the phase offset cancels in every difference).  The
+    the whole record's phase (the phase offset cancels in every difference).  The squared
+    terms are summed between consecutive window edges (``numpy.add.reduceat``) and each
+    window's sum is a difference of the running sum of those few block sums.  The
     normalisations are those of :mod:`fogts.allan.estimators` (unscaled phase).
     """
     x = phase_from_rate(y)
-    npts = x.size
     out = np.empty((starts.size, m.size), dtype=np.float64)
     for j, (mj, tj) in enumerate(zip(m.tolist(), terms.tolist(), strict=True)):
         if kind == "oadev":
-            total = npts - 2 * mj
             sq = _second_sq(x, mj)
             norm = 2.0 * mj * mj * tj
         elif kind == "ohdev":
-            total = npts - 3 * mj
             sq = _third_sq(x, mj)
             norm = 6.0 * mj * mj * tj
         else:  # mdev
-            total = npts - 3 * mj + 1
             sq = _mod_sq(x, mj)
             norm = 2.0 * float(mj) ** 4 * tj
-        sums = _window_sums(sq, total, starts, tj, chunk=max(_CHUNK, mj))
+        sums = _window_sums(sq, starts, tj, chunk=max(_CHUNK, mj))
         out[:, j] = np.sqrt(np.maximum(sums, 0.0) / norm)
     return out
 
@@ -533,18 +541,36 @@ SquaredTerms = Callable[[int, int], FloatArray]
 
 
 def _second_sq(x: FloatArray, m: int) -> SquaredTerms:
+    buf_a, buf_b = np.empty(0), np.empty(0)
+
     def terms(c0: int, c1: int) -> FloatArray:
-        a = x[c0 + 2 * m:c1 + 2 * m] - x[c0 + m:c1 + m]
-        a -= x[c0 + m:c1 + m] - x[c0:c1]
-        return np.square(a, out=a)
+        nonlocal buf_a, buf_b
+        k = c1 - c0
+        if buf_a.size < k:
+            buf_a, buf_b = np.empty(k), np.empty(k)
+        a, b = buf_a[:k], buf_b[:k]
+        # (x2 - x1) - (x1 - x0): both inner differences are small, so this is accurate
+        np.subtract(x[c0 + 2 * m:c1 + 2 * m], x[c0 + m:c1 + m], out=a)
+        np.subtract(x[c0 + m:c1 + m], x[c0:c1], out=b)
+        np.subtract(a, b, out=a)
+        return np.multiply(a, a, out=a)
     return terms
 
 
 def _third_sq(x: FloatArray, m: int) -> SquaredTerms:
+    buf_a, buf_b = np.empty(0), np.empty(0)
+
     def terms(c0: int, c1: int) -> FloatArray:
-        a = x[c0 + 3 * m:c1 + 3 * m] - x[c0:c1]
-        a -= 3.0 * (x[c0 + 2 * m:c1 + 2 * m] - x[c0 + m:c1 + m])
-        return np.square(a, out=a)
+        nonlocal buf_a, buf_b
+        k = c1 - c0
+        if buf_a.size < k:
+            buf_a, buf_b = np.empty(k), np.empty(k)
+        a, b = buf_a[:k], buf_b[:k]
+        np.subtract(x[c0 + 3 * m:c1 + 3 * m], x[c0:c1], out=a)
+        np.subtract(x[c0 + 2 * m:c1 + 2 * m], x[c0 + m:c1 + m], out=b)
+        b *= 3.0
+        np.subtract(a, b, out=a)
+        return np.multiply(a, a, out=a)
     return terms
 
 
@@ -562,28 +588,40 @@ def _mod_sq(x: FloatArray, m: int) -> SquaredTerms:
     return terms
 
 
-def _window_sums(sq: SquaredTerms, total: int, starts: IntArray, count: int, *,
-                 chunk: int) -> FloatArray:
-    """``sum(t[s : s + count])`` for every start ``s``, streaming ``t = sq(c0, c1)`` in
-    chunks and sampling its running sum only at the window edges."""
-    k = starts.size
-    need = np.concatenate([starts, starts + count])
-    if need.max() > total:
-        raise DataError(f"internal: window edge {int(need.max())} beyond {total} terms")
-    order = np.argsort(need, kind="stable")
-    pos = need[order]
-    vals = np.zeros(need.size)
-    carry = 0.0
-    for c0 in range(0, total, chunk):
-        c1 = min(total, c0 + chunk)
-        lo = int(np.searchsorted(pos, c0, side="right"))
-        hi = int(np.searchsorted(pos, c1, side="right"))
-        run = np.cumsum(sq(c0, c1))
-        run += carry
-        if hi > lo:
-            vals[order[lo:hi]] = run[pos[lo:hi] - c0 - 1]
-        carry = float(run[-1])
-    return vals[k:] - vals[:k]
+def _window_sums(sq: SquaredTerms, starts: IntArray, count: int, *, chunk: int
+                 ) -> FloatArray:
+    """``sum(t[s : s + count])`` for every start ``s`` of the squared terms ``t``.
+
+    The window edges cut the terms into blocks; each block is summed once (``reduceat``
+    over cache-sized pieces that end on an edge), and a window's sum is the sum of the
+    block sums it spans (a difference of their running sum: a few thousand numbers, so
+    no precision is lost to a long running sum).
+    """
+    edges = _sorted_unique(np.concatenate([starts, starts + count]))
+    block = np.empty(edges.size - 1)
+    # pieces of consecutive blocks, each about `chunk` terms long
+    cut = np.searchsorted(edges, edges[0] + chunk * np.arange(1, (edges[-1] - edges[0])
+                                                              // chunk + 2))
+    bounds = _sorted_unique(np.concatenate([[0], np.minimum(cut, edges.size - 1),
+                                            [edges.size - 1]]))
+    for b0, b1 in zip(bounds[:-1].tolist(), bounds[1:].tolist(), strict=True):
+        if b1 <= b0:
+            continue
+        lo, hi = int(edges[b0]), int(edges[b1])
+        t = sq(lo, hi)
+        block[b0:b1] = np.add.reduceat(t, edges[b0:b1] - lo)
+    run = np.concatenate([[0.0], np.cumsum(block)])
+    i0 = np.searchsorted(edges, starts)
+    i1 = np.searchsorted(edges, starts + count)
+    return run[i1] - run[i0]
+
+
+def _sorted_unique(v: IntArray) -> IntArray:
+    v = np.sort(v)
+    keep = np.empty(v.size, dtype=np.bool_)
+    keep[:1] = True
+    np.not_equal(v[1:], v[:-1], out=keep[1:])
+    return v[keep]
 
 
 # --------------------------------------------------------------------------- statistics

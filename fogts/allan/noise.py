@@ -1,4 +1,4 @@
-"""IEEE-952 noise terms from an Allan-variance curve, with uncertainties.
+"""IEEE-952 noise terms from an Allan-variance curve, with honest uncertainties.
 
 The five classical terms of IEEE Std 952-1997 Annex C (seed 000; DESIGN.md "Definitions")
 add in the Allan variance of a rate signal:
@@ -10,7 +10,7 @@ add in the Allan variance of a rate signal:
                    = \\sum_{n=-2}^{2} C_n^2\\,\\tau^n .
 
 The model is linear in the squared coefficients :math:`a_n = C_n^2 \\ge 0`, so
-:func:`fit_noise` solves a non-negative least-squares problem (``scipy.optimize.nnls``) on
+:func:`fit_noise` solves non-negative least-squares problems (``scipy.optimize.nnls``) on
 :math:`\\sigma^2(\\tau)`.
 
 Weights (``method="wls"``, the default)
@@ -18,51 +18,83 @@ Weights (``method="wls"``, the default)
     :math:`\\sigma^2\\chi^2_{edf}/edf`, so :math:`\\mathrm{Var}[\\hat\\sigma^2] = 2\\sigma^4/edf`
     (NIST SP1065 sec. 5.3; IEEE 952 C.3 gives the same through
     :math:`1/\\sqrt{2(N/m-1)}`).  Each point is weighted by the inverse of that variance,
-    evaluated at the *model* value rather than the noisy observation (a weight computed from
-    the observation favours points that happen to fall low, and biases the fit
+    evaluated at the *model* value rather than at the noisy observation (a weight computed
+    from the observation favours points that happen to fall low and biases the fit
     downwards).  Because the weight depends on the fit, the fit is iterated (IRLS) from
     observation-based weights until the model changes by less than ``1e-7`` relative; the
-    fixed point is the quasi-likelihood estimate of a Gamma GLM with identity link
-    (McCullagh & Nelder, *Generalized Linear Models*, 1989, ch. 8), restricted to
-    :math:`a_n \\ge 0`.  So long-tau points, with few terms and few degrees of freedom, count
-    for less.  The EDF comes from the Allan result (Greenhall's algorithm); where it is
-    missing it falls back to IEEE 952's :math:`N/m - 1`, recorded in ``edf_source``.
+    fixed point is the maximum-likelihood estimate for independent scaled-chi-square
+    observations (a Gamma GLM with identity link; McCullagh & Nelder, *Generalized Linear
+    Models*, 2nd ed., 1989, ch. 8), restricted to :math:`a_n \\ge 0`.  So long-tau points,
+    with few terms and few degrees of freedom, count for less.  The EDF comes from the
+    Allan result (Greenhall's algorithm); where it is missing it falls back to IEEE 952's
+    :math:`N/m - 1`, recorded in ``edf_source``.
 
-Density of the tau grid
-    Estimates at neighbouring taus are strongly correlated when the taus are closer than an
-    octave (the same data enter both).  Treating them as independent would let a ``dense``
-    or ``all`` grid count the same information many times, mostly at long tau where an
-    ``all`` grid puts nearly all its points.  Each point's weight is therefore multiplied by
-    the width (in octaves, at most 1) of the tau interval it represents, i.e. half the
-    log2-distance to its neighbours.  On octave or sparser grids this factor is 1.
+    Estimates at taus closer than an octave share most of their data.  So that a ``dense``
+    or ``all`` grid does not count the same information many times (an ``all`` grid puts
+    nearly all its points at long tau), each weight is multiplied by the width in octaves
+    (at most 1) of the tau interval the point represents, i.e. half the log2-distance to
+    its neighbours.  On octave or sparser grids this factor is 1.
+
+Model error
+    A real gyro is not exactly the five-term model (its bandwidth limit bends the first
+    points, Gauss-Markov bumps, ...), and the short-tau points have EDFs in the millions:
+    without care, a 3 % misfit there would dictate every coefficient.  Every point is
+    therefore given a relative model-error variance on top of its sampling variance,
+    :math:`\\mathrm{Var}[\\hat\\sigma^2_i] = \\mu_i^2 (2/edf_i + \\epsilon^2)`, and
+    :math:`\\epsilon` is estimated by maximum likelihood, profiled over the coefficients:
+    the estimates are Gamma distributed with mean :math:`\\mu_i` and shape
+    :math:`1/(2/edf_i + \\epsilon^2)` (Gaussian with covariance :math:`V + \\epsilon^2
+    \\mathrm{diag}(\\mu^2)` for ``gls``).  This is the random-effects idea of Paule & Mandel
+    (*J. Res. NBS* 87(5), 1982) with a likelihood instead of their moment equation, which
+    the heavy right tail of low-EDF long-tau points would trip.  ``model_error`` is
+    :math:`\\epsilon` (0 when the curve is consistent with its sampling noise).
 
 Standard errors and confidence intervals
-    The covariance of the active (non-zero) coefficients is the inverse of the weighted
-    normal matrix :math:`(A^T W A)^{-1}`, multiplied by the dispersion
-    :math:`\\max(1, \\chi^2_{Pearson}/dof)` so that a model that does not fit the curve does
-    not report over-confident errors.  The correlation between overlapping estimates at
-    octave-spaced taus is ignored, as usual; the errors are approximate.  Each ``a_n``
-    gets the normal interval :math:`a_n \\pm z\\,se(a_n)` clipped at 0, and ``C_n`` the square
-    roots of its ends; the standard error of ``C_n`` is the delta-method value
-    :math:`se(a_n)/(2C_n)`.  A term estimated at the zero bound has no standard error
-    (``stderr`` is NaN, ``at_bound`` is True): its interval is ``[0, sqrt(z se)]`` where
-    ``se`` comes from the normal matrix of the active set plus that term, i.e. an upper limit.
+    Overlapping Allan variances at octave-spaced taus are strongly correlated (about 0.5
+    between neighbours for white rate noise and 0.9 for a rate random walk), so the
+    inverse weighted normal matrix alone would understate the errors.  For ``oadev``
+    curves fogts computes the covariance of the estimates implied by the fitted model
+    itself: each term is a power-law phase process with a generalized covariance
+    (Q: white phase, :math:`K(u) = s^2\\delta(u)`; N: :math:`-N^2|u|/2`; B:
+    :math:`(a_0/4\\ln 2)\\,u^2\\ln|u|`; K: :math:`a_1|u|^3/4`), the covariance of two
+    second differences is a 9-term sum of :math:`K`, and for Gaussian data
+    :math:`\\mathrm{Cov}[d_i^2, d_j^2] = 2\\,\\mathrm{Cov}[d_i, d_j]^2`, summed over all
+    pairs of overlapping terms (exactly for short lags, by Gauss-Legendre quadrature with
+    an Euler-Maclaurin end correction for long ones).  It reproduces Greenhall's and
+    SP1065's EDFs for the pure noises and Monte-Carlo correlations (tests).  The
+    coefficient covariance is then the sandwich
+    :math:`H^{-1}A^TWVWAH^{-1}`, :math:`H = A^TWA`, with :math:`V` that covariance plus the
+    model error.  The rate ramp R is treated as deterministic (no variance of its own).
+    For other kinds, or grids of more than :data:`MAX_COVARIANCE_POINTS` taus, ``V`` is the
+    EDF diagonal and the errors ignore the correlation (``stderr_method`` says which).
+
+    ``method="gls"`` goes one step further and *fits* with the full covariance (IRLS:
+    :math:`V` recomputed from the current fit, whitened by its Cholesky factor, NNLS),
+    which makes better use of correlated points; see ``benchmarks/bench_noise_fit.py``.
+
+    Each :math:`a_n` gets the normal interval :math:`a_n \\pm z\\,se(a_n)` clipped at 0,
+    and :math:`C_n` the square roots of its ends (so intervals are asymmetric); the
+    standard error of :math:`C_n` is the delta-method :math:`se(a_n)/(2C_n)`.  A term
+    fitted to exactly zero (``at_bound``) has no standard error (NaN): its interval is
+    :math:`[0, \\sqrt{z\\,se}]`, with ``se`` from the active set plus that term, i.e. an
+    upper limit.
 
 Unit conversion (DESIGN.md; seed paper)
     With rate in deg/h and tau in s: ``N = C_-1/60`` deg/sqrt(h), ``B = C_0/0.664`` deg/h,
     ``K = 60 sqrt(3) C_1`` deg/h^1.5, ``R = 3600 sqrt(2) C_2`` deg/h^2 and
     ``Q = C_-2/sqrt(3)`` (deg/h)*s = arcsec.  Other input units are converted with
-    :func:`fogts.units.to_deg_per_hour_factor`.  Note that the exact bias-instability factor
-    of the model is :math:`\\sqrt{2\\ln 2/\\pi} = 0.66428`; the reported ``B`` uses the
-    rounded 0.664 of IEEE 952 and the seed paper (0.04 % apart), while the fitted curves are
+    :func:`fogts.units.to_deg_per_hour_factor`.  The exact bias-instability factor of the
+    model is :math:`\\sqrt{2\\ln 2/\\pi} = 0.66428`; the reported ``B`` uses the rounded
+    0.664 of IEEE 952 and the seed paper (0.04 % apart), while the fitted curves are
     computed from the ``C_n`` and are exact.
 
 Identifiability
     A term is *identifiable* when its own line is the largest contribution to the fitted
-    curve at at least two of the data's taus.  Otherwise its tau region is not covered by
-    the data (it would dominate only outside the measured range, or nowhere), its value
-    is at best an upper limit, and :class:`~fogts.errors.UnidentifiableTermWarning` is
-    emitted and recorded.
+    curve at at least :data:`MIN_DOMINANT_POINTS` of the data's taus, or at one tau with an
+    interval that excludes zero.  Otherwise its tau region is not covered by the data (it
+    would dominate only outside the measured range, or nowhere), its value is at best an
+    upper limit, and :class:`~fogts.errors.UnidentifiableTermWarning` is emitted and
+    recorded.
 
 The classic slope read-offs (IEEE 952 Annex C; MATLAB's ``allanvar`` example) are reported
 beside the fit for comparison, never as the answer: N from the -1/2 line at tau = 1 s, K
@@ -71,20 +103,23 @@ from the +1/2 line at tau = 3 s, B from the minimum of the curve divided by 0.66
 
 from __future__ import annotations
 
+import itertools
 import math
 import warnings
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Any, Literal, Protocol, get_args
+from typing import Any, Literal, get_args
 
 import numpy as np
 import pandas as pd
-from scipy.optimize import brentq, nnls
+from numpy.polynomial.legendre import leggauss
+from scipy.optimize import minimize_scalar, nnls
+from scipy.special import gammaln
 from scipy.stats import norm
 
-from fogts._typing import FloatArray
+from fogts._typing import FloatArray, IntArray
 from fogts._validate import check_choice, check_fraction
-from fogts.allan.readout import TERM_SLOPES, read_curve
+from fogts.allan.readout import read_curve
 from fogts.errors import (
     ConvergenceWarning,
     DataError,
@@ -95,17 +130,20 @@ from fogts.errors import (
 from fogts.units import parse_rate_unit, to_deg_per_hour_factor
 
 __all__ = [
+    "FIT_METHODS",
     "NOISE_TERMS",
+    "TERM_UNIT",
     "NoiseModel",
     "NoiseTerm",
     "SlopeReadoff",
     "c_from_terms",
     "fit_noise",
+    "parse_terms",
     "terms_from_c",
 ]
 
 TermName = Literal["Q", "N", "B", "K", "R"]
-FitMethod = Literal["wls", "ols"]
+FitMethod = Literal["wls", "gls", "ols"]
 NOISE_TERMS: tuple[str, ...] = get_args(TermName)
 FIT_METHODS: tuple[str, ...] = get_args(FitMethod)
 #: Allan-variance kinds whose expected value follows the IEEE-952 tau laws.  (The modified
@@ -132,18 +170,10 @@ TERM_DESCRIPTION: dict[str, str] = {"Q": "quantization", "N": "angle random walk
 
 #: A term must dominate the fitted curve at this many data taus to count as identified.
 MIN_DOMINANT_POINTS = 2
-_IRLS_MAX_ITER = 50
+#: Largest grid for which the full model covariance of the estimates is computed.
+MAX_COVARIANCE_POINTS = 200
+_IRLS_MAX_ITER = 60
 _IRLS_TOL = 1e-7
-
-
-class AllanLike(Protocol):
-    """What :func:`fit_noise` reads from an :class:`~fogts.allan.result.AllanResult`."""
-
-    kind: str
-    units: str
-    axis: str
-    tau_s: FloatArray
-    dev: FloatArray
 
 
 # --------------------------------------------------------------------------- conversions
@@ -232,7 +262,7 @@ class NoiseTerm:
         True when the fit put the term at zero (the interval is then an upper limit).
     identifiable : bool
         False when the term dominates the fitted curve at fewer than
-        :data:`MIN_DOMINANT_POINTS` data taus.
+        :data:`MIN_DOMINANT_POINTS` data taus (one suffices if its interval excludes 0).
     n_dominant : int
         Number of data taus where this term is the largest contribution.
     region_tau_s : tuple of float
@@ -320,15 +350,16 @@ class NoiseModel:
     confidence : float
         Level of every term's interval.
     method : str
-        ``"wls"`` (EDF-weighted IRLS, the default) or ``"ols"`` (unweighted, the
-        traditional fit; for comparison).
+        ``"wls"`` (EDF-weighted IRLS, the default), ``"gls"`` (full model covariance) or
+        ``"ols"`` (unweighted, the traditional fit; for comparison).
     kind, units, axis : str
         From the Allan result; ``units`` is the rate unit of the curve.
     deg_per_hour_factor : float
         Multiply the curve's deviations by this to get deg/h.
     tau_s, dev, fitted_dev, weight : ndarray
         The points used in the fit, the fitted deviation there and each point's final
-        weight relative to the largest (``weight`` is all 1 for ``ols``).
+        diagonal weight relative to the largest (all 1 for ``ols``; for ``gls`` the
+        inverse of the diagonal of the covariance).
     edf : ndarray
         Degrees of freedom used per point.
     edf_source : str
@@ -338,8 +369,11 @@ class NoiseModel:
         sum of the grid-density factors minus the number of non-zero terms.
     model_error : float
         Relative standard deviation on sigma^2 added to every point because the model
-        misfits the curve beyond its sampling noise (Paule-Mandel; 0 when the fit is
-        consistent with the EDF; NaN for ``ols``).
+        misfits the curve beyond its sampling noise (maximum likelihood; 0 when the fit
+        is consistent with the EDF; NaN for ``ols``).
+    stderr_method : str
+        How the standard errors were obtained (model covariance sandwich, GLS, EDF
+        diagonal, or OLS residual variance).
     iterations : int
     converged : bool
     readoff : SlopeReadoff
@@ -365,6 +399,7 @@ class NoiseModel:
     chi2: float
     dof: float
     model_error: float
+    stderr_method: str
     iterations: int
     converged: bool
     readoff: SlopeReadoff
@@ -449,7 +484,7 @@ class NoiseModel:
                     "tau_range": [float(self.tau_s[0]), float(self.tau_s[-1])],
                     "chi2": self.chi2, "dof": self.dof, "model_error": self.model_error,
                     "iterations": self.iterations, "converged": self.converged,
-                    "edf_source": self.edf_source,
+                    "edf_source": self.edf_source, "stderr_method": self.stderr_method,
                     "deg_per_hour_factor": self.deg_per_hour_factor},
             "excluded_tau": list(self.excluded_tau_s),
             "warnings": list(self.warnings),
@@ -494,21 +529,23 @@ def fit_noise(
 ) -> NoiseModel:
     """Fit the IEEE-952 noise terms to an Allan-deviation curve.
 
-    Non-negative, EDF-weighted, iteratively reweighted least squares on sigma^2(tau)
-    (see the module docstring for the weights, the standard errors and the treatment of
-    terms at zero).
+    Non-negative, EDF-weighted, iteratively reweighted least squares on sigma^2(tau), with
+    a model-error term when the curve departs from the five-term model, and standard
+    errors from the model covariance of the estimates (see the module docstring).
 
     Parameters
     ----------
     allan_result : AllanResult
         One curve (``kind`` adev, oadev or totdev) with ``tau_s``, ``dev``, ``units`` and,
-        ideally, ``edf`` (else ``n_samples`` and ``m`` for the IEEE 952 fallback).  Pick one
-        curve of a multi-axis result set first.
+        ideally, ``edf``, ``m``, ``n_samples`` and ``fs_hz``.  Pick one curve of a
+        multi-axis result set first.
     terms : sequence of str or str
         Which of ``"Q", "N", "B", "K", "R"`` to fit (a comma-separated string works too).
-    method : {"wls", "ols"}
-        ``"wls"``: weights from each point's EDF (default).  ``"ols"``: unweighted least
-        squares on sigma^2 (the traditional fit; comparison only).
+    method : {"wls", "gls", "ols"}
+        ``"wls"``: weights from each point's EDF (default).  ``"gls"``: generalized least
+        squares with the full covariance of the oadev estimates (falls back to ``"wls"``
+        where that covariance is not available).  ``"ols"``: unweighted least squares on
+        sigma^2 (the traditional fit; comparison only).
     confidence : float
         Level of the coefficient intervals, in (0, 1).
 
@@ -519,8 +556,8 @@ def fit_noise(
     Raises
     ------
     DataError
-        Bad ``terms``, ``method``, ``confidence``, a multi-axis result, a kind whose tau
-        laws differ (mdev, hdev, ...), or malformed arrays.
+        Bad ``terms``, ``method``, ``confidence``; a multi-axis result; a kind whose tau
+        laws differ (mdev, hdev, ...); malformed arrays; no usable EDF.
     InsufficientDataError
         Fewer usable points than terms.
 
@@ -529,7 +566,7 @@ def fit_noise(
     UnidentifiableTermWarning
         A term dominates the fitted curve at fewer than two taus.
     ConvergenceWarning
-        The reweighting did not settle in 50 iterations.
+        The reweighting did not settle.
     DataQualityWarning
         Points with a non-finite or zero deviation were left out.
 
@@ -547,50 +584,64 @@ def fit_noise(
     >>> round(model["N"].c_coeff, 6), round(model["K"].c_coeff * np.sqrt(3), 6)
     (0.5, 0.01)
     """
-    names = _check_terms(terms)
+    names = parse_terms(terms)
     method = check_choice("method", method, FIT_METHODS)  # type: ignore[assignment]
     confidence = check_fraction("confidence", confidence)
-    tau, dev, edf, edf_source, units, kind, axis, excluded = _unpack(allan_result)
+    curve = _unpack(allan_result)
+    tau, dev = curve.tau, curve.dev
     if tau.size < len(names):
         raise InsufficientDataError(
             f"allan_result has {tau.size} usable taus, fewer than the {len(names)} terms "
             f"requested ({', '.join(names)}); use more taus or fewer terms")
     issued: list[str] = []
-    if excluded:
+    if curve.excluded:
         _warn(issued, DataQualityWarning,
-              f"{len(excluded)} tau(s) with a non-finite or zero deviation were left out of "
-              f"the noise fit: {', '.join(f'{t:.4g}' for t in excluded[:5])}"
-              + (" ..." if len(excluded) > 5 else "") + " s")
+              f"{len(curve.excluded)} tau(s) with a non-finite or zero deviation were left "
+              f"out of the noise fit: {', '.join(f'{t:.4g}' for t in curve.excluded[:5])}"
+              + (" ..." if len(curve.excluded) > 5 else "") + " s")
 
-    powers = np.array([TERM_POWER[n] for n in names], dtype=np.float64)
-    design = tau[:, None] ** powers[None, :]
+    powers = np.array([TERM_POWER[n] for n in names], dtype=np.int64)
+    design = tau[:, None] ** powers[None, :].astype(np.float64)
     scale_y = float(np.median(dev**2))
     y = dev**2 / scale_y
-    fit = (_fit_wls(design, y, edf, _octave_density(tau)) if method == "wls"
-           else _fit_ols(design, y))
+    basis = _covariance_basis(curve, powers) if method != "ols" else None
+    if method == "ols":
+        fit = _fit_ols(design, y)
+    elif method == "gls" and basis is not None:
+        fit = _fit_gls(design, y, basis, powers, _fit_wls(design, y, curve.edf,
+                                                          _octave_density(tau), basis, powers))
+    else:
+        fit = _fit_wls(design, y, curve.edf, _octave_density(tau), basis, powers)
+        if method == "gls":
+            method = "wls"  # type: ignore[assignment]
+            _warn(issued, DataQualityWarning,
+                  "method='gls' needs the model covariance of an oadev curve (with m, "
+                  "n_samples and fs_hz) of at most "
+                  f"{MAX_COVARIANCE_POINTS} taus; fitted with method='wls' instead")
     if not fit.converged:
         _warn(issued, ConvergenceWarning,
               f"the noise-fit reweighting did not converge in {_IRLS_MAX_ITER} iterations; "
               "the coefficients are from the last iteration")
-    a, mu, w = fit.a, fit.mu, fit.w
+    # a term that contributes < 1e-9 of the curve at every tau is NNLS round-off: zero
+    share = np.max(design / fit.mu[:, None], axis=0) * fit.a
+    a = np.where(share < 1e-9, 0.0, fit.a)
     active = a > 0
-    cov = _covariance(design, w, active, fit.scale)
     z = float(norm.ppf(0.5 + confidence / 2))
-
-    factor = to_deg_per_hour_factor(units)
-    a_units = a * scale_y  # squared coefficients in the curve's units
+    factor = to_deg_per_hour_factor(curve.units)
+    s = math.sqrt(scale_y) * factor  # sqrt of scaled sigma^2 -> deg/h
     fit_terms: list[NoiseTerm] = []
     for j, name in enumerate(names):
         if active[j]:
-            se_a = math.sqrt(max(cov[j, j], 0.0))
+            se_a = math.sqrt(max(float(fit.cov(np.flatnonzero(active))[
+                int(np.count_nonzero(active[:j])), int(np.count_nonzero(active[:j]))]), 0.0))
             c = math.sqrt(a[j])
             c_se = se_a / (2 * c)
             lo_a, hi_a = max(0.0, a[j] - z * se_a), a[j] + z * se_a
         else:
-            se_bound = _bound_stderr(design, w, active, j, fit.scale)
+            idx = np.append(np.flatnonzero(active), j)
+            se_bound = math.sqrt(max(float(fit.cov(idx)[-1, -1]), 0.0))
             c, c_se = 0.0, math.nan
             lo_a, hi_a = 0.0, z * se_bound
-        s = math.sqrt(scale_y) * factor  # curve units -> deg/h
         tf = TERM_FACTOR[name]
         fit_terms.append(NoiseTerm(
             name=name, value=tf * c * s, stderr=tf * c_se * s,
@@ -599,21 +650,62 @@ def fit_noise(
             power=TERM_POWER[name], at_bound=not bool(active[j]), identifiable=True,
             n_dominant=0, region_tau_s=(math.nan, math.nan)))
 
-    fitted_dev = np.sqrt(mu * scale_y)
-    readoff = _slope_readoff(tau, dev, factor)
     model = NoiseModel(
-        terms=tuple(fit_terms), confidence=confidence, method=method, kind=kind,
-        units=units, axis=axis, deg_per_hour_factor=factor, tau_s=tau, dev=dev,
-        fitted_dev=fitted_dev, weight=w / np.max(w), edf=edf, edf_source=edf_source,
-        chi2=fit.chi2, dof=fit.dof, model_error=fit.model_error, iterations=fit.iterations,
-        converged=fit.converged, readoff=readoff, excluded_tau_s=tuple(excluded),
-        _a=tuple(float(v) for v in a_units))
+        terms=tuple(fit_terms), confidence=confidence, method=method, kind=curve.kind,
+        units=curve.units, axis=curve.axis, deg_per_hour_factor=factor, tau_s=tau, dev=dev,
+        fitted_dev=np.sqrt(fit.mu * scale_y), weight=fit.w / np.max(fit.w), edf=curve.edf,
+        edf_source=curve.edf_source, chi2=fit.chi2, dof=fit.dof,
+        model_error=fit.model_error, stderr_method=fit.stderr_method,
+        iterations=fit.iterations, converged=fit.converged,
+        readoff=_slope_readoff(tau, dev, factor), excluded_tau_s=tuple(curve.excluded),
+        _a=tuple(float(v) * scale_y for v in a))
     fit_terms = _identifiability(model, tau, issued)
     return NoiseModel(**{**_fields(model), "terms": tuple(fit_terms),
                          "warnings": tuple(issued)})
 
 
-# --------------------------------------------------------------------------- helpers
+def parse_terms(terms: Sequence[str] | str) -> tuple[str, ...]:
+    """Validate a term selection; returns the names in the order Q, N, B, K, R.
+
+    Examples
+    --------
+    >>> parse_terms("k, n")
+    ('N', 'K')
+    """
+    if isinstance(terms, str):
+        items: list[Any] = [t.strip() for t in terms.split(",") if t.strip()]
+    else:
+        try:
+            items = list(terms)
+        except TypeError:
+            raise DataError(f"terms must be a sequence of Q, N, B, K, R, got {terms!r}") from None
+    if not items:
+        raise DataError(f"terms must name at least one of Q, N, B, K, R, got {terms!r}")
+    for t in items:
+        if not isinstance(t, str) or t.strip().upper() not in TERM_POWER:
+            raise DataError(f"terms must be drawn from Q, N, B, K, R; got {t!r}")
+    upper = [t.strip().upper() for t in items]
+    if len(set(upper)) != len(upper):
+        raise DataError(f"terms must not repeat a term, got {terms!r}")
+    return tuple(n for n in NOISE_TERMS if n in upper)
+
+
+# --------------------------------------------------------------------------- input
+
+
+@dataclass(frozen=True)
+class _Curve:
+    tau: FloatArray
+    dev: FloatArray
+    edf: FloatArray
+    edf_source: str
+    units: str
+    kind: str
+    axis: str
+    excluded: list[float]
+    m: IntArray | None
+    n_samples: int | None
+    fs_hz: float | None
 
 
 def _fields(model: NoiseModel) -> dict[str, Any]:
@@ -625,27 +717,7 @@ def _warn(issued: list[str], category: type[Warning], message: str) -> None:
     warnings.warn(message, category, stacklevel=3)
 
 
-def _check_terms(terms: Sequence[str] | str) -> tuple[str, ...]:
-    if isinstance(terms, str):
-        items = [t.strip() for t in terms.split(",") if t.strip()]
-    else:
-        try:
-            items = list(terms)
-        except TypeError:
-            raise DataError(f"terms must be a sequence of Q, N, B, K, R, got {terms!r}") from None
-    if not items:
-        raise DataError(f"terms must name at least one of Q, N, B, K, R, got {terms!r}")
-    for t in items:
-        if not isinstance(t, str) or t.upper() not in TERM_POWER:
-            raise DataError(f"terms must be drawn from Q, N, B, K, R; got {t!r}")
-    upper = [t.upper() for t in items]
-    if len(set(upper)) != len(upper):
-        raise DataError(f"terms must not repeat a term, got {terms!r}")
-    return tuple(n for n in NOISE_TERMS if n in upper)
-
-
-def _unpack(res: Any) -> tuple[FloatArray, FloatArray, FloatArray, str, str, str, str,
-                                list[float]]:
+def _unpack(res: Any) -> _Curve:
     if hasattr(res, "curves") and not hasattr(res, "dev"):
         axes = ", ".join(map(str, getattr(res, "axes", ())))
         raise DataError(f"allan_result is a multi-axis result set (axes: {axes}); fit one "
@@ -669,23 +741,32 @@ def _unpack(res: Any) -> tuple[FloatArray, FloatArray, FloatArray, str, str, str
     if np.any(np.diff(tau) <= 0):
         raise DataError("allan_result.tau_s must be strictly increasing")
     n = tau.size
-    edf = _edf(res, n)
+    given = _attr_array(res, "edf", n)
+    m_all = _attr_array(res, "m", n)
+    n_samples = getattr(res, "n_samples", None)
+    edf = given.copy()
+    missing_edf = ~(np.isfinite(edf) & (edf > 0))
+    if np.any(missing_edf) and n_samples is not None:
+        # IEEE Std 952-1997 C.3: %error of sigma = 1/sqrt(2(N/m - 1)), i.e. edf = N/m - 1
+        edf[missing_edf] = np.maximum(float(n_samples) / m_all[missing_edf] - 1.0, 1.0)
     ok = np.isfinite(dev) & (dev > 0)
     excluded = [float(t) for t in tau[~ok]]
-    edf = edf[ok]
-    has_result_edf = np.isfinite(_attr_array(res, "edf", n))[ok]
-    if np.all(has_result_edf):
-        source = "result"
-    elif not np.any(has_result_edf):
-        source = "ieee952"
-    else:
-        source = "mixed"
-    if not np.all(np.isfinite(edf) & (edf > 0)):
-        bad = float(tau[ok][~(np.isfinite(edf) & (edf > 0))][0])
+    usable = np.isfinite(edf) & (edf > 0)
+    if not np.all(usable[ok]):
+        bad = float(tau[ok & ~usable][0])
         raise DataError(f"allan_result has no usable edf at tau = {bad:.6g} s (and no "
                         "n_samples and m to fall back on IEEE 952's N/m - 1)")
-    return (tau[ok], dev[ok], edf, source, units, kind, str(getattr(res, "axis", "")),
-            excluded)
+    from_result = np.isfinite(given[ok]) & (given[ok] > 0)
+    source = ("result" if np.all(from_result) else "ieee952" if not np.any(from_result)
+              else "mixed")
+    fs = getattr(res, "fs_hz", None)
+    m_ok = m_all[ok]
+    have_m = bool(np.all(np.isfinite(m_ok)) and np.all(m_ok >= 1))
+    return _Curve(tau=tau[ok], dev=dev[ok], edf=edf[ok], edf_source=source, units=units,
+                  kind=kind, axis=str(getattr(res, "axis", "")), excluded=excluded,
+                  m=m_ok.astype(np.int64) if have_m else None,
+                  n_samples=int(n_samples) if n_samples is not None else None,
+                  fs_hz=float(fs) if fs is not None and float(fs) > 0 else None)
 
 
 def _attr_array(res: Any, name: str, n: int) -> FloatArray:
@@ -697,19 +778,6 @@ def _attr_array(res: Any, name: str, n: int) -> FloatArray:
         raise DataError(f"allan_result.{name} must have the shape of tau_s ({n},), got "
                         f"{arr.shape}")
     return arr
-
-
-def _edf(res: Any, n: int) -> FloatArray:
-    """EDF per point: the result's, else IEEE 952 C.3's N/m - 1 (at least 1)."""
-    edf = _attr_array(res, "edf", n).copy()
-    missing = ~(np.isfinite(edf) & (edf > 0))
-    if np.any(missing):
-        n_samples = getattr(res, "n_samples", None)
-        m = _attr_array(res, "m", n)
-        if n_samples is not None:
-            fallback = np.maximum(float(n_samples) / m - 1.0, 1.0)
-            edf[missing] = fallback[missing]
-    return edf
 
 
 def _octave_density(tau: FloatArray) -> FloatArray:
@@ -724,86 +792,271 @@ def _octave_density(tau: FloatArray) -> FloatArray:
     return np.minimum(width, 1.0)
 
 
-def _wnnls(design: FloatArray, y: FloatArray, w: FloatArray) -> FloatArray:
-    """Weighted NNLS with column scaling (the basis spans many decades)."""
-    sw = np.sqrt(w)
-    aw = design * sw[:, None]
-    col = np.linalg.norm(aw, axis=0)
-    col[col == 0] = 1.0
-    sol, _ = nnls(aw / col, y * sw, maxiter=50 * design.shape[1])
-    return np.asarray(sol / col, dtype=np.float64)
+# --------------------------------------------------------------------------- covariance
+# Covariance of overlapping Allan-variance estimates implied by the noise model.
+# Noise types with a random part, in this order: Q (white phase), N (white rate),
+# B (flicker rate), K (random-walk rate).  R is deterministic.
+_RANDOM_TERMS: tuple[int, ...] = (-2, -1, 0, 1)
+_W3 = np.array([1.0, -2.0, 1.0])
+_WW = (_W3[:, None] * _W3[None, :]).ravel()
+_GL_X, _GL_W = leggauss(16)
+_EXACT_PIECE = 64      # pieces this short (in lags) are summed exactly
+_FFM_REACH = 64        # flicker lags beyond 64 (m_i + m_j) contribute < 1e-6 relative
+
+
+def _covariance_basis(curve: _Curve, powers: IntArray) -> FloatArray | None:
+    """``B[i, j, p, q]`` with Cov[avar_i, avar_j] = sum_pq a_p a_q B[i, j, p, q].
+
+    ``p, q`` index :data:`_RANDOM_TERMS`; only oadev curves with ``m``, ``n_samples`` and
+    ``fs_hz`` and at most :data:`MAX_COVARIANCE_POINTS` taus have one.  The basis is for
+    the scaled variances (divide by ``scale_y**2`` is done by the caller's scaling of a).
+    """
+    if (curve.kind != "oadev" or curve.m is None or curve.n_samples is None
+            or curve.fs_hz is None or curve.tau.size > MAX_COVARIANCE_POINTS):
+        return None
+    m = curve.m
+    n_terms = curve.n_samples - 2 * m + 1
+    if np.any(n_terms < 1):
+        return None
+    dt = 1.0 / curve.fs_hz
+    present = tuple(p in powers for p in _RANDOM_TERMS)
+    k = m.size
+    basis = np.zeros((k, k, 4, 4))
+    for i in range(k):
+        for j in range(i, k):
+            s = _pair_sums(int(m[i]), int(m[j]), int(n_terms[i]), int(n_terms[j]), dt, present)
+            s /= 2.0 * (m[i] * dt) ** 2 * (m[j] * dt) ** 2 * float(n_terms[i]) * float(n_terms[j])
+            basis[i, j] = basis[j, i] = s
+    return basis
+
+
+def _pair_sums(mi: int, mj: int, ni: int, nj: int, dt: float,
+               present: tuple[bool, ...]) -> FloatArray:
+    """``S[p, q] = sum_h cnt(h) C_p(h) C_q(h)`` for the second differences at m_i, m_j.
+
+    ``C_p(h)`` is the covariance of ``d_i(t)`` and ``d_j(t + h)`` for unit noise of type p,
+    ``cnt(h)`` the number of term pairs at lag h.
+    """
+    d = (np.array([0.0, mj, 2.0 * mj])[None, :] - np.array([0.0, mi, 2.0 * mi])[:, None]).ravel()
+    core_lo, core_hi = -2 * mj, 2 * mi  # the two windows overlap strictly inside
+    lo, hi = -(ni - 1), nj - 1
+    if present[2]:
+        reach = _FFM_REACH * (mi + mj)
+        lo, hi = max(lo, -reach), min(hi, reach)
+    else:
+        lo, hi = max(lo, core_lo + 1), min(hi, core_hi - 1)
+    out = np.zeros((4, 4))
+    if hi >= lo:
+        brk = {lo, hi + 1, nj - ni, 0, core_lo, core_hi, core_lo + 1, core_hi + 1}
+        brk.update(int(-x) for x in d)
+        if present[2]:
+            step = 2 * (mi + mj)
+            while step < max(-lo, hi + 1):
+                brk.update((step, -step))
+                step *= 2
+        pts = np.array(sorted(b for b in brk if lo <= b <= hi + 1), dtype=np.float64)
+        nodes: list[FloatArray] = []
+        weights: list[FloatArray] = []
+        for p, q in itertools.pairwise(pts):
+            if q - p <= _EXACT_PIECE:
+                h = np.arange(p, q)
+                nodes.append(h)
+                weights.append(np.ones(h.size))
+            else:  # sum_{h=p}^{q-1} f ~ integral_p^q f - (f(q) - f(p)) / 2 (Euler-Maclaurin)
+                nodes += [0.5 * (q - p) * _GL_X + 0.5 * (q + p), np.array([p, q])]
+                weights += [0.5 * (q - p) * _GL_W, np.array([0.5, -0.5])]
+        h = np.concatenate(nodes)
+        wt = np.concatenate(weights) * _count(h, ni, nj)
+        cc = _continuous_cov(h, d, dt, core_lo, core_hi, present)  # (3, len(h))
+        out[1:, 1:] = (cc * wt) @ cc.T
+    if present[0]:  # white phase: covariance only where two phase points coincide
+        lags = np.unique(-d)
+        lags = lags[(lags >= -(ni - 1)) & (lags <= nj - 1)]
+        if lags.size:
+            cp = np.array([_WW[(lag + d) == 0].sum() / 3.0 for lag in lags])
+            wq = _count(lags, ni, nj)
+            cc = _continuous_cov(lags, d, dt, core_lo, core_hi, present)
+            out[0, 0] = float(np.sum(wq * cp * cp))
+            out[0, 1:] = out[1:, 0] = (cc * (wq * cp)).sum(axis=1)
+    return out
+
+
+def _count(h: FloatArray, ni: int, nj: int) -> FloatArray:
+    return np.maximum(0.0, np.minimum(float(ni), nj - h) - np.maximum(0.0, -h))
+
+
+def _continuous_cov(h: FloatArray, d: FloatArray, dt: float, core_lo: int, core_hi: int,
+                    present: tuple[bool, ...]) -> FloatArray:
+    """Covariance of two second differences at lag h for unit N, B and K noise (3, len(h)).
+
+    Generalized covariances (phase x in rate*s, u in s): N: -|u|/2; B (a_0 = 1):
+    u^2 ln|u| / (4 ln 2); K (a_1 = 1): |u|^3 / 4.
+    """
+    u = (h[:, None] + d[None, :]) * dt
+    au = np.abs(u)
+    core = (h > core_lo) & (h < core_hi)
+    out = np.zeros((3, h.size))
+    if present[1]:
+        out[0] = np.where(core, (-0.5 * au) @ _WW, 0.0)
+    if present[2]:
+        safe = np.where(au > 0, au, 1.0)
+        out[1] = ((u * u * np.log(safe)) @ _WW) / (4.0 * math.log(2.0))
+    if present[3]:
+        out[2] = np.where(core, (0.25 * au**3) @ _WW, 0.0)
+    return out
+
+
+def _model_cov(basis: FloatArray, a: FloatArray, powers: IntArray) -> FloatArray:
+    coef = np.zeros(4)
+    for j, p in enumerate(powers):
+        if int(p) in _RANDOM_TERMS:
+            coef[_RANDOM_TERMS.index(int(p))] = a[j]
+    return np.asarray(np.einsum("ijpq,p,q->ij", basis, coef, coef), dtype=np.float64)
+
+
+# --------------------------------------------------------------------------- fits
 
 
 @dataclass(frozen=True)
 class _Fit:
-    a: FloatArray            # squared coefficients (scaled units)
-    mu: FloatArray           # model sigma^2 at the data taus
-    w: FloatArray            # final weights (inverse variances)
-    scale: float             # factor on (A^T W A)^-1 giving the covariance
+    a: FloatArray             # squared coefficients (scaled units)
+    mu: FloatArray            # model sigma^2 at the data taus
+    w: FloatArray             # final diagonal weights
+    cov: Callable[[IntArray], FloatArray]  # covariance of a[idx] with idx free, rest fixed
     chi2: float
     dof: float
-    model_error: float       # Paule-Mandel relative model error on sigma^2 (wls)
+    model_error: float
+    stderr_method: str
     iterations: int
     converged: bool
 
 
-def _irls(design: FloatArray, y: FloatArray, edf: FloatArray, density: FloatArray,
-          eps2: float, mu0: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, int, bool]:
-    """IRLS with Var[y_i] = mu_i^2 (2/edf_i + eps2) / density_i, mu from the model."""
-    floor = 1e-12 * float(np.max(y))
-    rel = 2.0 / edf + eps2
-    mu = mu0.copy()
-    a = np.zeros(design.shape[1])
+def _wnnls(design: FloatArray, y: FloatArray, w: FloatArray) -> FloatArray:
+    """Weighted NNLS with column scaling (the basis spans many decades)."""
+    sw = np.sqrt(w)
+    return _nnls_scaled(design * sw[:, None], y * sw)
+
+
+def _nnls_scaled(a: FloatArray, b: FloatArray) -> FloatArray:
+    col = np.linalg.norm(a, axis=0)
+    col[col == 0] = 1.0
+    sol, _ = nnls(a / col, b, maxiter=50 * a.shape[1])
+    return np.asarray(sol / col, dtype=np.float64)
+
+
+def _scaled_inverse(normal: FloatArray) -> FloatArray:
+    d = np.sqrt(np.abs(np.diag(normal)))
+    d[d == 0] = 1.0
+    return np.asarray(np.linalg.pinv(normal / np.outer(d, d), rcond=1e-13) / np.outer(d, d),
+                      dtype=np.float64)
+
+
+def _irls(step: Callable[[FloatArray, FloatArray], tuple[FloatArray, FloatArray]],
+          mu0: FloatArray, a0: FloatArray) -> tuple[FloatArray, FloatArray, int, bool]:
+    """Iterate ``(a, mu) -> step`` until mu changes by < 1e-7 relative (damped late)."""
+    mu, a = mu0, a0
     for it in range(1, _IRLS_MAX_ITER + 1):
-        w = density / (rel * mu**2)
-        a = _wnnls(design, y, w)
-        new = np.maximum(design @ a, floor)
+        a, new = step(mu, a)
         if it > _IRLS_MAX_ITER // 3:  # damp a slow oscillation between active sets
             new = np.sqrt(new * mu)
         change = float(np.max(np.abs(new - mu) / mu))
         mu = new
         if change < _IRLS_TOL:
-            return a, mu, density / (rel * mu**2), it, True
-    return a, mu, density / (rel * mu**2), _IRLS_MAX_ITER, False
+            return a, mu, it, True
+    return a, mu, _IRLS_MAX_ITER, False
 
 
-def _fit_wls(design: FloatArray, y: FloatArray, edf: FloatArray, density: FloatArray) -> _Fit:
-    """EDF-weighted IRLS, with a Paule-Mandel relative model error when the model misfits.
+def _ml_eps2(nll: Callable[[float], float]) -> float:
+    """The model-error variance eps2 >= 0 that minimises ``nll`` (profile likelihood)."""
+    base = nll(0.0)
+    best = minimize_scalar(lambda t: nll(math.exp(t)), bounds=(math.log(1e-8), math.log(10.0)),
+                           method="bounded", options={"xatol": 1e-3})
+    return math.exp(float(best.x)) if float(best.fun) < base else 0.0
 
-    If the Pearson chi-square of the EDF-only fit exceeds its degrees of freedom, the
-    five-term model does not describe the curve to within the sampling noise (a real gyro
-    also has bandwidth limits, Gauss-Markov bumps, ...); the points with enormous EDF at
-    short tau would then dictate the fit.  A relative model-error variance ``eps2`` is added
-    to every point (Var = mu^2 (2/edf + eps2)) and chosen so that chi2 = dof: the
-    Paule-Mandel estimator (Paule & Mandel, J. Res. NBS 87(5), 1982, 377-385).
-    """
-    dof = float(np.sum(density))
-    a, mu, w, iters, ok = _irls(design, y, edf, density, 0.0, y)
 
-    def chi2_of(mu_: FloatArray, w_: FloatArray) -> float:
-        return float(np.sum(w_ * (y - mu_) ** 2))
+def _fit_wls(design: FloatArray, y: FloatArray, edf: FloatArray, density: FloatArray,
+             basis: FloatArray | None, powers: IntArray) -> _Fit:
+    """EDF-weighted IRLS + ML model error; sandwich errors (module docstring)."""
+    floor = 1e-12 * float(np.max(y))
+    state: dict[str, Any] = {"mu": y.copy(), "a": np.zeros(design.shape[1]), "iters": 0}
 
-    n_act = int(np.count_nonzero(a > 0))
-    dof_eff = dof - n_act
-    chi2 = chi2_of(mu, w)
-    if dof_eff <= 0 or chi2 <= dof_eff:
-        return _Fit(a, mu, w, 1.0, chi2, dof_eff, 0.0, iters, ok)
-    state = {"mu": mu, "iters": iters, "ok": ok}
+    def solve(eps2: float) -> tuple[FloatArray, FloatArray, FloatArray, int, bool]:
+        rel = 2.0 / edf + eps2
 
-    def excess(log_eps2: float) -> float:
-        a_, mu_, w_, it_, ok_ = _irls(design, y, edf, density, math.exp(log_eps2), state["mu"])
-        state.update(mu=mu_, iters=int(state["iters"]) + it_, ok=bool(state["ok"]) and ok_)
-        return chi2_of(mu_, w_) - (dof - np.count_nonzero(a_ > 0))
+        def step(mu: FloatArray, a: FloatArray) -> tuple[FloatArray, FloatArray]:
+            a_new = _wnnls(design, y, density / (rel * mu**2))
+            return a_new, np.maximum(design @ a_new, floor)
 
-    lo, hi = math.log(1e-12), math.log(1e-2)
-    while excess(hi) > 0 and hi < math.log(1e4):
-        lo, hi = hi, hi + math.log(100.0)
-    log_eps2 = brentq(excess, lo, hi, xtol=1e-6) if excess(lo) > 0 else lo
-    eps2 = math.exp(log_eps2)
-    a, mu, w, it, ok = _irls(design, y, edf, density, eps2, state["mu"])
-    n_act = int(np.count_nonzero(a > 0))
-    return _Fit(a, mu, w, 1.0, chi2_of(mu, w), dof - n_act, math.sqrt(eps2),
-                int(state["iters"]) + it, bool(state["ok"]) and ok)
+        a, mu, it, ok = _irls(step, state["mu"], state["a"])
+        state.update(mu=mu, a=a, iters=state["iters"] + it)
+        return a, mu, density / (rel * mu**2), it, ok
+
+    def nll(eps2: float) -> float:
+        # Gamma likelihood of sigma^2-hat with mean mu and shape k = 1 / (2/edf + eps2)
+        _, mu, _, _, _ = solve(eps2)
+        k = 1.0 / (2.0 / edf + eps2)
+        ll = k * np.log(k) - k * np.log(mu) + (k - 1) * np.log(y) - k * y / mu - gammaln(k)
+        return -float(np.sum(density * ll))
+
+    eps2 = _ml_eps2(nll)
+    a, mu, w, _, ok = solve(eps2)
+    chi2 = float(np.sum(w * (y - mu) ** 2))
+    dof = float(np.sum(density)) - np.count_nonzero(a > 0)
+    if basis is not None:
+        v = _model_cov(basis, a, powers) + np.diag(eps2 * mu**2)
+        how = "sandwich with the model covariance of the oadev estimates"
+    else:
+        v = np.diag(mu**2 * (2.0 / edf + eps2))
+        how = "EDF diagonal (correlation between taus ignored)"
+
+    def cov(idx: IntArray) -> FloatArray:
+        x = design[:, idx] * w[:, None]
+        h_inv = _scaled_inverse(design[:, idx].T @ x)
+        return h_inv @ (x.T @ v @ x) @ h_inv
+
+    return _Fit(a, mu, w, cov, chi2, dof, math.sqrt(eps2), how, int(state["iters"]), ok)
+
+
+def _fit_gls(design: FloatArray, y: FloatArray, basis: FloatArray, powers: IntArray,
+             start: _Fit) -> _Fit:
+    """GLS with the model covariance recomputed from the fit (IRLS) + ML model error."""
+    floor = 1e-12 * float(np.max(y))
+    state: dict[str, Any] = {"iters": 0}
+
+    def cov_of(a: FloatArray, mu: FloatArray, eps2: float) -> FloatArray:
+        return _model_cov(basis, a, powers) + np.diag((eps2 + 1e-10) * mu**2)
+
+    def solve(eps2: float) -> tuple[FloatArray, FloatArray, FloatArray, int, bool]:
+        def step(mu: FloatArray, a: FloatArray) -> tuple[FloatArray, FloatArray]:
+            chol = np.linalg.cholesky(cov_of(a, mu, eps2))
+            a_new = _nnls_scaled(np.linalg.solve(chol, design), np.linalg.solve(chol, y))
+            return a_new, np.maximum(design @ a_new, floor)
+
+        a, mu, it, ok = _irls(step, start.mu, start.a)
+        state["iters"] += it
+        return a, mu, cov_of(a, mu, eps2), it, ok
+
+    def nll(eps2: float) -> float:
+        # Gaussian approximation: r' V^-1 r + log det V
+        _, mu, v, _, _ = solve(eps2)
+        r = y - mu
+        chol = np.linalg.cholesky(v)
+        z = np.linalg.solve(chol, r)
+        return 0.5 * float(z @ z) + float(np.sum(np.log(np.diag(chol))))
+
+    eps2 = _ml_eps2(nll)
+    a, mu, v, _, ok = solve(eps2)
+    r = y - mu
+    v_inv = np.linalg.inv(v)
+
+    def cov(idx: IntArray) -> FloatArray:
+        x = design[:, idx]
+        return _scaled_inverse(x.T @ v_inv @ x)
+
+    return _Fit(a, mu, 1.0 / np.diag(v), cov, float(r @ v_inv @ r),
+                float(y.size - np.count_nonzero(a > 0)), math.sqrt(eps2),
+                "GLS with the model covariance of the oadev estimates",
+                start.iterations + int(state["iters"]), ok)
 
 
 def _fit_ols(design: FloatArray, y: FloatArray) -> _Fit:
@@ -813,45 +1066,23 @@ def _fit_ols(design: FloatArray, y: FloatArray) -> _Fit:
     mu = design @ a
     rss = float(np.sum((y - mu) ** 2))
     dof = float(y.size - np.count_nonzero(a > 0))
-    scale = rss / dof if dof > 0 else math.nan
-    return _Fit(a, mu, w, scale, rss, dof, math.nan, 1, True)
+    s2 = rss / dof if dof > 0 else math.nan
+
+    def cov(idx: IntArray) -> FloatArray:
+        x = design[:, idx]
+        return s2 * _scaled_inverse(x.T @ x)
+
+    return _Fit(a, mu, w, cov, rss, dof, math.nan, "OLS residual variance", 1, True)
 
 
-def _covariance(design: FloatArray, w: FloatArray, active: np.ndarray,
-                scale: float) -> FloatArray:
-    k = design.shape[1]
-    cov = np.full((k, k), np.nan)
-    idx = np.flatnonzero(active)
-    if idx.size == 0:
-        return cov
-    sub = _inverse_normal(design[:, idx], w) * scale
-    cov[np.ix_(idx, idx)] = sub
-    return cov
-
-
-def _inverse_normal(a: FloatArray, w: FloatArray) -> FloatArray:
-    col = np.linalg.norm(a * np.sqrt(w)[:, None], axis=0)
-    col[col == 0] = 1.0
-    scaled = a / col
-    normal = scaled.T @ (scaled * w[:, None])
-    inv = np.linalg.pinv(normal, rcond=1e-13)
-    return np.asarray(inv / np.outer(col, col), dtype=np.float64)
-
-
-def _bound_stderr(design: FloatArray, w: FloatArray, active: np.ndarray, j: int,
-                  scale: float) -> float:
-    """Standard error of a zero-bound coefficient, freed beside the active set."""
-    idx = np.append(np.flatnonzero(active), j)
-    inv = _inverse_normal(design[:, idx], w) * scale
-    return math.sqrt(max(float(inv[-1, -1]), 0.0))
+# --------------------------------------------------------------------------- read-offs
 
 
 def _slope_readoff(tau: FloatArray, dev: FloatArray, factor: float) -> SlopeReadoff:
+    """IEEE 952 Annex C / MATLAB ``allanvar`` example: lines through the point whose local
+    log-log slope is closest to -1/2 (+1/2), read at tau = 1 s (3 s); B = minimum / 0.664."""
     logt, logd = np.log10(tau), np.log10(dev)
-    if tau.size >= 2:
-        slopes = np.diff(logd) / np.diff(logt)
-    else:
-        slopes = np.array([math.nan])
+    slopes = np.diff(logd) / np.diff(logt) if tau.size >= 2 else np.array([math.nan])
 
     def line(target: float, at: float) -> tuple[float, float, float]:
         if not np.any(np.isfinite(slopes)):
@@ -862,9 +1093,11 @@ def _slope_readoff(tau: FloatArray, dev: FloatArray, factor: float) -> SlopeRead
 
     n_dev, tau_n, slope_n = line(-0.5, 1.0)
     k_dev, tau_k, slope_k = line(0.5, 3.0)
-    floor = read_curve(tau, dev) if tau.size >= 2 else None
-    b_dev = floor.dev_min if floor is not None else float(dev[0])
-    tau_b = floor.tau_min_s if floor is not None else float(tau[0])
+    if tau.size >= 2:
+        floor = read_curve(tau, dev)
+        b_dev, tau_b = floor.dev_min, floor.tau_min_s
+    else:
+        b_dev, tau_b = float(dev[0]), float(tau[0])
     return SlopeReadoff(
         N=n_dev * factor / 60.0, K=k_dev * factor * 60.0, B=b_dev * factor / 0.664,
         tau_N_s=tau_n, tau_K_s=tau_k, tau_B_s=tau_b, slope_N=slope_n, slope_K=slope_k,
@@ -873,12 +1106,10 @@ def _slope_readoff(tau: FloatArray, dev: FloatArray, factor: float) -> SlopeRead
 
 def _identifiability(model: NoiseModel, tau: FloatArray, issued: list[str]
                      ) -> list[NoiseTerm]:
-    lines = model.lines(tau)
-    stack = np.vstack([lines[n] for n in model.names])
+    stack = np.vstack(list(model.lines(tau).values()))
     winner = np.argmax(stack, axis=0)
     wide = np.logspace(math.log10(tau[0]) - 3, math.log10(tau[-1]) + 3, 601)
-    wide_lines = model.lines(wide)
-    wide_stack = np.vstack([wide_lines[n] for n in model.names])
+    wide_stack = np.vstack(list(model.lines(wide).values()))
     wide_winner = np.argmax(wide_stack, axis=0)
     out: list[NoiseTerm] = []
     for j, term in enumerate(model.terms):
@@ -886,14 +1117,14 @@ def _identifiability(model: NoiseModel, tau: FloatArray, issued: list[str]
         where = (wide_winner == j) & (wide_stack[j] > 0)
         region = ((float(wide[where][0]), float(wide[where][-1])) if np.any(where)
                   else (math.nan, math.nan))
-        ok = n_dom >= MIN_DOMINANT_POINTS
+        ok = n_dom >= MIN_DOMINANT_POINTS or (n_dom == 1 and term.ci_low > 0)
         if not ok:
             if term.at_bound:
                 why = "it was fitted to zero"
             elif not np.any(where):
-                why = "no other term leaves it room anywhere"
+                why = "the other terms exceed it everywhere"
             else:
-                why = (f"it would dominate only at tau {region[0]:.3g}..{region[1]:.3g} s")
+                why = f"it would dominate only at tau {region[0]:.3g}..{region[1]:.3g} s"
             _warn(issued, UnidentifiableTermWarning,
                   f"noise term {term.name} ({TERM_DESCRIPTION[term.name]}, slope "
                   f"{term.slope:+g}) is not identifiable from taus {tau[0]:.4g}..{tau[-1]:.4g}"
@@ -910,4 +1141,3 @@ def _tau_array(tau_s: Any) -> FloatArray:
     if tau.ndim != 1 or not np.all(np.isfinite(tau) & (tau > 0)):
         raise DataError(f"tau_s must be finite and > 0, got {tau_s!r}")
     return tau
-

@@ -75,8 +75,9 @@ class AllanResult:
     edf : ndarray of float64
         Equivalent degrees of freedom (NaN when not computed).
     alpha : ndarray of int64
-        Identified power-law noise exponent (meaningful where ``alpha_method`` is not
-        ``"none"``).
+        Power-law noise exponent used for each point's EDF: identified there, or taken
+        from the nearest identified tau where ``alpha_method`` is ``"none"``.  Reported
+        as missing (``None``/``<NA>``) where no interval was computed.
     dropped : tuple of DroppedTau
         Requested taus that could not be computed.
     alpha_method : tuple of str
@@ -136,13 +137,14 @@ class AllanResult:
         return bool(np.isfinite(self.ci_low).any())
 
     def _alpha_or_none(self) -> list[int | None]:
-        return [None if meth == "none" else int(a)
-                for a, meth in zip(self.alpha, self.alpha_method, strict=True)]
+        # The alpha behind each point's EDF; None where no interval was computed.
+        return [int(a) if math.isfinite(e) else None
+                for a, e in zip(self.alpha, self.edf, strict=True)]
 
     def to_frame(self) -> pd.DataFrame:
         """One row per tau: ``tau, m, n, dev, ci_low, ci_high, edf, alpha``.
 
-        ``alpha`` is a nullable integer column (missing where no noise type was found).
+        ``alpha`` is a nullable integer column (missing where no interval was computed).
         """
         return pd.DataFrame({
             "tau": self.tau_s, "m": self.m, "n": self.n, "dev": self.dev,

@@ -214,6 +214,8 @@ def _fit_statsmodels(xs: FloatArray, p: int, q: int) -> tuple[dict[str, float], 
         if issubclass(w.category, SmConvergenceWarning):
             converged = False
         msgs.append(f"{w.category.__name__}: {w.message}")
+    if not math.isfinite(float(res.llf)):
+        raise ModelFitError(f"statsmodels returned a non-finite log-likelihood ({res.llf})")
     mle = getattr(res, "mle_retvals", None) or {}
     if mle.get("converged") is False:
         converged = False
@@ -497,32 +499,32 @@ class _Arma:
         d_tr = np.sum(np.log(f_tr), axis=1)
         dS = (s_tr[0::2] - s_tr[1::2]) / (2 * h)
         dD = (d_tr[0::2] - d_tr[1::2]) / (2 * h)
-        if s >= n:
-            return dS, dD, (self._hessian_fallback(ev) if hessian else None)
         a_poly = np.r_[1.0, theta]
-        tail = e[s:]
-        gfull = np.zeros(n)
-        gfull[s:] = lfilter([1.0], a_poly, tail[::-1])[::-1] if q else tail
-        g = gfull[s:]
-        grad_ss = np.empty(k)
-        for i in range(1, p + 1):
-            grad_ss[i - 1] = -_lagdot(gfull, x, 0, i, s)
-        for j in range(1, q + 1):
-            grad_ss[p + j - 1] = -_lagdot(gfull, e, 0, j, s)
-        if q:
-            # start-up terms: the steady recursion starts from the transient's last innovations
-            de = (e_tr[0::2, s - q:s] - e_tr[1::2, s - q:s]) / (2 * h)   # (k, q)
-            for u in range(min(q, n - s)):
-                c = np.zeros(k)
-                for j in range(u + 1, q + 1):
-                    c -= theta[j - 1] * de[:, q + u - j]
-                grad_ss += g[u] * c
-        dS = dS + 2.0 * grad_ss
+        # adjoint g = theta(B^-1)^-1 a, run back from the end over the whole series: on [s, n)
+        # it is exactly the adjoint of the steady block (for the gradient); before s it serves
+        # the Hessian approximation
+        gfull = np.ascontiguousarray(lfilter([1.0], a_poly, e[::-1])[::-1]) if q else e
+        if s < n:
+            g = gfull[s:]
+            grad_ss = np.empty(k)
+            for i in range(1, p + 1):
+                grad_ss[i - 1] = -_lagdot(gfull, x, 0, i, s)
+            for j in range(1, q + 1):
+                grad_ss[p + j - 1] = -_lagdot(gfull, e, 0, j, s)
+            if q:
+                # start-up terms: the steady recursion starts from the block's last innovations
+                de = (e_tr[0::2, s - q:s] - e_tr[1::2, s - q:s]) / (2 * h)   # (k, q)
+                for u in range(min(q, n - s)):
+                    c = np.zeros(k)
+                    for j in range(u + 1, q + 1):
+                        c -= theta[j - 1] * de[:, q + u - j]
+                    grad_ss += g[u] * c
+            dS = dS + 2.0 * grad_ss
         if not hessian:
             return dS, dD, None
         u_ = lfilter([1.0], a_poly, x) if q else x
         v_ = lfilter([1.0], a_poly, e) if q else e
-        t0 = max(s, p + q)
+        t0 = max(p + q, 2 * q)      # the largest lag used below
         jac = [(u_, i) for i in range(1, p + 1)] + [(v_, j) for j in range(1, q + 1)]
         HS = np.empty((k, k))
         for i in range(k):
@@ -534,10 +536,6 @@ class _Arma:
                     val += 2.0 * _lagdot(gfull, v_, 0, jac[i][1] + jac[j][1], t0)
                 HS[i, j] = HS[j, i] = 2.0 * val
         return dS, dD, HS
-
-    def _hessian_fallback(self, ev: _Eval) -> FloatArray:
-        """Fisher-information Hessian of S (2 S * information), for all-transient series."""
-        return 2.0 * ev.S * self.information(ev.phi, ev.theta)
 
     def information(self, phi: FloatArray, theta: FloatArray) -> FloatArray:
         """Per-observation information matrix of (phi, theta), Brockwell & Davis eq. 8.8.3."""
@@ -655,16 +653,16 @@ def _check_not_explosive(xs: FloatArray) -> None:
 
     Under a unit root the least-squares root estimate is within a few 1/n of 1 (Dickey & Fuller
     1979 asymptotics: n(rho_hat - 1) rarely exceeds 2); an explosive x_t = c x_{t-1} + e_t with
-    |c| > 1 gives |c| itself.  The threshold is 1 + 20/n.
+    |c| > 1 gives |c| itself.  The threshold is 1 + 10/n.
     """
     n = xs.shape[0]
     k = 3
     coef = _normal_equations(xs, [(xs, i) for i in range(1, k + 1)], k)
     rho = _spectral_radius(coef)
-    if rho > 1.0 + 20.0 / n:
+    if rho > 1.0 + 10.0 / n:
         raise ModelFitError(
             f"x looks explosive: a least-squares AR({k}) fit has a root of modulus {rho:.4g} "
-            f"(> 1 + 20/n = {1 + 20 / n:.4g}); an ARMA model needs a stationary series - "
+            f"(> 1 + 10/n = {1 + 10 / n:.4g}); an ARMA model needs a stationary series - "
             "difference or detrend it first")
 
 
@@ -674,26 +672,39 @@ class _NewtonResult:
     converged: bool
     n_iter: int
     msgs: list[str]
-    dS: FloatArray | None = None
+    dS: FloatArray | None = None      # gradient of S and D at the last Newton iterate
     dD: FloatArray | None = None
-    HS: FloatArray | None = None
+    HS: FloatArray | None = None      # Hessian of S and D used at the last Newton iterate
+    HD: FloatArray | None = None
 
 
 def _newton(model: _Arma, phi: FloatArray, theta: FloatArray, *,
-            small_step: float = _SMALL_STEP) -> _NewtonResult:
-    """Minimise the profile objective f from (phi, theta) by damped Newton steps."""
+            small_step: float = _SMALL_STEP, exact: bool = False,
+            max_iter: int | None = None) -> _NewtonResult:
+    """Minimise the profile objective f from (phi, theta) by damped Newton steps.
+
+    ``exact=False`` uses the analytic Hessian (cheap: 2 lfilter passes); ``exact=True`` the
+    finite-difference Hessian of the exact gradient (4(p+q) gradients; used on short series,
+    where it matters on flat ridges of non-identified models).
+    """
+    max_iter = _MAX_ITER if max_iter is None else max_iter
     n, p, q = model.n, model.p, model.q
     k = p + q
     msgs: list[str] = []
     ev = model.evaluate(phi, theta)
     converged = False
     n_iter = 0
-    dS = dD = HS = None
-    for n_iter in range(1, _MAX_ITER + 1):
-        dS, dD, HS = model.derivatives(ev, hessian=True)
+    dS = dD = HS = HD = None
+    for n_iter in range(1, max_iter + 1):
+        if exact:
+            dS, dD, _ = model.derivatives(ev, hessian=False)
+            HS, HD = model.fd_hessians(ev)
+        else:
+            dS, dD, HS = model.derivatives(ev, hessian=True)
+            HD = np.zeros((k, k))
         assert HS is not None
         grad = 0.5 * n / ev.S * dS + 0.5 * dD
-        Hf = model.hessian_f(ev, dS, HS)
+        Hf = model.hessian_f(ev, dS, HS) + 0.5 * HD
         try:
             np.linalg.cholesky(Hf)
         except np.linalg.LinAlgError:
@@ -733,9 +744,9 @@ def _newton(model: _Arma, phi: FloatArray, theta: FloatArray, *,
             break
         ev = accepted
     else:
-        msgs.append(f"Newton's method did not converge in {_MAX_ITER} iterations")
+        msgs.append(f"Newton's method did not converge in {max_iter} iterations")
     return _NewtonResult(ev=ev, converged=converged, n_iter=n_iter, msgs=msgs, dS=dS, dD=dD,
-                         HS=HS)
+                         HS=HS, HD=HD)
 
 
 def _fit_fast(xs: FloatArray, p: int, q: int) -> tuple[dict[str, float], dict[str, float],
@@ -755,19 +766,25 @@ def _fit_fast(xs: FloatArray, p: int, q: int) -> tuple[dict[str, float], dict[st
             phi, theta = pre.ev.phi, pre.ev.theta
     model = _Arma(xs, p, q)
     res = _newton(model, phi, theta)
-    ev, converged, n_iter, msgs = res.ev, res.converged, res.n_iter, res.msgs
-    HS, dD = res.HS, res.dD
+    n_iter = res.n_iter
+    if n <= _FD_HESSIAN_MAX_N:
+        # polish with the exact Hessian; it also gives the observed information
+        res2 = _newton(model, res.ev.phi, res.ev.theta, small_step=1e-7, exact=True,
+                       max_iter=20)
+        if res2.ev.f <= res.ev.f:
+            res = _NewtonResult(ev=res2.ev, converged=res2.converged, n_iter=0,
+                                msgs=res2.msgs if res2.converged else res.msgs + res2.msgs,
+                                dS=res2.dS, dD=res2.dD, HS=res2.HS, HD=res2.HD)
+        n_iter += res2.n_iter
+    ev, converged, msgs = res.ev, res.converged, res.msgs
+    assert res.HS is not None and res.HD is not None and res.dD is not None
     S = ev.S
     sigma2 = S / n
     llf = -0.5 * n * (math.log(2 * math.pi) + 1.0 + math.log(sigma2)) - 0.5 * ev.D
-    # observed information for the standard errors
-    if n <= _FD_HESSIAN_MAX_N or HS is None or dD is None:
-        d2S, d2D = model.fd_hessians(ev)
-        dS_opt, _, _ = model.derivatives(ev, hessian=False)
-    else:
-        # the last Newton Hessian (within _SMALL_STEP of the optimum); D's curvature is O(1)
-        d2S, d2D = HS, np.zeros((k, k))
-        dS_opt = -(S / n) * dD     # the stationarity condition of f at the optimum
+    # observed information for the standard errors: the Hessian of the last Newton step
+    # (exact for n <= _FD_HESSIAN_MAX_N; analytic above, where D's O(1) curvature is dropped)
+    d2S, d2D = res.HS, res.HD
+    dS_opt = -(S / n) * res.dD     # the stationarity condition of f at the optimum
     H = _full_hessian(n, S, dS_opt, d2S, d2D)
     with np.errstate(invalid="ignore"):
         try:
@@ -886,8 +903,6 @@ def _to_original(p: int, q: int, params_s: dict[str, float], bse_s: dict[str, fl
     llf = llf_s - n * math.log(scale)
     k = p + q + 1
     aic, bic, hqic, aicc = _criteria(llf, k, n)
-    if not math.isfinite(llf):
-        raise ModelFitError(f"{model_name(p, q)}: the log-likelihood is not finite ({llf})")
     return ArmaFit(p=p, q=q, name=model_name(p, q), params=params, bse=bse, llf=llf, aic=aic,
                    bic=bic, hqic=hqic, aicc=aicc, nobs=n, sigma2=params["sigma2"],
                    resid=resid_s * scale, converged=converged, warnings=tuple(msgs),

@@ -77,6 +77,13 @@ DEFAULT_FIVE: tuple[tuple[int, int], ...] = ((1, 0), (2, 0), (3, 0), (1, 1), (2,
 MIN_SELECT_SAMPLES = 50
 #: Largest AR or MA order a candidate may have.
 MAX_ORDER = 10
+#: Below this share of variance removed by the one-step prediction, the verdict says the
+#: series is nearly white (the model explains almost nothing).
+SMALL_PREDICTION = 0.05
+#: A raw rate with at most this many distinct values (in the first QUANT_CHECK_SAMPLES) is
+#: reported as quantised.
+QUANT_MAX_LEVELS = 64
+QUANT_CHECK_SAMPLES = 200_000
 
 _NAME_RE = re.compile(r"^\s*(ARMA|AR|MA)\s*\(\s*(\d+)\s*(?:,\s*(\d+)\s*)?\)\s*$", re.IGNORECASE)
 
@@ -359,6 +366,8 @@ class Selection:
         ``Prepared.to_dict()``, or the steps taken here on raw input.
     method : str
         Fit method passed to :func:`fogts.arma.fit.fit_arma`.
+    notes : tuple of str
+        Remarks on the data (e.g. a quantised raw rate), also appended to ``verdict``.
     """
 
     candidates: tuple[Candidate, ...]
@@ -374,6 +383,7 @@ class Selection:
     input: dict[str, Any]
     preprocessing: dict[str, Any] | None
     method: str = "fast"
+    notes: tuple[str, ...] = ()
 
     @property
     def best(self) -> Candidate | None:
@@ -442,6 +452,7 @@ class Selection:
             "selected": selected,
             "all_white_failed": self.all_white_failed,
             "verdict": self.verdict,
+            "notes": list(self.notes),
         }
 
     def summary(self) -> str:
@@ -477,6 +488,7 @@ class _Input:
     units: str | None
     info: dict[str, Any]
     preprocessing: dict[str, Any] | None
+    raw: FloatArray | None = None
 
 
 def _unpack(x: Any, fs_hz: float | None) -> _Input:
@@ -490,7 +502,10 @@ def _unpack(x: Any, fs_hz: float | None) -> _Input:
         run = x.run
         info = {"source": run.source if run is not None else None, "axis": x.axis,
                 "units": x.units, "n_input": x.n_input, "n": x.n, "fs_hz": x.fs_hz}
-        return _Input(x.x, x.index, x.time, x.fs_hz, x.units, info, x.to_dict())
+        raw = None   # the quantisation check only applies to undecimated data
+        if run is not None and x.axis in run.axes and x.decimate == 1:
+            raw = run.axis(x.axis)
+        return _Input(x.x, x.index, x.time, x.fs_hz, x.units, info, x.to_dict(), raw)
     if isinstance(x, pd.DataFrame):
         raise DataError("x must be one series (Prepared, ndarray or Series), got a DataFrame")
     index = pandas_index(x)
@@ -503,7 +518,7 @@ def _unpack(x: Any, fs_hz: float | None) -> _Input:
     info = {"source": "Series" if index is not None else "array", "axis": name, "units": None,
             "n_input": int(arr.shape[0]), "n": int(arr.shape[0]), "fs_hz": fs}
     return _Input(arr - mean, index, time, fs, None, info,
-                  {"steps": steps, "demeaned": True, "mean": mean})
+                  {"steps": steps, "demeaned": True, "mean": mean}, arr)
 
 
 def _check_data(x: FloatArray, orders: Sequence[tuple[int, int]], lags: tuple[int, ...]) -> None:
@@ -596,6 +611,20 @@ def _replace(c: Candidate, **changes: Any) -> Candidate:
     return dataclasses.replace(c, **changes)
 
 
+def _quantisation_note(raw: FloatArray | None, units: str | None) -> str | None:
+    """A note if the raw rate takes few distinct values (a quantised gyro output)."""
+    if raw is None or raw.size < 100:
+        return None
+    levels = np.unique(raw[:QUANT_CHECK_SAMPLES])
+    if levels.size > QUANT_MAX_LEVELS:
+        return None
+    step = float(np.min(np.diff(levels))) if levels.size > 1 else 0.0
+    unit = f" {units}" if units else ""
+    return (f"The raw rate takes only {levels.size} distinct values (step {step:.4g}{unit}): "
+            "it is quantised, so its residuals cannot look Gaussian; block-average it "
+            "(decimate) before modelling the drift.")
+
+
 def _verdict(sel: Candidate | None, ranked: Sequence[Candidate], criterion: str,
              corr: Correlogram) -> str:
     crit = criterion.upper()
@@ -614,7 +643,10 @@ def _verdict(sel: Candidate | None, ranked: Sequence[Candidate], criterion: str,
                 f"prediction removes {removed:.1f} % of the variance.")
         if sel.flagged("near_cancellation"):
             text += " Its AR and MA roots nearly cancel, so a lower order would do as well."
-        if corr.acf_pattern.kind == "none" and corr.pacf_pattern.kind == "none":
+        if pred.variance_removed < SMALL_PREDICTION:
+            text += (" The series is nearly white at this sample rate (white rate noise, i.e. "
+                     "angle random walk, dominates): decimate to model the slower drift.")
+        elif corr.acf_pattern.kind == "none" and corr.pacf_pattern.kind == "none":
             text += " The data are close to white noise to begin with."
         return text
     assert sel.diagnostics is not None
@@ -696,11 +728,13 @@ def select_arma(
     ranked = _rank(evaluated, criterion)
     sel = ranked[0] if ranked and ranked[0].ok else None
     all_white_failed = not any(c.white for c in ranked)
-    verdict = _verdict(sel, ranked, criterion, corr)
+    notes = tuple(n for n in (_quantisation_note(inp.raw, inp.units),) if n)
+    verdict = " ".join((_verdict(sel, ranked, criterion, corr), *notes))
     if sel is not None and all_white_failed:
         warnings.warn(f"no candidate leaves white residuals; {sel.model} (best by "
                       f"{criterion.upper()}) is reported anyway", NotWhiteWarning, stacklevel=2)
     return Selection(candidates=tuple(ranked), criterion=criterion, lags=lag_t,
                      n=int(inp.x.shape[0]), fs_hz=inp.fs_hz, units=inp.units, correlogram=corr,
                      selected=sel, all_white_failed=all_white_failed, verdict=verdict,
-                     input=inp.info, preprocessing=inp.preprocessing, method=method)
+                     input=inp.info, preprocessing=inp.preprocessing, method=method,
+                     notes=notes)

@@ -1,0 +1,161 @@
+"""``fogts allan``: tables, the DESIGN.md JSON contract, CSV, plot, allantools check, errors."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+from typer.testing import CliRunner
+
+from fogts.cli import app
+from tests.conftest import shared_path
+
+runner = CliRunner()
+
+FS = 100.0
+N_TRUE, K_TRUE = 0.05, 10.0  # deg/sqrt(h), deg/h^1.5
+
+
+@pytest.fixture(scope="module")
+def gyro_npy(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """40 min of white rate noise (ARW N) plus a rate random walk (RRW K) in deg/h."""
+    n = int(40 * 60 * FS)
+    rng = np.random.default_rng(11)
+    y = (60 * N_TRUE * math.sqrt(FS) * rng.standard_normal(n)
+         + np.cumsum(K_TRUE / 60 / math.sqrt(FS) * rng.standard_normal(n)))
+    path = tmp_path_factory.mktemp("allan") / "gyro.npy"
+    np.save(path, y)
+    return path
+
+
+def _run(args: list[str]) -> tuple[int, str, str]:
+    res = runner.invoke(app, ["allan", *[str(a) for a in args]])
+    return res.exit_code, res.stdout, res.stderr
+
+
+def test_tables_json_csv_plot(gyro_npy: Path, tmp_path: Path) -> None:
+    out_json, out_csv, out_png = tmp_path / "a.json", tmp_path / "a.csv", tmp_path / "a.png"
+    code, out, err = _run([gyro_npy, "--fs", FS, "--json", out_json, "--csv", out_csv,
+                           "--plot", out_png])
+    assert code == 0, err
+    assert "oadev of rate (deg/h), 68.3 % CI" in out
+    assert "IEEE-952 noise terms of rate (WLS fit)" in out
+    assert "deg/sqrt(h)" in out and "slope read-offs (comparison only" in out
+    assert "warning: noise term" in err  # Q, B, R are not in these data
+    doc = json.loads(out_json.read_text())
+    # DESIGN.md contract
+    assert set(doc) >= {"input", "kind", "units", "points", "noise"}
+    assert doc["kind"] == "oadev" and doc["units"] == "deg/h" and "axes" not in doc
+    assert doc["input"]["n"] == 240_000 and doc["input"]["fs_hz"] == FS
+    assert doc["input"]["source"].endswith("gyro.npy") and doc["input"]["axis"] == "rate"
+    for p in doc["points"]:
+        assert set(p) >= {"tau", "m", "n", "dev", "ci_low", "ci_high", "edf"}
+        assert p["ci_low"] < p["dev"] < p["ci_high"]
+    assert set(doc["noise"]) == {"Q", "N", "B", "K", "R"}
+    for term in doc["noise"].values():
+        assert set(term) >= {"value", "stderr", "unit"}
+    assert doc["noise"]["N"]["unit"] == "deg/sqrt(h)"
+    assert doc["noise"]["N"]["value"] == pytest.approx(N_TRUE, rel=0.03)
+    assert doc["noise"]["K"]["value"] == pytest.approx(K_TRUE, rel=0.3)
+    assert doc["noise_fit"]["method"] == "wls" and doc["preprocessing"] is None
+    table = pd.read_csv(out_csv)
+    assert list(table.columns) == ["tau", "m", "n", "dev", "ci_low", "ci_high", "edf", "alpha",
+                                   "fit"]
+    np.testing.assert_allclose(table["dev"], [p["dev"] for p in doc["points"]], rtol=1e-15)
+    assert out_png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_json_stdout_is_pure_and_deterministic(gyro_npy: Path) -> None:
+    code, out, _ = _run([gyro_npy, "--fs", FS, "--json", "-", "--taus", "decade"])
+    assert code == 0
+    doc = json.loads(out)  # the tables went to stderr
+    assert [p["tau"] for p in doc["points"]][:4] == pytest.approx([0.01, 0.02, 0.04, 0.1])
+    code2, out2, _ = _run([gyro_npy, "--fs", FS, "--json", "-", "--taus", "decade"])
+    assert code2 == 0 and out2 == out
+
+
+def test_check_allantools_and_options(gyro_npy: Path) -> None:
+    code, out, err = _run([gyro_npy, "--fs", FS, "--check-allantools", "--terms", "N,K",
+                           "--method", "gls", "--confidence", "0.95", "--taus", "0.1,1,10,100"])
+    assert code == 0, err
+    line = next(ln for ln in out.splitlines() if ln.startswith("allantools check"))
+    worst = float(line.split("largest relative difference ")[1].split()[0])
+    assert worst < 1e-9
+    assert "GLS fit" in out and "95.0 % interval" in out
+    code, out, _ = _run([gyro_npy, "--fs", FS, "--json", "-", "--terms", "N,K",
+                         "--check-allantools", "--detrend", "1"])
+    doc = json.loads(out)
+    assert set(doc["noise"]) == {"N", "K"}
+    assert doc["allantools_check"]["max_rel_diff"] < 1e-9
+    assert doc["allantools_check"]["n_terms_equal"] is True
+    assert doc["preprocessing"]["detrend"]["order"] == 1
+
+
+def test_mdev_is_computed_but_not_fitted(gyro_npy: Path) -> None:
+    code, out, err = _run([gyro_npy, "--fs", FS, "--kind", "mdev", "--json", "-"])
+    assert code == 0
+    doc = json.loads(out)
+    assert doc["kind"] == "mdev" and doc["noise"] == {}
+    assert "not mdev" in doc["noise_fit"]["skipped"]
+    assert "warning: noise terms are fitted to adev, oadev or totdev curves only" in err
+
+
+def test_multi_axis_real_imu(tmp_path: Path) -> None:
+    """ADIS16405 run 1 (3 axes, deg/s, 100 Hz): one block per axis, top level = axis 0."""
+    path = shared_path("imu", "adis_16405_imu1_gyro.npz")
+    out_csv, out_png = tmp_path / "axes.csv", tmp_path / "axes.svg"
+    code, out, err = _run([path, "--json", "-", "--csv", out_csv, "--plot", out_png])
+    assert code == 0, err
+    doc = json.loads(out)
+    names = [a["axis"] for a in doc["axes"]]
+    assert len(names) == 3 and doc["input"]["axes"] == names
+    assert doc["axis"] == names[0] and doc["points"] == doc["axes"][0]["points"]
+    assert doc["units"] == "deg/s"
+    for block in doc["axes"]:
+        assert set(block) >= {"points", "noise", "kind", "units"}
+        assert block["noise"]["N"]["value"] > 0
+    table = pd.read_csv(out_csv)
+    assert table.columns[0] == "axis" and sorted(set(table["axis"])) == sorted(names)
+    assert out_png.read_text().lstrip().startswith("<?xml")
+    code, out, _ = _run([path, "--json", "-", "--axis", names[1]])
+    single = json.loads(out)
+    assert "axes" not in single and single["axis"] == names[1]
+    assert single["points"] == doc["axes"][1]["points"]
+    code, out, _ = _run([path, "--json", "-", "--axis", "2"])
+    assert json.loads(out)["axis"] == names[2]
+
+
+@pytest.mark.parametrize(("args", "match"), [
+    (["--taus", "weekly"], "--taus must be octave, decade, dense, all or taus in seconds"),
+    (["--terms", "N,X"], "terms must be drawn from Q, N, B, K, R; got 'X'"),
+    (["--terms", ""], "terms must name at least one of Q, N, B, K, R"),
+    (["--kind", "xdev"], "kind must be one of"),
+    (["--method", "lsq"], "method must be one of wls, gls, ols"),
+    (["--confidence", "2"], r"confidence must be in \(0, 1\)"),
+    (["--axis", "z"], "axis 'z' not found; axes are: rate"),
+    (["--axis", "3"], r"axis index must be in \[0, 0\], got 3"),
+    (["--plot", "fig.jpg"], "--plot must end in .png, .svg or .pdf"),
+    (["--csv", "points.xlsx"], "output file must end in .csv"),
+    (["--decimate", "1000000"], "decimate=1000000 leaves 0 samples"),
+])
+def test_errors_are_one_line_exit_2(gyro_npy: Path, tmp_path: Path, args: list[str],
+                                    match: str) -> None:
+    args = [str(tmp_path / a) if a.endswith((".jpg", ".xlsx")) else a for a in args]
+    code, out, err = _run([gyro_npy, "--fs", FS, *args])
+    assert code == 2, (out, err)
+    lines = [ln for ln in err.splitlines() if ln.startswith("error: ")]
+    assert len(lines) == 1 and "Traceback" not in err
+    assert pytest.importorskip("re").search(match, lines[0]), lines[0]
+
+
+def test_missing_file_and_too_short(tmp_path: Path) -> None:
+    code, _, err = _run([tmp_path / "nope.csv"])
+    assert code == 2 and err.startswith("error: ")
+    short = tmp_path / "short.npy"
+    np.save(short, np.random.default_rng(0).normal(size=6))
+    code, _, err = _run([short, "--fs", "10"])
+    assert code == 2 and err.startswith("error: ") and "Traceback" not in err

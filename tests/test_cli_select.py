@@ -1,0 +1,122 @@
+"""``fogts select``: exit codes 0/1/2, the JSON contract, --predict CSV, --plot, no tracebacks."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+from scipy.signal import lfilter
+from typer.testing import CliRunner
+
+from fogts.cli import app
+
+runner = CliRunner()
+CONTRACT_KEYS = {"model", "p", "q", "status", "rank", "aic", "bic", "llf", "sigma2", "params",
+                 "bse", "rho_a2", "rho_ax3", "ljung_box", "white", "roots", "warnings"}
+
+
+def _write(path: Path, x: np.ndarray, fs: float = 10.0, column: str = "rate_deg_s") -> Path:
+    pd.DataFrame({"time": np.arange(x.size) / fs, column: x}).to_csv(path, index=False)
+    return path
+
+
+def _arma(ar: list[float], ma: list[float], n: int, seed: int, scale: float = 1e-3) -> np.ndarray:
+    e = np.random.default_rng(seed).standard_normal(n + 1000) * scale
+    return np.asarray(lfilter(np.r_[1.0, ma], np.r_[1.0, -np.asarray(ar)], e)[1000:])
+
+
+@pytest.fixture(scope="module")
+def ar1_file(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    x = _arma([0.6], [], 3000, 1) + 0.02 + 1e-6 * np.arange(3000)
+    return _write(tmp_path_factory.mktemp("sel") / "fog.csv", x)
+
+
+def test_select_ok_writes_json_predict_and_plot(ar1_file: Path, tmp_path: Path) -> None:
+    out_json, out_csv, out_png = tmp_path / "s.json", tmp_path / "pred.csv", tmp_path / "s.png"
+    res = runner.invoke(app, ["select", str(ar1_file), "--detrend", "1", "--json", str(out_json),
+                              "--predict", str(out_csv), "--plot", str(out_png)])
+    assert res.exit_code == 0, res.output
+    out = res.stdout
+    assert "3,000 samples of 'rate_deg_s' at 10 Hz" in out
+    assert "removed a polynomial trend of order 1" in out
+    assert "ACF/PACF" in out and "PACF cuts off after lag 1" in out
+    assert "x_t = 0." in out and "x_{t-1} + a_t," in out
+    assert "verdict   AR(1) describes the drift" in out
+    doc = json.loads(out_json.read_text())
+    assert {"input", "preprocessing", "candidates", "selected"} <= set(doc)
+    assert doc["input"]["file"] == str(ar1_file)
+    assert doc["input"]["fs_hz"] == pytest.approx(10.0, rel=1e-12)
+    assert doc["preprocessing"]["detrend"]["order"] == 1
+    assert doc["candidates"][0]["model"] == doc["selected"]["model"] == "AR(1)"
+    for c in doc["candidates"]:
+        assert CONTRACT_KEYS <= set(c)
+        assert [set(lb) >= {"lag", "q", "pvalue"} for lb in c["ljung_box"]] == [True, True]
+    pred = pd.read_csv(out_csv)
+    assert list(pred.columns) == ["time", "observed", "predicted", "residual"]
+    assert len(pred) == 3000 and pred["time"].iloc[1] == pytest.approx(0.1)
+    assert np.allclose(pred["observed"] - pred["predicted"], pred["residual"], atol=1e-15)
+    assert out_png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_select_json_to_stdout_is_pure_and_deterministic(ar1_file: Path) -> None:
+    a = runner.invoke(app, ["select", str(ar1_file), "--detrend", "1", "--json", "-"])
+    b = runner.invoke(app, ["select", str(ar1_file), "--detrend", "1", "--json", "-"])
+    assert a.exit_code == 0, a.output
+    assert json.loads(a.stdout)["selected"]["model"] == "AR(1)"
+    assert a.stdout == b.stdout
+    assert "verdict" in a.stderr      # the human-readable report moves to stderr
+
+
+def test_select_not_white_exits_1(tmp_path: Path) -> None:
+    f = _write(tmp_path / "ar3.csv", _arma([0.5, -0.3, 0.3], [], 4000, 2))
+    res = runner.invoke(app, ["select", str(f), "--candidates", "AR(1),ARMA(1,1)",
+                              "--criterion", "bic"])
+    assert res.exit_code == 1, res.output
+    assert "ranked by BIC" in res.stdout
+    assert "No candidate leaves white residuals" in res.stdout
+    assert "warning: no candidate leaves white residuals" in res.stderr
+
+
+def test_select_explosive_exits_1_with_failed_rows(tmp_path: Path) -> None:
+    e = np.random.default_rng(0).standard_normal(300)
+    f = _write(tmp_path / "boom.csv", lfilter([1.0], [1.0, -1.1], e))
+    res = runner.invoke(app, ["select", str(f), "--predict", str(tmp_path / "p.csv")])
+    assert res.exit_code == 1, res.output
+    assert "failed" in res.stdout and "explosive" in res.stdout
+    assert "No candidate could be fitted" in res.stdout
+    assert not (tmp_path / "p.csv").exists()
+    assert "Traceback" not in res.output
+
+
+@pytest.mark.parametrize(("args", "message"), [
+    (["--candidates", "ARMA(1)"], "error: candidates: 'ARMA(1)' needs two orders"),
+    (["--criterion", "aik"], "error: --criterion must be one of aic, bic, hqic, aicc; got 'aik'"),
+    (["--plot", "fig.jpg"], "error: --plot must end in .png, .svg or .pdf"),
+    (["--axis", "yaw"], "error: --axis 'yaw' not found; axes are: rate_deg_s"),
+    (["--axis", "3"], "error: --axis must be 0..0, got 3"),
+    (["--predict", "out.xlsx"],
+     "error: --predict must end in .csv, .csv.gz, .tsv, .txt or .parquet; got 'out.xlsx'"),
+])
+def test_select_bad_options_exit_2(ar1_file: Path, tmp_path: Path, args: list[str],
+                                   message: str) -> None:
+    args = [str(tmp_path / a) if a.endswith((".jpg", ".xlsx")) else a for a in args]
+    res = runner.invoke(app, ["select", str(ar1_file), *args])
+    assert res.exit_code == 2, res.output
+    assert message in res.stderr
+    assert "Traceback" not in res.output
+
+
+def test_select_bad_data_exit_2(tmp_path: Path) -> None:
+    const = _write(tmp_path / "const.csv", np.full(500, 1.5))
+    res = runner.invoke(app, ["select", str(const)])
+    assert res.exit_code == 2 and "error: " in res.stderr and "constant" in res.stderr
+    short = _write(tmp_path / "short.csv", _arma([0.5], [], 30, 3))
+    res = runner.invoke(app, ["select", str(short)])
+    assert res.exit_code == 2 and "error: x is too short for ARMA selection: 30 samples" \
+        in res.stderr
+    res = runner.invoke(app, ["select", str(tmp_path / "missing.csv")])
+    assert res.exit_code == 2 and res.stderr.startswith("error: ")
+    assert "Traceback" not in res.output
