@@ -171,6 +171,8 @@ SUITES: tuple[Suite, ...] = (
           "select_arma against the statsmodels ARIMA loop"),
     Suite("davar", "benchmarks.bench_davar:metrics",
           "dynamic Allan deviation against looping allantools.oadev"),
+    Suite("simulate", "benchmarks.bench_simulate:metrics",
+          "simulate_gyro speed and memory, against allantools' Kasdin noise"),
     Suite("io", "benchmarks.bench_io:metrics",
           "read_run MB/s on CSV and Parquet against pandas"),
     Suite("noise_fit", "benchmarks.bench_noise_fit:metrics",
@@ -293,8 +295,13 @@ def _child_main(name: str, quick: bool, out: str) -> int:
 
 
 def run_suites(suites: list[Suite], *, quick: bool, timeout_s: float | None,
-               log: Callable[[str], None]) -> dict[str, Any]:
-    """Run ``suites`` and return the full result document."""
+               log: Callable[[str], None], jobs: int = 1) -> dict[str, Any]:
+    """Run ``suites`` and return the full result document.
+
+    ``jobs`` > 1 runs that many suites at once (each in its own process).  The suites then
+    share the machine, which makes speed ratios noisier: use it for smoke runs
+    (``--quick`` in CI), not for the reference result.
+    """
     t0 = time.perf_counter()
     doc: dict[str, Any] = {
         "schema": SCHEMA,
@@ -302,15 +309,33 @@ def run_suites(suites: list[Suite], *, quick: bool, timeout_s: float | None,
         "quick": quick, "machine": machine_info(), "versions": library_versions(),
         "git": _git_commit(), "seconds": 0.0, "suites": {}, "metrics": [],
     }
-    for suite in suites:
-        log(f"== {suite.name}: {suite.description}")
-        status, metrics = _run_child(suite, quick, timeout_s)
+    def report(suite: Suite, status: dict[str, Any], metrics: list[Metric]) -> None:
+        if status["status"] == "ok":
+            log(f"== {suite.name}: {len(metrics)} figure(s) in {status['seconds']:.1f} s "
+                f"({suite.description})")
+        else:
+            log(f"== {suite.name}: {status['status'].upper()}: {status['error']}")
+
+    results: dict[str, tuple[dict[str, Any], list[Metric]]] = {}
+    if jobs <= 1:
+        for suite in suites:
+            log(f"-- {suite.name} ...")
+            results[suite.name] = _run_child(suite, quick, timeout_s)
+            report(suite, *results[suite.name])
+    else:
+        from concurrent.futures import ThreadPoolExecutor, as_completed
+
+        with ThreadPoolExecutor(max_workers=jobs) as pool:
+            futures = {pool.submit(_run_child, s, quick, timeout_s): s for s in suites}
+            for fut in as_completed(futures):
+                suite = futures[fut]
+                results[suite.name] = fut.result()
+                report(suite, *results[suite.name])
+    for suite in suites:  # the document lists the suites in their fixed order
+        status, metrics = results[suite.name]
         doc["suites"][suite.name] = status
         doc["metrics"].extend(metrics)
-        if status["status"] == "ok":
-            log(f"   {len(metrics)} figure(s) in {status['seconds']:.1f} s")
-        else:
-            log(f"   {status['status'].upper()}: {status['error']}")
+    doc["jobs"] = jobs
     doc["seconds"] = time.perf_counter() - t0
     return doc
 
@@ -505,6 +530,8 @@ def _parser() -> argparse.ArgumentParser:
                    help="do not run anything: render JSON as markdown (to --md or stdout)")
     p.add_argument("--timeout", type=float, default=None,
                    help="seconds allowed per suite (default: none; 600 with --quick)")
+    p.add_argument("--jobs", type=int, default=1,
+                   help="run N suites at once (faster smoke runs; noisier ratios)")
     p.add_argument("--list", action="store_true", help="list the suites and exit")
     p.add_argument("--child", help=argparse.SUPPRESS)
     p.add_argument("--child-out", help=argparse.SUPPRESS)
@@ -557,7 +584,8 @@ def main(argv: list[str] | None = None) -> int:
                 "missing: " + ", ".join(r["id"] for r in bad))
         return 1 if bad else 0
 
-    doc = run_suites(suites, quick=args.quick, timeout_s=timeout, log=log)
+    doc = run_suites(suites, quick=args.quick, timeout_s=timeout, log=log,
+                     jobs=max(1, args.jobs))
     if args.update is not None:
         doc = merge_results(json.loads(args.update.read_text()), doc)
     rows = []

@@ -201,6 +201,29 @@ def _tau_option(text: str, option: str = "--taus") -> Any:
     return values
 
 
+_FIGURE_SUFFIXES = (".png", ".svg", ".pdf")
+_TABLE_SUFFIXES = (".csv", ".csv.gz", ".tsv", ".txt", ".parquet", ".pq")
+
+
+def _check_output_names(**outputs: Path | None) -> None:
+    """Reject output names the writers would refuse, before any analysis runs.
+
+    ``plot`` must be a figure (.png, .svg, .pdf); every other keyword names a table option
+    (``csv=...`` is ``--csv``) written by :func:`fogts.io.write_frame_atomic`.
+    """
+    from fogts.errors import DataError
+
+    for option, path in outputs.items():
+        if path is None:
+            continue
+        name = path.name.lower()
+        if option == "plot" and not name.endswith(_FIGURE_SUFFIXES):
+            raise DataError(f"--plot must end in .png, .svg or .pdf; got {path.name!r}")
+        if option != "plot" and not name.endswith(_TABLE_SUFFIXES):
+            raise DataError(f"--{option} must end in .csv, .csv.gz, .tsv, .txt or .parquet; "
+                            f"got {path.name!r}")
+
+
 def _allantools_check(y: Any, res: Any) -> dict[str, Any]:
     """Run allantools on the same data and taus; the largest relative difference."""
     import allantools
@@ -263,13 +286,11 @@ def _allan_tables(res: Any, model: Any, check: Any, quiet_json: str | None) -> N
                   ["tau (s)", "m", "n", "dev", "ci_low", "ci_high", "edf"], rows),
            quiet_json=quiet_json)
     for d in res.dropped:
-        _print(f"dropped tau = {d.tau_s:g} s (m = {d.m}): {d.reason}", quiet_json=quiet_json)
+        _say([f"dropped tau = {d.tau_s:g} s (m = {d.m}): {d.reason}"], quiet_json)
     if model is not None:
         trows = []
         for t in model.terms:
-            note = "upper limit" if t.at_bound or not t.identifiable else ""
-            if not t.identifiable:
-                note += " (not identified)"
+            note = "upper limit only" if t.at_bound or not t.identifiable else ""
             trows.append([t.name, f"{t.value:.4g}", g(t.stderr, 3),
                           f"{t.ci_low:.4g} .. {t.ci_high:.4g}", t.unit, note])
         pct = f"{100 * model.confidence:.1f} %"
@@ -277,23 +298,20 @@ def _allan_tables(res: Any, model: Any, check: Any, quiet_json: str | None) -> N
                              f"fit)"),
                       ["term", "value", "± stderr", f"{pct} interval", "unit", "note"],
                       trows), quiet_json=quiet_json)
-        _print("seed-paper coefficients C_n (rate in deg/h, tau in s): "
-               + ", ".join(f"C{t.power:+d} = {t.c_coeff:.4g}" for t in model.terms),
-               quiet_json=quiet_json)
+        _say(["seed-paper coefficients C_n (rate in deg/h, tau in s): "
+              + ", ".join(f"C{t.power:+d} = {t.c_coeff:.4g}" for t in model.terms)], quiet_json)
         r = model.readoff
-        _print(f"slope read-offs (comparison only, not the fit): N = {r.N:.4g} deg/sqrt(h) "
-               f"(-1/2 line at tau = 1 s), K = {r.K:.4g} deg/h^1.5 (+1/2 line at tau = 3 s), "
-               f"B = {r.B:.4g} deg/h (minimum / 0.664)", quiet_json=quiet_json)
-        _print(f"fit: chi2 = {model.chi2:.4g} on {model.dof:.4g} dof, model error "
-               f"{model.model_error:.3g}; standard errors: {model.stderr_method}",
-               quiet_json=quiet_json)
+        _say([f"slope read-offs (comparison only, not the fit): N = {r.N:.4g} deg/sqrt(h) "
+              f"(-1/2 line at tau = 1 s), K = {r.K:.4g} deg/h^1.5 (+1/2 line at tau = 3 s), "
+              f"B = {r.B:.4g} deg/h (minimum / 0.664)"], quiet_json)
+        _say([f"fit: chi2 = {model.chi2:.4g} on {model.dof:.4g} dof, model error "
+              f"{model.model_error:.3g}; standard errors: {model.stderr_method}"], quiet_json)
     if check is not None:
         worst = check["max_rel_diff"]
-        _print(f"allantools check ({check['peer']}): largest relative difference "
-               f"{g(worst, 3)} over {check['n_compared']} taus"
-               + (f" (at tau = {check['tau_at_max']:g} s)" if worst is not None else "")
-               + ("" if check["n_terms_equal"] else "; the numbers of terms differ"),
-               quiet_json=quiet_json)
+        _say([f"allantools check ({check['peer']}): largest relative difference "
+              f"{g(worst, 3)} over {check['n_compared']} taus"
+              + (f" (at tau = {check['tau_at_max']:g} s)" if worst is not None else "")
+              + ("" if check["n_terms_equal"] else "; the numbers of terms differ")], quiet_json)
 
 
 @app.command("allan")
@@ -333,6 +351,7 @@ def allan_cmd(
     with _guard():
         tau_spec = _tau_option(taus)
         term_names = parse_terms(terms)
+        _check_output_names(plot=plot, csv=csv_out)
         run = _read(file, rate_column, time_column, temperature_column, fs, units)
         if axis is None:
             picks = list(range(run.n_axes))
@@ -400,8 +419,8 @@ def allan_cmd(
                 fig = plot_allan(AllanResultSet(curves=tuple(results)),
                                  models if complete else None)
             _save_figure(fig, plot)
-        _print(f"{run.source}: {run.n} samples at {run.fs_hz:.6g} Hz "
-               f"({run.duration_s:.6g} s), rate in {run.units}", quiet_json=json_out)
+        _say([f"{run.source}: {run.n} samples at {run.fs_hz:.6g} Hz ({run.duration_s:.6g} s), "
+              f"rate in {run.units}"], json_out)
         for res, model, (_, check) in zip(results, models, blocks, strict=True):
             _allan_tables(res, model, check, json_out)
 
@@ -411,9 +430,9 @@ def allan_cmd(
 def batch_cmd(
     patterns: Annotated[list[str], typer.Argument(help="Input files or glob patterns (quote them to let fogts expand '**').")],
     output: Annotated[Path, typer.Option("--output", "-o", help="Summary table (.csv or .parquet): one row per run and axis.")],
-    json_dir: Annotated[Path | None, typer.Option("--json-dir", help="Folder for the per-run JSON [default: <summary name>_runs beside the summary].")] = None,
-    workers: Annotated[int | None, typer.Option("--workers", help="Local worker processes [default: number of CPUs].")] = None,
-    scheduler: Annotated[str | None, typer.Option("--scheduler", help="Dask scheduler address (tcp://host:8786): run on that cluster instead of locally (needs fogts[dask]).")] = None,
+    json_dir: Annotated[Path | None, typer.Option("--json-dir", help="Folder for the per-run JSON (default: <summary name>_runs beside the summary).")] = None,
+    workers: Annotated[int | None, typer.Option("--workers", help="Local worker processes (default: the number of CPUs).")] = None,
+    scheduler: Annotated[str | None, typer.Option("--scheduler", help="Dask scheduler address (tcp://host:8786): run on that cluster instead of locally (needs the fogts\\[dask] extra).")] = None,
     resume: Annotated[bool, typer.Option("--resume", help="Skip runs whose per-run JSON already exists (delete a failed run's JSON to retry it).")] = False,
     rate_column: RateColOpt = None,
     time_column: TimeColOpt = None,
@@ -429,8 +448,9 @@ def batch_cmd(
 ) -> None:
     """Run info, allan and select on many files; write one summary row per run and axis.
 
-    A bad file gives a row with status=error and the message; the batch goes on. Exit code 1
-    if any run failed, 0 if all are ok.
+    A bad file gives a row with status=error and the message; the batch goes on.
+
+    Exit code 0 if every run is ok, 1 if any failed.
     """
     from rich.progress import (
         BarColumn,
@@ -496,17 +516,18 @@ def report_cmd(
     temperature_column: TempColOpt = None,
     fs: FsOpt = None,
     units: UnitsOpt = None,
-    title: Annotated[str | None, typer.Option("--title", help="Document title [default: 'Gyro report: <file name>'].")] = None,
+    title: Annotated[str | None, typer.Option("--title", help="Document title (default: 'Gyro report: <file name>').")] = None,
     outliers: Annotated[float | None, typer.Option("--outliers", help="Replace samples beyond this many robust sigmas before the ARMA analysis.")] = None,
     detrend: Annotated[int | None, typer.Option("--detrend", help="Polynomial order removed before the ARMA analysis.")] = None,
     decimate: Annotated[int | None, typer.Option("--decimate", help="Block-average K samples before the ARMA analysis.")] = None,
     kind: Annotated[str, typer.Option("--kind", help="Allan estimator: adev, oadev, mdev, hdev, ohdev, totdev.")] = "oadev",
     taus: Annotated[str, typer.Option("--taus", help="Tau grid: octave, decade, dense, all.")] = "octave",
     criterion: Annotated[str, typer.Option("--criterion", help="ARMA ranking criterion: aic, bic, hqic, aicc.")] = "aic",
-    davar_window: Annotated[float | None, typer.Option("--davar-window", help="Dynamic Allan window in seconds [default: a tenth of the record].")] = None,
+    davar_window: Annotated[float | None, typer.Option("--davar-window", help="Dynamic Allan window in seconds (default: a tenth of the record).")] = None,
 ) -> None:
-    """Write one self-contained HTML report: input, time series, Allan and noise terms, ARMA
-    selection, prediction, DAVar and the thermal model (when they apply).
+    """Write one self-contained HTML report of a recording.
+
+    Sections: input, time series, Allan deviation and noise terms, ARMA selection, prediction, dynamic Allan deviation and the thermal model (the last two when they apply).
 
     Exit code 1 if a section could not be computed (the report is still written and says why).
     """
@@ -737,7 +758,7 @@ def davar_cmd(
 
 
 # ---- filter (issue 6: Kalman; issue 8 adds --method iir|moving-average) -----------------
-FILTER_METHODS = ("kalman",)
+FILTER_METHODS = ("kalman", "iir", "moving-average")
 
 
 def _save_plot(fig: Any, path: Path) -> None:
@@ -754,10 +775,15 @@ def _say(lines: list[str], json_out: str | None) -> None:
 @app.command("filter")
 def filter_cmd(
     file: FileArg,
-    output: Annotated[Path, typer.Option("-o", "--output", help="Output table (.csv or .parquet): time, observed, filtered, smoothed, predicted.")],
-    method: Annotated[str, typer.Option("--method", help="Filter: kalman (ARMA drift model in Harvey state-space form).")] = "kalman",
+    output: Annotated[Path, typer.Option("-o", "--output", help="Output table (.csv or .parquet): time, observed, filtered (kalman adds smoothed, predicted).")],
+    method: Annotated[str, typer.Option("--method", help="kalman (ARMA drift model in Harvey state-space form), iir (zero-phase low-pass) or moving-average.")] = "kalman",
     model: Annotated[str, typer.Option("--model", help="Drift model for --method kalman: auto (run the ARMA selection), AR(1), AR(2), AR(3), ARMA(1,1), ARMA(2,1).")] = "auto",
     measurement_noise: Annotated[str, typer.Option("--measurement-noise", help="Kalman measurement-noise variance in (rate unit)^2, or 'estimate' (ML with the ARMA parameters fixed).")] = "estimate",
+    cutoff: Annotated[float | None, typer.Option("--cutoff", help="--method iir: cutoff in Hz (zero-phase -3 dB point for butter), below fs/2.")] = None,
+    order: Annotated[int, typer.Option("--order", help="--method iir: filter order of one pass.")] = 4,
+    design: Annotated[str, typer.Option("--design", help="--method iir: butter, cheby1 or ellip.")] = "butter",
+    window: Annotated[float | None, typer.Option("--window", help="--method moving-average: window in seconds.")] = None,
+    compare_allan: Annotated[bool, typer.Option("--compare-allan", help="Allan deviation and noise terms before and after filtering, side by side (with --plot: the overlay figure).")] = False,
     axis: Annotated[str, typer.Option("--axis", help="Axis to filter (name or index).")] = "0",
     rate_column: RateColOpt = None,
     time_column: TimeColOpt = None,
@@ -765,49 +791,112 @@ def filter_cmd(
     fs: FsOpt = None,
     units: UnitsOpt = None,
     json_out: JsonOpt = None,
-    plot: Annotated[Path | None, typer.Option("--plot", help="Observed / filtered / smoothed figure: .png, .svg or .pdf.")] = None,
+    plot: Annotated[Path | None, typer.Option("--plot", help="Figure (.png, .svg, .pdf): observed/filtered/smoothed for kalman; the before/after Allan overlay with --compare-allan.")] = None,
 ) -> None:
-    """Filter a gyro record: Kalman filter and smoother with an ARMA drift model (seed 004)."""
-    import numpy as np
-    import pandas as pd
-
+    """Filter a gyro record: Kalman filter with an ARMA drift model (seed 004), or a
+    zero-phase IIR / moving-average low-pass with a before/after Allan comparison (seed 001).
+    """
     from fogts._validate import check_choice
-    from fogts.errors import DataError
 
     with _guard():
         check_choice("--method", method, FILTER_METHODS)
-        noise: Any = measurement_noise
-        if measurement_noise != "estimate":
-            try:
-                noise = float(measurement_noise)
-            except ValueError:
-                raise DataError("--measurement-noise must be 'estimate' or a variance in "
-                                f"(rate unit)^2; got {measurement_noise!r}") from None
+        if method == "kalman":
+            noise = _parse_measurement_noise(measurement_noise)
         run = _read(file, rate_column, time_column, temperature_column, fs, units)
         pick: int | str = int(axis) if axis.lstrip("-").isdigit() else axis
         x = run.axis(pick)
-        from fogts.kalman import arma_kalman, resolve_arma_model
+        if method == "kalman":
+            _kalman_filter(run, x, file, output, model, noise, json_out, plot, method)
+        else:
+            _lowpass_filter(run, x, file, output, method, cutoff, order, design, window,
+                            compare_allan, json_out, plot)
 
-        fit = resolve_arma_model(x, model)
-        result = arma_kalman(x, fit, measurement_noise=noise)
-        from fogts.io import write_frame_atomic
 
-        frame = pd.DataFrame({"time": run.time, "observed": x,
-                              "filtered": np.asarray(result.filtered),
-                              "smoothed": np.asarray(result.smoothed),
-                              "predicted": np.asarray(result.predicted)})
-        write_frame_atomic(output, frame)
-        fit_dict = fit.to_dict() if hasattr(fit, "to_dict") else {}
-        _emit_json({"input": str(file), "method": method, "units": run.units,
-                    "model": fit_dict, "kalman": result.to_dict(), "output": str(output)},
-                   json_out)
-        if plot is not None:
-            from fogts.plots import plot_kalman
+def _parse_measurement_noise(text: str) -> Any:
+    from fogts.errors import DataError
 
-            _save_plot(plot_kalman(result, time_s=run.time, units=run.units), plot)
-        equation = fit.equation() if hasattr(fit, "equation") else result.model
-        _say([f"drift model ({'selected by AIC' if model == 'auto' else 'given'}): {equation}",
-              result.summary(), f"wrote {output} ({run.n} rows)"], json_out)
+    if text == "estimate":
+        return text
+    try:
+        return float(text)
+    except ValueError:
+        raise DataError("--measurement-noise must be 'estimate' or a variance in "
+                        f"(rate unit)^2; got {text!r}") from None
+
+
+def _kalman_filter(run: Any, x: Any, file: Path, output: Path, model: str, noise: Any,
+                   json_out: str | None, plot: Path | None, method: str) -> None:
+    import numpy as np
+    import pandas as pd
+
+    from fogts.io import write_frame_atomic
+    from fogts.kalman import arma_kalman, resolve_arma_model
+
+    fit = resolve_arma_model(x, model)
+    result = arma_kalman(x, fit, measurement_noise=noise)
+    frame = pd.DataFrame({"time": run.time, "observed": x,
+                          "filtered": np.asarray(result.filtered),
+                          "smoothed": np.asarray(result.smoothed),
+                          "predicted": np.asarray(result.predicted)})
+    write_frame_atomic(output, frame)
+    fit_dict = fit.to_dict() if hasattr(fit, "to_dict") else {}
+    _emit_json({"input": str(file), "method": method, "units": run.units,
+                "model": fit_dict, "kalman": result.to_dict(), "output": str(output)},
+               json_out)
+    if plot is not None:
+        from fogts.plots import plot_kalman
+
+        _save_plot(plot_kalman(result, time_s=run.time, units=run.units), plot)
+    equation = fit.equation() if hasattr(fit, "equation") else result.model
+    _say([f"drift model ({'selected by AIC' if model == 'auto' else 'given'}): {equation}",
+          result.summary(), f"wrote {output} ({run.n} rows)"], json_out)
+
+
+def _lowpass_filter(run: Any, x: Any, file: Path, output: Path, method: str,
+                    cutoff: float | None, order: int, design: str, window: float | None,
+                    compare: bool, json_out: str | None, plot: Path | None) -> None:
+    import pandas as pd
+
+    from fogts.errors import DataError
+    from fogts.filters import lowpass, moving_average
+    from fogts.io import write_frame_atomic
+
+    if method == "iir":
+        if cutoff is None:
+            raise DataError("--method iir needs --cutoff HZ (below the Nyquist frequency "
+                            f"{run.fs_hz / 2:g} Hz)")
+        result = lowpass(x, fs_hz=run.fs_hz, cutoff_hz=cutoff, order=order,
+                         design=design)  # type: ignore[arg-type]
+    else:
+        if window is None:
+            raise DataError("--method moving-average needs --window SECONDS")
+        result = moving_average(x, fs_hz=run.fs_hz, window_s=window)
+    if plot is not None and not compare:
+        raise DataError("--plot with --method iir or moving-average draws the Allan overlay: "
+                        "add --compare-allan")
+    comparison = None
+    if compare:
+        from fogts.allan.compare import compare_allan
+
+        comparison = compare_allan(x, result.filtered, fs_hz=run.fs_hz, units=run.units,
+                                   cutoff_hz=result.cutoff_hz,
+                                   labels=("raw", f"{method} filtered"))
+    write_frame_atomic(output, pd.DataFrame({"time": run.time, "observed": x,
+                                             "filtered": result.filtered}))
+    payload: dict[str, Any] = {"input": str(file), "method": method, "units": run.units,
+                               "filter": result.to_dict(), "output": str(output)}
+    if comparison is not None:
+        payload["compare_allan"] = comparison.to_dict()
+    _emit_json(payload, json_out)
+    if plot is not None and comparison is not None:
+        from fogts.plots import plot_allan_comparison
+
+        _save_plot(plot_allan_comparison(comparison), plot)
+    lines = [result.summary()]
+    if comparison is not None:
+        lines += ["", "noise terms before and after filtering:", comparison.summary()]
+    lines.append(f"wrote {output} ({run.n} rows)")
+    _say(lines, json_out)
 
 
 # ---- compensate (issue 6: seed-004 start-up drift compensation) ---------------------------
@@ -1092,12 +1181,7 @@ def select_cmd(
         if criterion not in ("aic", "bic", "hqic", "aicc"):
             raise DataError(f"--criterion must be one of aic, bic, hqic, aicc; got {criterion!r}")
         orders = parse_candidates(candidates)
-        if plot is not None and plot.suffix.lower() not in (".png", ".svg", ".pdf"):
-            raise DataError(f"--plot must end in .png, .svg or .pdf; got {plot.name!r}")
-        if predict is not None and not predict.name.lower().endswith(
-                (".csv", ".csv.gz", ".tsv", ".txt", ".parquet", ".pq")):
-            raise DataError(f"--predict must end in .csv, .csv.gz, .tsv, .txt or .parquet; "
-                            f"got {predict.name!r}")
+        _check_output_names(plot=plot, predict=predict)
         run = _read(file, rate_column, time_column, temperature_column, fs, units)
         pick: int | str = 0 if axis is None else (int(axis) if axis.isdigit() else axis)
         if isinstance(pick, str) and pick not in run.axes:
@@ -1134,6 +1218,8 @@ def select_cmd(
             f"{dur / 60:.3g} min" if dur >= 60 else f"{dur:.3g} s")
         say(f"read      {file}: {run.n:,} samples of {prepared.axis!r} at {run.fs_hz:g} Hz "
             f"({dur_text}), rate in {run.units}")
+        if run.n_axes > 1:
+            say(f"{'':<10}axes in the file: {', '.join(run.axes)} (choose with --axis)")
         for i, step in enumerate(prepared.steps):
             say(f"{'prepared' if i == 0 else '':<10}{step}")
         say(f"{'modelled':<10}{sel.n:,} samples at {prepared.fs_hz:g} Hz")

@@ -607,6 +607,15 @@ def sampling_report(dt: FloatArray | None, fs_hz: float, fs_source: str) -> Samp
     )
 
 
+def _round_rate(fs: float) -> float:
+    """Round a rate measured from float time stamps to 10 significant digits.
+
+    Stamps such as ``i / 10`` give 1/median step = 10.000000000000568 Hz; the noise in the
+    last digits is float rounding of the stamps, not information.
+    """
+    return float(f"{fs:.10g}")
+
+
 def _sample_rate(dt: FloatArray | None, given: float | None, from_file: float | None,
                  source: str) -> tuple[float, str]:
     """Pick the sample rate: given > median time step > file metadata.
@@ -621,11 +630,11 @@ def _sample_rate(dt: FloatArray | None, given: float | None, from_file: float | 
     if dt is not None:
         median, mean = float(np.median(dt)), float(np.mean(dt))
         if np.mean(dt > GAP_FACTOR * median) <= 0.05:
-            return 1.0 / median, "median step"
+            return _round_rate(1.0 / median), "median step"
         warnings.warn(f"{source}: median time step {median:.6g} s differs from the mean step "
                       f"{mean:.6g} s by more than 10 % (burst-logged time stamps); using the "
                       f"mean rate {1.0 / mean:.6g} Hz", DataQualityWarning, stacklevel=4)
-        return 1.0 / mean, "mean step"
+        return _round_rate(1.0 / mean), "mean step"
     if from_file is not None:
         return from_file, "file"
     raise DataError("no sample rate")

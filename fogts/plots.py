@@ -348,8 +348,9 @@ def plot_allan(result: Any, noise: Any = None, *, ax: Any = None) -> Figure:
                     label=f"{term.name}: slope {slope}, {term.name} = {_num_tex(term.value)}"
                           f"{se} {_TERM_UNIT_TEX[term.name]}{flag}", zorder=2)
         ro = model.readoff
-        names = {"N": "N read-off (−1/2 line at τ = 1 s)", "K": "K read-off (+1/2 line at τ = 3 s)",
-                 "B": "B read-off (minimum / 0.664)"}
+        names = {"N": f"read-off N = {_num_tex(ro.N)} {_TERM_UNIT_TEX['N']} (−1/2 line at τ = 1 s)",
+                 "K": f"read-off K = {_num_tex(ro.K)} {_TERM_UNIT_TEX['K']} (+1/2 line at τ = 3 s)",
+                 "B": f"read-off B = {_num_tex(ro.B)} {_TERM_UNIT_TEX['B']} (minimum / 0.664)"}
         markers = {"N": "v", "K": "^", "B": "s"}
         for name, tau_ro, dev_ro in ro.points:
             if (np.isfinite(dev_ro) and xlim[0] <= tau_ro <= xlim[1]
@@ -366,12 +367,13 @@ def plot_allan(result: Any, noise: Any = None, *, ax: Any = None) -> Figure:
     ax.set_ylabel(f"{_KIND_SYMBOL.get(kind, kind)} σ(τ) [{_mpl_text(units)}]")
     ax.grid(True, which="major", alpha=0.45)
     ax.grid(True, which="minor", alpha=0.15)
-    if single:
-        res = curves[0]
-        span = res.n_samples / res.fs_hz if getattr(res, "fs_hz", 0) else float("nan")
+    res = curves[0]
+    if getattr(res, "fs_hz", 0) and getattr(res, "n_samples", 0):
+        span = res.n_samples / res.fs_hz
         dur = (f"{span / 3600:.3g} h" if span >= 3 * 3600 else f"{span / 60:.3g} min"
                if span >= 180 else f"{span:.3g} s")
-        ax.set_title(_mpl_text(f"{res.axis}: {res.n_samples} samples at {res.fs_hz:g} Hz "
+        who = res.axis if single else f"{len(curves)} axes"
+        ax.set_title(_mpl_text(f"{who}: {res.n_samples} samples at {res.fs_hz:g} Hz "
                                f"({dur})"), loc="left", fontsize="medium")
     ax.legend(loc="best", fontsize="small", framealpha=0.85)
     return fig
@@ -564,4 +566,44 @@ def plot_selection(selection: Any, *, window: int = 400, width_in: float = 10.0)
     verdict = "white residuals" if best.white else "residuals NOT white"
     fig.suptitle(_mpl_text(f"selected {best.model} by {selection.criterion.upper()} "
                            f"({verdict}):  {best.equation()}"), fontsize="medium")
+    return fig
+
+
+def plot_allan_comparison(comparison: Any, *, width_in: float = 7.5) -> Figure:
+    """Allan deviation before and after filtering on one log-log figure (seed 001).
+
+    Both curves carry their confidence intervals; the filter's ``1/cutoff`` is marked,
+    since filtering changes the noise seen at shorter tau, and the fitted totals of both
+    curves are drawn over the tau range the fits used.
+
+    Parameters
+    ----------
+    comparison : AllanComparison
+        From :func:`fogts.allan.compare.compare_allan`.
+    """
+    fig = Figure(figsize=(width_in, 0.72 * width_in), layout="constrained")
+    ax = fig.add_subplot()
+    colours = ("tab:blue", "tab:orange")
+    curves = (comparison.before, comparison.after)
+    fits = (comparison.noise_before, comparison.noise_after)
+    for res, fit, colour, label in zip(curves, fits, colours, comparison.labels, strict=True):
+        _allan_curve(ax, res, colour, label)
+        tau = np.logspace(np.log10(fit.tau_s[0]), np.log10(fit.tau_s[-1]), 200)
+        ax.plot(tau, fit.curve(tau), "-", color=colour, lw=1.2, alpha=0.8,
+                label=f"{label}: IEEE-952 fit")
+    if comparison.cutoff_hz:
+        edge = 1.0 / comparison.cutoff_hz
+        ax.axvline(edge, color="0.4", ls="--", lw=1.0)
+        ax.text(edge, 0.02, " 1/cutoff", transform=ax.get_xaxis_transform(), color="0.3",
+                fontsize="small")
+    if comparison.fit_min_tau_s > 0:
+        ax.axvspan(comparison.before.tau_s[0], comparison.fit_min_tau_s, color="0.9",
+                   zorder=0, label="not used by the fits")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel(r"averaging time $\tau$ (s)")
+    ax.set_ylabel(_mpl_text(f"Allan deviation ({comparison.before.units})"))
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize="small")
+    ax.set_title("Allan deviation before and after filtering", fontsize="medium")
     return fig

@@ -482,9 +482,11 @@ class ArmaSpec:
             return model
         if isinstance(model, str):
             return cls.parse(model)
-        best = getattr(model, "best", None)
-        if best is not None and not isinstance(model, Mapping):
-            model = best
+        if hasattr(model, "best") and not isinstance(model, Mapping):
+            if model.best is None:
+                raise DataError("the selection has no selected model (every candidate "
+                                "failed); pick a candidate explicitly")
+            model = model.best
         if isinstance(model, Mapping):
             if "params" in model and isinstance(model["params"], Mapping):
                 return cls._from_param_names(model["params"])

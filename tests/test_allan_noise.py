@@ -33,6 +33,7 @@ from fogts.allan.noise import (
 from fogts.errors import (
     DataError,
     DataQualityWarning,
+    FogtsWarning,
     InsufficientDataError,
     UnidentifiableTermWarning,
 )
@@ -420,7 +421,7 @@ def test_edf_fallback_and_gls_fallback() -> None:
     assert model.edf_source == "ieee952"
     np.testing.assert_allclose(model.edf, 10**7 / res.m - 1)
     adev = _result(tau, res.dev, kind="adev")
-    with pytest.warns(DataQualityWarning, match="fitted with method='wls' instead"):
+    with pytest.warns(FogtsWarning, match="fitted with method='wls' instead"):
         model = _quiet_fit(adev, terms="N,K", method="gls")
     assert model.method == "wls" and model.stderr_method.startswith("EDF diagonal")
     ols = _quiet_fit(res, terms="N,K", method="ols")

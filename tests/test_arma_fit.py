@@ -47,8 +47,12 @@ def simulate(ar: list[float], ma: list[float], n: int, seed: int, scale: float) 
 
 
 def sm_fit(xs: np.ndarray, p: int, q: int, **kw):
-    """statsmodels' reference fit on the standardised series (no covariance unless asked)."""
+    """statsmodels' reference fit on the standardised series (no covariance unless asked).
+
+    ``low_memory=True`` only stops statsmodels from storing the filter output: the optimiser
+    and its answer are the same (checked to 1e-12), at a third of the cost."""
     kw.setdefault("cov_type", "none")
+    kw.setdefault("low_memory", True)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         return ARIMA(xs, order=(p, 0, q), trend="n").fit(**kw)

@@ -172,6 +172,11 @@ def test_irregular_time_is_read_and_reported(tmp_path: Path) -> None:
     assert not run.sampling.regular
 
 
+def test_rate_from_float_stamps_is_rounded() -> None:
+    df = pd.DataFrame({"time": np.arange(1000) / 10.0, "rate": np.arange(1000) % 7})
+    assert read_run(df).fs_hz == 10.0  # 1/median(diff) is 10.000000000000568
+
+
 def test_huge_but_valid_values_are_read(tmp_path: Path) -> None:
     run = read_run(_write(tmp_path, "h.csv", "time,rate\n0,1e100\n1,-1e100\n2,3e99\n"))
     assert run.rate[0] == 1e100

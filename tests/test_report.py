@@ -127,6 +127,7 @@ def test_figures_are_valid_images(built: tuple[HtmlReport, str, Path]) -> None:
             assert f.width > 100 and f.height > 100
 
 
+@pytest.mark.filterwarnings("ignore::fogts.errors.UnidentifiableTermWarning")
 def test_report_numbers_are_the_library_numbers(built: tuple[HtmlReport, str, Path]) -> None:
     from fogts.allan import allan_deviation
     from fogts.allan.noise import fit_noise

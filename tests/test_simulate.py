@@ -377,6 +377,22 @@ def test_simulate_arma_with_a_real_fit() -> None:
     assert y.shape == (3000,) and np.var(y) == pytest.approx(np.var(x), rel=0.15)
 
 
+def test_simulate_arma_from_a_selection() -> None:
+    """``Selection.best`` (fogts select) feeds simulate_arma directly."""
+    from fogts.arma.select import select_arma
+
+    x = simulate_arma({"ar": [0.8], "sigma2": 0.25}, 2000, rng=11)
+    selection = select_arma(x)
+    best = selection.best
+    assert best is not None
+    y = simulate_arma(selection, 50_000, rng=12)
+    phi = np.corrcoef(y[:-1], y[1:])[0, 1]
+    assert phi == pytest.approx(float(sm_arima.arma_acf(np.r_[1, -best.ar], np.r_[1, best.ma],
+                                                        lags=2)[1]), abs=0.02)
+    with pytest.raises(DataError, match="the selection has no selected model"):
+        ArmaSpec.from_any(SimpleNamespace(best=None))
+
+
 def test_arma_added_to_gyro() -> None:
     run = simulate_gyro({}, fs_hz=10, duration_s=1000, rng=8, arma={"ar": [0.8], "sigma2": 1})
     assert np.var(run.rate) == pytest.approx(1 / (1 - 0.64), rel=0.1)

@@ -103,7 +103,6 @@ from the +1/2 line at tau = 3 s, B from the minimum of the curve divided by 0.66
 
 from __future__ import annotations
 
-import itertools
 import math
 import warnings
 from collections.abc import Callable, Mapping, Sequence
@@ -113,6 +112,7 @@ from typing import Any, Literal, get_args
 import numpy as np
 import pandas as pd
 from numpy.polynomial.legendre import leggauss
+from scipy.linalg import solve_triangular
 from scipy.optimize import minimize_scalar, nnls
 from scipy.special import gammaln
 from scipy.stats import norm
@@ -124,6 +124,7 @@ from fogts.errors import (
     ConvergenceWarning,
     DataError,
     DataQualityWarning,
+    FogtsWarning,
     InsufficientDataError,
     UnidentifiableTermWarning,
 )
@@ -449,8 +450,8 @@ class NoiseModel:
         >>> with warnings.catch_warnings():
         ...     warnings.simplefilter("ignore")
         ...     model = fit_noise(res, terms="N,K")
-        >>> np.round(model.curve([1.0, 3.0]), 4)
-        array([0.5001, 0.2893])
+        >>> np.round(model.curve([1.0, 3.0]), 4).tolist()   # sqrt(0.25/tau + 1e-4 tau/3)
+        [0.5, 0.2888]
         """
         tau = _tau_array(tau_s)
         total = np.zeros_like(tau)
@@ -581,8 +582,10 @@ def fit_noise(
     >>> with warnings.catch_warnings():
     ...     warnings.simplefilter("ignore")
     ...     model = fit_noise(res, terms=("N", "K"))
-    >>> round(model["N"].c_coeff, 6), round(model["K"].c_coeff * np.sqrt(3), 6)
+    >>> round(model["N"].c_coeff, 6), round(float(model["K"].c_coeff) * 3**0.5, 6)
     (0.5, 0.01)
+    >>> round(model["N"].value, 6)    # N = C_-1 / 60 in deg/sqrt(h)
+    0.008333
     """
     names = parse_terms(terms)
     method = check_choice("method", method, FIT_METHODS)  # type: ignore[assignment]
@@ -598,7 +601,7 @@ def fit_noise(
         _warn(issued, DataQualityWarning,
               f"{len(curve.excluded)} tau(s) with a non-finite or zero deviation were left "
               f"out of the noise fit: {', '.join(f'{t:.4g}' for t in curve.excluded[:5])}"
-              + (" ..." if len(curve.excluded) > 5 else "") + " s")
+              + (" ..." if len(curve.excluded) > 5 else "") + " s", curve.axis)
 
     powers = np.array([TERM_POWER[n] for n in names], dtype=np.int64)
     design = tau[:, None] ** powers[None, :].astype(np.float64)
@@ -614,14 +617,14 @@ def fit_noise(
         fit = _fit_wls(design, y, curve.edf, _octave_density(tau), basis, powers)
         if method == "gls":
             method = "wls"  # type: ignore[assignment]
-            _warn(issued, DataQualityWarning,
+            _warn(issued, FogtsWarning,
                   "method='gls' needs the model covariance of an oadev curve (with m, "
                   "n_samples and fs_hz) of at most "
-                  f"{MAX_COVARIANCE_POINTS} taus; fitted with method='wls' instead")
+                  f"{MAX_COVARIANCE_POINTS} taus; fitted with method='wls' instead", curve.axis)
     if not fit.converged:
         _warn(issued, ConvergenceWarning,
               f"the noise-fit reweighting did not converge in {_IRLS_MAX_ITER} iterations; "
-              "the coefficients are from the last iteration")
+              "the coefficients are from the last iteration", curve.axis)
     # a term that contributes < 1e-9 of the curve at every tau is NNLS round-off: zero
     share = np.max(design / fit.mu[:, None], axis=0) * fit.a
     a = np.where(share < 1e-9, 0.0, fit.a)
@@ -629,11 +632,12 @@ def fit_noise(
     z = float(norm.ppf(0.5 + confidence / 2))
     factor = to_deg_per_hour_factor(curve.units)
     s = math.sqrt(scale_y) * factor  # sqrt of scaled sigma^2 -> deg/h
+    idx_active = np.flatnonzero(active)
+    var_active = np.diag(fit.cov(idx_active)) if idx_active.size else np.zeros(0)
     fit_terms: list[NoiseTerm] = []
     for j, name in enumerate(names):
         if active[j]:
-            se_a = math.sqrt(max(float(fit.cov(np.flatnonzero(active))[
-                int(np.count_nonzero(active[:j])), int(np.count_nonzero(active[:j]))]), 0.0))
+            se_a = math.sqrt(max(float(var_active[int(np.searchsorted(idx_active, j))]), 0.0))
             c = math.sqrt(a[j])
             c_se = se_a / (2 * c)
             lo_a, hi_a = max(0.0, a[j] - z * se_a), a[j] + z * se_a
@@ -712,7 +716,9 @@ def _fields(model: NoiseModel) -> dict[str, Any]:
     return {k: getattr(model, k) for k in model.__dataclass_fields__}
 
 
-def _warn(issued: list[str], category: type[Warning], message: str) -> None:
+def _warn(issued: list[str], category: type[Warning], message: str, axis: str = "") -> None:
+    """Emit a warning (prefixed with the axis name, if any) and record it."""
+    message = f"axis {axis!r}: {message}" if axis else message
     issued.append(message)
     warnings.warn(message, category, stacklevel=3)
 
@@ -846,38 +852,39 @@ def _pair_sums(mi: int, mj: int, ni: int, nj: int, dt: float,
     else:
         lo, hi = max(lo, core_lo + 1), min(hi, core_hi - 1)
     out = np.zeros((4, 4))
+    cand = [np.array([lo, hi + 1, nj - ni, 0, core_lo, core_hi, core_lo + 1, core_hi + 1],
+                     dtype=np.float64), -d]
+    if present[2]:
+        steps = 2.0 * (mi + mj) * 2.0 ** np.arange(int(math.log2(_FFM_REACH)))
+        cand += [steps, -steps]
+    pts = np.unique(np.concatenate(cand))
+    pts = pts[(pts >= lo) & (pts <= hi + 1)]
+    p, q = pts[:-1], pts[1:]
+    short = q - p <= _EXACT_PIECE
+    # short pieces: every integer lag; long ones: Gauss-Legendre for the integral and the
+    # Euler-Maclaurin end correction sum_{h=p}^{q-1} f = integral_p^q f - (f(q) - f(p)) / 2
+    lens = (q[short] - p[short]).astype(np.int64)
+    first = np.repeat(p[short], lens)
+    ints = first + (np.arange(int(lens.sum())) - np.repeat(np.cumsum(lens) - lens, lens))
+    pl, ql = p[~short], q[~short]
+    half = 0.5 * (ql - pl)[:, None]
+    gl_h = (half * _GL_X + 0.5 * (ql + pl)[:, None]).ravel()
+    gl_w = (half * _GL_W).ravel()
+    lags, inverse = np.unique(-d, return_inverse=True)
+    lags_ok = (lags >= -(ni - 1)) & (lags <= nj - 1)
+    h = np.concatenate([ints, gl_h, pl, ql, lags])
+    w = np.concatenate([np.ones(ints.size), gl_w, np.full(pl.size, 0.5),
+                        np.full(ql.size, -0.5), np.zeros(lags.size)])
+    cnt = _count(h, ni, nj)
+    cc = _continuous_cov(h, d, dt, core_lo, core_hi, present)  # (3, len(h))
     if hi >= lo:
-        brk = {lo, hi + 1, nj - ni, 0, core_lo, core_hi, core_lo + 1, core_hi + 1}
-        brk.update(int(-x) for x in d)
-        if present[2]:
-            step = 2 * (mi + mj)
-            while step < max(-lo, hi + 1):
-                brk.update((step, -step))
-                step *= 2
-        pts = np.array(sorted(b for b in brk if lo <= b <= hi + 1), dtype=np.float64)
-        nodes: list[FloatArray] = []
-        weights: list[FloatArray] = []
-        for p, q in itertools.pairwise(pts):
-            if q - p <= _EXACT_PIECE:
-                h = np.arange(p, q)
-                nodes.append(h)
-                weights.append(np.ones(h.size))
-            else:  # sum_{h=p}^{q-1} f ~ integral_p^q f - (f(q) - f(p)) / 2 (Euler-Maclaurin)
-                nodes += [0.5 * (q - p) * _GL_X + 0.5 * (q + p), np.array([p, q])]
-                weights += [0.5 * (q - p) * _GL_W, np.array([0.5, -0.5])]
-        h = np.concatenate(nodes)
-        wt = np.concatenate(weights) * _count(h, ni, nj)
-        cc = _continuous_cov(h, d, dt, core_lo, core_hi, present)  # (3, len(h))
+        wt = w * cnt
         out[1:, 1:] = (cc * wt) @ cc.T
     if present[0]:  # white phase: covariance only where two phase points coincide
-        lags = np.unique(-d)
-        lags = lags[(lags >= -(ni - 1)) & (lags <= nj - 1)]
-        if lags.size:
-            cp = np.array([_WW[(lag + d) == 0].sum() / 3.0 for lag in lags])
-            wq = _count(lags, ni, nj)
-            cc = _continuous_cov(lags, d, dt, core_lo, core_hi, present)
-            out[0, 0] = float(np.sum(wq * cp * cp))
-            out[0, 1:] = out[1:, 0] = (cc * (wq * cp)).sum(axis=1)
+        cp = np.bincount(inverse, weights=_WW) / 3.0
+        wq = np.where(lags_ok, cnt[-lags.size:], 0.0) * cp
+        out[0, 0] = float(np.sum(wq * cp))
+        out[0, 1:] = out[1:, 0] = cc[:, -lags.size:] @ wq
     return out
 
 
@@ -1029,7 +1036,8 @@ def _fit_gls(design: FloatArray, y: FloatArray, basis: FloatArray, powers: IntAr
     def solve(eps2: float) -> tuple[FloatArray, FloatArray, FloatArray, int, bool]:
         def step(mu: FloatArray, a: FloatArray) -> tuple[FloatArray, FloatArray]:
             chol = np.linalg.cholesky(cov_of(a, mu, eps2))
-            a_new = _nnls_scaled(np.linalg.solve(chol, design), np.linalg.solve(chol, y))
+            white = solve_triangular(chol, np.column_stack([design, y]), lower=True)
+            a_new = _nnls_scaled(white[:, :-1], white[:, -1])
             return a_new, np.maximum(design @ a_new, floor)
 
         a, mu, it, ok = _irls(step, start.mu, start.a)
@@ -1041,7 +1049,7 @@ def _fit_gls(design: FloatArray, y: FloatArray, basis: FloatArray, powers: IntAr
         _, mu, v, _, _ = solve(eps2)
         r = y - mu
         chol = np.linalg.cholesky(v)
-        z = np.linalg.solve(chol, r)
+        z = solve_triangular(chol, r, lower=True)
         return 0.5 * float(z @ z) + float(np.sum(np.log(np.diag(chol))))
 
     eps2 = _ml_eps2(nll)
@@ -1129,7 +1137,7 @@ def _identifiability(model: NoiseModel, tau: FloatArray, issued: list[str]
                   f"noise term {term.name} ({TERM_DESCRIPTION[term.name]}, slope "
                   f"{term.slope:+g}) is not identifiable from taus {tau[0]:.4g}..{tau[-1]:.4g}"
                   f" s: it dominates the fitted curve at {n_dom} of {tau.size} taus ({why}); "
-                  "treat its value as an upper limit")
+                  "treat its value as an upper limit", model.axis)
         out.append(NoiseTerm(**{**{k: getattr(term, k) for k in term.__dataclass_fields__},
                                 "identifiable": ok, "n_dominant": n_dom,
                                 "region_tau_s": region}))

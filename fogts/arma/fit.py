@@ -18,9 +18,17 @@ Interface (engineer S's ``select_arma`` depends on it; do not rename)::
         standardized: bool
         method: str                   # "fast" | "statsmodels"
         n_iter: int | None
-        ar, ma (properties), to_dict(), to_frame(), summary()
+        ar, ma, k_params (properties), equation(), to_dict(), to_frame(), summary()
 
     fit_arma(x, p, q, *, method="fast", standardize=True) -> ArmaFit
+    model_name(p, q) -> str;  param_names(p, q) -> list[str];  min_nobs(p, q) -> int
+
+Both methods maximise the same exact Gaussian likelihood (the state-space likelihood that
+statsmodels' ``ARIMA(order=(p,0,q), trend="n")`` evaluates).  ``"fast"`` computes it without
+the Kalman filter's per-sample Python/Cython overhead (see the section notes below): at 10^6
+samples the five default candidates take about a second instead of about two minutes.
+Standard errors are the observed information (as gretl and statsmodels' ``cov_type="approx"``;
+statsmodels' *default* is the outer product of gradients, which differs by several percent).
 
 Sign convention (statsmodels, DESIGN.md):
 x_t = phi_1 x_{t-1} + ... + phi_p x_{t-p} + a_t + theta_1 a_{t-1} + ... + theta_q a_{t-q}.
@@ -41,7 +49,7 @@ from fogts._typing import FloatArray
 from fogts._validate import check_choice, check_int, to_float_array
 from fogts.errors import ConvergenceWarning, DataError, InsufficientDataError, ModelFitError
 
-__all__ = ["ArmaFit", "FitMethod", "fit_arma", "model_name", "param_names"]
+__all__ = ["ArmaFit", "FitMethod", "fit_arma", "min_nobs", "model_name", "param_names"]
 
 FitMethod = Literal["fast", "statsmodels"]
 _METHODS = ("fast", "statsmodels")
@@ -260,7 +268,7 @@ def _fit_statsmodels(xs: FloatArray, p: int, q: int) -> tuple[dict[str, float], 
 # central differences of the exact gradient, above that from the analytic Hessian of the last
 # Newton step (relative error about 20/n, measured against statsmodels).
 
-_TOL_P = 1e-13            # max |P_t - R R'| at which the filter is treated as steady
+_TOL_P = 1e-13            # the start-up block is steady when its last row is this close
 _FD_STEP = 1e-6           # central-difference step for the transient's derivatives
 _HESS_STEP = 1e-5         # central-difference step of the exact gradient for the observed Hessian
 _FD_HESSIAN_MAX_N = 50_000  # up to this n the bse come from the finite-difference Hessian
@@ -828,28 +836,45 @@ def fit_arma(x: Any, p: int, q: int, *, method: FitMethod = "fast",
     p, q : int
         AR and MA orders, ``p, q >= 0`` and ``p + q >= 1``.
     method : {"fast", "statsmodels"}
-        ``"statsmodels"`` runs ``ARIMA(order=(p,0,q), trend="n").fit()``; ``"fast"`` reaches
-        the same exact-likelihood optimum faster on long records.
+        ``"statsmodels"`` runs ``ARIMA(order=(p,0,q), trend="n").fit(cov_type="approx")``;
+        ``"fast"`` (default) maximises the same exact likelihood with Newton steps on an
+        lfilter-based evaluation - tested to give the statsmodels optimum (parameters within
+        1e-4, AIC never more than 0.05 worse, often better where statsmodels stops in a
+        worse local optimum) - about 100x faster at 10^6 samples.
     standardize : bool
-        Divide the series by its standard deviation before fitting (recommended: statsmodels'
-        optimiser stops early on series with a tiny variance) and report everything in the
-        original units.
+        Divide the series by its standard deviation before fitting and report everything in
+        the original units (``scale`` and ``standardized`` record it).  Recommended:
+        statsmodels' optimiser stops early on series with a tiny variance (gyro rates in
+        deg/s), hundreds of AIC units short, without a warning.
 
     Returns
     -------
     ArmaFit
+        Parameters, standard errors (observed information), log-likelihood and criteria in
+        the original units, and the innovations ``resid``.
 
     Raises
     ------
+    DataError
+        Bad orders or method, non-finite or non-1-D data.
     InsufficientDataError
-        The series is too short or constant.
+        The series is shorter than :func:`min_nobs` or constant.
     ModelFitError
-        The likelihood could not be maximised.
+        The series looks explosive (a least-squares AR(3) root > 1 + 10/n), or the likelihood
+        could not be evaluated or maximised.  The message starts with the model name.
+
+    Warns
+    -----
+    ConvergenceWarning
+        The optimiser stopped before converging (also recorded in ``warnings``).
 
     Notes
     -----
     Exact Gaussian likelihood of an ARMA process: Brockwell & Davis, *Time Series: Theory and
-    Methods* (2nd ed., 1991), eq. 8.7.4; statsmodels evaluates it with the Kalman filter.
+    Methods* (2nd ed., 1991), eqs. 8.7.4-8.7.5; the start-up block uses Ansley (1979),
+    *Biometrika* 66, 59-65; the Fisher information is B&D eq. 8.8.3; start values are
+    Hannan & Rissanen (1982), *Biometrika* 69, 81-94.  AIC, BIC, HQIC and AICc count sigma2
+    as a parameter (k = p + q + 1), as statsmodels, gretl and R do.
 
     Examples
     --------

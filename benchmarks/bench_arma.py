@@ -1,0 +1,300 @@
+"""ARMA candidate selection on long records: fogts against statsmodels (and R), in one run.
+
+Data: a zero-mean ARMA(2,1) series x_t = 1.2 x_{t-1} - 0.5 x_{t-2} + a_t + 0.4 a_{t-1}
+(seed 2024), demeaned and divided by its standard deviation - the "standardised series" every
+contender gets.  The five candidates are AR(1), AR(2), AR(3), ARMA(1,1) and ARMA(2,1).
+
+Speed figures (ratio = peer seconds / fogts seconds, > 1 means fogts is faster):
+
+* ``fogts.arma.select.select_arma`` (five exact-ML fits + all residual diagnostics) and the
+  five ``fogts.arma.fit.fit_arma`` fits alone, against statsmodels'
+  ``ARIMA(x, order=(p,0,q), trend="n").fit()`` in a loop over the five candidates
+  (n = 1e6; quick: 1e5);
+* if R is installed (``Rscript`` with the Debian packages r-base-core and r-cran-forecast):
+  against R's ``arima(y, order, include.mean=FALSE, method="ML")`` over the five candidates
+  and against ``forecast::auto.arima(y, d=0, max.p=3, max.q=1, stepwise=FALSE,
+  allowmean=FALSE, approximation=FALSE)``; R's time is its own ``system.time``;
+* at n = 1e7 (full run only): the time of ``select_arma`` and its peak extra memory
+  (tracemalloc, numpy arrays included) as a multiple of the input; there is no peer (the
+  statsmodels loop would take about half an hour).
+
+Accuracy figures, from the same fits: the largest |parameter difference| to statsmodels
+(acceptance: 1e-4), the largest AIC excess of fogts over statsmodels and over R (acceptance:
+<= 0.05; negative means fogts found a higher likelihood), and whether the AIC ranking is the
+same (1 = yes).
+
+The statsmodels loop takes minutes, so it runs once; fogts runs before and after it and the
+best time is kept (the machine is shared; the load average is printed with the table).
+
+Run: ``python benchmarks/bench_arma.py [--quick]``; a full run writes
+``benchmarks/results/arma.md``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import gc
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+import tracemalloc
+import warnings
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+try:
+    from benchmarks import _runner as runner
+except ImportError:  # run as a script: python benchmarks/bench_arma.py
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+    from benchmarks import _runner as runner
+
+RESULTS = Path(__file__).resolve().parent / "results" / "arma.md"
+R_SCRIPT = Path(__file__).resolve().parent / "r_arima.R"
+CANDIDATES = [(1, 0), (2, 0), (3, 0), (1, 1), (2, 1)]
+NAMES = ["AR(1)", "AR(2)", "AR(3)", "ARMA(1,1)", "ARMA(2,1)"]
+SEED = 2024
+
+
+def series(n: int, seed: int = SEED) -> np.ndarray:
+    """The standardised ARMA(2,1) test series."""
+    from scipy.signal import lfilter
+
+    e = np.random.default_rng(seed).standard_normal(n + 1000)
+    x = lfilter([1.0, 0.4], [1.0, -1.2, 0.5], e)[1000:]
+    x -= x.mean()
+    x /= x.std()
+    return np.ascontiguousarray(x)
+
+
+def _select(x: np.ndarray) -> Any:
+    """fogts' whole selection if engineer S's select_arma exists, else None."""
+    try:
+        from fogts.arma.select import select_arma
+    except ImportError:
+        return None
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return select_arma(x)
+
+
+def _fogts_fits(x: np.ndarray) -> list[Any]:
+    from fogts.arma.fit import fit_arma
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return [fit_arma(x, p, q) for p, q in CANDIDATES]
+
+
+def _statsmodels_fits(x: np.ndarray) -> list[Any]:
+    from statsmodels.tsa.arima.model import ARIMA
+
+    out = []
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        for p, q in CANDIDATES:
+            out.append(ARIMA(x, order=(p, 0, q), trend="n").fit())
+    return out
+
+
+def _timed(fn: Any, *args: Any) -> tuple[float, Any]:
+    gc.collect()
+    t0 = time.perf_counter()
+    res = fn(*args)
+    return time.perf_counter() - t0, res
+
+
+def _run_r(x: np.ndarray, auto: bool) -> dict[str, Any] | None:
+    """R's arima(method="ML") over the five candidates (and auto.arima); None without R."""
+    rscript = shutil.which("Rscript")
+    if rscript is None:
+        return None
+    with tempfile.TemporaryDirectory() as tmp:
+        path = Path(tmp) / "y.f64"
+        x.astype("<f8").tofile(path)
+        cmd = [rscript, str(R_SCRIPT), str(path), str(x.size)] + (["auto"] if auto else [])
+        res = subprocess.run(cmd, capture_output=True, text=True, check=False, timeout=7200)
+    if res.returncode != 0:
+        print(f"R failed: {res.stderr.strip()[-500:]}", file=sys.stderr)
+        return None
+    out: dict[str, Any] = {"fits": {}}
+    for line in res.stdout.splitlines():
+        tok = line.split()
+        if not tok:
+            continue
+        if tok[0] == "fit":
+            p, q = int(tok[1]), int(tok[2])
+            out["fits"][(p, q)] = {"seconds": float(tok[3]), "llf": float(tok[4]),
+                                   "aic": float(tok[5]), "coef": [float(v) for v in tok[6:]]}
+        elif tok[0] == "total_arima":
+            out["arima_seconds"] = float(tok[1])
+        elif tok[0] == "auto":
+            out["auto"] = {"seconds": float(tok[1]), "p": int(tok[2]), "q": int(tok[3]),
+                           "aic": float(tok[4])}
+    return out
+
+
+def _label(n: int) -> str:
+    return f"n=1e{round(np.log10(n))}" if n == 10 ** round(np.log10(n)) else f"n={n}"
+
+
+def _comparison_metrics(n: int, quick: bool) -> list[runner.Metric]:
+    x = series(n)
+    lab = _label(n)
+    has_select = _select(x[:5000]) is not None          # also warms imports and caches
+    _fogts_fits(x[:5000])
+    t_sel1, sel = _timed(_select, x) if has_select else (float("nan"), None)
+    t_fit1, fits = _timed(_fogts_fits, x)
+    print(f"  fogts at {lab}: select {t_sel1:.2f} s, five fits {t_fit1:.2f} s; "
+          "statsmodels loop running ...", file=sys.stderr)
+    t_sm, sm = _timed(_statsmodels_fits, x)
+    t_sel2, _ = _timed(_select, x) if has_select else (float("nan"), None)
+    t_fit2, _ = _timed(_fogts_fits, x)
+    t_sel, t_fit = min(t_sel1, t_sel2), min(t_fit1, t_fit2)
+    per_candidate = {name: round(float(r.mle_retvals.get("iterations", -1)), 0)
+                     for name, r in zip(NAMES, sm, strict=True)}
+    out: list[runner.Metric] = []
+    what = "5 candidates + diagnostics (select_arma)"
+    if has_select:
+        out.append(runner.speed_metric(
+            f"speed.arma.select_vs_statsmodels.{lab}",
+            f"ARMA selection, {lab}: {what} vs the ARIMA(...).fit() loop",
+            fogts_s=t_sel, peer_s=t_sm, peer="statsmodels"))
+    out.append(runner.speed_metric(
+        f"speed.arma.fits_vs_statsmodels.{lab}",
+        f"ARMA exact ML, {lab}: 5 fit_arma fits vs the ARIMA(...).fit() loop",
+        fogts_s=t_fit, peer_s=t_sm, peer="statsmodels",
+        details={"statsmodels_iterations": per_candidate}))
+    # accuracy against statsmodels (AIC on the standardised series: fogts' scale is ~1)
+    dpar, excess = 0.0, -np.inf
+    for f, r in zip(fits, sm, strict=True):
+        aic_f = f.aic - 2 * n * np.log(f.scale)
+        excess = max(excess, aic_f - r.aic)
+        if abs(aic_f - r.aic) < 2e-3:                    # the same optimum
+            dpar = max(dpar, float(np.max(np.abs(np.r_[f.ar, f.ma] - r.params[:-1]))))
+    rank_f = [NAMES[i] for i in np.argsort([f.aic for f in fits])]
+    rank_s = [NAMES[i] for i in np.argsort([r.aic for r in sm])]
+    out.append(runner.accuracy_metric(
+        f"accuracy.arma.param_diff_vs_statsmodels.{lab}",
+        f"ARMA {lab}: largest |parameter difference| to statsmodels (acceptance 1e-4)",
+        value=dpar, better="lower", abs_tolerance=1e-5))
+    out.append(runner.accuracy_metric(
+        f"accuracy.arma.aic_excess_vs_statsmodels.{lab}",
+        f"ARMA {lab}: largest AIC excess of fogts over statsmodels (acceptance <= 0.05)",
+        value=float(excess), better="lower", abs_tolerance=0.01))
+    out.append(runner.accuracy_metric(
+        f"accuracy.arma.same_ranking_as_statsmodels.{lab}",
+        f"ARMA {lab}: same AIC ranking as statsmodels (1 = yes)",
+        value=float(rank_f == rank_s), better="higher",
+        details={"fogts": rank_f, "statsmodels": rank_s}))
+    # R, if installed
+    r = _run_r(x, auto=True)
+    if r is None:
+        print("  R not found (Rscript): R figures skipped", file=sys.stderr)
+        return out
+    peer_s = r["arima_seconds"]
+    out.append(runner.speed_metric(
+        f"speed.arma.select_vs_r_arima.{lab}",
+        f"ARMA selection, {lab}: {what} vs R arima(method=\"ML\") over the 5 candidates",
+        fogts_s=t_sel if has_select else t_fit, peer_s=peer_s, peer="R arima"))
+    if "auto" in r:
+        auto = r["auto"]
+        out.append(runner.speed_metric(
+            f"speed.arma.select_vs_auto_arima.{lab}",
+            f"ARMA selection, {lab}: {what} vs forecast::auto.arima(max.p=3, max.q=1, "
+            "stepwise=FALSE, approximation=FALSE)",
+            fogts_s=t_sel if has_select else t_fit, peer_s=auto["seconds"], peer="auto.arima",
+            details={"auto_arima_choice": f"ARMA({auto['p']},{auto['q']})"}))
+    excess_r = max(f.aic - 2 * n * np.log(f.scale) - r["fits"][(f.p, f.q)]["aic"]
+                   for f in fits)
+    dpar_r = max(float(np.max(np.abs(np.r_[f.ar, f.ma] - r["fits"][(f.p, f.q)]["coef"])))
+                 for f in fits)
+    out.append(runner.accuracy_metric(
+        f"accuracy.arma.aic_excess_vs_r.{lab}",
+        f"ARMA {lab}: largest AIC excess of fogts over R arima(method=\"ML\") (acceptance <= 0.05)",
+        value=float(excess_r), better="lower", abs_tolerance=0.01))
+    out.append(runner.accuracy_metric(
+        f"accuracy.arma.param_diff_vs_r.{lab}",
+        f"ARMA {lab}: largest |parameter difference| to R arima(method=\"ML\")",
+        value=dpar_r, better="lower", abs_tolerance=1e-4))
+    if sel is not None:
+        print(f"  fogts selects {sel.best.model}; R auto.arima selects "
+              f"{r.get('auto', {}).get('p')},{r.get('auto', {}).get('q')}", file=sys.stderr)
+    return out
+
+
+def _huge_metrics(n: int) -> list[runner.Metric]:
+    """select_arma at n = 1e7: time (best of 2) and peak extra memory (tracemalloc)."""
+    x = series(n)
+    run = _select if _select(x[:5000]) is not None else _fogts_fits
+    what = "select_arma" if run is _select else "5 fit_arma fits"
+    t1, _ = _timed(run, x)
+    t2, _ = _timed(run, x)
+    gc.collect()
+    tracemalloc.start()
+    run(x)
+    _, peak = tracemalloc.get_traced_memory()
+    tracemalloc.stop()
+    lab = _label(n)
+    return [
+        runner.accuracy_metric(
+            f"time.arma.select.{lab}", f"ARMA {lab}: {what} wall time (no peer)",
+            value=min(t1, t2), better="lower", unit="s", tolerance=0.5),
+        runner.accuracy_metric(
+            f"memory.arma.select.{lab}", f"ARMA {lab}: {what} peak extra memory",
+            value=peak / x.nbytes, better="lower", unit="x input", tolerance=0.25),
+    ]
+
+
+def metrics(quick: bool) -> list[runner.Metric]:
+    """Measure and return the figures (the runner's entry point)."""
+    out = _comparison_metrics(100_000 if quick else 1_000_000, quick)
+    if not quick:
+        out += _huge_metrics(10_000_000)
+    return out
+
+
+def main(argv: list[str] | None = None) -> int:
+    p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    p.add_argument("--quick", action="store_true",
+                   help="n = 1e5 against statsmodels (and R), no 1e7 run")
+    p.add_argument("--out", type=Path, default=None,
+                   help=f"write the markdown table here (default {RESULTS} for a full run)")
+    args = p.parse_args(argv)
+    start = runner.machine_info()
+    figures = metrics(args.quick)
+    load_end = os.getloadavg() if hasattr(os, "getloadavg") else None
+    text = runner.render_markdown({
+        "metrics": figures, "quick": args.quick, "machine": start,
+        "versions": runner.library_versions(),
+        "date": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())})
+    text += (f"\nLoad average at start {start.get('loadavg_at_start')}, at end "
+             f"{[round(v, 2) for v in load_end] if load_end else None} "
+             "(the machine is shared; fogts is timed before and after the peer, best kept).\n")
+    r_version = _r_version()
+    if r_version:
+        text += f"R: {r_version}.\n"
+    print(text)
+    target = args.out if args.out is not None else (None if args.quick else RESULTS)
+    if target is not None:
+        target.parent.mkdir(parents=True, exist_ok=True)
+        target.write_text(text)
+    return 0
+
+
+def _r_version() -> str | None:
+    rscript = shutil.which("Rscript")
+    if rscript is None:
+        return None
+    res = subprocess.run([rscript, "-e", "cat(R.version.string, ';forecast',"
+                          " format(packageVersion('forecast')))"], capture_output=True,
+                         text=True, check=False)
+    return res.stdout.strip() or None
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

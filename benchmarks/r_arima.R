@@ -1,0 +1,37 @@
+# Peer timings for benchmarks/bench_arma.py: R's exact-ML arima() on the five candidates and
+# forecast::auto.arima over p <= 3, q <= 1, on the same standardised series.
+#
+# Usage: Rscript benchmarks/r_arima.R DATA.f64 N [auto]
+#   DATA.f64: N little-endian float64 values (written by bench_arma.py).
+# Prints one line per result: "fit <p> <q> <seconds> <loglik> <aic> <coef...>",
+# "auto <seconds> <p> <q> <aic>" and "total_arima <seconds>".  Times are R's own
+# system.time() elapsed seconds (R start-up and reading the data are not included).
+
+args <- commandArgs(trailingOnly = TRUE)
+path <- args[1]
+n <- as.integer(args[2])
+do_auto <- length(args) >= 3 && args[3] == "auto"
+con <- file(path, "rb")
+y <- readBin(con, "double", n = n, size = 8, endian = "little")
+close(con)
+
+orders <- list(c(1, 0), c(2, 0), c(3, 0), c(1, 1), c(2, 1))
+total <- 0
+for (o in orders) {
+  fit <- NULL
+  t <- system.time(fit <- arima(y, order = c(o[1], 0, o[2]), include.mean = FALSE,
+                                method = "ML"))[["elapsed"]]
+  total <- total + t
+  cat("fit", o[1], o[2], format(t, digits = 6), format(fit$loglik, digits = 15),
+      format(fit$aic, digits = 15), format(coef(fit), digits = 15), "\n")
+}
+cat("total_arima", format(total, digits = 6), "\n")
+
+if (do_auto) {
+  suppressPackageStartupMessages(library(forecast))
+  a <- NULL
+  t <- system.time(a <- auto.arima(y, d = 0, max.p = 3, max.q = 1, stepwise = FALSE,
+                                   allowmean = FALSE, approximation = FALSE))[["elapsed"]]
+  ord <- arimaorder(a)
+  cat("auto", format(t, digits = 6), ord[1], ord[3], format(a$aic, digits = 15), "\n")
+}
