@@ -298,3 +298,16 @@ def test_nearly_white_series_says_so() -> None:
     sel = select_arma(np.random.default_rng(2).standard_normal(5000))
     assert sel.best is not None
     assert "nearly white at this sample rate" in sel.verdict
+
+
+def test_verdict_names_a_simpler_model_within_two_units() -> None:
+    for seed in range(6):
+        sel = select_arma(_arma([0.6], [], 4000, seed))
+        best = sel.best
+        assert best is not None
+        close = [c for c in sel.candidates if c.white and c.p + c.q < best.p + best.q
+                 and c.aic - best.aic < 2.0]
+        assert ("The simpler" in sel.verdict) == bool(close)
+        if close:
+            return
+    pytest.fail("no seed produced an over-fitted selection with a simpler model close by")

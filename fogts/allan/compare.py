@@ -21,6 +21,7 @@ import numpy as np
 import pandas as pd
 
 from fogts.allan.api import allan_deviation
+from fogts.allan.taus import Kind
 from fogts.allan.noise import NOISE_TERMS, NoiseModel, fit_noise
 from fogts.allan.result import AllanResult
 from fogts.errors import DataError
@@ -136,7 +137,7 @@ def compare_allan(
     *,
     fs_hz: float,
     units: str | None = None,
-    kind: str = "oadev",
+    kind: Kind = "oadev",
     taus: Any = "octave",
     terms: tuple[str, ...] = NOISE_TERMS,
     cutoff_hz: float | None = None,

@@ -77,6 +77,10 @@ DEFAULT_FIVE: tuple[tuple[int, int], ...] = ((1, 0), (2, 0), (3, 0), (1, 1), (2,
 MIN_SELECT_SAMPLES = 50
 #: Largest AR or MA order a candidate may have.
 MAX_ORDER = 10
+#: A simpler white candidate within this many criterion units of the selected one is named in
+#: the verdict (Burnham & Anderson, *Model Selection and Multimodel Inference*, 2nd ed.,
+#: sec. 2.6: Delta AIC <= 2 means substantial support).
+CLOSE_CALL = 2.0
 #: Below this share of variance removed by the one-step prediction, the verdict says the
 #: series is nearly white (the model explains almost nothing).
 SMALL_PREDICTION = 0.05
@@ -643,6 +647,12 @@ def _verdict(sel: Candidate | None, ranked: Sequence[Candidate], criterion: str,
                 f"prediction removes {removed:.1f} % of the variance.")
         if sel.flagged("near_cancellation"):
             text += " Its AR and MA roots nearly cancel, so a lower order would do as well."
+        simpler = [c for c in ranked if c.white and c.p + c.q < sel.p + sel.q
+                   and getattr(c, criterion) - getattr(sel, criterion) < CLOSE_CALL]
+        if simpler:
+            alt = min(simpler, key=lambda c: (c.p + c.q, getattr(c, criterion)))
+            text += (f" The simpler {alt.model} is within {CLOSE_CALL:g} {crit} units and also "
+                     f"white: the data support it about as well.")
         if pred.variance_removed < SMALL_PREDICTION:
             text += (" The series is nearly white at this sample rate (white rate noise, i.e. "
                      "angle random walk, dominates): decimate to model the slower drift.")
