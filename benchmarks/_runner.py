@@ -355,7 +355,8 @@ def compare(new: dict[str, Any], old: dict[str, Any]) -> list[dict[str, Any]]:
     """One row per metric of either document: ``{id, title, old, new, change, verdict}``.
 
     ``verdict`` is ``ok``, ``better``, ``REGRESSION``, ``MISSING`` (in old, not in new: the
-    figure is no longer measured), ``new`` or ``not comparable`` (a NaN value).
+    figure is no longer measured), ``new``, ``not measured`` (its suite did not run, or the
+    runs differ in ``quick``) or ``not comparable`` (a NaN value).
     """
     old_by = {m["id"]: m for m in old.get("metrics", [])}
     new_by = {m["id"]: m for m in new.get("metrics", [])}
@@ -379,14 +380,15 @@ def compare(new: dict[str, Any], old: dict[str, Any]) -> list[dict[str, Any]]:
                 row["verdict"] = "better" if worse < -tol else "ok"
         rows.append(row)
     quick = bool(new.get("quick"))
+    ran = set(new.get("suites", {}))
     for mid, o in old_by.items():
         if mid not in new_by:
-            # A quick run measures fewer/smaller problems: only figures of the same mode
-            # (same id, same run mode) can go missing.
-            same_mode = bool(old.get("quick")) == quick
+            # Only a figure that the same kind of run (quick or full) of the same suite
+            # measured before can go missing; suites left out with --only are not measured.
+            measured = bool(old.get("quick")) == quick and (not ran or o.get("suite") in ran)
             rows.append({"id": mid, "title": o["title"], "unit": o.get("unit", ""),
                          "old": o["value"], "new": None, "change": None,
-                         "verdict": "MISSING" if same_mode else "not measured"})
+                         "verdict": "MISSING" if measured else "not measured"})
     return rows
 
 

@@ -40,8 +40,10 @@ app = typer.Typer(
     add_completion=False,
     pretty_exceptions_enable=False,
 )
-console = Console(highlight=False)
-err_console = Console(stderr=True, highlight=False)
+# Outside a terminal (pipes, CI logs, CliRunner) rich would wrap tables at 80 columns.
+_WIDTH = None if sys.stdout.isatty() else 120
+console = Console(highlight=False, width=_WIDTH)
+err_console = Console(stderr=True, highlight=False, width=_WIDTH)
 
 _STATE: dict[str, bool] = {"debug": False}
 
@@ -137,7 +139,7 @@ def _emit_json(payload: dict[str, Any], target: str | None) -> None:
 def _table(title: str, columns: list[str], rows: list[list[Any]]) -> Table:
     table = Table(title=title, title_justify="left")
     for c in columns:
-        table.add_column(c, justify="right" if c not in ("term", "model", "name", "column") else "left")
+        table.add_column(c, justify="left" if c in ("term", "model", "name", "column", "read-out") else "right")
     for r in rows:
         table.add_row(*[str(v) for v in r])
     return table
@@ -316,7 +318,7 @@ def _allan_tables(res: Any, model: Any, check: Any, quiet_json: str | None) -> N
 
 @app.command("allan")
 def allan_cmd(
-    file: FileArg,
+    files: Annotated[list[Path], typer.Argument(help="Input recording(s). Several files (or a multi-axis file) are overlaid on one --plot for comparing gyros.")],
     rate_column: RateColOpt = None,
     time_column: TimeColOpt = None,
     temperature_column: TempColOpt = None,
@@ -333,96 +335,180 @@ def allan_cmd(
     decimate: Annotated[int | None, typer.Option("--decimate", help="Block-average K samples first (default: raw data).")] = None,
     json_out: JsonOpt = None,
     csv_out: Annotated[Path | None, typer.Option("--csv", help="Write the points (and the fitted curve) to PATH (.csv, .tsv, .parquet).")] = None,
-    plot: Annotated[Path | None, typer.Option("--plot", help="Log-log figure with CIs, the fit and its term lines: .png, .svg or .pdf.")] = None,
+    plot: Annotated[Path | None, typer.Option("--plot", help="Log-log figure with CIs, the fit and its term lines (several inputs: an overlay): .png, .svg or .pdf.")] = None,
     check_allantools: Annotated[bool, typer.Option("--check-allantools", help="Recompute with allantools on the same data and taus; print the largest relative difference.")] = False,
 ) -> None:
-    """Allan deviation with confidence intervals, and the IEEE-952 noise terms
-    (Q, N, B, K, R) with standard errors.
+    """Allan deviation with confidence intervals, the IEEE-952 noise terms (Q, N, B, K, R)
+    with standard errors, and the curve read-outs (minimum, regions, slopes).
 
-    The data are analysed raw unless --outliers, --detrend or --decimate is given. JSON:
-    {"input", "kind", "units", "points", "noise", ...}; a multi-axis file adds "axes" (one
-    such block per axis; the top level repeats the first axis).
+    The data are analysed raw unless --outliers, --detrend or --decimate is given. JSON for
+    one file: {"input", "kind", "units", "points", "noise", "curve", ...}; a multi-axis file
+    adds "axes" (one such block per axis; the top level repeats the first axis). Several
+    files give {"inputs": [one such object per file]}.
     """
-    from fogts.allan import AllanResult, AllanResultSet, allan_deviation
-    from fogts.allan.noise import FITTABLE_KINDS, fit_noise, parse_terms
-    from fogts.errors import FogtsWarning
-    from fogts.io import write_frame_atomic
+    from fogts.allan.noise import parse_terms
 
     with _guard():
         tau_spec = _tau_option(taus)
         term_names = parse_terms(terms)
         _check_output_names(plot=plot, csv=csv_out)
-        run = _read(file, rate_column, time_column, temperature_column, fs, units)
-        if axis is None:
-            picks = list(range(run.n_axes))
-        elif axis.lstrip("-").isdigit():
-            run.axis(int(axis))  # validates the index
-            picks = [int(axis) % run.n_axes]
-        else:
-            run.axis(axis)  # validates the name
-            picks = [run.axes.index(axis)]
-        results: list[AllanResult] = []
-        models: list[Any] = []
-        blocks: list[tuple[dict[str, Any], Any]] = []
-        for i in picks:
-            prepared = None
-            source: Any = run
-            y = run.axis(i)
-            if outliers is not None or detrend is not None or decimate is not None:
-                from fogts.preprocess import prepare
+        analyses = [_allan_file(f, rate_column, time_column, temperature_column, fs, units,
+                                kind=kind, taus=tau_spec, confidence=confidence,
+                                terms=term_names, method=method, axis=axis,
+                                outliers=outliers, detrend=detrend, decimate=decimate,
+                                check_allantools=check_allantools) for f in files]
+        payload = (analyses[0].payload if len(analyses) == 1
+                   else {"inputs": [a.payload for a in analyses]})
+        _emit_json(payload, json_out)
+        if csv_out is not None:
+            _allan_csv(analyses, csv_out)
+        if plot is not None:
+            _save_figure(_allan_figure(analyses), plot)
+        for a in analyses:
+            run = a.run
+            _say([f"{run.source}: {run.n} samples at {run.fs_hz:.6g} Hz "
+                  f"({run.duration_s:.6g} s), rate in {run.units}"], json_out)
+            for res, model, readout, check in zip(a.results, a.models, a.readouts, a.checks,
+                                                  strict=True):
+                _allan_tables(res, model, check, json_out)
+                _curve_table(res, readout, json_out)
 
-                prepared = prepare(run, axis=i, outliers=outliers, detrend=detrend,
-                                   decimate=decimate, stationarity=False)
-                source, y = prepared, prepared.x
-            res = allan_deviation(source, kind=kind, taus=tau_spec,  # type: ignore[arg-type]
-                                  confidence=confidence, axis=None if prepared else i)
-            assert isinstance(res, AllanResult)
-            model = (fit_noise(res, terms=term_names, method=method,  # type: ignore[arg-type]
-                               confidence=confidence) if res.kind in FITTABLE_KINDS else None)
-            if model is None:
-                warnings.warn(f"noise terms are fitted to adev, oadev or totdev curves only; "
-                              f"not fitted to {res.kind}", FogtsWarning, stacklevel=1)
-            check = _allantools_check(y, res) if check_allantools else None
-            results.append(res)
-            models.append(model)
-            blocks.append((_allan_axis_payload(res, model, prepared, check), check))
-        first = blocks[0][0]
-        payload: dict[str, Any] = {
+
+class _AllanAnalysis:
+    """Everything `fogts allan` computed for one input file."""
+
+    def __init__(self, run: Any) -> None:
+        self.run = run
+        self.results: list[Any] = []
+        self.models: list[Any] = []
+        self.readouts: list[Any] = []
+        self.checks: list[Any] = []
+        self.blocks: list[dict[str, Any]] = []
+
+    @property
+    def payload(self) -> dict[str, Any]:
+        run, first = self.run, self.blocks[0]
+        out: dict[str, Any] = {
             "input": {"source": run.source, "n": run.n, "fs_hz": run.fs_hz,
                       "duration_s": run.duration_s, "units": run.units,
-                      "axis": first["axis"], "axes": [b[0]["axis"] for b in blocks],
+                      "axis": first["axis"], "axes": [b["axis"] for b in self.blocks],
                       "columns": list(run.columns)},
             **first,
         }
-        if len(blocks) > 1:
-            payload["axes"] = [b[0] for b in blocks]
-        _emit_json(payload, json_out)
-        if csv_out is not None:
-            import pandas as pd
+        if len(self.blocks) > 1:
+            out["axes"] = self.blocks
+        return out
 
-            frames = []
-            for res, model in zip(results, models, strict=True):
-                frame = res.to_frame()
-                frame["fit"] = model.curve(res.tau_s) if model is not None else float("nan")
-                frames.append(frame.assign(axis=res.axis) if len(results) > 1 else frame)
-            table = pd.concat(frames, ignore_index=True)
-            if len(results) > 1:
-                table = table[["axis", *[c for c in table.columns if c != "axis"]]]
-            write_frame_atomic(csv_out, table)
-        if plot is not None:
-            from fogts.plots import plot_allan
 
-            if len(results) == 1:
-                fig = plot_allan(results[0], models[0])
-            else:
-                complete = all(m is not None for m in models)
-                fig = plot_allan(AllanResultSet(curves=tuple(results)),
-                                 models if complete else None)
-            _save_figure(fig, plot)
-        _say([f"{run.source}: {run.n} samples at {run.fs_hz:.6g} Hz ({run.duration_s:.6g} s), "
-              f"rate in {run.units}"], json_out)
-        for res, model, (_, check) in zip(results, models, blocks, strict=True):
-            _allan_tables(res, model, check, json_out)
+def _allan_file(file: Path, rate_column: str | None, time_column: str | None,
+                temperature_column: str | None, fs: float | None, units: str | None, *,
+                kind: str, taus: Any, confidence: float, terms: tuple[str, ...], method: str,
+                axis: str | None, outliers: float | None, detrend: int | None,
+                decimate: int | None, check_allantools: bool) -> _AllanAnalysis:
+    from fogts.allan import AllanResult, allan_deviation
+    from fogts.allan.noise import FITTABLE_KINDS, fit_noise
+    from fogts.allan.readout import read_curve
+    from fogts.errors import FogtsWarning
+
+    run = _read(file, rate_column, time_column, temperature_column, fs, units)
+    analysis = _AllanAnalysis(run)
+    for i in _axis_picks(run, axis):
+        prepared = None
+        source: Any = run
+        y = run.axis(i)
+        if outliers is not None or detrend is not None or decimate is not None:
+            from fogts.preprocess import prepare
+
+            prepared = prepare(run, axis=i, outliers=outliers, detrend=detrend,
+                               decimate=decimate, stationarity=False)
+            source, y = prepared, prepared.x
+        res = allan_deviation(source, kind=kind, taus=taus,  # type: ignore[arg-type]
+                              confidence=confidence, axis=None if prepared else i)
+        assert isinstance(res, AllanResult)
+        model = (fit_noise(res, terms=terms, method=method,  # type: ignore[arg-type]
+                           confidence=confidence) if res.kind in FITTABLE_KINDS else None)
+        if model is None:
+            warnings.warn(f"noise terms are fitted to adev, oadev or totdev curves only; "
+                          f"not fitted to {res.kind}", FogtsWarning, stacklevel=1)
+        readout = read_curve(res.tau_s, res.dev, res.ci_low, res.ci_high,
+                             confidence=res.confidence,
+                             term_curves=model.lines(res.tau_s) if model is not None else None)
+        check = _allantools_check(y, res) if check_allantools else None
+        block = _allan_axis_payload(res, model, prepared, check)
+        block["curve"] = readout.to_dict()
+        analysis.results.append(res)
+        analysis.models.append(model)
+        analysis.readouts.append(readout)
+        analysis.checks.append(check)
+        analysis.blocks.append(block)
+    return analysis
+
+
+def _axis_picks(run: Any, axis: str | None) -> list[int]:
+    if axis is None:
+        return list(range(run.n_axes))
+    if axis.lstrip("-").isdigit():
+        run.axis(int(axis))  # validates the index
+        return [int(axis) % run.n_axes]
+    run.axis(axis)  # validates the name
+    return [run.axes.index(axis)]
+
+
+def _allan_csv(analyses: list[_AllanAnalysis], target: Path) -> None:
+    import pandas as pd
+
+    from fogts.io import write_frame_atomic
+
+    frames = []
+    many_files = len(analyses) > 1
+    for a in analyses:
+        for res, model in zip(a.results, a.models, strict=True):
+            frame = res.to_frame()
+            frame["fit"] = model.curve(res.tau_s) if model is not None else float("nan")
+            if len(a.results) > 1 or many_files:
+                frame.insert(0, "axis", res.axis)
+            if many_files:
+                frame.insert(0, "source", a.run.source)
+            frames.append(frame)
+    write_frame_atomic(target, pd.concat(frames, ignore_index=True))
+
+
+def _allan_figure(analyses: list[_AllanAnalysis]) -> Any:
+    from fogts.allan import AllanResultSet
+    from fogts.plots import plot_allan, plot_allan_overlay
+
+    if len(analyses) == 1:
+        a = analyses[0]
+        if len(a.results) == 1:
+            return plot_allan(a.results[0], a.models[0])
+        complete = all(m is not None for m in a.models)
+        return plot_allan(AllanResultSet(curves=tuple(a.results)),
+                          a.models if complete else None)
+    curves, models, labels = [], [], []
+    for a in analyses:
+        for res, model in zip(a.results, a.models, strict=True):
+            curves.append(res)
+            models.append(model)
+            name = Path(a.run.source).name
+            labels.append(name if len(a.results) == 1 else f"{name}: {res.axis}")
+    return plot_allan_overlay(curves, labels, models)
+
+
+def _curve_table(res: Any, readout: Any, quiet_json: str | None) -> None:
+    from rich.markup import escape
+
+    lo, hi = readout.dev_min_ci
+    rows: list[list[Any]] = [["minimum", f"{readout.tau_min_s:.4g} s",
+                              f"{readout.dev_min:.4g} [{lo:.4g}, {hi:.4g}] {res.units}"]]
+    for name, label in (("B", "falling (B)"), ("C", "floor (C)"), ("D", "rising (D)")):
+        span = readout.regions[name]
+        if span is not None:
+            rows.append([label, f"{span[0]:.4g} .. {span[1]:.4g} s", ""])
+    for d in readout.dominant:
+        rows.append([f"{d.term} dominates", f"{d.tau_from_s:.4g} .. {d.tau_to_s:.4g} s",
+                     f"slope {d.slope:+g}"])
+    _print(_table(escape(f"curve of {res.axis}"), ["read-out", "tau", "value"], rows),
+           quiet_json=quiet_json)
 
 
 # ---- batch ------------------------------------------------------------------------------

@@ -607,3 +607,49 @@ def plot_allan_comparison(comparison: Any, *, width_in: float = 7.5) -> Figure:
     ax.legend(fontsize="small")
     ax.set_title("Allan deviation before and after filtering", fontsize="medium")
     return fig
+
+
+def plot_allan_overlay(results: Any, labels: Any, noise: Any = None, *,
+                       width_in: float = 7.5) -> Figure:
+    """Several Allan curves (recordings or axes) on one log-log figure, for comparing gyros.
+
+    Lower-left is better: a lower curve has less noise, and a minimum further right means
+    a longer useful averaging time (seed 001).  Each curve carries its confidence
+    intervals, its fitted IEEE-952 total (when given) and a marker at its minimum.
+
+    Parameters
+    ----------
+    results : sequence of AllanResult
+    labels : sequence of str
+        One label per curve (file name, axis).
+    noise : sequence of NoiseModel or None, optional
+        One fit per curve (None entries are skipped).
+    """
+    curves = list(results)
+    names = list(labels)
+    fits = list(noise) if noise is not None else [None] * len(curves)
+    fig = Figure(figsize=(width_in, 0.72 * width_in), layout="constrained")
+    ax = fig.add_subplot()
+    cmap = ["tab:blue", "tab:orange", "tab:green", "tab:red", "tab:purple", "tab:brown",
+            "tab:pink", "tab:gray", "tab:olive", "tab:cyan"]
+    units = {getattr(r, "units", "") for r in curves}
+    for i, (res, label, fit) in enumerate(zip(curves, names, fits, strict=True)):
+        colour = cmap[i % len(cmap)]
+        _allan_curve(ax, res, colour, _mpl_text(label))
+        dev = np.asarray(res.dev, dtype=np.float64)
+        ok = np.isfinite(dev) & (dev > 0)
+        if ok.any():
+            j = int(np.argmin(np.where(ok, dev, np.inf)))
+            ax.plot(res.tau_s[j], dev[j], marker="v", color=colour, ms=9, ls="none", zorder=5)
+        if fit is not None:
+            tau = np.logspace(np.log10(res.tau_s[0]), np.log10(res.tau_s[-1]), 200)
+            ax.plot(tau, fit.curve(tau), "-", color=colour, lw=1.0, alpha=0.7)
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel(r"averaging time $\tau$ (s)")
+    unit = units.pop() if len(units) == 1 else "mixed units"
+    ax.set_ylabel(_mpl_text(f"Allan deviation ({unit})"))
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize="small", title="▼ minimum; line: IEEE-952 fit", title_fontsize="small")
+    ax.set_title("Allan deviation comparison (lower-left is better)", fontsize="medium")
+    return fig

@@ -111,8 +111,8 @@ def test_acf_pacf_equal_statsmodels() -> None:
 
 
 def test_lag_products_equal_direct_sums() -> None:
-    x = np.random.default_rng(9).standard_normal(40_000)   # spans several kernel blocks
-    y = np.random.default_rng(10).standard_normal(40_000)
+    x = np.random.default_rng(9).standard_normal(150_000)   # spans several kernel blocks
+    y = np.random.default_rng(10).standard_normal(150_000)
     got = lag_products(x, 25, y)
     ref = np.array([np.sum(x[k:] * y[:x.size - k]) for k in range(26)])
     assert np.allclose(got, ref, rtol=1e-12, atol=1e-9)

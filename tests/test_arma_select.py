@@ -301,7 +301,7 @@ def test_nearly_white_series_says_so() -> None:
 
 
 def test_verdict_names_a_simpler_model_within_two_units() -> None:
-    for seed in range(6):
+    for seed in range(12):
         sel = select_arma(_arma([0.6], [], 4000, seed))
         best = sel.best
         assert best is not None

@@ -83,8 +83,10 @@ def test_select_not_white_exits_1(tmp_path: Path) -> None:
 def test_select_explosive_exits_1_with_failed_rows(tmp_path: Path) -> None:
     e = np.random.default_rng(0).standard_normal(300)
     f = _write(tmp_path / "boom.csv", lfilter([1.0], [1.0, -1.1], e))
-    res = runner.invoke(app, ["select", str(f), "--predict", str(tmp_path / "p.csv")])
+    res = runner.invoke(app, ["select", str(f), "--predict", str(tmp_path / "p.csv"),
+                              "--plot", str(tmp_path / "boom.svg")])
     assert res.exit_code == 1, res.output
+    assert (tmp_path / "boom.svg").read_text().lstrip().startswith("<?xml")
     assert "failed" in res.stdout and "explosive" in res.stdout
     assert "No candidate could be fitted" in res.stdout
     assert not (tmp_path / "p.csv").exists()

@@ -99,7 +99,7 @@ CUTOFF_MAX_LAG = 3
 #: A cut-off needs its last significant lag at least this many bands out (an abrupt drop).
 CUTOFF_STEP = 2.0
 #: Block length of the cache-friendly lag-product kernel.
-_BLOCK = 16384
+_BLOCK = 65536
 
 
 # ----------------------------------------------------------------------------- kernels
@@ -108,8 +108,9 @@ _BLOCK = 16384
 def lag_products(x: FloatArray, max_lag: int, y: FloatArray | None = None) -> FloatArray:
     """Lag products ``c_k = sum_t x_{t+k} y_t`` for k = 0..max_lag (y defaults to x).
 
-    Computed block-wise so that each block stays in cache: about 8x faster than one
-    ``np.dot`` per lag on 10^6 samples, and far faster than an FFT for a few dozen lags.
+    Computed block by block, every lag of a block while the block is in cache, with
+    ``np.einsum`` (no BLAS threads, which stall on a loaded machine).  On 10^6 samples and 40
+    lags this is about twice as fast as one ``np.dot`` per lag or an FFT.
 
     Parameters
     ----------
@@ -127,20 +128,16 @@ def lag_products(x: FloatArray, max_lag: int, y: FloatArray | None = None) -> Fl
     >>> lag_products(np.array([1.0, 2.0, 3.0]), 2)
     array([14.,  8.,  3.])
     """
-    from numpy.lib.stride_tricks import sliding_window_view
-
     n = x.shape[0]
     if y is None:
         y = x
     out = np.zeros(max_lag + 1)
-    if max_lag == 0:
-        out[0] = _dot(x, y)
-        return out
     xp = np.concatenate([x, np.zeros(max_lag)])
     for s in range(0, n, _BLOCK):
         e = min(n, s + _BLOCK)
-        window = sliding_window_view(xp[s:e + max_lag], max_lag + 1)[: e - s]
-        out += y[s:e] @ window
+        ys = y[s:e]
+        for k in range(max_lag + 1):
+            out[k] += _dot(ys, xp[s + k:e + k])
     return out
 
 

@@ -412,22 +412,28 @@ class _Arma:
         x = self.x[:s]
         z = x.copy()
         if p:
-            z[p:] = np.convolve(x, np.r_[1.0, -phi], mode="valid")
-        th = np.r_[1.0, theta]
+            b = np.empty(p + 1)
+            b[0] = 1.0
+            b[1:] = -phi
+            z[p:] = np.convolve(x, b, mode="valid")
+        th = np.empty(q + 1)
+        th[0] = 1.0
+        th[1:] = theta
         psi = _psi_weights(phi, theta, q)
         gam_x = _arma_acov(phi, theta, psi, p)
+        # ab[d, j] = Cov(z_{j+d}, z_j): the MA(q) autocovariance of W_t = phi(B)x_t everywhere
+        # but in the first p columns (x-x and x-W covariances, Ansley 1979)
         ab = np.zeros((m + 1, s))
-        for d in range(m + 1):
-            # ab[d, j] = Cov(z_{j+d}, z_j): x-x block, x-W block and the MA(q) W-W block
-            cols = np.arange(s - d)
-            rows = cols + d
-            val = np.zeros(s - d)
-            if d < p:
-                val[rows < p] = gam_x[d]
-            if d <= q:
-                val[(cols < p) & (rows >= p)] = float(np.dot(th[d:q + 1], psi[:q + 1 - d]))
-                val[cols >= p] = float(np.dot(th[:q + 1 - d], th[d:q + 1]))
-            ab[d, :s - d] = val
+        for d in range(min(q, m) + 1):
+            ab[d, :s - d] = float(np.dot(th[:q + 1 - d], th[d:q + 1]))
+        for j in range(min(p, s)):
+            for d in range(min(m, s - 1 - j) + 1):
+                if j + d < p:
+                    ab[d, j] = gam_x[d]
+                elif d <= q:
+                    ab[d, j] = float(np.dot(th[d:q + 1], psi[:q + 1 - d]))
+                else:
+                    ab[d, j] = 0.0
         c, info = lapack.dpbtrf(ab, lower=1)
         if info != 0:
             raise ModelFitError(f"the covariance of the first {s} samples is not positive "
@@ -757,33 +763,75 @@ def _newton(model: _Arma, phi: FloatArray, theta: FloatArray, *,
                          HS=HS, HD=HD)
 
 
-def _fit_fast(xs: FloatArray, p: int, q: int) -> tuple[dict[str, float], dict[str, float],
-                                                        float, FloatArray, bool, list[str],
-                                                        int | None]:
-    """Exact ML by Newton's method on the fast exact likelihood (see the section notes).
+def _solve(xs: FloatArray, model: _Arma, phi: FloatArray, theta: FloatArray) -> _NewtonResult:
+    """Newton from (phi, theta): presample first on long series, exact polish on short ones.
 
     On long series the iterations start on the first ``_PRESAMPLE`` samples (ten times cheaper;
     their optimum is within a few 1e-3 of the full one), then finish on the whole series.
     """
-    n = xs.shape[0]
-    k = p + q
-    phi, theta = _start_values(xs, p, q)
+    n, p, q = model.n, model.p, model.q
     if n > 4 * _PRESAMPLE:
         pre = _newton(_Arma(xs[:_PRESAMPLE], p, q), phi, theta, small_step=1e-4)
         if _admissible(pre.ev.phi, pre.ev.theta, margin=1e-3):
             phi, theta = pre.ev.phi, pre.ev.theta
-    model = _Arma(xs, p, q)
     res = _newton(model, phi, theta)
-    n_iter = res.n_iter
     if n <= _FD_HESSIAN_MAX_N:
         # polish with the exact Hessian; it also gives the observed information
         res2 = _newton(model, res.ev.phi, res.ev.theta, small_step=1e-7, exact=True,
                        max_iter=20)
         if res2.ev.f <= res.ev.f:
-            res = _NewtonResult(ev=res2.ev, converged=res2.converged, n_iter=0,
-                                msgs=res2.msgs if res2.converged else res.msgs + res2.msgs,
-                                dS=res2.dS, dD=res2.dD, HS=res2.HS, HD=res2.HD)
-        n_iter += res2.n_iter
+            return _NewtonResult(ev=res2.ev, converged=res2.converged,
+                                 n_iter=res.n_iter + res2.n_iter,
+                                 msgs=res2.msgs if res2.converged else res.msgs + res2.msgs,
+                                 dS=res2.dS, dD=res2.dD, HS=res2.HS, HD=res2.HD)
+        res.n_iter += res2.n_iter
+    return res
+
+
+def _mirrored_start(phi: FloatArray, theta: FloatArray,
+                    tol: float = 0.15) -> tuple[FloatArray, FloatArray] | None:
+    """The other side of a near-cancelling AR/MA root pair, or None if no pair cancels.
+
+    When an inverse AR root r nearly equals an inverse MA root m (a near-common factor, the
+    model is close to redundant), the likelihood is flat along the cancellation ridge and
+    often has a second local maximum near (-r, -m).  Both roots are negated here.
+    """
+    if phi.size == 0 or theta.size == 0:
+        return None
+    ar_roots = np.roots(np.r_[1.0, -phi])        # inverse AR roots
+    ma_roots = np.roots(np.r_[1.0, theta])       # inverse MA roots
+    gap = np.abs(ar_roots[:, None] - ma_roots[None, :])
+    i, j = np.unravel_index(int(np.argmin(gap)), gap.shape)
+    if gap[i, j] > tol or abs(ar_roots[i].imag) > 1e-8 or abs(ma_roots[j].imag) > 1e-8:
+        return None
+    ar_roots[i], ma_roots[j] = -ar_roots[i], -ma_roots[j]
+    phi2 = -np.real(np.poly(ar_roots))[1:]
+    theta2 = np.real(np.poly(ma_roots))[1:]
+    if not _admissible(phi2, theta2, margin=1e-3):
+        phi2, theta2 = _shrink_into_region(phi2, theta2)
+    return phi2, theta2
+
+
+def _fit_fast(xs: FloatArray, p: int, q: int) -> tuple[dict[str, float], dict[str, float],
+                                                        float, FloatArray, bool, list[str],
+                                                        int | None]:
+    """Exact ML by Newton's method on the fast exact likelihood (see the section notes).
+
+    Start: Hannan-Rissanen; if the optimum has a near-cancelling AR/MA root pair, the mirrored
+    pair is tried as a second start and the higher likelihood kept.
+    """
+    n = xs.shape[0]
+    k = p + q
+    model = _Arma(xs, p, q)
+    phi, theta = _start_values(xs, p, q)
+    res = _solve(xs, model, phi, theta)
+    n_iter = res.n_iter
+    alt = _mirrored_start(res.ev.phi, res.ev.theta)
+    if alt is not None:
+        res_alt = _solve(xs, model, *alt)
+        n_iter += res_alt.n_iter
+        if res_alt.ev.f < res.ev.f:
+            res = res_alt
     ev, converged, msgs = res.ev, res.converged, res.msgs
     assert res.HS is not None and res.HD is not None and res.dD is not None
     S = ev.S

@@ -581,9 +581,8 @@ def _evaluate(p: int, q: int, inp: _Input, criterion: str, lags: tuple[int, ...]
         return _failed(p, q, criterion, f"the fitted AR part is not stationary (largest AR "
                        f"inverse root modulus {roots.ar_radius:.4f} >= 1)", msgs, x, inp)
     if not fit.converged:
-        text = f"{name}: the optimiser did not converge; its likelihood may be short of the optimum"
-        msgs.append(text)
-        warnings.warn(text, ConvergenceWarning, stacklevel=3)
+        msgs.append(f"{name}: the optimiser did not converge; its likelihood may be short of "
+                    "the optimum")
     if not roots.invertible:
         msgs.append(f"the MA part is not invertible (largest MA inverse root modulus "
                     f"{roots.ma_radius:.4f} >= 1)")
@@ -735,6 +734,10 @@ def select_arma(
     _check_data(inp.x, orders, lag_t)
     corr = correlogram(inp.x)
     evaluated = [_evaluate(p, q, inp, criterion, lag_t, method) for p, q in orders]
+    for c in evaluated:
+        if c.ok and not c.converged:
+            warnings.warn(f"{c.model}: the optimiser did not converge; its likelihood may be "
+                          "short of the optimum", ConvergenceWarning, stacklevel=2)
     ranked = _rank(evaluated, criterion)
     sel = ranked[0] if ranked and ranked[0].ok else None
     all_white_failed = not any(c.white for c in ranked)
