@@ -21,9 +21,9 @@ import numpy as np
 import pandas as pd
 
 from fogts.allan.api import allan_deviation
-from fogts.allan.taus import Kind
 from fogts.allan.noise import NOISE_TERMS, NoiseModel, fit_noise
 from fogts.allan.result import AllanResult
+from fogts.allan.taus import Kind
 from fogts.errors import DataError
 
 __all__ = ["AllanComparison", "TermChange", "compare_allan"]
