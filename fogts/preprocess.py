@@ -233,9 +233,10 @@ def prepare(
     Examples
     --------
     >>> import numpy as np
-    >>> p = prepare(np.arange(100.0) + np.sin(np.arange(100)), fs_hz=10, detrend=1)
-    >>> p.steps[0]
-    'removed a polynomial trend of order 1'
+    >>> x = np.arange(500.0) + np.random.default_rng(0).normal(size=500)
+    >>> p = prepare(x, fs_hz=10, detrend=1)
+    >>> p.steps
+    ('removed a polynomial trend of order 1', 'stationarity: stationary (ADF p=0, KPSS p=0.1)')
     """
     run = data if isinstance(data, Run) else None
     x, fs, name, index = _unpack(data, fs_hz, axis)
