@@ -705,7 +705,6 @@ def simulate_cmd(
     Allan deviation.
     """
     import dataclasses
-    import json
 
     import numpy as np
 
@@ -728,10 +727,9 @@ def simulate_cmd(
         duration_s = parse_duration(duration, "--duration")
         values: dict[str, float] = {}
         if noise_json is not None:
-            try:
-                loaded = json.loads(noise_json.read_text(encoding="utf-8"))
-            except json.JSONDecodeError as exc:
-                raise DataError(f"--from-json {str(noise_json)!r} is not JSON: {exc}") from None
+            from fogts.io import read_json
+
+            loaded = read_json(noise_json, "--from-json file")
             values.update(dataclasses.asdict(NoiseSpec.from_any(loaded)))
         given = {"Q": q_term, "N": n_term, "B": b_term, "K": k_term, "R": r_term, "bias": bias}
         values.update({k: v for k, v in given.items() if v != 0.0 or k not in values})
@@ -987,15 +985,10 @@ def _lowpass_filter(run: Any, x: Any, file: Path, output: Path, method: str,
 
 # ---- compensate (issue 6: seed-004 start-up drift compensation) ---------------------------
 def _load_thermal_model(path: Path) -> Any:
-    import json
-
-    from fogts.errors import DataError
+    from fogts.io import read_json
     from fogts.thermal import ThermalModel
 
-    try:
-        data = json.loads(Path(path).read_text(encoding="utf-8"))
-    except json.JSONDecodeError as exc:
-        raise DataError(f"thermal model {str(path)!r} is not valid JSON: {exc}") from None
+    data = read_json(path, "thermal model")
     if isinstance(data, dict) and "thermal" in data and "terms" not in data:
         data = data["thermal"].get("model", data["thermal"])  # a `compensate --json` file
     return ThermalModel.from_dict(data)

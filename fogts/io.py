@@ -42,6 +42,7 @@ from fogts.units import parse_rate_unit
 __all__ = [
     "MIN_SAMPLES",
     "atomic_path",
+    "read_json",
     "read_run",
     "sampling_report",
     "write_frame_atomic",
@@ -133,6 +134,30 @@ def read_run(
     table = _load_table(source)
     return _table_to_run(table, rate_column=rate_column, time_column=time_column,
                          temperature_column=temperature_column, fs_hz=fs_hz, units=unit)
+
+
+def read_json(path: str | os.PathLike[str], what: str = "JSON file") -> Any:
+    """Load a JSON document (a saved model, a noise specification) with clear errors.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> p = pathlib.Path(tempfile.mkdtemp()) / "m.json"
+    >>> _ = p.write_text('{"a": 1}')
+    >>> read_json(p)
+    {'a': 1}
+    """
+    import json
+
+    source = Path(path)
+    if not source.exists():
+        raise DataError(f"{what} not found: {str(source)!r}")
+    if source.is_dir():
+        raise DataError(f"{what} {str(source)!r} is a directory, not a file")
+    try:
+        return json.loads(source.read_text(encoding="utf-8"))
+    except (json.JSONDecodeError, UnicodeDecodeError) as exc:
+        raise DataError(f"{what} {str(source)!r} is not valid JSON: {exc}") from None
 
 
 @contextmanager

@@ -115,7 +115,7 @@ def test_simulate_bad_output_and_json(tmp_path: Path) -> None:
     bad.write_text("{not json")
     res = runner.invoke(app, ["simulate", "--duration", "10s", "--from-json", str(bad), "-o",
                               str(tmp_path / "x.csv")])
-    assert res.exit_code == 2 and "is not JSON" in res.stderr
+    assert res.exit_code == 2 and "is not valid JSON" in res.stderr
 
 
 # --------------------------------------------------------------------------- davar

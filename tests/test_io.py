@@ -330,3 +330,15 @@ def test_write_errors(tmp_path: Path) -> None:
 def test_bad_npy_signature(tmp_path: Path) -> None:
     with pytest.raises(DataError, match=r"not a valid .npy file \(wrong signature\)"):
         read_run(_write(tmp_path, "x.npy", b"garbage"), fs_hz=1.0)
+
+
+def test_read_json_errors(tmp_path: Path) -> None:
+    from fogts.io import read_json
+
+    with pytest.raises(DataError, match="thermal model not found: '.*m.json'"):
+        read_json(tmp_path / "m.json", "thermal model")
+    with pytest.raises(DataError, match="is a directory, not a file"):
+        read_json(tmp_path)
+    (tmp_path / "bad.json").write_text("{not json")
+    with pytest.raises(DataError, match="'.*bad.json' is not valid JSON"):
+        read_json(tmp_path / "bad.json")
