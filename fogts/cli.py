@@ -53,7 +53,7 @@ RateColOpt = Annotated[str | None, typer.Option("--rate-column", help="Rate colu
 TimeColOpt = Annotated[str | None, typer.Option("--time-column", help="Time column; default: auto-detect.")]
 TempColOpt = Annotated[str | None, typer.Option("--temperature-column", help="Temperature column; default: auto-detect.")]
 FsOpt = Annotated[float | None, typer.Option("--fs", help="Sample rate in Hz (overrides the time column).")]
-UnitsOpt = Annotated[str | None, typer.Option("--units", help="Rate unit of the input: deg/h, deg/s, rad/s, arcsec/s [default: from a unit in the column name such as gyro_x_deg_s, else deg/h].")]
+UnitsOpt = Annotated[str | None, typer.Option("--units", help="Rate unit of the input: deg/h, deg/s, rad/s, arcsec/s (default: from a unit in the column name such as gyro_x_deg_s, else deg/h).")]
 JsonOpt = Annotated[str | None, typer.Option("--json", help="Write JSON to PATH, or '-' for stdout.")]
 
 
@@ -329,7 +329,7 @@ def allan_cmd(
     confidence: Annotated[float, typer.Option("--confidence", help="Confidence level of the deviation and coefficient intervals.")] = 0.683,
     terms: Annotated[str, typer.Option("--terms", help="Noise terms to fit, from Q,N,B,K,R.")] = "Q,N,B,K,R",
     method: Annotated[str, typer.Option("--method", help="Noise fit: wls (EDF weights), gls (full covariance), ols (unweighted, comparison only).")] = "wls",
-    axis: Annotated[str | None, typer.Option("--axis", help="Analyse one axis (name or index) [default: every axis].")] = None,
+    axis: Annotated[str | None, typer.Option("--axis", help="Analyse one axis (name or index) (default: every axis).")] = None,
     outliers: Annotated[float | None, typer.Option("--outliers", help="Replace samples beyond this many robust sigmas first (default: raw data).")] = None,
     detrend: Annotated[int | None, typer.Option("--detrend", help="Remove a polynomial trend of this order first (default: raw data).")] = None,
     decimate: Annotated[int | None, typer.Option("--decimate", help="Block-average K samples first (default: raw data).")] = None,
@@ -694,7 +694,7 @@ def simulate_cmd(
     temperature_profile: Annotated[str | None, typer.Option("--temperature-profile", help="Temperature column: 'constant:T', 'warmup:START,END,TAU' (degC; TAU like 20min) or 'ramp:START,END'.")] = None,
     thermal: Annotated[str | None, typer.Option("--thermal", help="Temperature-driven drift D = a T dT + b T^2 + c T + d dT^2 + e dT + f, as 'T*dT=a,T2=b,T=c,dT2=d,dT=e,1=f' (deg/h; dT in degC/s); needs --temperature-profile.")] = None,
     flicker: Annotated[str, typer.Option("--flicker", help="Flicker (B) synthesis: markov (sum of Markov processes, chunked) or kasdin (Kasdin-Walter, in memory).")] = "markov",
-    seed: Annotated[int | None, typer.Option("--seed", help="Random seed [default: a fresh one, recorded in the sidecar JSON].")] = None,
+    seed: Annotated[int | None, typer.Option("--seed", help="Random seed (default: a fresh one, recorded in the sidecar JSON).")] = None,
     units: Annotated[str, typer.Option("--units", help="Unit of the output rate: deg/h, deg/s, rad/s, arcsec/s (coefficients stay in deg/h-based units).")] = "deg/h",
     decimals: Annotated[int | None, typer.Option("--decimals", help="Round the rate and temperature to this many decimals (smaller files).")] = None,
 ) -> None:
@@ -801,7 +801,7 @@ def davar_cmd(
     step: Annotated[str, typer.Option("--step", help="Step between windows: 20s, 1min, ...")] = "20s",
     kind: Annotated[str, typer.Option("--kind", help="Estimator per window: oadev, mdev, ohdev (fast), adev, hdev, totdev.")] = "oadev",
     taus: Annotated[str, typer.Option("--taus", help="Tau grid within the window: octave, decade, dense, all, or taus in s separated by commas.")] = "octave",
-    axis: Annotated[str | None, typer.Option("--axis", help="Analyse one axis (name or index) [default: every axis].")] = None,
+    axis: Annotated[str | None, typer.Option("--axis", help="Analyse one axis (name or index) (default: every axis).")] = None,
     confidence: Annotated[float, typer.Option("--confidence", help="Confidence level of each window's interval.")] = 0.683,
     rate_column: RateColOpt = None,
     time_column: TimeColOpt = None,
@@ -1234,21 +1234,19 @@ def select_cmd(
     temperature_column: TempColOpt = None,
     fs: FsOpt = None,
     units: UnitsOpt = None,
-    axis: Annotated[str | None, typer.Option("--axis", help="Axis to model (name or index) [default: the first].")] = None,
+    axis: Annotated[str | None, typer.Option("--axis", help="Axis to model, by name or index (default: the first).")] = None,
     outliers: Annotated[float | None, typer.Option("--outliers", help="Replace samples beyond this many robust sigmas first.")] = None,
-    detrend: Annotated[int | None, typer.Option("--detrend", help="Remove a polynomial trend of this order (0 = mean only) [default: remove the mean].")] = None,
+    detrend: Annotated[int | None, typer.Option("--detrend", help="Remove a polynomial trend of this order; 0 removes the mean only (default: remove the mean).")] = None,
     decimate: Annotated[int | None, typer.Option("--decimate", help="Block-average K samples first (e.g. 100 Hz -> 1 Hz with K=100).")] = None,
-    candidates: Annotated[str | None, typer.Option("--candidates", help="Models to compare, e.g. 'AR(1),AR(2),ARMA(1,1)' [default: AR(1),AR(2),AR(3),ARMA(1,1),ARMA(2,1)].")] = None,
+    candidates: Annotated[str | None, typer.Option("--candidates", help="Models to compare, e.g. 'AR(1),AR(2),ARMA(1,1)' (default: AR(1),AR(2),AR(3),ARMA(1,1),ARMA(2,1)).")] = None,
     criterion: Annotated[str, typer.Option("--criterion", help="Ranking criterion: aic, bic, hqic, aicc.")] = "aic",
     json_out: JsonOpt = None,
     plot: Annotated[Path | None, typer.Option("--plot", help="Diagnostics figure (data ACF/PACF, residual ACF, Q-Q, prediction): .png, .svg or .pdf.")] = None,
     predict: Annotated[Path | None, typer.Option("--predict", help="Write the one-step prediction as CSV (time, observed, predicted, residual); .csv, .csv.gz, .tsv or .parquet.")] = None,
 ) -> None:
-    """Select the ARMA model of the drift (seed 000): fit AR(1), AR(2), AR(3), ARMA(1,1) and
-    ARMA(2,1), check that their residuals are white, rank them and predict one step ahead.
+    """Select the ARMA model of the drift (seed 000): fit AR(1), AR(2), AR(3), ARMA(1,1) and ARMA(2,1), check that their residuals are white, rank them and predict one step ahead.
 
-    Exit code 0 if the selected model leaves white residuals, 1 if no candidate does (the best
-    one is still reported), 2 on bad input.
+    Exit code 0 if the selected model leaves white residuals, 1 if no candidate does (the best one is still reported), 2 on bad input.
     """
     from rich.text import Text
 

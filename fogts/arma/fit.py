@@ -788,13 +788,12 @@ def _solve(xs: FloatArray, model: _Arma, phi: FloatArray, theta: FloatArray) -> 
     return res
 
 
-def _mirrored_start(phi: FloatArray, theta: FloatArray,
-                    tol: float = 0.15) -> tuple[FloatArray, FloatArray] | None:
-    """The other side of a near-cancelling AR/MA root pair, or None if no pair cancels.
+def _cancelling_pair(phi: FloatArray, theta: FloatArray, tol: float = 0.15
+                     ) -> tuple[FloatArray, FloatArray, tuple[complex, complex]] | None:
+    """Inverse AR and MA roots without their closest real pair, and the pair, if it cancels.
 
-    When an inverse AR root r nearly equals an inverse MA root m (a near-common factor, the
-    model is close to redundant), the likelihood is flat along the cancellation ridge and
-    often has a second local maximum near (-r, -m).  Both roots are negated here.
+    A near-common factor of phi(B) and theta(B) makes the model nearly redundant: the
+    likelihood is flat along the cancellation ridge and can have several local maxima on it.
     """
     if phi.size == 0 or theta.size == 0:
         return None
@@ -804,12 +803,38 @@ def _mirrored_start(phi: FloatArray, theta: FloatArray,
     i, j = np.unravel_index(int(np.argmin(gap)), gap.shape)
     if gap[i, j] > tol or abs(ar_roots[i].imag) > 1e-8 or abs(ma_roots[j].imag) > 1e-8:
         return None
-    ar_roots[i], ma_roots[j] = -ar_roots[i], -ma_roots[j]
-    phi2 = -np.real(np.poly(ar_roots))[1:]
-    theta2 = np.real(np.poly(ma_roots))[1:]
-    if not _admissible(phi2, theta2, margin=1e-3):
-        phi2, theta2 = _shrink_into_region(phi2, theta2)
-    return phi2, theta2
+    return np.delete(ar_roots, i), np.delete(ma_roots, j), (ar_roots[i], ma_roots[j])
+
+
+def _second_starts(xs: FloatArray, p: int, q: int, base_ar: FloatArray, base_ma: FloatArray,
+                   pair: tuple[complex, complex]) -> list[tuple[FloatArray, FloatArray]]:
+    """Further starts for a nearly redundant fit: the mirrored pair and statsmodels' start.
+
+    The mirrored pair negates both nearly cancelling roots (the other side of the ridge);
+    statsmodels' ``start_params`` (on at most ``_PRESAMPLE`` samples) is the start of its own
+    optimiser, so its basin is explored too.
+    """
+    from statsmodels.tsa.arima.model import ARIMA
+
+    starts = []
+    r, m = pair
+    phi = -np.real(np.poly(np.r_[base_ar, -r]))[1:]
+    theta = np.real(np.poly(np.r_[base_ma, -m]))[1:]
+    starts.append((phi, theta))
+    with _warnings.catch_warnings():
+        _warnings.simplefilter("ignore")
+        try:
+            sp = np.asarray(ARIMA(xs[:_PRESAMPLE], order=(p, 0, q), trend="n").start_params)
+            starts.append((sp[:p].copy(), sp[p:p + q].copy()))
+        except (ValueError, np.linalg.LinAlgError):
+            pass
+    out = []
+    for phi, theta in starts:
+        if np.all(np.isfinite(phi)) and np.all(np.isfinite(theta)):
+            if not _admissible(phi, theta, margin=1e-3):
+                phi, theta = _shrink_into_region(phi, theta)
+            out.append((phi, theta))
+    return out
 
 
 def _fit_fast(xs: FloatArray, p: int, q: int) -> tuple[dict[str, float], dict[str, float],
@@ -817,8 +842,10 @@ def _fit_fast(xs: FloatArray, p: int, q: int) -> tuple[dict[str, float], dict[st
                                                         int | None]:
     """Exact ML by Newton's method on the fast exact likelihood (see the section notes).
 
-    Start: Hannan-Rissanen; if the optimum has a near-cancelling AR/MA root pair, the mirrored
-    pair is tried as a second start and the higher likelihood kept.
+    Start: Hannan-Rissanen.  If the optimum has a nearly cancelling AR/MA root pair (a
+    near-redundant model, e.g. ARMA(1,1) on nearly white data), the likelihood can have
+    several maxima along the cancellation ridge: the mirrored pair and statsmodels' own start
+    values are tried too, and the highest likelihood is kept.
     """
     n = xs.shape[0]
     k = p + q
@@ -826,12 +853,15 @@ def _fit_fast(xs: FloatArray, p: int, q: int) -> tuple[dict[str, float], dict[st
     phi, theta = _start_values(xs, p, q)
     res = _solve(xs, model, phi, theta)
     n_iter = res.n_iter
-    alt = _mirrored_start(res.ev.phi, res.ev.theta)
-    if alt is not None:
-        res_alt = _solve(xs, model, *alt)
-        n_iter += res_alt.n_iter
-        if res_alt.ev.f < res.ev.f:
-            res = res_alt
+    found = _cancelling_pair(res.ev.phi, res.ev.theta)
+    if found is not None:
+        # nearly redundant: the likelihood can have several maxima along the cancellation
+        # ridge; finish two more starts and keep the highest likelihood
+        for start in _second_starts(xs, p, q, *found):
+            res_alt = _solve(xs, model, *start)
+            n_iter += res_alt.n_iter
+            if res_alt.ev.f < res.ev.f - 1e-9:
+                res = res_alt
     ev, converged, msgs = res.ev, res.converged, res.msgs
     assert res.HS is not None and res.HD is not None and res.dD is not None
     S = ev.S
