@@ -13,10 +13,10 @@ import os
 # slower (measured: a 36k-element dot product 21 ms instead of 26 us); tests use one thread.
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
-from pathlib import Path  # noqa: E402
+from pathlib import Path
 
-import matplotlib  # noqa: E402
-import pytest  # noqa: E402
+import matplotlib
+import pytest
 
 matplotlib.use("Agg")
 
