@@ -3,27 +3,121 @@
 Allan-variance analysis with IEEE-952 noise terms, ARMA model selection with residual
 diagnostics, and the models built on them (simulation, dynamic Allan variance, Kalman
 filtering, temperature compensation, north seeking).
+
+Public names are imported lazily (PEP 562), so ``import fogts`` and the command line start
+fast; ``from fogts import allan_deviation`` works as usual.
+
+Examples
+--------
+>>> import numpy as np, fogts
+>>> x = np.random.default_rng(0).normal(size=20_000)
+>>> res = fogts.allan_deviation(x, fs_hz=100.0)
+>>> round(float(res.dev[0] * np.sqrt(res.tau_s[0] * 100.0)), 1)  # white noise: sigma(tau0)
+1.0
 """
 
 from __future__ import annotations
 
+import importlib
+from typing import TYPE_CHECKING, Any
+
 __version__ = "0.1.0"
 
-from fogts.errors import (
-    DataError,
-    FogtsError,
-    FogtsWarning,
-    InsufficientDataError,
-    ModelFitError,
-)
-from fogts.run import Run
+# public name -> defining module
+_EXPORTS: dict[str, str] = {
+    # errors
+    "FogtsError": "fogts.errors", "DataError": "fogts.errors",
+    "InsufficientDataError": "fogts.errors", "ModelFitError": "fogts.errors",
+    "FogtsWarning": "fogts.errors",
+    # reading and preparing
+    "Run": "fogts.run", "SamplingReport": "fogts.run",
+    "read_run": "fogts.io",
+    "prepare": "fogts.preprocess", "Prepared": "fogts.preprocess",
+    "convert_rate": "fogts.units", "earth_rate_component": "fogts.units",
+    # Allan analysis
+    "allan_deviation": "fogts.allan.api",
+    "AllanResult": "fogts.allan.result", "AllanResultSet": "fogts.allan.result",
+    "tau_grid": "fogts.allan.taus", "TauGrid": "fogts.allan.taus",
+    "confidence_table": "fogts.allan.confidence",
+    "fit_noise": "fogts.allan.noise", "NoiseModel": "fogts.allan.noise",
+    "NoiseTerm": "fogts.allan.noise",
+    "read_curve": "fogts.allan.readout", "CurveReadout": "fogts.allan.readout",
+    "compare_allan": "fogts.allan.compare", "AllanComparison": "fogts.allan.compare",
+    "dynamic_allan": "fogts.allan.dynamic", "DynamicAllanResult": "fogts.allan.dynamic",
+    # ARMA
+    "fit_arma": "fogts.arma.fit", "ArmaFit": "fogts.arma.fit",
+    "select_arma": "fogts.arma.select", "Selection": "fogts.arma.select",
+    "Candidate": "fogts.arma.select", "Prediction": "fogts.arma.predict",
+    "correlogram": "fogts.arma.diagnostics",
+    # models built on the results
+    "simulate_gyro": "fogts.simulate", "simulate_arma": "fogts.simulate",
+    "NoiseSpec": "fogts.simulate", "ArmaSpec": "fogts.simulate",
+    "simulate_startup": "fogts.simulate_startup",
+    "lowpass": "fogts.filters", "moving_average": "fogts.filters",
+    "FilterResult": "fogts.filters",
+    "separate_trend": "fogts.emd", "TrendSplit": "fogts.emd",
+    "arma_kalman": "fogts.kalman", "KalmanResult": "fogts.kalman",
+    "fit_thermal": "fogts.thermal", "ThermalModel": "fogts.thermal",
+    "compensate": "fogts.thermal", "bias_stability": "fogts.thermal",
+    "startup_compensation": "fogts.thermal",
+    "four_position": "fogts.northfind", "NorthFinding": "fogts.northfind",
+    # tooling
+    "run_batch": "fogts.batch", "build_report": "fogts.report_html",
+    "write_report": "fogts.report_html",
+}
 
-__all__ = [
-    "DataError",
-    "FogtsError",
-    "FogtsWarning",
-    "InsufficientDataError",
-    "ModelFitError",
-    "Run",
-    "__version__",
-]
+__all__ = ["__version__", *sorted(_EXPORTS)]
+
+
+def __getattr__(name: str) -> Any:
+    module = _EXPORTS.get(name)
+    if module is None:
+        raise AttributeError(f"module 'fogts' has no attribute {name!r}")
+    value = getattr(importlib.import_module(module), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(__all__)
+
+
+if TYPE_CHECKING:  # static names for type checkers and IDEs
+    from fogts.allan.api import allan_deviation
+    from fogts.allan.compare import AllanComparison, compare_allan
+    from fogts.allan.confidence import confidence_table
+    from fogts.allan.dynamic import DynamicAllanResult, dynamic_allan
+    from fogts.allan.noise import NoiseModel, NoiseTerm, fit_noise
+    from fogts.allan.readout import CurveReadout, read_curve
+    from fogts.allan.result import AllanResult, AllanResultSet
+    from fogts.allan.taus import TauGrid, tau_grid
+    from fogts.arma.diagnostics import correlogram
+    from fogts.arma.fit import ArmaFit, fit_arma
+    from fogts.arma.predict import Prediction
+    from fogts.arma.select import Candidate, Selection, select_arma
+    from fogts.batch import run_batch
+    from fogts.emd import TrendSplit, separate_trend
+    from fogts.errors import (
+        DataError,
+        FogtsError,
+        FogtsWarning,
+        InsufficientDataError,
+        ModelFitError,
+    )
+    from fogts.filters import FilterResult, lowpass, moving_average
+    from fogts.io import read_run
+    from fogts.kalman import KalmanResult, arma_kalman
+    from fogts.northfind import NorthFinding, four_position
+    from fogts.preprocess import Prepared, prepare
+    from fogts.report_html import build_report, write_report
+    from fogts.run import Run, SamplingReport
+    from fogts.simulate import ArmaSpec, NoiseSpec, simulate_arma, simulate_gyro
+    from fogts.simulate_startup import simulate_startup
+    from fogts.thermal import (
+        ThermalModel,
+        bias_stability,
+        compensate,
+        fit_thermal,
+        startup_compensation,
+    )
+    from fogts.units import convert_rate, earth_rate_component

@@ -1,0 +1,27 @@
+"""The public API: every name in fogts.__all__ resolves, lazily."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+
+import pytest
+
+import fogts
+
+
+@pytest.mark.parametrize("name", fogts.__all__)
+def test_every_public_name_resolves(name: str) -> None:
+    assert getattr(fogts, name) is not None
+
+
+def test_unknown_name() -> None:
+    with pytest.raises(AttributeError, match="module 'fogts' has no attribute 'nope'"):
+        fogts.nope  # noqa: B018
+
+
+def test_import_is_light() -> None:
+    code = "import sys, fogts; print('statsmodels' in sys.modules)"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True).stdout.strip()
+    assert out == "False"
