@@ -367,11 +367,12 @@ def _analyze_axis(run: Any, axis: int, options: BatchOptions) -> tuple[dict[str,
 
 
 def _selection_fields(sel: Any) -> dict[str, Any]:
-    """``selected``, ``aic`` and ``white`` of the selected candidate."""
+    """``selected``, ``aic`` and ``white`` of the selected candidate.
+
+    Raises ModelFitError (an error row) if every candidate failed.
+    """
     best = sel.best
-    if best is None:
-        return {"selected": None, "aic": None, "white": None}
-    return {"selected": best.name, "aic": _finite(best.aic), "white": bool(best.white)}
+    return {"selected": best.model, "aic": _finite(best.aic), "white": bool(best.white)}
 
 
 def analyze_file(file: str, options: BatchOptions) -> RunOutcome:

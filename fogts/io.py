@@ -17,6 +17,7 @@ column, the data row and the file line.
 
 from __future__ import annotations
 
+import dataclasses
 import gzip
 import io as _io
 import os
@@ -24,7 +25,7 @@ import re
 import tempfile
 import warnings
 import zipfile
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
@@ -132,8 +133,15 @@ def read_run(
         fs_hz = check_positive("fs_hz", fs_hz)
     unit = parse_rate_unit(units) if units is not None else None
     table = _load_table(source)
-    return _table_to_run(table, rate_column=rate_column, time_column=time_column,
-                         temperature_column=temperature_column, fs_hz=fs_hz, units=unit)
+    options: dict[str, Any] = {"rate_column": rate_column, "time_column": time_column,
+                               "temperature_column": temperature_column, "fs_hz": fs_hz,
+                               "units": unit}
+    try:
+        return _table_to_run(table, **options)
+    except DataError:
+        if table.reparse is None:
+            raise
+        return _table_to_run(table.reparse(), **options)  # raises again, naming the line
 
 
 def read_json(path: str | os.PathLike[str], what: str = "JSON file") -> Any:
@@ -240,6 +248,9 @@ class _Table:
     from_index: pd.Index | None  # DatetimeIndex/TimedeltaIndex time base
     header: bool
     unit_hint: str = ""  # e.g. an .npz key such as ``gyro_deg_s``
+    # For text parsed by the fast path: re-parse line by line (for error messages that
+    # name the file line).
+    reparse: Callable[[], _Table] | None = None
 
 
 def _load_table(source: Any) -> _Table:
@@ -375,11 +386,6 @@ _NUMBER = re.compile(r"^[+-]?(\d+([.,]\d*)?|[.,]\d+)([eE][+-]?\d+)?$")
 
 
 def _decode(raw: bytes, source: str) -> str:
-    if not raw.strip():
-        raise DataError(f"{source!r} is empty")
-    if b"\x00" in raw[:65536]:
-        raise DataError(f"{source!r} looks like a binary file (NUL bytes); expected text, "
-                        "Parquet, .npy or .npz")
     try:
         return raw.decode("utf-8-sig")
     except UnicodeDecodeError:
@@ -405,13 +411,74 @@ def _split(line: str, sep: str) -> list[str]:
     return [c.strip() for c in line.split(sep)]
 
 
+_COMMENT_LINE = re.compile(rb"^[ \t]*#[^\r\n]*", re.MULTILINE)
+_FIRST_DATA_LINE = re.compile(rb"^[ \t]*([^#\s][^\r\n]*)", re.MULTILINE)
+
+
 def _text_table(raw: bytes, source: str) -> _Table:
-    text = _decode(raw, source)
-    lines = text.splitlines()
+    """Parse delimited text: a fast path (pandas' C reader straight on the bytes) for clean
+    numeric files, and a line-by-line path that knows every row's file line, used for
+    anything else and to word error messages."""
+    _check_text_bytes(raw, source)
+    body = raw[3:] if raw.startswith(b"\xef\xbb\xbf") else raw
+    first_match = _FIRST_DATA_LINE.search(body)
+    if first_match is None:
+        raise DataError(f"{source!r} has no data lines (only comments or blank lines)")
+    first_line = first_match.group(1).decode("utf-8", "replace").rstrip()
+    sep = _detect_separator(first_line)
+    first = _split(first_line, sep)
+    header = not all(_NUMBER.match(tok) for tok in first if tok)
+    names = [c.strip().strip('"').strip("'") or f"col{i}" for i, c in enumerate(first)] \
+        if header else [f"col{i}" for i in range(len(first))]
+
+    def checked() -> _Table:
+        return _checked_text_table(_decode(raw, source), sep, header, names, source)
+
+    fast = _fast_numeric_table(body, first_match.start(), sep, header, names, source)
+    return checked() if fast is None else dataclasses.replace(fast, reparse=checked)
+
+
+def _check_text_bytes(raw: bytes, source: str) -> None:
+    if not raw.strip():
+        raise DataError(f"{source!r} is empty")
+    if b"\x00" in raw[:65536]:
+        raise DataError(f"{source!r} looks like a binary file (NUL bytes); expected text, "
+                        "Parquet, .npy or .npz")
+
+
+def _fast_numeric_table(body: bytes, start: int, sep: str, header: bool, names: list[str],
+                        source: str) -> _Table | None:
+    """Parse with pandas' C reader; None when anything is not clean numeric data.
+
+    The caller then re-parses line by line to report exactly what is wrong and where.
+    """
+    comments = tuple(m.group(0).strip().decode("utf-8", "replace")
+                     for m in _COMMENT_LINE.finditer(body)) if b"#" in body else ()
+    lines = body[start:start + 4096].splitlines()
+    probe = (lines[1] if header and len(lines) > 1 else lines[0]).decode("utf-8", "replace")
+    decimal = "," if sep != "," and re.search(r"(^|[\s;\t])[+-]?\d+,\d+", probe) else "."
+    try:
+        frame = pd.read_csv(_io.BytesIO(body), sep=sep, header=0 if header else None,
+                            names=names, decimal=decimal, comment="#" if comments else None,
+                            skip_blank_lines=True, engine="c", index_col=False,
+                            skipinitialspace=True, encoding="utf-8")
+    except (pd.errors.ParserError, ValueError):
+        return None
+    if frame.shape[0] == 0 or frame.shape[1] != len(names):
+        return None
+    for col in frame.columns:
+        if frame[col].dtype.kind not in "fi" or not np.isfinite(
+                frame[col].to_numpy(dtype=np.float64)).all():
+            return None
+    return _Table(frame, source, None, comments, None, None, header)
+
+
+def _checked_text_table(text: str, sep: str, header: bool, names: list[str],
+                        source: str) -> _Table:
     comments: list[str] = []
     kept: list[str] = []
     line_no: list[int] = []
-    for i, line in enumerate(lines, start=1):
+    for i, line in enumerate(text.splitlines(), start=1):
         stripped = line.strip()
         if not stripped:
             continue
@@ -420,18 +487,11 @@ def _text_table(raw: bytes, source: str) -> _Table:
             continue
         kept.append(line)
         line_no.append(i)
-    if not kept:
-        raise DataError(f"{source!r} has no data lines (only comments or blank lines)")
-    sep = _detect_separator(kept[0])
-    first = _split(kept[0], sep)
-    header = not all(_NUMBER.match(tok) for tok in first if tok)
     data_lines = kept[1:] if header else kept
     data_line_no = np.asarray(line_no[1:] if header else line_no, dtype=np.int64)
     if not data_lines:
-        raise InsufficientDataError(f"{source!r} has a header ({', '.join(first)}) but no "
+        raise InsufficientDataError(f"{source!r} has a header ({', '.join(names)}) but no "
                                     "data rows")
-    names = [c.strip().strip('"').strip("'") or f"col{i}" for i, c in enumerate(first)] \
-        if header else [f"col{i}" for i in range(len(first))]
     sample = _split(data_lines[0], sep)
     decimal = "," if sep != "," and any(re.match(r"^[+-]?\d+,\d+", t) for t in sample) else "."
     try:
