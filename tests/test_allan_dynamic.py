@@ -187,9 +187,9 @@ def test_result_set_errors() -> None:
         res["q"]
     with pytest.raises(DataError, match="axis index must be in"):
         res[5]
-    with pytest.raises(DataError, match="index a DynamicAllanResultSet by axis name"):
+    with pytest.raises(DataError, match="index DynamicAllanResultSet by axis name"):
         res[1.5]  # type: ignore[index]
-    with pytest.raises(DataError, match="needs at least one result"):
+    with pytest.raises(DataError, match="DynamicAllanResultSet needs at least one curve"):
         DynamicAllanResultSet(curves=())
 
 

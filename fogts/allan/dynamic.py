@@ -43,7 +43,7 @@ deviation ratio compares the windows entirely before and after it.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Iterator
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any, Literal, get_args
 
@@ -55,6 +55,7 @@ import scipy.stats
 from fogts._typing import BoolArray, FloatArray, IntArray
 from fogts._validate import check_choice, check_fraction, check_positive
 from fogts.allan.estimators import ESTIMATORS, phase_from_rate
+from fogts.allan.result import AxisIndexed
 from fogts.allan.taus import KINDS, DroppedTau, Kind, n_terms, tau_grid
 from fogts.errors import DataError, InsufficientDataError
 
@@ -289,38 +290,14 @@ class DynamicAllanResult:
 
 
 @dataclass(frozen=True)
-class DynamicAllanResultSet:
-    """One :class:`DynamicAllanResult` per axis of a multi-axis record."""
+class DynamicAllanResultSet(AxisIndexed[DynamicAllanResult]):
+    """One :class:`DynamicAllanResult` per axis of a multi-axis record (index it by axis
+    name or position)."""
 
     curves: tuple[DynamicAllanResult, ...]
 
     def __post_init__(self) -> None:
-        curves = tuple(self.curves)
-        if not curves:
-            raise DataError("DynamicAllanResultSet needs at least one result")
-        object.__setattr__(self, "curves", curves)
-
-    @property
-    def axes(self) -> tuple[str, ...]:
-        return tuple(c.axis for c in self.curves)
-
-    def __len__(self) -> int:
-        return len(self.curves)
-
-    def __iter__(self) -> Iterator[DynamicAllanResult]:
-        return iter(self.curves)
-
-    def __getitem__(self, key: str | int) -> DynamicAllanResult:
-        if isinstance(key, str):
-            if key not in self.axes:
-                raise DataError(f"axis {key!r} not found; axes are: {', '.join(self.axes)}")
-            return self.curves[self.axes.index(key)]
-        if isinstance(key, bool) or not isinstance(key, int | np.integer):
-            raise DataError(f"index a DynamicAllanResultSet by axis name or position, got "
-                            f"{key!r}")
-        if not -len(self) <= int(key) < len(self):
-            raise DataError(f"axis index must be in [0, {len(self) - 1}], got {key}")
-        return self.curves[int(key)]
+        self._check_curves()
 
     def to_frame(self) -> pd.DataFrame:
         frames = [c.to_frame().assign(axis=c.axis) for c in self.curves]
