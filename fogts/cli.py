@@ -431,7 +431,7 @@ def _allan_file(file: Path, rate_column: str | None, time_column: str | None,
             warnings.warn(f"noise terms are fitted to adev, oadev or totdev curves only; "
                           f"not fitted to {res.kind}", FogtsWarning, stacklevel=1)
         readout = read_curve(res.tau_s, res.dev, res.ci_low, res.ci_high,
-                             confidence=res.confidence,
+                             confidence=res.confidence, edf=res.edf,
                              term_curves=model.lines(res.tau_s) if model is not None else None)
         check = _allantools_check(y, res) if check_allantools else None
         block = _allan_axis_payload(res, model, prepared, check)

@@ -65,3 +65,34 @@ def test_bad_input() -> None:
         read_curve([1, 2], [1, np.nan])
     with pytest.raises(DataError, match="strictly increasing"):
         read_curve([1, 3, 2], [1, 2, 3])
+
+
+@pytest.mark.parametrize("seed", [1, 2, 3])
+def test_minimum_of_simulated_record_matches_theory(seed: int) -> None:
+    # Issue 8: white + flicker + rate random walk, 6 h at 10 Hz; the measured minimum
+    # (among points with edf >= 10) lies within one octave (the grid spacing) of the
+    # closed-form curve's minimum (311.9 s for these coefficients).
+    import warnings
+
+    from fogts.allan import allan_deviation
+    from fogts.simulate import NoiseSpec, simulate_gyro
+
+    spec = NoiseSpec.from_any({"N": 0.01, "B": 0.02, "K": 0.2})
+    fine = np.logspace(-1, 4, 5001)
+    tau_theory = fine[np.argmin(spec.adev(fine))]
+    assert tau_theory == pytest.approx(311.9, rel=1e-3)
+    run = simulate_gyro(spec, fs_hz=10, duration_s=6 * 3600, rng=seed)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        res = allan_deviation(run, taus="octave")
+    r = read_curve(res.tau_s, res.dev, res.ci_low, res.ci_high, edf=res.edf)
+    assert abs(np.log2(r.tau_min_s / tau_theory)) <= 1.0
+
+
+def test_minimum_ignores_low_edf_points() -> None:
+    tau = np.array([1.0, 10.0, 100.0, 1000.0])
+    dev = np.array([1.0, 0.5, 0.4, 0.1])  # a chance low point at the longest tau
+    r = read_curve(tau, dev, edf=[1e4, 1e3, 50.0, 1.5])
+    assert r.tau_min_s == 100.0
+    assert read_curve(tau, dev).tau_min_s == 1000.0
+    assert read_curve(tau, dev, edf=[1.0, 1.0, 1.0, 1.0]).tau_min_s == 1000.0

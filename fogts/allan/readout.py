@@ -114,8 +114,14 @@ class CurveReadout:
         return "\n".join(lines)
 
 
+#: Points with fewer equivalent degrees of freedom (68 % CI wider than about +-25 %) are
+#: not trusted as the curve's minimum: at the longest taus a chance low point would win.
+MIN_EDF_FOR_MINIMUM = 10.0
+
+
 def read_curve(tau_s: Any, dev: Any, ci_low: Any = None, ci_high: Any = None, *,
-               confidence: float = 0.683,
+               confidence: float = 0.683, edf: Any = None,
+               min_edf: float = MIN_EDF_FOR_MINIMUM,
                term_curves: dict[str, Any] | None = None) -> CurveReadout:
     """Read the minimum, segment slopes, regions A-D and dominant-term ranges of a curve.
 
@@ -127,6 +133,11 @@ def read_curve(tau_s: Any, dev: Any, ci_low: Any = None, ci_high: Any = None, *,
         Confidence bounds per point (default: the point itself).
     confidence : float
         Level of the bounds.
+    edf : array_like, optional
+        Equivalent degrees of freedom per point.  When given, the minimum is searched
+        among the points with ``edf >= min_edf`` only (all points if none qualify).
+    min_edf : float
+        See ``edf``.
     term_curves : dict of str to array_like, optional
         Each fitted term's own sigma(tau) at ``tau_s`` (e.g. from a NoiseModel).
 
@@ -152,7 +163,13 @@ def read_curve(tau_s: Any, dev: Any, ci_low: Any = None, ci_high: Any = None, *,
     lo = np.asarray(ci_low, dtype=np.float64)[ok] if ci_low is not None else d[ok]
     hi = np.asarray(ci_high, dtype=np.float64)[ok] if ci_high is not None else d[ok]
     t, d = t[ok], d[ok]
-    i_min = int(np.argmin(d))
+    trusted = np.ones(t.size, dtype=bool)
+    if edf is not None:
+        e = np.asarray(edf, dtype=np.float64)[ok]
+        trusted = np.isfinite(e) & (e >= min_edf)
+        if not trusted.any():
+            trusted[:] = True
+    i_min = int(np.argmin(np.where(trusted, d, np.inf)))
     slopes = np.diff(np.log(d)) / np.diff(np.log(t))
     segments = np.column_stack([t[:-1], t[1:]])
     regions = _regions(t, d, lo, hi, i_min)
