@@ -407,7 +407,6 @@ def _allan_file(file: Path, rate_column: str | None, time_column: str | None,
                 decimate: int | None, check_allantools: bool) -> _AllanAnalysis:
     from fogts.allan import AllanResult, allan_deviation
     from fogts.allan.noise import FITTABLE_KINDS, fit_noise
-    from fogts.allan.readout import read_curve
     from fogts.errors import FogtsWarning
 
     run = _read(file, rate_column, time_column, temperature_column, fs, units)
@@ -430,9 +429,7 @@ def _allan_file(file: Path, rate_column: str | None, time_column: str | None,
         if model is None:
             warnings.warn(f"noise terms are fitted to adev, oadev or totdev curves only; "
                           f"not fitted to {res.kind}", FogtsWarning, stacklevel=1)
-        readout = read_curve(res.tau_s, res.dev, res.ci_low, res.ci_high,
-                             confidence=res.confidence, edf=res.edf,
-                             term_curves=model.lines(res.tau_s) if model is not None else None)
+        readout = res.readout(model)
         check = _allantools_check(y, res) if check_allantools else None
         block = _allan_axis_payload(res, model, prepared, check)
         block["curve"] = readout.to_dict()

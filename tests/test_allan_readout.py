@@ -85,7 +85,7 @@ def test_minimum_of_simulated_record_matches_theory(seed: int) -> None:
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         res = allan_deviation(run, taus="octave")
-    r = read_curve(res.tau_s, res.dev, res.ci_low, res.ci_high, edf=res.edf)
+    r = res.readout()
     assert abs(np.log2(r.tau_min_s / tau_theory)) <= 1.0
 
 

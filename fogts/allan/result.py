@@ -136,6 +136,18 @@ class AllanResult:
         """True when confidence intervals were computed for at least one point."""
         return bool(np.isfinite(self.ci_low).any())
 
+    def readout(self, noise: Any = None) -> Any:
+        """Curve read-outs: minimum with its CI, regions A-D, segment slopes and, given the
+        fitted :class:`~fogts.allan.noise.NoiseModel`, where each term dominates.
+
+        Returns a :class:`fogts.allan.readout.CurveReadout` (see :func:`read_curve`).
+        """
+        from fogts.allan.readout import read_curve
+
+        lines = noise.lines(self.tau_s) if noise is not None else None
+        return read_curve(self.tau_s, self.dev, self.ci_low, self.ci_high,
+                          confidence=self.confidence, edf=self.edf, term_curves=lines)
+
     def _alpha_or_none(self) -> list[int | None]:
         # The alpha behind each point's EDF; None where no interval was computed.
         return [int(a) if math.isfinite(e) else None
