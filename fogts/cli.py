@@ -31,7 +31,6 @@ except ImportError:  # pragma: no cover - older typer uses click itself
 from rich.table import Table
 
 from fogts import __version__
-from fogts.errors import FogtsError
 
 app = typer.Typer(
     name="fogts",
@@ -92,22 +91,15 @@ def _guard() -> Iterator[None]:
         except Exception as exc:
             if _STATE["debug"]:
                 raise
-            msg = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
-            if not isinstance(exc, FogtsError | ValueError | OSError):
-                msg = f"internal error ({type(exc).__name__}): {msg}"
-            err_console.print(f"error: {msg}", markup=False, soft_wrap=True)
+            from fogts.report import error_message
+
+            err_console.print(f"error: {error_message(exc)}", markup=False, soft_wrap=True)
             raise typer.Exit(ExitCode.ERROR) from None
         finally:
-            _report_warnings(caught)
+            from fogts.report import warning_texts
 
-
-def _report_warnings(caught: list[warnings.WarningMessage]) -> None:
-    seen: set[str] = set()
-    for w in caught:
-        text = str(w.message).strip().splitlines()[0] if str(w.message).strip() else ""
-        if text and text not in seen:
-            seen.add(text)
-            err_console.print(f"warning: {text}", markup=False, soft_wrap=True)
+            for text in warning_texts(caught):
+                err_console.print(f"warning: {text}", markup=False, soft_wrap=True)
 
 
 def _read(path: Path, rate_column: str | None, time_column: str | None,
@@ -842,11 +834,6 @@ def davar_cmd(
 FILTER_METHODS = ("kalman", "iir", "moving-average")
 
 
-def _save_plot(fig: Any, path: Path) -> None:
-    """Save a figure with the davar section's atomic writer."""
-    _save_figure(fig, path)
-
-
 def _say(lines: list[str], json_out: str | None) -> None:
     """Print text lines unwrapped (to stderr when the JSON goes to stdout)."""
     target = err_console if json_out == "-" else console
@@ -927,7 +914,7 @@ def _kalman_filter(run: Any, x: Any, file: Path, output: Path, model: str, noise
     if plot is not None:
         from fogts.plots import plot_kalman
 
-        _save_plot(plot_kalman(result, time_s=run.time, units=run.units), plot)
+        _save_figure(plot_kalman(result, time_s=run.time, units=run.units), plot)
     equation = fit.equation() if hasattr(fit, "equation") else result.model
     _say([f"drift model ({'selected by AIC' if model == 'auto' else 'given'}): {equation}",
           result.summary(), f"wrote {output} ({run.n} rows)"], json_out)
@@ -972,7 +959,7 @@ def _lowpass_filter(run: Any, x: Any, file: Path, output: Path, method: str,
     if plot is not None and comparison is not None:
         from fogts.plots import plot_allan_comparison
 
-        _save_plot(plot_allan_comparison(comparison), plot)
+        _save_figure(plot_allan_comparison(comparison), plot)
     lines = [result.summary()]
     if comparison is not None:
         lines += ["", "noise terms before and after filtering:", comparison.summary()]
@@ -1044,7 +1031,7 @@ def compensate_cmd(
         if plot is not None:
             from fogts.plots import plot_compensation
 
-            _save_plot(plot_compensation(result), plot)
+            _save_figure(plot_compensation(result), plot)
         lines = [result.summary()]
         if output is not None:
             lines.append(f"wrote {output} ({run.n} rows)")
@@ -1133,7 +1120,7 @@ def northfind_cmd(
             if plot is not None:
                 from fogts.plots import plot_north_seeking
 
-                _save_plot(plot_north_seeking(study), plot)
+                _save_figure(plot_north_seeking(study), plot)
             _say([study.summary(), *notes], json_out)
             return
         if not files:
