@@ -803,19 +803,12 @@ def davar_cmd(
     """Dynamic Allan deviation (DAVAR, Galleani & Tavella 2009): the deviation in a
     window sliding along the record, and a non-stationarity score."""
     from fogts.allan.dynamic import dynamic_allan
-    from fogts.errors import DataError
     from fogts.simulate import parse_duration
 
     with _guard():
         window_s = parse_duration(window, "--window")
         step_s = parse_duration(step, "--step")
-        tau_spec: Any = taus
-        if taus not in ("octave", "decade", "dense", "all"):
-            try:
-                tau_spec = [float(t) for t in taus.split(",") if t.strip()]
-            except ValueError:
-                raise DataError(f"--taus must be octave, decade, dense, all or numbers "
-                                 f"separated by commas; got {taus!r}") from None
+        tau_spec = _tau_option(taus)
         pick: int | str | None = int(axis) if axis is not None and axis.isdigit() else axis
         run = _read(file, rate_column, time_column, temperature_column, fs, units)
         result = dynamic_allan(run, window_s=window_s, step_s=step_s, kind=kind,  # type: ignore[arg-type]

@@ -173,7 +173,7 @@ def test_davar_multi_axis(tmp_path: Path) -> None:
     (["--window", "two minutes"], "--window must look like 3h"),
     (["--step", "-5s"], "--step must look like"),
     (["--window", "1d"], "longer than the record"),
-    (["--taus", "x,y"], "--taus must be octave, decade, dense, all or numbers"),
+    (["--taus", "x,y"], "--taus must be octave, decade, dense, all or taus in seconds"),
     (["--kind", "theo1"], "kind must be one of"),
     (["--plot", "out.gif"], "--plot must end in .png, .svg or .pdf"),
     (["--axis", "q"], "axis 'q' not found"),
