@@ -452,6 +452,29 @@ def _md_escape(text: str) -> str:
     return str(text).replace("|", "\\|").replace("\n", " ")
 
 
+def script_main(doc: str | None, metrics: Callable[[bool], list[Metric]],
+                argv: list[str] | None = None, *, quick_help: str = "smaller problems",
+                default_out: Path | None = None) -> int:
+    """The command line every single-suite benchmark script shares.
+
+    ``--quick`` passes ``quick=True`` to ``metrics``; the markdown table is printed and
+    written to ``--out`` (or, for a full run, ``default_out``).
+    """
+    p = argparse.ArgumentParser(description=(doc or "").split("\n")[0])
+    p.add_argument("--quick", action="store_true", help=quick_help)
+    hint = f" (default {default_out} for a full run)" if default_out is not None else ""
+    p.add_argument("--out", type=Path, default=None,
+                   help=f"also write the markdown table to this file{hint}")
+    args = p.parse_args(argv)
+    text = render_markdown({"metrics": metrics(args.quick), "quick": args.quick})
+    print(text)
+    target = args.out if args.out is not None else (None if args.quick else default_out)
+    if target is not None:
+        target.parent.mkdir(parents=True, exist_ok=True)
+        target.write_text(text + "\n")
+    return 0
+
+
 def render_markdown(doc: dict[str, Any]) -> str:
     """The result as markdown: a header line (machine, versions, date) and one table per kind."""
     m = doc.get("machine", {})

@@ -17,7 +17,6 @@ Run: ``python benchmarks/bench_alpha_id.py [--quick]``.
 
 from __future__ import annotations
 
-import argparse
 import sys
 from pathlib import Path
 
@@ -28,7 +27,7 @@ try:
         Metric,
         accuracy_metric,
         paired_times,
-        render_markdown,
+        script_main,
         speed_metric,
     )
 except ImportError:  # run as a script: python benchmarks/bench_alpha_id.py
@@ -37,7 +36,7 @@ except ImportError:  # run as a script: python benchmarks/bench_alpha_id.py
         Metric,
         accuracy_metric,
         paired_times,
-        render_markdown,
+        script_main,
         speed_metric,
     )
 
@@ -147,16 +146,7 @@ def metrics(quick: bool) -> list[Metric]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    p.add_argument("--quick", action="store_true", help="smaller problems, fewer seeds")
-    p.add_argument("--out", type=Path, help="also write the markdown table to this file")
-    args = p.parse_args(argv)
-    text = render_markdown({"metrics": metrics(args.quick), "quick": args.quick})
-    print(text)
-    if args.out is not None:
-        args.out.parent.mkdir(parents=True, exist_ok=True)
-        args.out.write_text(text + "\n")
-    return 0
+    return script_main(__doc__, metrics, argv, quick_help="smaller problems, fewer seeds")
 
 
 if __name__ == "__main__":

@@ -19,7 +19,6 @@ Run: ``python benchmarks/bench_io.py [--quick]``.
 
 from __future__ import annotations
 
-import argparse
 import gc
 import shutil
 import sys
@@ -29,10 +28,10 @@ from pathlib import Path
 import numpy as np
 
 try:
-    from benchmarks._runner import Metric, interleaved_times, render_markdown, speed_metric
+    from benchmarks._runner import Metric, interleaved_times, script_main, speed_metric
 except ImportError:  # run as a script: python benchmarks/bench_io.py
     sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-    from benchmarks._runner import Metric, interleaved_times, render_markdown, speed_metric
+    from benchmarks._runner import Metric, interleaved_times, script_main, speed_metric
 
 FULL_CSV_BYTES = 1_000_000_000
 QUICK_CSV_BYTES = 8_000_000
@@ -138,15 +137,7 @@ def metrics(quick: bool) -> list[Metric]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    p.add_argument("--quick", action="store_true", help="about 8 MB instead of 1 GB")
-    p.add_argument("--out", type=Path, help="also write the markdown table here")
-    args = p.parse_args(argv)
-    text = render_markdown({"metrics": metrics(args.quick), "quick": args.quick})
-    print(text)
-    if args.out:
-        args.out.write_text(text)
-    return 0
+    return script_main(__doc__, metrics, argv, quick_help="about 8 MB instead of 1 GB")
 
 
 if __name__ == "__main__":

@@ -20,7 +20,6 @@ Run: ``python benchmarks/bench_noise_fit.py [--quick] [--out benchmarks/results/
 
 from __future__ import annotations
 
-import argparse
 import math
 import sys
 import time
@@ -31,10 +30,10 @@ from typing import Any
 import numpy as np
 
 try:
-    from benchmarks._runner import Metric, accuracy_metric, render_markdown
+    from benchmarks._runner import Metric, accuracy_metric, script_main
 except ImportError:  # run as a script: python benchmarks/bench_noise_fit.py
     sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-    from benchmarks._runner import Metric, accuracy_metric, render_markdown
+    from benchmarks._runner import Metric, accuracy_metric, script_main
 
 from fogts.allan import allan_deviation
 from fogts.allan.noise import fit_noise
@@ -178,16 +177,7 @@ def _print_details(wk: dict[str, dict[str, float]], grades: dict[str, Any], seed
 
 
 def main(argv: list[str] | None = None) -> int:
-    p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    p.add_argument("--quick", action="store_true", help="fewer seeds")
-    p.add_argument("--out", type=Path, help="also write the markdown table to this file")
-    args = p.parse_args(argv)
-    text = render_markdown({"metrics": metrics(args.quick), "quick": args.quick})
-    print(text)
-    if args.out is not None:
-        args.out.parent.mkdir(parents=True, exist_ok=True)
-        args.out.write_text(text + "\n")
-    return 0
+    return script_main(__doc__, metrics, argv, quick_help="fewer seeds")
 
 
 if __name__ == "__main__":

@@ -19,7 +19,6 @@ Run: ``python benchmarks/bench_simulate.py [--quick]``; the table goes to
 
 from __future__ import annotations
 
-import argparse
 import gc
 import sys
 import time
@@ -35,7 +34,7 @@ try:
         Metric,
         accuracy_metric,
         paired_times,
-        render_markdown,
+        script_main,
         speed_metric,
     )
 except ImportError:  # run as a script: python benchmarks/bench_simulate.py
@@ -44,7 +43,7 @@ except ImportError:  # run as a script: python benchmarks/bench_simulate.py
         Metric,
         accuracy_metric,
         paired_times,
-        render_markdown,
+        script_main,
         speed_metric,
     )
 
@@ -127,18 +126,7 @@ def metrics(quick: bool = False) -> list[Metric]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    p.add_argument("--quick", action="store_true", help="10^7 samples instead of 10^8")
-    p.add_argument("--out", type=Path, default=None,
-                   help=f"markdown output (default {RESULTS}; not written with --quick)")
-    args = p.parse_args(argv)
-    text = render_markdown({"metrics": metrics(args.quick), "quick": args.quick})
-    print(text)
-    out = args.out or (None if args.quick else RESULTS)
-    if out is not None:
-        out.parent.mkdir(parents=True, exist_ok=True)
-        out.write_text(text)
-    return 0
+    return script_main(__doc__, metrics, argv, quick_help="10^7 samples instead of 10^8", default_out=RESULTS)
 
 
 if __name__ == "__main__":
