@@ -33,7 +33,7 @@ TauSpec = Literal["octave", "decade", "dense", "all"] | npt.ArrayLike
 
 
 @dataclass(frozen=True)
-class _Series:
+class AxisSeries:
     """One axis to analyse."""
 
     y: FloatArray
@@ -116,16 +116,17 @@ def allan_deviation(
         confidence = check_fraction("confidence", confidence)
     if units is not None:
         units = parse_rate_unit(units)
-    series, fs, unit, notes = _unpack(x, fs_hz=fs_hz, axis=axis, units=units)
+    series, fs, unit, notes = unpack_axes(x, fs_hz=fs_hz, axis=axis, units=units)
     curves = [_one_curve(s, fs_hz=fs, units=unit, kind=kind, taus=taus, confidence=confidence,
                          per_decade=per_decade, workers=workers, notes=notes)
               for s in series]
-    if len(curves) == 1 and (axis is not None or not _is_multi(x)):
+    if len(curves) == 1 and (axis is not None or not is_multi_axis(x)):
         return curves[0]
     return AllanResultSet(curves=tuple(curves))
 
 
-def _is_multi(x: Any) -> bool:
+def is_multi_axis(x: Any) -> bool:
+    """True for input that carries several axes (a 2-D array, a DataFrame, a multi-axis Run)."""
     if isinstance(x, Run):
         return x.rate.ndim == 2
     if isinstance(x, pd.DataFrame):
@@ -133,7 +134,7 @@ def _is_multi(x: Any) -> bool:
     return isinstance(x, np.ndarray) and x.ndim == 2
 
 
-def _one_curve(s: _Series, *, fs_hz: float, units: str, kind: str, taus: Any,
+def _one_curve(s: AxisSeries, *, fs_hz: float, units: str, kind: str, taus: Any,
                confidence: float | None, per_decade: int, workers: int | None,
                notes: tuple[str, ...]) -> AllanResult:
     grid = tau_grid(taus, fs_hz=fs_hz, n_samples=s.y.size, kind=kind, per_decade=per_decade)
@@ -158,15 +159,15 @@ def _one_curve(s: _Series, *, fs_hz: float, units: str, kind: str, taus: Any,
                        notes=(*grid.notes, *notes))
 
 
-def _unpack(x: Any, *, fs_hz: float | None, axis: int | str | None, units: str | None
-            ) -> tuple[list[_Series], float, str, tuple[str, ...]]:
+def unpack_axes(x: Any, *, fs_hz: float | None, axis: int | str | None, units: str | None
+            ) -> tuple[list[AxisSeries], float, str, tuple[str, ...]]:
     """Split the input into 1-D float64 series, and find the sample rate and unit."""
     fs = check_positive("fs_hz", fs_hz) if fs_hz is not None else None
     if isinstance(x, Prepared):
         if axis is not None and axis not in (0, x.axis):
             raise DataError(f"axis {axis!r} not found; the Prepared series is axis {x.axis!r}")
         notes = tuple(f"prepared: {step}" for step in x.steps)
-        return ([_Series(to_float_array(x.x, "x"), x.axis)], fs or x.fs_hz, units or x.units,
+        return ([AxisSeries(to_float_array(x.x, "x"), x.axis)], fs or x.fs_hz, units or x.units,
                 notes)
     if isinstance(x, pd.Series | pd.DataFrame):
         from fogts.io import read_run  # io turns frames into Runs (fs from the index)
@@ -186,9 +187,9 @@ def _unpack(x: Any, *, fs_hz: float | None, axis: int | str | None, units: str |
         if axis is not None:
             picked = x.axis(axis)
             name = axis if isinstance(axis, str) else names[int(axis)]
-            series = [_Series(to_float_array(picked, name), name)]
+            series = [AxisSeries(to_float_array(picked, name), name)]
         else:
-            series = [_Series(to_float_array(x.axis(i), n), n) for i, n in enumerate(names)]
+            series = [AxisSeries(to_float_array(x.axis(i), n), n) for i, n in enumerate(names)]
         return series, fs or x.fs_hz, units or x.units, ()
     if fs is None:
         raise DataError("fs_hz is required for array input (or pass a Run, a Prepared, or a "
@@ -198,10 +199,10 @@ def _unpack(x: Any, *, fs_hz: float | None, axis: int | str | None, units: str |
     if arr.ndim == 1:
         if axis is not None and axis not in (0, "rate"):
             raise DataError(f"axis {axis!r} not found; a 1-D array has one axis (0)")
-        return [_Series(arr, "rate")], fs, unit, ()
+        return [AxisSeries(arr, "rate")], fs, unit, ()
     names = tuple(f"rate_{i}" for i in range(arr.shape[1]))
     if axis is None:
-        return ([_Series(np.ascontiguousarray(arr[:, i]), n) for i, n in enumerate(names)],
+        return ([AxisSeries(np.ascontiguousarray(arr[:, i]), n) for i, n in enumerate(names)],
                 fs, unit, ())
     if isinstance(axis, str):
         if axis not in names:
@@ -211,4 +212,4 @@ def _unpack(x: Any, *, fs_hz: float | None, axis: int | str | None, units: str |
         i = int(axis)
         if not -len(names) <= i < len(names):
             raise DataError(f"axis index must be in [0, {len(names) - 1}], got {i}")
-    return [_Series(np.ascontiguousarray(arr[:, i]), names[i % len(names)])], fs, unit, ()
+    return [AxisSeries(np.ascontiguousarray(arr[:, i]), names[i % len(names)])], fs, unit, ()

@@ -54,6 +54,7 @@ import scipy.stats
 
 from fogts._typing import BoolArray, FloatArray, IntArray
 from fogts._validate import check_choice, check_fraction, check_positive
+from fogts.allan.api import is_multi_axis, unpack_axes
 from fogts.allan.estimators import ESTIMATORS, phase_from_rate
 from fogts.allan.result import AxisIndexed
 from fogts.allan.taus import KINDS, DroppedTau, Kind, n_terms, tau_grid
@@ -388,8 +389,6 @@ def dynamic_allan(
     >>> round(res.nonstationarity.change_ratio, 1)
     2.0
     """
-    from fogts.allan.api import _unpack  # the shared input handling of allan_deviation
-
     kind = check_choice("kind", kind, KINDS)  # type: ignore[assignment]
     method = check_choice("method", method, METHODS)  # type: ignore[assignment]
     confidence = check_fraction("confidence", confidence)
@@ -399,23 +398,13 @@ def dynamic_allan(
     if method == "cumsum" and kind not in CUMSUM_KINDS:
         raise DataError(f"method='cumsum' serves kinds {', '.join(CUMSUM_KINDS)}; got "
                         f"kind={kind!r} (use method='kernel' or 'auto')")
-    series, fs, unit, notes = _unpack(x, fs_hz=fs_hz, axis=axis, units=units)
+    series, fs, unit, notes = unpack_axes(x, fs_hz=fs_hz, axis=axis, units=units)
     curves = [_one(s.y, s.name, fs=fs, units=unit, window=window, step=step, kind=kind,
                    taus=taus, confidence=confidence, method=method, level=level, notes=notes)
               for s in series]
-    if len(curves) == 1 and (axis is not None or not _is_multi(x)):
+    if len(curves) == 1 and (axis is not None or not is_multi_axis(x)):
         return curves[0]
     return DynamicAllanResultSet(curves=tuple(curves))
-
-
-def _is_multi(x: Any) -> bool:
-    from fogts.run import Run
-
-    if isinstance(x, Run):
-        return x.rate.ndim == 2
-    if isinstance(x, pd.DataFrame):
-        return True
-    return isinstance(x, np.ndarray) and x.ndim == 2
 
 
 def _one(y: FloatArray, name: str, *, fs: float, units: str, window: float, step: float,
