@@ -2,7 +2,10 @@
 
 * Stable32 output (``../shared/data/stable32``): PHASE.DAT at every tau, the OCXO and the
   GPS 1PPS octave files.  Deviations within 1e-4 relative (the files print 5 significant
-  digits: rounding alone is up to 5e-5), term counts ``#`` exactly.
+  digits: rounding alone is up to 5e-5), term counts ``#`` exactly.  The OCXO octave
+  files of the overlapping kinds were made from an un-normalised input whose phase
+  rounding Stable32 kept; ``stable32_rounded_input`` reproduces it (OADEV, MDEV to 1e-4;
+  OHDEV 3e-4 and TOTDEV 2e-2 are explained where they are tested).
 * NBS14 1000-point set: the published values at tau = 1, 10, 100 s within 1e-6 relative.
 * allantools over random inputs (hypothesis, derandomised) for every grid: 1e-9 relative.
 * A real gyro: ADIS16405 run 1, axis X, against the published SMAC avar curve, 1e-5.
@@ -91,23 +94,48 @@ def test_stable32_ocxo_octave_non_overlapping(ocxo_freq: np.ndarray, kind: str) 
     assert check_stable32(ocxo_freq, kind, path, rtol=2e-4) < 2e-4
 
 
-@pytest.mark.parametrize("kind, rtol", [("oadev", 2e-3), ("mdev", 2e-3), ("ohdev", 2e-3),
-                                        ("totdev", 2e-2)])
-def test_stable32_ocxo_octave_overlapping_files_are_inconsistent(
-        ocxo_freq: np.ndarray, kind: str, rtol: float) -> None:
-    """These octave files were made from a different Stable32 input ("Average = 1.0").
+def stable32_rounded_input(freq: np.ndarray) -> np.ndarray:
+    """The frequency Stable32 effectively analysed for the OCXO octave files.
 
-    At m = 1 OADEV, MDEV, TOTDEV and ADEV are the same statistic, yet the file gives
-    OADEV(1 s) = 7.6143e-11 against ADEV(1 s) = 7.6106e-11 in adev_octave.txt and in
-    stable32_oadev_alltau.txt (which fogts matches to 6e-7): 4.9e-4 apart.  So only the
-    term counts can be matched exactly; the deviation is checked at the tolerance
-    allantools uses for these files (2e-3; TOTDEV is skipped there, 2e-2 here).
+    Those files were made from ``ocxo_frequency.001``, whose header says Average = 1.0:
+    Stable32 was given ``f / 1e7`` itself, not the fractional frequency, and integrated it
+    to phase without removing the mean.  The phase then grows to 2e4 while its second
+    differences are ~1e-10, so every stored phase point carries a rounding error of about
+    eps x 2e4 = 4e-12, and the overlapping statistics computed from it are off by ~5e-4
+    (OADEV(1 s) = 7.6143e-11 in oadev_octave.txt against 7.6106e-11 in adev_octave.txt and
+    in stable32_oadev_alltau.txt, which fogts matches to 6e-7; at m = 1 they are the same
+    statistic).  Integrating the same way here and differencing the rounded phase back
+    (exact by Sterbenz's lemma) hands fogts the rate that phase implies.
     """
-    ref = stable32(shared_path("stable32", "ocxo", f"{kind}_octave.txt"))
-    adev_ref = stable32(shared_path("stable32", "ocxo", "adev_octave.txt"))
-    assert abs(ref["dev"][0] / adev_ref["dev"][0] - 1) > 4e-4
-    check_stable32(ocxo_freq, kind, shared_path("stable32", "ocxo", f"{kind}_octave.txt"),
-                   rtol=rtol)
+    phase = np.concatenate([[0.0], np.cumsum(freq)])
+    return np.diff(phase)
+
+
+@pytest.mark.parametrize("kind", ["oadev", "mdev"])
+def test_stable32_ocxo_octave_overlapping(ocxo_freq: np.ndarray, kind: str) -> None:
+    path = shared_path("stable32", "ocxo", f"{kind}_octave.txt")
+    # Measured: 1.1e-5 (oadev) and 1.6e-5 (mdev); the plain input is 1.2e-3 off.
+    assert check_stable32(stable32_rounded_input(ocxo_freq), kind, path) < S32_TOL
+    assert check_stable32(ocxo_freq, kind, path, rtol=2e-3) > 1e-3
+
+
+@pytest.mark.parametrize("kind, rtol", [("ohdev", 3e-4), ("totdev", 2e-2)])
+def test_stable32_ocxo_octave_not_reproducible_to_1e4(
+        ocxo_freq: np.ndarray, kind: str, rtol: float) -> None:
+    """OHDEV and TOTDEV octave files: the phase rounding explains most, not all.
+
+    OHDEV: with the rounded input the worst point is 2.3e-4 (m = 1), not 1e-4: the third
+    difference ``x3 - 3 x2 + 3 x1 - x0`` on a phase of 2e4 also rounds ``3 x`` in
+    Stable32's arithmetic (allantools, evaluating that formula literally on the rounded
+    phase, lands at 1.7e-5), and fogts does not imitate arithmetic it improves on.
+    TOTDEV: m <= 8 and m >= 2048 agree to 1e-4, m = 16..1024 drift to 1.2e-2 with or
+    without the rounding, and also if a linear frequency drift is removed first; the
+    all-tau TOTDEV file (fractional input) is matched to 1e-4 in
+    ``test_stable32_ocxo_all_tau``, so this is a property of this one Stable32 run.
+    allantools' test suite skips this file for the same reason.  n matches exactly.
+    """
+    path = shared_path("stable32", "ocxo", f"{kind}_octave.txt")
+    check_stable32(stable32_rounded_input(ocxo_freq), kind, path, rtol=rtol)
 
 
 GPS_FILES = [("adev", "ADEV_decade"), ("oadev", "OADEV_octave"), ("mdev", "MDEV_octave"),
