@@ -1,7 +1,8 @@
-"""Regenerate the bundled cold-start examples of the seed-004 workflow (issue 6).
+"""Regenerate the bundled cold-start examples of the seed-004 workflow with ``fogts simulate
+--startup`` (issue 6).
 
-Two files, both simulated by :func:`fogts.simulate_startup.simulate_startup` (no public FOG
-start-up record with temperature exists):
+No public FOG start-up record with temperature exists, so the files are simulated
+(:func:`fogts.simulate_startup.simulate_startup`, through the command line below):
 
 * ``startup_cold_1hz.csv`` — one hour after switch-on at 1 Hz (3600 rows), columns
   ``time,rate,temperature`` (rate in deg/h, temperature in degC, 0.01 degC resolution).
@@ -20,6 +21,14 @@ The true parameters are written beside each file (``.json``).  Run from the repo
 
     python data/make_startup_example.py
 
+which runs these commands (rates rounded to 5 decimals)::
+
+    fogts simulate --startup --seed 4004 --decimals 5 -o data/startup_cold_1hz.csv
+    fogts simulate --startup --ambient-c 15 --seed 4014 --decimals 5 -o data/startup_cold_15c_1hz.csv
+    fogts simulate --startup --ambient-c 25 --seed 4024 --decimals 5 -o data/startup_cold_25c_1hz.csv
+    fogts simulate --startup --positions --latitude 32.05 --azimuth 37.5 --ambient-c 18 \
+        --seed 4005 --decimals 5 -o data/startup_northfind_1hz.csv
+
 and try::
 
     fogts compensate data/startup_cold_1hz.csv --calibration data/startup_cold_15c_1hz.csv \
@@ -32,51 +41,34 @@ and try::
 
 from __future__ import annotations
 
-import json
-import math
 from pathlib import Path
 
-import numpy as np
-import pandas as pd
-
-from fogts import __version__
-from fogts.simulate_startup import simulate_startup
-from fogts.units import earth_rate_component
+from fogts.cli import main
 
 HERE = Path(__file__).resolve().parent
 LATITUDE_DEG = 32.05
 AZIMUTH_DEG = 37.5
 
+#: (output name, extra options, seed) of each bundled file.
+RUNS: list[tuple[str, list[str], int]] = [
+    ("startup_cold_1hz.csv", [], 4004),
+    ("startup_cold_15c_1hz.csv", ["--ambient-c", "15"], 4014),
+    ("startup_cold_25c_1hz.csv", ["--ambient-c", "25"], 4024),
+    ("startup_northfind_1hz.csv", ["--positions", "--latitude", str(LATITUDE_DEG),
+                                   "--azimuth", str(AZIMUTH_DEG), "--ambient-c", "18"], 4005),
+]
 
-def main() -> None:
-    for name, ambient, seed in (("startup_cold_1hz.csv", 20.0, 4004),
-                                ("startup_cold_15c_1hz.csv", 15.0, 4014),
-                                ("startup_cold_25c_1hz.csv", 25.0, 4024)):
-        cal = simulate_startup(duration_s=3600.0, ambient_degC=ambient, rng=seed)
-        frame = pd.DataFrame({"time": cal.run.time, "rate": np.round(cal.run.rate, 5),
-                              "temperature": np.round(cal.run.temperature, 2)})
-        frame.to_csv(HERE / name, index=False)
-        meta = {"generator": f"fogts {__version__} simulate_startup", "seed": seed,
-                **cal.to_dict()}
-        (HERE / f"{name}.json").write_text(json.dumps(meta, indent=2) + "\n")
 
-    pos_s, turn_s = 60, 10
-    total = 4 * pos_s + 3 * turn_s
-    sim = simulate_startup(duration_s=float(total), ambient_degC=18.0, rng=4005)
-    omega_h = earth_rate_component(LATITUDE_DEG, axis="north")
-    parts = []
-    for k, p in enumerate((0, 90, 180, 270)):
-        sl = slice(k * (pos_s + turn_s), k * (pos_s + turn_s) + pos_s)
-        earth = omega_h * math.cos(math.radians(AZIMUTH_DEG + p))
-        parts.append(pd.DataFrame({"time": sim.run.time[sl], "position_deg": p,
-                                   "rate": np.round(sim.run.rate[sl] + earth, 5),
-                                   "temperature": np.round(sim.run.temperature[sl], 2)}))
-    pd.concat(parts).to_csv(HERE / "startup_northfind_1hz.csv", index=False)
-    meta = {"generator": f"fogts {__version__} simulate_startup", "seed": 4005,
-            "latitude_deg": LATITUDE_DEG, "azimuth_deg": AZIMUTH_DEG, "position_s": pos_s,
-            "turn_s": turn_s, "earth_rate_h_deg_h": omega_h, **sim.to_dict()}
-    (HERE / "startup_northfind_1hz.csv.json").write_text(json.dumps(meta, indent=2) + "\n")
+def arguments(directory: Path = HERE) -> list[list[str]]:
+    """The ``fogts`` command lines that write the bundled files into ``directory``."""
+    return [["simulate", "--startup", *extra, "--seed", str(seed), "--decimals", "5",
+             "-o", str(directory / name)] for name, extra, seed in RUNS]
 
 
 if __name__ == "__main__":
-    main()
+    for argv in arguments():
+        try:
+            main(argv)
+        except SystemExit as exc:
+            if exc.code:
+                raise

@@ -61,6 +61,7 @@ _EXPORTS: dict[str, str] = {
     "compensate": "fogts.thermal", "bias_stability": "fogts.thermal",
     "startup_compensation": "fogts.thermal",
     "four_position": "fogts.northfind", "NorthFinding": "fogts.northfind",
+    "simulate_startup_positions": "fogts.northfind", "StartupPositions": "fogts.northfind",
     # tooling
     "run_batch": "fogts.batch", "build_report": "fogts.report_html",
     "write_report": "fogts.report_html",
@@ -107,7 +108,12 @@ if TYPE_CHECKING:  # static names for type checkers and IDEs
     from fogts.filters import FilterResult, lowpass, moving_average
     from fogts.io import read_run
     from fogts.kalman import KalmanResult, arma_kalman
-    from fogts.northfind import NorthFinding, four_position
+    from fogts.northfind import (
+        NorthFinding,
+        StartupPositions,
+        four_position,
+        simulate_startup_positions,
+    )
     from fogts.preprocess import Prepared, prepare
     from fogts.report_html import build_report, write_report
     from fogts.run import Run, SamplingReport

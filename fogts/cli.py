@@ -667,8 +667,8 @@ def _coefficients(text: str | None, option: str) -> dict[str, float] | None:
 @app.command("simulate")
 def simulate_cmd(
     output: Annotated[Path, typer.Option("--output", "-o", help="Output file: .csv, .csv.gz, .tsv, .txt or .parquet. The true parameters go to OUTPUT.json beside it.")],
-    fs: Annotated[float, typer.Option("--fs", help="Sample rate in Hz.")] = 100.0,
-    duration: Annotated[str, typer.Option("--duration", help="Record length: 3h, 90min, 600s, 1d, 1h30min or seconds.")] = "1h",
+    fs: Annotated[float | None, typer.Option("--fs", help="Sample rate in Hz (default 100; 1 with --startup, as in seed 004).")] = None,
+    duration: Annotated[str | None, typer.Option("--duration", help="Record length: 3h, 90min, 600s, 1d, 1h30min or seconds (default 1h).")] = None,
     q_term: Annotated[float, typer.Option("--Q", help="Angle quantisation Q in arcsec.")] = 0.0,
     n_term: Annotated[float, typer.Option("--N", help="Angle random walk N in deg/sqrt(h).")] = 0.0,
     b_term: Annotated[float, typer.Option("--B", help="Bias instability B in deg/h (Allan plateau 0.664 B).")] = 0.0,
@@ -681,17 +681,30 @@ def simulate_cmd(
     noise_json: Annotated[Path | None, typer.Option("--from-json", help="Take the noise terms from a JSON file: 'fogts allan --json' output, a NoiseModel dict or a simulate sidecar; --Q/--N/... override single terms.")] = None,
     axes: Annotated[int, typer.Option("--axes", help="Number of independent axes (rate_x, rate_y, rate_z).")] = 1,
     temperature_profile: Annotated[str | None, typer.Option("--temperature-profile", help="Temperature column: 'constant:T', 'warmup:START,END,TAU' (degC; TAU like 20min) or 'ramp:START,END'.")] = None,
-    thermal: Annotated[str | None, typer.Option("--thermal", help="Temperature-driven drift D = a T dT + b T^2 + c T + d dT^2 + e dT + f, as 'T*dT=a,T2=b,T=c,dT2=d,dT=e,1=f' (deg/h; dT in degC/s); needs --temperature-profile.")] = None,
+    thermal: Annotated[str | None, typer.Option("--thermal", help="Temperature-driven drift D = a T dT + b T^2 + c T + d dT^2 + e dT + f, as 'T*dT=a,T2=b,T=c,dT2=d,dT=e,1=f' (deg/h; dT in degC/s); needs --temperature-profile or --startup (default there: T*dT=0.4,T2=0.0015,T=-0.12,dT2=120,dT=25,1=2).")] = None,
     flicker: Annotated[str, typer.Option("--flicker", help="Flicker (B) synthesis: markov (sum of Markov processes, chunked) or kasdin (Kasdin-Walter, in memory).")] = "markov",
     seed: Annotated[int | None, typer.Option("--seed", help="Random seed (default: a fresh one, recorded in the sidecar JSON).")] = None,
     units: Annotated[str, typer.Option("--units", help="Unit of the output rate: deg/h, deg/s, rad/s, arcsec/s (coefficients stay in deg/h-based units).")] = "deg/h",
     decimals: Annotated[int | None, typer.Option("--decimals", help="Round the rate and temperature to this many decimals (smaller files).")] = None,
+    startup: Annotated[bool, typer.Option("--startup", help="Simulate a seed-004 cold start instead: warm-up temperature, thermal drift (--thermal), ARMA drift (--arma, default 'ar=0.9;sigma2=0.0025') and white noise; writes time,rate,temperature.", rich_help_panel="Cold start (--startup, seed 004)")] = False,
+    ambient_c: Annotated[float | None, typer.Option("--ambient-c", help="Ambient (switch-on) temperature in degC (default 20).", rich_help_panel="Cold start (--startup, seed 004)")] = None,
+    peak_heating_c_s: Annotated[float | None, typer.Option("--peak-heating-c-s", help="Peak warm-up rate dT/dt in degC/s (default 0.05, as in seed 004).", rich_help_panel="Cold start (--startup, seed 004)")] = None,
+    time_constants: Annotated[str | None, typer.Option("--time-constants", help="Slow and fast warm-up lags 'SLOW,FAST' (default '400s,40s').", rich_help_panel="Cold start (--startup, seed 004)")] = None,
+    white_deg_h: Annotated[float | None, typer.Option("--white-deg-h", help="1-sigma white rate noise per sample in deg/h (default 0.3; = 60 N sqrt(fs) with N in deg/sqrt(h)).", rich_help_panel="Cold start (--startup, seed 004)")] = None,
+    temperature_resolution_c: Annotated[float | None, typer.Option("--temperature-resolution-c", help="Temperature sensor resolution in degC, 0 = exact (default 0.01).", rich_help_panel="Cold start (--startup, seed 004)")] = None,
+    start_after: Annotated[str | None, typer.Option("--start-after", help="Time from switch-on to the first sample, e.g. 10min (default 0).", rich_help_panel="Cold start (--startup, seed 004)")] = None,
+    positions: Annotated[bool, typer.Option("--positions", help="Four-position north seeking during the cold start: writes time,position_deg,rate,temperature for 'fogts northfind'; needs --latitude and --azimuth.", rich_help_panel="Cold start (--startup, seed 004)")] = False,
+    latitude: Annotated[float | None, typer.Option("--latitude", help="Latitude in degrees (|L| <= 89) for --positions.", rich_help_panel="Cold start (--startup, seed 004)")] = None,
+    azimuth: Annotated[float | None, typer.Option("--azimuth", help="True azimuth of the input axis at position 0 in degrees, clockwise from north, for --positions.", rich_help_panel="Cold start (--startup, seed 004)")] = None,
+    position_time: Annotated[str | None, typer.Option("--position-time", help="Time measured at each position (default 60s).", rich_help_panel="Cold start (--startup, seed 004)")] = None,
+    turn_time: Annotated[str | None, typer.Option("--turn-time", help="Time spent turning between positions, left out of the file (default 10s).", rich_help_panel="Cold start (--startup, seed 004)")] = None,
 ) -> None:
-    """Simulate a static gyro record from IEEE-952 noise coefficients (seed 000 Table 1).
+    """Simulate a static gyro record from IEEE-952 noise coefficients (seed 000 Table 1),
+    or with --startup a seed-004 cold start (optionally a four-position north seeking).
 
     Writes time, rate (rate_x, rate_y, rate_z with --axes 3) and temperature (with a
     profile), and a sidecar JSON OUTPUT.json with the true parameters and the closed-form
-    Allan deviation.
+    Allan deviation (with --startup: the true thermal coefficients and warm-up parameters).
     """
     import dataclasses
 
@@ -713,7 +726,27 @@ def simulate_cmd(
         if not output.name.lower().endswith(_SIM_SUFFIXES):
             raise DataError(f"--output must end in {', '.join(_SIM_SUFFIXES)}; got "
                              f"{output.name!r}")
-        duration_s = parse_duration(duration, "--duration")
+        cold = {"--ambient-c": ambient_c, "--peak-heating-c-s": peak_heating_c_s,
+                "--time-constants": time_constants, "--white-deg-h": white_deg_h,
+                "--temperature-resolution-c": temperature_resolution_c,
+                "--start-after": start_after, "--positions": positions or None,
+                "--latitude": latitude, "--azimuth": azimuth,
+                "--position-time": position_time, "--turn-time": turn_time}
+        if startup:
+            noise_opts = {"--Q": q_term, "--N": n_term, "--B": b_term, "--K": k_term,
+                          "--R": r_term, "--markov": markov, "--sine": sine,
+                          "--from-json": noise_json, "--axes": None if axes == 1 else axes,
+                          "--temperature-profile": temperature_profile,
+                          "--flicker": None if flicker == "markov" else flicker}
+            _simulate_startup(output, fs=fs, duration=duration, seed=seed, units=units,
+                              decimals=decimals, bias=bias, arma=arma, thermal=thermal,
+                              cold=cold, noise_opts=noise_opts)
+            return
+        for name, value in cold.items():
+            if value is not None:
+                raise DataError(f"{name} needs --startup (it describes a cold start)")
+        fs = 100.0 if fs is None else fs
+        duration_s = parse_duration("1h" if duration is None else duration, "--duration")
         values: dict[str, float] = {}
         if noise_json is not None:
             from fogts.io import read_json
@@ -767,6 +800,114 @@ def simulate_cmd(
                       f"{run.fs_hz:g} Hz ({run.duration_s:g} s), rate in {run.units}, seed "
                       f"{seed}; true parameters in {side}", markup=False, soft_wrap=True)
         console.print(spec.summary(), markup=False, soft_wrap=True)
+
+
+def _duration_or_zero(text: str | None, option: str, default: float) -> float:
+    """A duration option that may also be 0 (``"0"``, ``"0s"``)."""
+    from fogts.simulate import parse_duration
+
+    if text is None:
+        return default
+    if text.strip().rstrip("s").strip() in ("0", "0.0"):
+        return 0.0
+    return parse_duration(text, option)
+
+
+def _simulate_startup(output: Path, *, fs: float | None, duration: str | None,
+                      seed: int | None, units: str, decimals: int | None, bias: float,
+                      arma: str | None, thermal: str | None, cold: dict[str, Any],
+                      noise_opts: dict[str, Any]) -> None:
+    """``fogts simulate --startup``: a seed-004 cold start (or four-position record) to a file
+    that ``fogts compensate``, ``filter`` and ``northfind`` read directly."""
+    import math
+
+    import numpy as np
+
+    from fogts import __version__ as version
+    from fogts._validate import check_positive
+    from fogts.errors import DataError
+    from fogts.io import write_frame_atomic, write_text_atomic
+    from fogts.northfind import simulate_startup_positions
+    from fogts.report import json_dumps
+    from fogts.simulate import ArmaSpec, parse_duration
+    from fogts.simulate_startup import DEFAULT_STARTUP_COEFFICIENTS, simulate_startup
+    from fogts.units import convert_rate, parse_rate_unit
+
+    for name, value in noise_opts.items():
+        if value not in (None, 0.0):
+            raise DataError(f"{name} does not apply with --startup (the cold start's noise is "
+                            "set by --arma and --white-deg-h)")
+    if decimals is not None and not 0 <= decimals <= 15:
+        raise DataError(f"--decimals must be in 0..15, got {decimals}")
+    unit = parse_rate_unit(units, "--units")
+    kwargs: dict[str, Any] = {"ambient_degC": 20.0 if cold["--ambient-c"] is None
+                              else cold["--ambient-c"], "earth_rate_deg_h": bias}
+    for name, key, zero in (("--peak-heating-c-s", "peak_rate_degC_s", False),
+                            ("--white-deg-h", "white_sigma_deg_h", True),
+                            ("--temperature-resolution-c", "temperature_resolution_degC", True)):
+        if cold[name] is not None:
+            kwargs[key] = check_positive(name, cold[name], allow_zero=zero)
+    if cold["--time-constants"] is not None:
+        parts = cold["--time-constants"].split(",")
+        taus = tuple(parse_duration(p, "--time-constants") for p in parts)
+        if len(taus) != 2 or not taus[0] > taus[1]:
+            raise DataError("--time-constants must be two durations 'SLOW,FAST' with SLOW > "
+                            f"FAST, such as '400s,40s'; got {cold['--time-constants']!r}")
+        kwargs["tau_s"] = taus
+    kwargs["start_s"] = _duration_or_zero(cold["--start-after"], "--start-after", 0.0)
+    if arma is not None:
+        spec = ArmaSpec.parse(arma)
+        kwargs.update(ar=spec.ar, ma=spec.ma, arma_sigma_deg_h=math.sqrt(spec.sigma2),
+                      earth_rate_deg_h=bias + spec.const)
+    kwargs["coefficients"] = _coefficients(thermal, "--thermal") or DEFAULT_STARTUP_COEFFICIENTS
+    fs_hz = 1.0 if fs is None else fs
+    if seed is None:
+        seed = int(np.random.SeedSequence().generate_state(1, np.uint64)[0] >> np.uint64(1))
+    if cold["--positions"]:
+        if duration is not None:
+            raise DataError("--duration does not apply with --positions: the record lasts 4 x "
+                            "--position-time + 3 x --turn-time (+ --start-after before it)")
+        for name in ("--latitude", "--azimuth"):
+            if cold[name] is None:
+                raise DataError(f"--positions needs {name} (degrees)")
+        rec = simulate_startup_positions(
+            latitude_deg=cold["--latitude"], azimuth_deg=cold["--azimuth"],
+            position_s=parse_duration(cold["--position-time"] or "60s", "--position-time"),
+            turn_s=_duration_or_zero(cold["--turn-time"], "--turn-time", 10.0),
+            fs_hz=fs_hz, rng=seed, **kwargs)
+        frame, run, truth, summary = (rec.to_frame(), rec.run, rec.to_dict(), rec.summary())
+    else:
+        for name in ("--latitude", "--azimuth", "--position-time", "--turn-time"):
+            if cold[name] is not None:
+                raise DataError(f"{name} needs --positions (a four-position north-seeking "
+                                "record)")
+        sim = simulate_startup(duration_s=parse_duration(duration or "1h", "--duration"),
+                               fs_hz=fs_hz, rng=seed, **kwargs)
+        run, truth, summary = sim.run, sim.to_dict(), sim.summary()
+        frame = run.to_frame().rename(columns={"gyro": "rate"})
+    frame["time"] = np.round(frame["time"].to_numpy(), 9)
+    frame["rate"] = convert_rate(frame["rate"].to_numpy(), "deg/h", unit)
+    if decimals is not None:
+        frame["rate"] = np.round(frame["rate"].to_numpy(), decimals)
+    # a quantised temperature is written at its resolution (20.01, not 20.010000000000002)
+    res = truth["temperature_resolution_degC"]
+    digits = [d for d in range(16) if round(res, d) == res][:1] if res > 0 else []
+    if digits or decimals is not None:
+        nd = min(digits + ([] if decimals is None else [decimals]))
+        frame["temperature"] = np.round(frame["temperature"].to_numpy(), nd)
+    sidecar = {"generator": f"fogts {version} simulate --startup", "output": output.name,
+               "seed": seed, "mode": "startup-positions" if cold["--positions"] else "startup",
+               "n": len(frame), "units": unit, "columns": list(frame.columns),
+               "decimals": decimals, **truth,
+               "note": "drift D = a T dT + b T^2 + c T + d dT^2 + e dT + f in deg/h (T in degC, "
+                       "dT in degC/s), coefficients keyed by term; rate = drift + ARMA + white "
+                       "noise + earth_rate_deg_h (+ the Earth rate at each position)"}
+    write_frame_atomic(output, frame)
+    side = output.with_name(output.name + ".json")
+    write_text_atomic(side, json_dumps(sidecar) + "\n")
+    console.print(f"wrote {output}: {len(frame):,} samples at {run.fs_hz:g} Hz, rate in {unit}, "
+                  f"seed {seed}; true parameters in {side}", markup=False, soft_wrap=True)
+    console.print(summary, markup=False, soft_wrap=True)
 
 
 # ---- davar ------------------------------------------------------------------------------

@@ -43,9 +43,11 @@ __all__ = [
     "POSITIONS_DEG",
     "NorthFinding",
     "NorthSeekingStudy",
+    "StartupPositions",
     "four_position",
     "positions_from_frame",
     "simulate_north_seeking",
+    "simulate_startup_positions",
     "simulated_calibration",
 ]
 
@@ -356,6 +358,149 @@ def angle_error_deg(estimate_deg: Any, truth_deg: Any) -> FloatArray:
 
 
 @dataclass(frozen=True)
+class StartupPositions:
+    """A four-position north-seeking record taken while a simulated gyro warms up.
+
+    Attributes
+    ----------
+    run : Run
+        The whole record in °/h, turns included: the cold-start rate
+        (:func:`fogts.simulate_startup.simulate_startup`) plus, at each position, the
+        Earth-rate component Ω cos L cos(ψ + k·90°).  Turn samples carry no Earth rate (they
+        are not used).  Compensate this run (continuous temperature), then cut it.
+    slices : dict
+        Samples of ``run`` measured at each position (0, 90, 180, 270).
+    latitude_deg, azimuth_deg : float
+        Latitude and true azimuth ψ of the input axis at position 0 (module convention).
+    earth_rate_h_deg_h : float
+        Ω cos L in °/h.
+    position_s, turn_s, start_delay_s : float
+        Seconds measured per position, spent turning between positions, and waited after
+        the start of the record before position 0.
+    simulation : StartupSimulation
+        The underlying cold start (drift, noise and temperature truth, without Earth rate).
+    """
+
+    run: Run
+    slices: dict[int, slice]
+    latitude_deg: float
+    azimuth_deg: float
+    earth_rate_h_deg_h: float
+    position_s: float
+    turn_s: float
+    start_delay_s: float
+    simulation: Any = field(repr=False)
+
+    def rates_by_position(self) -> dict[int, FloatArray]:
+        """Rate samples at each position, for :func:`four_position`."""
+        return {p: self.run.rate[sl] for p, sl in self.slices.items()}
+
+    @property
+    def position_time_s(self) -> dict[int, float]:
+        """Centre time of each position (s from the start of the record)."""
+        return {p: (sl.start + 0.5 * (sl.stop - sl.start)) / self.run.fs_hz
+                for p, sl in self.slices.items()}
+
+    def to_frame(self) -> pd.DataFrame:
+        """The measured samples as ``time, position_deg, rate, temperature`` (turns left out),
+        the table ``fogts northfind`` reads."""
+        temp = self.run.temperature
+        parts = [pd.DataFrame({"time": self.run.time[sl], "position_deg": p,
+                               "rate": self.run.rate[sl],
+                               "temperature": np.nan if temp is None else temp[sl]})
+                 for p, sl in self.slices.items()]
+        return pd.concat(parts, ignore_index=True)
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"latitude_deg": self.latitude_deg, "azimuth_deg": self.azimuth_deg,
+                "position_s": self.position_s, "turn_s": self.turn_s,
+                "start_delay_s": self.start_delay_s,
+                "earth_rate_h_deg_h": self.earth_rate_h_deg_h, **self.simulation.to_dict()}
+
+    def summary(self) -> str:
+        return (f"{self.simulation.summary()}\nfour positions (0, 90, 180, 270°) of "
+                f"{self.position_s:g} s with {self.turn_s:g} s turns at latitude "
+                f"{self.latitude_deg:g}° (Ω cos L = {self.earth_rate_h_deg_h:.4f} °/h); true "
+                f"azimuth {self.azimuth_deg:g}°")
+
+
+def simulate_startup_positions(
+    *,
+    latitude_deg: float,
+    azimuth_deg: float,
+    position_s: float = 60.0,
+    turn_s: float = 10.0,
+    start_delay_s: float = 0.0,
+    fs_hz: float = 1.0,
+    rng: RngLike = None,
+    **startup: Any,
+) -> StartupPositions:
+    """Simulate four-position north seeking during a cold start (seed 004's experiment).
+
+    The gyro is switched on, waits ``start_delay_s``, then measures 0°, 90°, 180°, 270° in
+    turn for ``position_s`` each, with ``turn_s`` between positions, while it warms up
+    (:func:`fogts.simulate_startup.simulate_startup`, which ``**startup`` is passed to).  At
+    position k the rate gains Ω cos L cos(ψ + k·90°) (module convention).
+
+    Parameters
+    ----------
+    latitude_deg : float
+        |L| <= 89°.
+    azimuth_deg : float
+        True ψ in degrees.
+    position_s, turn_s, start_delay_s, fs_hz : float
+    rng : Generator, int or None
+    **startup
+        ``ambient_degC``, ``coefficients``, ``ar``, ``white_sigma_deg_h``, ... of
+        :func:`~fogts.simulate_startup.simulate_startup`.
+
+    Returns
+    -------
+    StartupPositions
+
+    Examples
+    --------
+    >>> rec = simulate_startup_positions(latitude_deg=32.05, azimuth_deg=37.5, rng=4005)
+    >>> rec.to_frame().shape
+    (240, 4)
+    >>> res = four_position(rec.rates_by_position(), latitude_deg=32.05)
+    >>> abs(float(angle_error_deg(res.azimuth_deg, 37.5))) < 3
+    True
+    """
+    from fogts.simulate_startup import simulate_startup
+
+    lat = _check_latitude(latitude_deg)
+    psi = float(azimuth_deg)
+    if not math.isfinite(psi):
+        raise DataError(f"azimuth_deg must be a finite number of degrees, got {azimuth_deg!r}")
+    fs = check_positive("fs_hz", fs_hz)
+    pos_s = check_positive("position_s", position_s)
+    trans = check_positive("turn_s", turn_s, allow_zero=True)
+    delay = check_positive("start_delay_s", start_delay_s, allow_zero=True)
+    m = round(pos_s * fs)
+    if m < MIN_POSITION_SAMPLES:
+        raise InsufficientDataError(f"position_s * fs_hz gives {m} samples per position; at "
+                                    f"least {MIN_POSITION_SAMPLES} needed")
+    gap = round(trans * fs)
+    sim = simulate_startup(duration_s=delay + 4 * pos_s + 3 * trans, fs_hz=fs, rng=rng,
+                           **startup)
+    run = sim.run
+    omega_h = earth_rate_component(lat, unit="deg/h", axis="north")
+    start = round(delay * fs)
+    earth = np.zeros(run.n)
+    slices: dict[int, slice] = {}
+    for k, p in enumerate(POSITIONS_DEG):
+        sl = slice(start + k * (m + gap), start + k * (m + gap) + m)
+        slices[p] = sl
+        earth[sl] = omega_h * math.cos(math.radians(psi + p))
+    run_e = Run(rate=run.rate + earth, time=run.time, fs_hz=fs, units=run.units,
+                axes=run.axes, temperature=run.temperature, source=run.source)
+    return StartupPositions(run=run_e, slices=slices, latitude_deg=lat, azimuth_deg=psi,
+                            earth_rate_h_deg_h=omega_h, position_s=m / fs, turn_s=gap / fs,
+                            start_delay_s=start / fs, simulation=sim)
+
+
+@dataclass(frozen=True)
 class NorthSeekingStudy:
     """Repeated cold-start north finding, raw and thermally compensated.
 
@@ -481,7 +626,6 @@ def simulate_north_seeking(
     >>> st.truth_deg.size
     3
     """
-    from fogts.simulate_startup import simulate_startup
     from fogts.thermal import ThermalModel, compensate
 
     n = check_int("n_trials", n_trials, minimum=2)
@@ -496,36 +640,24 @@ def simulate_north_seeking(
     if not hi >= lo:
         raise DataError(f"ambient_degC must be (low, high) with high >= low, got {ambient_degC!r}")
     gen = as_rng(rng)
-    omega_h = earth_rate_component(lat, unit="deg/h", axis="north")
     m = round(pos_s * fs)
     if m < MIN_POSITION_SAMPLES:
         raise InsufficientDataError(f"position_s * fs_hz gives {m} samples per position; at "
                                     f"least {MIN_POSITION_SAMPLES} needed")
-    gap = round(trans * fs)
-    total_s = delay + 4 * pos_s + 3 * trans
     truth = gen.uniform(0.0, 360.0, n)
     raw = np.empty(n)
     comp = np.empty(n) if model is not None else None
     for i in range(n):
-        sim = simulate_startup(duration_s=total_s, fs_hz=fs,
-                               ambient_degC=float(gen.uniform(lo, hi)),
-                               rng=gen, **startup)
-        run = sim.run
-        start = round(delay * fs)
-        earth = np.zeros(run.n)
-        slices: dict[int, slice] = {}
-        for k, p in enumerate(POSITIONS_DEG):
-            sl = slice(start + k * (m + gap), start + k * (m + gap) + m)
-            slices[p] = sl
-            earth[sl] = omega_h * math.cos(math.radians(truth[i] + p))
-        run_e = Run(rate=run.rate + earth, time=run.time, fs_hz=fs, units=run.units,
-                    axes=run.axes, temperature=run.temperature, source=run.source)
-        times = {p: (slices[p].start + 0.5 * m) / fs for p in POSITIONS_DEG}
-        raw[i] = four_position({p: run_e.rate[slices[p]] for p in POSITIONS_DEG},
-                               latitude_deg=lat, fs_hz=fs, position_time_s=times).azimuth_deg
+        rec = simulate_startup_positions(
+            latitude_deg=lat, azimuth_deg=float(truth[i]), position_s=pos_s, turn_s=trans,
+            start_delay_s=delay, fs_hz=fs, ambient_degC=float(gen.uniform(lo, hi)), rng=gen,
+            **startup)
+        times = rec.position_time_s
+        raw[i] = four_position(rec.rates_by_position(), latitude_deg=lat, fs_hz=fs,
+                               position_time_s=times).azimuth_deg
         if comp is not None and model is not None:
-            cr = compensate(run_e, model)
-            comp[i] = four_position({p: cr.rate[slices[p]] for p in POSITIONS_DEG},
+            cr = compensate(rec.run, model)
+            comp[i] = four_position({p: cr.rate[sl] for p, sl in rec.slices.items()},
                                     latitude_deg=lat, fs_hz=fs,
                                     position_time_s=times).azimuth_deg
     params = {"transition_s": trans, "start_delay_s": delay, "ambient_degC": [lo, hi],
