@@ -718,9 +718,9 @@ def simulate_cmd(
         ArmaSpec,
         NoiseSpec,
         TemperatureProfile,
-        parse_duration,
         simulate_gyro,
     )
+    from fogts.units import parse_duration
 
     with _guard():
         if not output.name.lower().endswith(_SIM_SUFFIXES):
@@ -804,7 +804,7 @@ def simulate_cmd(
 
 def _duration_or_zero(text: str | None, option: str, default: float) -> float:
     """A duration option that may also be 0 (``"0"``, ``"0s"``)."""
-    from fogts.simulate import parse_duration
+    from fogts.units import parse_duration
 
     if text is None:
         return default
@@ -829,9 +829,9 @@ def _simulate_startup(output: Path, *, fs: float | None, duration: str | None,
     from fogts.io import write_frame_atomic, write_text_atomic
     from fogts.northfind import simulate_startup_positions
     from fogts.report import json_dumps
-    from fogts.simulate import ArmaSpec, parse_duration
+    from fogts.simulate import ArmaSpec
     from fogts.simulate_startup import DEFAULT_STARTUP_COEFFICIENTS, simulate_startup
-    from fogts.units import convert_rate, parse_rate_unit
+    from fogts.units import convert_rate, parse_duration, parse_rate_unit
 
     for name, value in noise_opts.items():
         if value not in (None, 0.0):
@@ -944,7 +944,7 @@ def davar_cmd(
     """Dynamic Allan deviation (DAVAR, Galleani & Tavella 2009): the deviation in a
     window sliding along the record, and a non-stationarity score."""
     from fogts.allan.dynamic import dynamic_allan
-    from fogts.simulate import parse_duration
+    from fogts.units import parse_duration
 
     with _guard():
         window_s = parse_duration(window, "--window")

@@ -54,7 +54,6 @@ output does not depend on the chunk size (beyond the rounding of running sums).
 from __future__ import annotations
 
 import math
-import re
 import warnings
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, fields
@@ -69,14 +68,13 @@ from fogts._validate import as_rng, check_choice, check_int, check_positive
 from fogts.errors import DataError, FogtsWarning
 from fogts.run import Run, SamplingReport
 from fogts.thermal import THERMAL_TERMS, design_matrix, temperature_rate
-from fogts.units import parse_rate_unit, to_deg_per_hour_factor
+from fogts.units import parse_duration, parse_rate_unit, to_deg_per_hour_factor
 
 __all__ = [
     "ArmaSpec",
     "FlickerMethod",
     "NoiseSpec",
     "TemperatureProfile",
-    "parse_duration",
     "simulate_arma",
     "simulate_gyro",
     "thermal_drift",
@@ -106,57 +104,6 @@ _FLICKER_PPD = 3           # Markov poles per decade of correlation time
 _FLICKER_LO_DECADES = 2    # poles start at dt / 10**2
 _FLICKER_HI_FACTOR = 10.0  # ... and end at >= 10 x the record length
 _TWO_LN2_OVER_PI = 2.0 * math.log(2.0) / math.pi
-
-
-# --------------------------------------------------------------------------- durations
-_DURATION_UNITS = {"ms": 1e-3, "s": 1.0, "sec": 1.0, "secs": 1.0, "second": 1.0,
-                   "seconds": 1.0, "min": 60.0, "mins": 60.0, "minute": 60.0, "minutes": 60.0,
-                   "h": 3600.0, "hr": 3600.0, "hrs": 3600.0, "hour": 3600.0, "hours": 3600.0,
-                   "d": 86400.0, "day": 86400.0, "days": 86400.0}
-_DURATION_PART = re.compile(r"\s*([0-9]*\.?[0-9]+(?:[eE][-+]?[0-9]+)?)\s*([a-zA-Z]*)")
-
-
-def parse_duration(text: str | float, name: str = "duration") -> float:
-    """Parse a duration such as ``"3h"``, ``"90min"``, ``"600s"``, ``"1d"`` or ``"1h30min"``.
-
-    A bare number is seconds.  Units: ms, s/sec, min, h/hr, d/day (and their plurals);
-    ``m`` is refused as ambiguous (minutes or metres?).
-
-    Returns
-    -------
-    float
-        The duration in seconds (> 0).
-
-    Examples
-    --------
-    >>> parse_duration("3h"), parse_duration("90min"), parse_duration("1h30min")
-    (10800.0, 5400.0, 5400.0)
-    """
-    if isinstance(text, int | float) and not isinstance(text, bool):
-        return check_positive(name, text)
-    s = str(text).strip()
-    pos, total, parts = 0, 0.0, 0
-    while pos < len(s):
-        match = _DURATION_PART.match(s, pos)
-        if match is None or match.end() == pos:
-            break
-        value, unit = float(match.group(1)), match.group(2).lower()
-        if unit == "":
-            if parts or match.end() != len(s):
-                break
-            unit = "s"
-        if unit not in _DURATION_UNITS:
-            raise DataError(f"{name} has an unknown unit {match.group(2)!r} in {text!r}; use "
-                            "ms, s, min, h or d, e.g. 3h, 90min, 600s, 1d")
-        total += value * _DURATION_UNITS[unit]
-        parts += 1
-        pos = match.end()
-    if parts == 0 or s[pos:].strip():
-        raise DataError(f"{name} must look like 3h, 90min, 600s, 1d or a number of seconds; "
-                        f"got {text!r}")
-    if not math.isfinite(total) or total <= 0:
-        raise DataError(f"{name} must be > 0, got {text!r}")
-    return total
 
 
 # --------------------------------------------------------------------------- NoiseSpec

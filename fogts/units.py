@@ -9,10 +9,12 @@ coefficients of IEEE Std 952-1997 are reported in deg/h-based units (see DESIGN.
 from __future__ import annotations
 
 import math
+import re
 from typing import Literal, get_args
 
 import numpy as np
 
+from fogts._validate import check_positive
 from fogts.errors import DataError
 
 __all__ = [
@@ -21,6 +23,7 @@ __all__ = [
     "RateUnit",
     "convert_rate",
     "earth_rate_component",
+    "parse_duration",
     "parse_rate_unit",
     "to_deg_per_hour_factor",
 ]
@@ -118,3 +121,54 @@ def earth_rate_component(latitude_deg: float, *, unit: str = "deg/h",
     trig = math.sin if axis == "vertical" else math.cos
     omega_deg_h = float(convert_rate(EARTH_RATE_RAD_S, "rad/s", unit))
     return omega_deg_h * trig(math.radians(lat))
+
+
+# Durations
+_DURATION_UNITS = {"ms": 1e-3, "s": 1.0, "sec": 1.0, "secs": 1.0, "second": 1.0,
+                   "seconds": 1.0, "min": 60.0, "mins": 60.0, "minute": 60.0, "minutes": 60.0,
+                   "h": 3600.0, "hr": 3600.0, "hrs": 3600.0, "hour": 3600.0, "hours": 3600.0,
+                   "d": 86400.0, "day": 86400.0, "days": 86400.0}
+_DURATION_PART = re.compile(r"\s*([0-9]*\.?[0-9]+(?:[eE][-+]?[0-9]+)?)\s*([a-zA-Z]*)")
+
+
+def parse_duration(text: str | float, name: str = "duration") -> float:
+    """Parse a duration such as ``"3h"``, ``"90min"``, ``"600s"``, ``"1d"`` or ``"1h30min"``.
+
+    A bare number is seconds.  Units: ms, s/sec, min, h/hr, d/day (and their plurals);
+    ``m`` is refused as ambiguous (minutes or metres?).
+
+    Returns
+    -------
+    float
+        The duration in seconds (> 0).
+
+    Examples
+    --------
+    >>> parse_duration("3h"), parse_duration("90min"), parse_duration("1h30min")
+    (10800.0, 5400.0, 5400.0)
+    """
+    if isinstance(text, int | float) and not isinstance(text, bool):
+        return check_positive(name, text)
+    s = str(text).strip()
+    pos, total, parts = 0, 0.0, 0
+    while pos < len(s):
+        match = _DURATION_PART.match(s, pos)
+        if match is None or match.end() == pos:
+            break
+        value, unit = float(match.group(1)), match.group(2).lower()
+        if unit == "":
+            if parts or match.end() != len(s):
+                break
+            unit = "s"
+        if unit not in _DURATION_UNITS:
+            raise DataError(f"{name} has an unknown unit {match.group(2)!r} in {text!r}; use "
+                            "ms, s, min, h or d, e.g. 3h, 90min, 600s, 1d")
+        total += value * _DURATION_UNITS[unit]
+        parts += 1
+        pos = match.end()
+    if parts == 0 or s[pos:].strip():
+        raise DataError(f"{name} must look like 3h, 90min, 600s, 1d or a number of seconds; "
+                        f"got {text!r}")
+    if not math.isfinite(total) or total <= 0:
+        raise DataError(f"{name} must be > 0, got {text!r}")
+    return total

@@ -26,11 +26,11 @@ from fogts.simulate import (
     TemperatureProfile,
     flicker_poles,
     markov_avar,
-    parse_duration,
     simulate_arma,
     simulate_gyro,
     thermal_drift,
 )
+from fogts.units import parse_duration
 
 FS = 100.0
 REPLICAS = 64
