@@ -14,9 +14,10 @@ Exit codes (DESIGN.md): 0 success, 1 negative verdict, 2 bad usage/input/interna
 
 from __future__ import annotations
 
+import re
 import sys
 import warnings
-from collections.abc import Iterator
+from collections.abc import Iterator, Mapping
 from contextlib import contextmanager
 from pathlib import Path
 from typing import Annotated, Any
@@ -79,9 +80,13 @@ def _main_options(
 
 
 @contextmanager
-def _guard() -> Iterator[None]:
+def _guard(options: Mapping[str, str] | None = None) -> Iterator[None]:
     """Run a command body: warnings become ``warning: ...`` lines on stderr (each once),
-    and any exception becomes one line ``error: ...`` on stderr with exit code 2."""
+    and any exception becomes one line ``error: ...`` on stderr with exit code 2.
+
+    ``options`` maps library argument names (``latitude_deg``) to the command's option
+    names (``--latitude``), so that an error raised by the library names what the user
+    typed."""
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("default")
         try:
@@ -93,13 +98,35 @@ def _guard() -> Iterator[None]:
                 raise
             from fogts.report import error_message
 
-            err_console.print(f"error: {error_message(exc)}", markup=False, soft_wrap=True)
+            message = _option_names(error_message(exc), options or {})
+            err_console.print(f"error: {message}", markup=False, soft_wrap=True)
             raise typer.Exit(ExitCode.ERROR) from None
         finally:
             from fogts.report import warning_texts
 
             for text in warning_texts(caught):
                 err_console.print(f"warning: {text}", markup=False, soft_wrap=True)
+
+
+def _option_names(message: str, options: Mapping[str, str]) -> str:
+    """Replace whole-word library argument names in ``message`` by option names."""
+    for name, option in options.items():
+        message = re.sub(rf"(?<![\w-]){re.escape(name)}(?!\w)", option, message)
+    return message
+
+
+#: Library argument names of ``fogts simulate`` (both modes) and their options.
+_SIMULATE_OPTIONS = {
+    "fs_hz": "--fs", "duration_s": "--duration", "latitude_deg": "--latitude",
+    "azimuth_deg": "--azimuth", "position_s": "--position-time", "turn_s": "--turn-time",
+    "start_delay_s": "--start-after", "start_s": "--start-after",
+    "ambient_degC": "--ambient-c", "peak_rate_degC_s": "--peak-heating-c-s",
+    "tau_s": "--time-constants", "white_sigma_deg_h": "--white-deg-h",
+    "temperature_resolution_degC": "--temperature-resolution-c",
+}
+#: ... and of ``fogts northfind``.
+_NORTHFIND_OPTIONS = {"latitude_deg": "--latitude", "transition_s": "--transition",
+                      "bias_sigma_deg_h": "--bias-sigma", "n_trials": "--simulate"}
 
 
 def _read(path: Path, rate_column: str | None, time_column: str | None,
@@ -722,7 +749,7 @@ def simulate_cmd(
     )
     from fogts.units import parse_duration
 
-    with _guard():
+    with _guard(_SIMULATE_OPTIONS):
         if not output.name.lower().endswith(_SIM_SUFFIXES):
             raise DataError(f"--output must end in {', '.join(_SIM_SUFFIXES)}; got "
                              f"{output.name!r}")
@@ -1235,7 +1262,7 @@ def northfind_cmd(
     from fogts.errors import DataError
     from fogts.northfind import four_position, simulate_north_seeking
 
-    with _guard():
+    with _guard(_NORTHFIND_OPTIONS):
         thermal = _load_thermal_model(thermal_model) if thermal_model is not None else None
         if simulate is not None:
             if files:

@@ -94,7 +94,7 @@ def test_simulate_from_json_and_random_seed(tmp_path: Path) -> None:
     (["--duration", "10s", "--decimals", "20"], "--decimals must be in 0..15"),
     (["--duration", "10s", "--flicker", "pink"], "flicker must be one of markov, kasdin"),
     (["--duration", "10s", "--units", "mph"], "units must be one of"),
-    (["--duration", "10s", "--fs", "0"], "fs_hz must be a finite number > 0"),
+    (["--duration", "10s", "--fs", "0"], "--fs must be a finite number > 0"),
     (["--duration", "10s", "--sine", "1,80"], "below the Nyquist frequency"),
 ])
 def test_simulate_bad_input(tmp_path: Path, args: list[str], message: str) -> None:

@@ -245,10 +245,10 @@ def test_simulate_startup_positions_bad_input() -> None:
     (["--startup", "--start-after", "2parsecs"], "--start-after has an unknown unit"),
     (["--startup", "--positions", "--latitude", "89.5", "--azimuth", "0"], "of the pole"),
     (["--startup", "--positions", "--latitude", "30", "--azimuth", "nan"],
-     "azimuth_deg must be a finite number"),
+     "--azimuth must be a finite number"),
     (["--startup", "--positions", "--latitude", "30", "--azimuth", "0", "--position-time", "2s"],
      "gives 2 samples per position"),
-    (["--startup", "--duration", "5s"], "gives 5 samples; at least 10 needed"),
+    (["--startup", "--duration", "5s"], "--duration * --fs gives 5 samples; at least 10"),
     (["--startup", "--thermal", "T3=1"], "unknown thermal term 'T3'"),
     (["--startup", "--thermal", "T:1"], "--thermal must look like"),
     (["--startup", "--arma", "ar=1.2;sigma2=1"], "AR part is not stationary"),
@@ -260,3 +260,23 @@ def test_simulate_startup_bad_input(tmp_path: Path, args: list[str], message: st
     assert message in res.stderr and res.stderr.startswith("error: ")
     assert "Traceback" not in res.output + res.stderr
     assert not out.exists()
+
+
+@pytest.mark.parametrize("args, message", [
+    ([str(DATA / "startup_northfind_1hz.csv"), "--latitude", "95"], "error: --latitude must be in"),
+    (["--simulate", "1", "--latitude", "30"], "error: --simulate must be >= 2, got 1"),
+])
+def test_northfind_errors_name_the_option(args: list[str], message: str) -> None:
+    res = runner.invoke(app, ["northfind", *args])
+    assert res.exit_code == 2
+    assert res.stderr.startswith(message)
+    assert "latitude_deg" not in res.stderr and "n_trials" not in res.stderr
+
+
+def test_option_names_replace_whole_words_only() -> None:
+    from fogts.cli import _option_names
+
+    names = {"fs_hz": "--fs", "tau_s": "--time-constants"}
+    assert _option_names("fs_hz must be > 0, got -3.0", names) == "--fs must be > 0, got -3.0"
+    assert _option_names("tau_s=(1, 2) but my_tau_s or tau_s2 stay", names) == (
+        "--time-constants=(1, 2) but my_tau_s or tau_s2 stay")
