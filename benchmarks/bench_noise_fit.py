@@ -5,7 +5,8 @@ ratio measured in one run:
 
 * **White + random walk** (the issue's study): white rate noise N = 0.05 deg/sqrt(h) plus a
   rate random walk K = 10 deg/h^1.5, 100 Hz, 3 h, 30 seeds.  Median absolute relative
-  error of N and K for ``fit_noise`` (WLS on the five terms and on N, K; GLS; OLS) and for
+  error of N and K for ``fit_noise`` (the default: WLS on the five terms with term selection
+  at 5 %; the same without selection, ``significance=None``; WLS on N, K; GLS; OLS) and for
   the classic slope read-off (IEEE 952 Annex C / MATLAB ``allanvar``: -1/2 line at 1 s,
   +1/2 line at 3 s).  Reported as ratios read-off error / fit error (> 1: the fit wins),
   plus how often the 68.3 % intervals cover the truth (ideal 0.683).
@@ -67,8 +68,11 @@ def white_rw_study(seeds: int, hours: float) -> dict[str, dict[str, float]]:
     err: dict[str, list[tuple[float, float]]] = {}
     cover: dict[str, list[tuple[bool, bool]]] = {}
     seconds: dict[str, float] = {}
-    methods = {"WLS, 5 terms": {}, "WLS, N and K": {"terms": "N,K"},
-               "GLS, 5 terms": {"method": "gls"}, "GLS, N and K": {"method": "gls", "terms": "N,K"},
+    methods = {"WLS, 5 terms": {}, "WLS, 5 terms, no selection": {"significance": None},
+               "WLS, N and K": {"terms": "N,K"},
+               "GLS, 5 terms": {"method": "gls"},
+               "GLS, 5 terms, no selection": {"method": "gls", "significance": None},
+               "GLS, N and K": {"method": "gls", "terms": "N,K"},
                "OLS, 5 terms": {"method": "ols"}}
     for seed in range(seeds):
         res = allan_deviation(_white_rw(seed, n), fs_hz=FS_HZ)
@@ -98,22 +102,27 @@ def white_rw_study(seeds: int, hours: float) -> dict[str, dict[str, float]]:
 
 
 def grade_study(seeds: int, hours: float) -> dict[str, dict[str, dict[str, float]]]:
-    """Per grade: median |relative error| of N, B, K for the WLS fit and the read-offs."""
+    """Per grade: median |relative error| of N, B, K for the WLS fit (default, and without
+    term selection: ``"all"``) and the read-offs."""
     from fogts.simulate import simulate_gyro
 
     out: dict[str, dict[str, dict[str, float]]] = {}
     for grade, truth in GRADES.items():
         fit_e: list[list[float]] = []
+        all_e: list[list[float]] = []
         ro_e: list[list[float]] = []
         for seed in range(seeds):
             run = simulate_gyro(truth, fs_hz=FS_HZ, duration_s=hours * 3600, rng=100 + seed)
-            model = _fit(allan_deviation(run))
+            curve = allan_deviation(run)
+            model = _fit(curve)
+            kept = _fit(curve, significance=None)
             ro = {"N": model.readoff.N, "B": model.readoff.B, "K": model.readoff.K}
             fit_e.append([model[t].value / v - 1 for t, v in truth.items()])
+            all_e.append([kept[t].value / v - 1 for t, v in truth.items()])
             ro_e.append([ro[t] / v - 1 for t, v in truth.items()])
-        f, r = np.abs(np.array(fit_e)), np.abs(np.array(ro_e))
-        out[grade] = {"fit": dict(zip(truth, np.median(f, axis=0).tolist(), strict=True)),
-                      "readoff": dict(zip(truth, np.median(r, axis=0).tolist(), strict=True))}
+        out[grade] = {key: dict(zip(truth, np.median(np.abs(np.array(e)), axis=0).tolist(),
+                                    strict=True))
+                      for key, e in (("fit", fit_e), ("all", all_e), ("readoff", ro_e))}
     return out
 
 
@@ -125,8 +134,9 @@ def metrics(quick: bool) -> list[Metric]:
     ro = wk["slope read-off"]
     tag = f"seeds={seeds}"
     out: list[Metric] = []
-    for name, key in (("WLS, 5 terms", "wls5"), ("WLS, N and K", "wls_nk"),
-                      ("GLS, 5 terms", "gls5"), ("OLS, 5 terms", "ols5")):
+    for name, key in (("WLS, 5 terms", "wls5"), ("WLS, 5 terms, no selection", "wls5_all"),
+                      ("WLS, N and K", "wls_nk"), ("GLS, 5 terms", "gls5"),
+                      ("GLS, 5 terms, no selection", "gls5_all"), ("OLS, 5 terms", "ols5")):
         row = wk[name]
         for term in ("N", "K"):
             out.append(accuracy_metric(
@@ -137,11 +147,13 @@ def metrics(quick: bool) -> list[Metric]:
                 details={"fit_median_abs_rel_error": row[term],
                          "readoff_median_abs_rel_error": ro[term]}))
         if name != "OLS, 5 terms":
-            out.append(accuracy_metric(
-                f"noise_fit.white_rw.{key}.K.coverage_gap.{tag}",
-                f"K: |coverage of the 68.3 % interval - 0.683| ({name})",
-                value=abs(row["cover_K"] - NOMINAL), better="lower", abs_tolerance=0.1,
-                details={"coverage_K": row["cover_K"], "coverage_N": row["cover_N"]}))
+            for term in ("N", "K"):
+                out.append(accuracy_metric(
+                    f"noise_fit.white_rw.{key}.{term}.coverage_gap.{tag}",
+                    f"{term}: |coverage of the 68.3 % interval - 0.683| ({name})",
+                    value=abs(row[f"cover_{term}"] - NOMINAL), better="lower",
+                    abs_tolerance=0.1,
+                    details={"coverage_K": row["cover_K"], "coverage_N": row["cover_N"]}))
     grades = grade_study(g_seeds, hours)
     for grade, res in grades.items():
         for term in ("N", "B", "K"):
@@ -151,6 +163,12 @@ def metrics(quick: bool) -> list[Metric]:
                 f"{grade}: {term} median |error|, read-off / WLS fit",
                 value=r / f, better="higher", unit="x",
                 details={"fit": f, "readoff": r}))
+            a = res["all"][term]
+            out.append(accuracy_metric(
+                f"noise_fit.grade.{grade.replace(' ', '_')}.{term}.readoff_over_fit_all.seeds={g_seeds}",
+                f"{grade}: {term} median |error|, read-off / WLS fit without term selection",
+                value=r / a, better="higher", unit="x",
+                details={"fit": a, "readoff": r}))
     _print_details(wk, grades, seeds, g_seeds)
     return out
 
@@ -167,10 +185,11 @@ def _print_details(wk: dict[str, dict[str, float]], grades: dict[str, Any], seed
         lines.append(f"| {name} | {100 * row['N']:.3f} % | {100 * row['K']:.2f} % | "
                      f"{100 * row['K_max']:.1f} % | {cov} |")
     lines += ["", f"Sensor grades, 100 Hz, 3 h, {g_seeds} seeds (median |relative error|, "
-              "WLS fit / read-off):", "", "| grade | N | B | K |", "|---|---:|---:|---:|"]
+              "WLS fit / without term selection / read-off):", "", "| grade | N | B | K |",
+              "|---|---:|---:|---:|"]
     for grade, res in grades.items():
-        cells = [f"{100 * res['fit'][t]:.2f} % / {100 * res['readoff'][t]:.2f} %"
-                 for t in ("N", "B", "K")]
+        cells = [f"{100 * res['fit'][t]:.2f} % / {100 * res['all'][t]:.2f} % / "
+                 f"{100 * res['readoff'][t]:.2f} %" for t in ("N", "B", "K")]
         lines.append(f"| {grade} ({', '.join(f'{k}={v:g}' for k, v in GRADES[grade].items())})"
                      f" | {' | '.join(cells)} |")
     print("\n".join(lines) + "\n", file=sys.stderr)

@@ -447,7 +447,9 @@ GRADES = {
     "tactical FOG": {"N": 0.01, "B": 0.15, "K": 1.0},
     "MEMS": {"N": 0.2, "B": 4.0, "K": 25.0},
 }
-ROUND_TRIP_SEEDS = range(1000, 1030)
+#: 30 seeds per grade, different for each grade, so that the three grades are independent
+#: samples (with shared seeds they are nearly the same draws, rescaled).
+ROUND_TRIP_SEEDS = {grade: range(1000 + 100 * i, 1030 + 100 * i) for i, grade in enumerate(GRADES)}
 #: The test runs 3 h at 5 Hz (30 seeds x 3 grades in a few seconds); B and K live at
 #: tau >= 20 s, where 5 Hz and 100 Hz records are equivalent.  The 100 Hz study is
 #: benchmarks/accuracy/roundtrip.py.
@@ -466,7 +468,7 @@ def round_trip() -> dict[str, dict[str, dict[str, np.ndarray]]]:
     out: dict[str, dict[str, dict[str, np.ndarray]]] = {}
     for grade, truth in GRADES.items():
         rows: dict[str, list[tuple[float, float, bool]]] = {t: [] for t in truth}
-        for seed in ROUND_TRIP_SEEDS:
+        for seed in ROUND_TRIP_SEEDS[grade]:
             run = simulate_gyro(truth, fs_hz=ROUND_TRIP_FS, duration_s="3h", rng=seed)
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")  # Q and R are (rightly) unidentifiable
@@ -491,11 +493,24 @@ def test_round_trip_median_error(round_trip: dict, grade: str) -> None:
     assert np.median(res["K"]["fit"]) <= 0.15
 
 
-@pytest.mark.parametrize("grade", list(GRADES))
-def test_round_trip_interval_coverage(round_trip: dict, grade: str) -> None:
-    """The 68.3 % intervals cover the truth in 55-80 % of the 30 seeds."""
-    for term, res in round_trip[grade].items():
-        assert 0.55 <= res["covered"].mean() <= 0.80, (term, res["covered"].mean())
+@pytest.mark.parametrize("term", ["N", "B", "K"])
+def test_round_trip_interval_coverage(round_trip: dict, term: str) -> None:
+    """The 68.3 % intervals cover the truth as often as a 68.3 % interval should.
+
+    Pooled over the 90 independent fits (3 grades x 30 seeds), the number of hits is
+    Binomial(90, 0.683) for honest intervals; the test accepts the central 99.9 % of that
+    distribution (46-75 hits).  A 120-seed run of the tactical grade gave 0.683 (N),
+    0.692 (B) and 0.617 (K).
+    """
+    from scipy.stats import binom
+
+    covered = np.concatenate([round_trip[grade][term]["covered"] for grade in GRADES])
+    lo, hi = binom.ppf(0.0005, covered.size, 0.683), binom.isf(0.0005, covered.size, 0.683)
+    assert lo <= covered.sum() <= hi, (term, covered.mean(), lo, hi)
+    # ... and no grade is wildly off on its own (99.9 % band of Binomial(30, 0.683)).
+    for grade in GRADES:
+        hits = round_trip[grade][term]["covered"].sum()
+        assert binom.ppf(0.0005, 30, 0.683) <= hits <= binom.isf(0.0005, 30, 0.683), grade
 
 
 @pytest.mark.parametrize("grade", list(GRADES))
