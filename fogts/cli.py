@@ -348,6 +348,7 @@ def allan_cmd(
     confidence: Annotated[float, typer.Option("--confidence", help="Confidence level of the deviation and coefficient intervals.")] = 0.683,
     terms: Annotated[str, typer.Option("--terms", help="Noise terms to fit, from Q,N,B,K,R.")] = "Q,N,B,K,R",
     method: Annotated[str, typer.Option("--method", help="Noise fit: wls (EDF weights), gls (full covariance), ols (unweighted, comparison only).")] = "wls",
+    keep_all_terms: Annotated[bool, typer.Option("--keep-all-terms", help="Keep every --terms term in the fit even when the data do not support it (default: drop terms that are not significant at 5 % and visible at fewer than two taus).")] = False,
     axis: Annotated[str | None, typer.Option("--axis", help="Analyse one axis (name or index) (default: every axis).")] = None,
     outliers: Annotated[float | None, typer.Option("--outliers", help="Replace samples beyond this many robust sigmas first (default: raw data).")] = None,
     detrend: Annotated[int | None, typer.Option("--detrend", help="Remove a polynomial trend of this order first (default: raw data).")] = None,
@@ -373,8 +374,9 @@ def allan_cmd(
         _check_output_names(plot=plot, csv=csv_out)
         analyses = [_allan_file(f, rate_column, time_column, temperature_column, fs, units,
                                 kind=kind, taus=tau_spec, confidence=confidence,
-                                terms=term_names, method=method, axis=axis,
-                                outliers=outliers, detrend=detrend, decimate=decimate,
+                                terms=term_names, method=method,
+                                keep_all_terms=keep_all_terms, axis=axis, outliers=outliers,
+                                detrend=detrend, decimate=decimate,
                                 check_allantools=check_allantools) for f in files]
         payload = (analyses[0].payload if len(analyses) == 1
                    else {"inputs": [a.payload for a in analyses]})
@@ -422,7 +424,7 @@ class _AllanAnalysis:
 def _allan_file(file: Path, rate_column: str | None, time_column: str | None,
                 temperature_column: str | None, fs: float | None, units: str | None, *,
                 kind: str, taus: Any, confidence: float, terms: tuple[str, ...], method: str,
-                axis: str | None, outliers: float | None, detrend: int | None,
+                keep_all_terms: bool, axis: str | None, outliers: float | None, detrend: int | None,
                 decimate: int | None, check_allantools: bool) -> _AllanAnalysis:
     from fogts.allan import AllanResult, allan_deviation
     from fogts.allan.noise import FITTABLE_KINDS, fit_noise
@@ -444,7 +446,9 @@ def _allan_file(file: Path, rate_column: str | None, time_column: str | None,
                               confidence=confidence, axis=None if prepared else i)
         assert isinstance(res, AllanResult)
         model = (fit_noise(res, terms=terms, method=method,  # type: ignore[arg-type]
-                           confidence=confidence) if res.kind in FITTABLE_KINDS else None)
+                           confidence=confidence,
+                           significance=None if keep_all_terms else 0.05)
+                 if res.kind in FITTABLE_KINDS else None)
         if model is None:
             warnings.warn(f"noise terms are fitted to adev, oadev or totdev curves only; "
                           f"not fitted to {res.kind}", FogtsWarning, stacklevel=1)

@@ -163,3 +163,19 @@ def test_missing_file_and_too_short(tmp_path: Path) -> None:
     np.save(short, np.random.default_rng(0).normal(size=6))
     code, _, err = _run([short, "--fs", "10"])
     assert code == 2 and err.startswith("error: ") and "Traceback" not in err
+
+
+def test_unsupported_terms_are_dropped_unless_kept(gyro_npy: Path) -> None:
+    """White + RRW data: Q and R are not in the data; by default the fit drops what it
+    cannot support, --keep-all-terms keeps all five (the pre-selection behaviour)."""
+    code, out, _ = _run([gyro_npy, "--fs", FS, "--json", "-"])
+    assert code == 0
+    fit = json.loads(out)["noise_fit"]["fit"]
+    assert fit["significance"] == 0.05 and "Q" in fit["dropped"]
+    code, out, _ = _run([gyro_npy, "--fs", FS, "--keep-all-terms", "--json", "-"])
+    assert code == 0
+    payload = json.loads(out)
+    assert payload["noise_fit"]["fit"]["significance"] is None
+    assert payload["noise_fit"]["fit"]["dropped"] == []
+    assert {t["status"] for t in payload["noise"].values()} <= {"fitted", "at_bound"}
+    assert payload["noise"]["N"]["value"] == pytest.approx(N_TRUE, rel=0.03)
