@@ -2,25 +2,51 @@
 
 Result format (``--out``)::
 
-    {"schema": 1, "date": ISO-8601 UTC, "quick": bool, "machine": {...}, "versions": {...},
+    {"schema": 2, "date": ISO-8601 UTC, "quick": bool, "machine": {...}, "versions": {...},
      "git": commit or null, "seconds": wall time,
      "suites": {name: {"status": "ok"|"failed"|"missing", "seconds", "error"}},
      "metrics": [{"id", "suite", "title", "kind": "speed"|"accuracy", "value", "unit",
                   "better": "higher"|"lower", "tolerance", "abs_tolerance",
-                  "seconds": {name: s}, "details": {...}}]}
+                  "seconds": {name: s}, "details": {...},
+                  # speed figures only:
+                  "cpu_value", "cpu_seconds": {name: s}, "parallel": bool,
+                  "other_load": cores, "noise": {"rounds", "spread_wall", "spread_cpu"}}]}
 
 * A **speed** metric's value is a ratio measured in one run: peer seconds / fogts seconds
-  (higher is better).  Absolute seconds are stored in ``seconds`` and shown, never compared.
+  (higher is better), from the best wall time of each side.  ``cpu_value`` is the same
+  ratio from the best CPU times (process time of the calls).  Absolute seconds are stored
+  and shown, never compared.  ``other_load`` is how many cores other processes kept busy
+  while the figure was timed (``/proc/stat``); ``noise`` the spread of the ratio over the
+  timed rounds (information only: it does not widen the tolerance).
 * An **accuracy** metric is an error (lower is better) or a rate (higher is better) measured
-  on simulated data with fixed seeds.
+  on simulated data with fixed seeds (the same value on every run of the same code), or a
+  memory multiple, or a CPU time without a peer.
 * Metric ids carry the problem size (``speed.oadev.n=1e7``), so a ``--quick`` run and a full
   run never compare figures of different sizes.
 
-``--compare OLD`` flags a metric whose value got worse than OLD's by more than its tolerance
-(10 % relative by default, and more than ``abs_tolerance`` absolute), and a metric of OLD that
-is missing now; it exits 1 if anything is flagged.  Timing noise is not a regression: a suite
-with a flagged speed metric is measured again (``--confirm`` times, default 2) and the best
-value of each speed metric is kept, so only a reproducible slowdown is reported.
+``--compare OLD`` flags a metric whose figure got worse than OLD's by more than its
+tolerance (10 % relative by default, and more than ``abs_tolerance`` absolute), and a metric
+of OLD that is missing now; it exits 1 if anything is flagged.  The machine is shared, so
+which figure of a speed metric is compared follows one rule (:func:`compared_values`):
+
+* **single-threaded** figures (both sides run on one thread; the suites run with one BLAS
+  thread) are compared on the **CPU-time ratio**.  A single-threaded call's CPU time does not
+  grow while the process waits for a core, so the ratio stays within a few per cent under a
+  load that moves the wall-time ratio by 30-50 %; a slower fogts function still shows fully.
+* **parallel** figures (a side may use several threads: oadev with its default thread pool,
+  pyarrow's readers) depend on free cores.  They are compared on the wall-time ratio only if
+  other processes kept at most ``FREE_LOAD`` (0.25) cores busy while each of the two runs
+  timed them; otherwise they are shown but not judged (``not judged (busy)``).  Their CPU
+  time is no substitute: threads sharing one core spend less CPU time than threads running
+  side by side (measured: totdev's CPU-time ratio 2.2 idle, 3.1 with a core taken).  Every
+  parallel figure has a single-threaded sibling that is always judged on CPU time
+  (``speed.oadev.1thread``, ``speed.read_run.csv_1thread``,
+  ``speed.read_run.parquet_1thread``).
+* Each side is timed in rotating rounds and its best time kept (:func:`measure`); fast
+  calls get more rounds (``min_total_s``).
+* A suite with a flagged speed figure is measured again (``--confirm`` times, default 2) and
+  the measurement closest to OLD is kept, so a slowdown must show in every measurement to be
+  reported; accuracy figures are deterministic and are not re-measured.
 
 Each suite runs in its own Python process, so one suite's imports, caches or memory peak do
 not affect another, and a crash is reported as that suite's failure.
@@ -43,7 +69,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-SCHEMA = 1
+SCHEMA = 2
 DEFAULT_TOLERANCE = 0.10
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -53,15 +79,34 @@ Metric = dict[str, Any]
 # --------------------------------------------------------------------------- metric helpers
 
 
+#: A parallel figure is compared on wall time only if, in both runs, other processes kept
+#: at most this many cores busy on average while it was timed (see :func:`compare`).
+FREE_LOAD = 0.25
+
+
 def speed_metric(id: str, title: str, *, fogts_s: float, peer_s: float, peer: str,
                  suite: str = "", tolerance: float = DEFAULT_TOLERANCE,
+                 fogts_cpu_s: float | None = None, peer_cpu_s: float | None = None,
+                 parallel: bool = False, other_load: float | None = None,
+                 noise: dict[str, Any] | None = None,
                  details: dict[str, Any] | None = None) -> Metric:
-    """A speed figure: ``peer_s / fogts_s`` ("x faster than the peer"; higher is better)."""
+    """A speed figure: ``peer_s / fogts_s`` ("x faster than the peer"; higher is better).
+
+    ``fogts_cpu_s`` / ``peer_cpu_s`` are the CPU times of the same calls (process time, all
+    threads); their ratio is ``cpu_value``.  ``parallel`` says that a contender may use more
+    than one thread; ``other_load`` is the number of cores other processes kept busy while
+    the figure was timed; ``noise`` holds the spread of the ratio over the timed rounds.
+    """
+    cpu_value = (peer_cpu_s / fogts_cpu_s if fogts_cpu_s is not None and peer_cpu_s is not None
+                 and fogts_cpu_s > 0 else None)
     return {"id": id, "suite": suite, "title": title, "kind": "speed",
             "value": peer_s / fogts_s if fogts_s > 0 else float("nan"),
+            "cpu_value": cpu_value, "parallel": bool(parallel),
+            "other_load": None if other_load is None else round(float(other_load), 3),
             "unit": f"x vs {peer}", "better": "higher", "tolerance": tolerance,
             "abs_tolerance": 0.0, "seconds": {"fogts": fogts_s, peer: peer_s},
-            "details": details or {}}
+            "cpu_seconds": ({} if cpu_value is None else {"fogts": fogts_cpu_s, peer: peer_cpu_s}),
+            "noise": noise or {}, "details": details or {}}
 
 
 def accuracy_metric(id: str, title: str, *, value: float, better: str, unit: str = "",
@@ -75,68 +120,137 @@ def accuracy_metric(id: str, title: str, *, value: float, better: str, unit: str
             "abs_tolerance": abs_tolerance, "seconds": {}, "details": details or {}}
 
 
-def best_time(fn: Callable[[], Any], *, repeat: int = 3, warmup: int = 0) -> float:
-    """Smallest wall time of ``repeat`` calls of ``fn`` (after ``warmup`` untimed calls).
+# --------------------------------------------------------------------------- timing
 
-    The minimum is the least noisy estimate on a shared machine: noise only adds time.
+
+def _busy_seconds() -> float | None:
+    """CPU seconds all cores spent busy since boot (``/proc/stat``; None elsewhere)."""
+    try:
+        with open("/proc/stat", encoding="ascii") as fh:
+            fields = [int(v) for v in fh.readline().split()[1:9]]
+    except (OSError, ValueError):
+        return None
+    idle = fields[3] + (fields[4] if len(fields) > 4 else 0)  # idle + iowait
+    return (sum(fields) - idle) / float(os.sysconf("SC_CLK_TCK"))
+
+
+class LoadProbe:
+    """Cores kept busy by *other* processes during a stretch of this process's work.
+
+    The machine's busy CPU time (``/proc/stat``, steal included) minus this process's own
+    CPU time, divided by the wall time: 0 on an idle machine, about 1 when one core is taken.
     """
-    for _ in range(warmup):
-        fn()
-    best = float("inf")
-    for _ in range(max(1, repeat)):
-        t0 = time.perf_counter()
-        fn()
-        best = min(best, time.perf_counter() - t0)
-    return best
+
+    def __init__(self) -> None:
+        self.busy0 = _busy_seconds()
+        self.cpu0 = time.process_time()
+        self.wall0 = time.perf_counter()
+
+    def other_load(self) -> float | None:
+        busy1 = _busy_seconds()
+        wall = time.perf_counter() - self.wall0
+        if busy1 is None or self.busy0 is None or wall <= 0:
+            return None
+        own = time.process_time() - self.cpu0
+        return max(0.0, (busy1 - self.busy0 - own) / wall)
 
 
-def paired_times(fogts_fn: Callable[[], Any], peer_fn: Callable[[], Any], *, repeat: int = 3,
-                 min_total_s: float = 0.0, max_repeat: int = 50) -> tuple[float, float]:
-    """Best wall times of ``fogts_fn`` and ``peer_fn``, measured alternately.
+@dataclass
+class Timing:
+    """Best wall and CPU time of each contender over ``rounds`` rotating rounds.
 
-    Alternating puts both under the same machine load, and the minimum of each discards the
-    time lost to other processes.  At least ``repeat`` pairs are timed, more (up to
-    ``max_repeat``) until the pairs took ``min_total_s`` in all, which steadies fast calls.
+    ``rounds_s[name]`` holds every round's ``(wall, cpu)`` pair; ``other_load`` is the
+    :class:`LoadProbe` reading over the whole measurement.
     """
-    best_a = best_b = float("inf")
-    total = 0.0
-    i = 0
-    while i < repeat or (total < min_total_s and i < max_repeat):
-        for k, fn in enumerate((fogts_fn, peer_fn) if i % 2 == 0 else (peer_fn, fogts_fn)):
-            t0 = time.perf_counter()
-            fn()
-            dt = time.perf_counter() - t0
-            total += dt
-            is_fogts = (k == 0) == (i % 2 == 0)
-            if is_fogts:
-                best_a = min(best_a, dt)
-            else:
-                best_b = min(best_b, dt)
-        i += 1
-    return best_a, best_b
+
+    wall: dict[str, float]
+    cpu: dict[str, float]
+    rounds_s: dict[str, list[tuple[float, float]]]
+    other_load: float | None
+
+    @property
+    def rounds(self) -> int:
+        return min((len(v) for v in self.rounds_s.values()), default=0)
+
+    def noise(self, ours: str, peer: str) -> dict[str, Any]:
+        """Spread of the per-round ratio ``peer / ours`` (max / min - 1), wall and CPU."""
+        out: dict[str, Any] = {"rounds": self.rounds}
+        for k, clock in ((0, "wall"), (1, "cpu")):
+            r = [b[k] / a[k] for a, b in zip(self.rounds_s[ours], self.rounds_s[peer],
+                                            strict=False) if a[k] > 0]
+            out[f"spread_{clock}"] = round(max(r) / min(r) - 1.0, 4) if r and min(r) > 0 \
+                else None
+        return out
 
 
-def interleaved_times(fns: dict[str, Callable[[], Any]], *, repeat: int = 3,
-                      min_total_s: float = 0.0, max_repeat: int = 50) -> dict[str, float]:
-    """Best wall time of each of several calls, measured in rotating order.
+def measure(fns: dict[str, Callable[[], Any]], *, repeat: int = 3, min_total_s: float = 0.0,
+            max_repeat: int = 50) -> Timing:
+    """Time several calls in rotating order; keep the best wall and CPU time of each.
 
-    Like :func:`paired_times` for more than two contenders: round ``i`` starts with the
-    ``i``-th function, so every one sees the same machine load on average.
+    Round ``i`` starts with the ``i``-th function, so every contender sees the same machine
+    load on average, and the minimum discards the time lost to other processes (noise only
+    adds time).  At least ``repeat`` rounds are timed, more (up to ``max_repeat``) until the
+    rounds took ``min_total_s`` in all, which steadies fast calls.  CPU time is the process
+    time (all threads of this process): for a single-threaded call it does not grow while
+    the process waits for a core, which makes it far less sensitive to load than wall time.
     """
     names = list(fns)
-    best = dict.fromkeys(names, float("inf"))
+    rounds: dict[str, list[tuple[float, float]]] = {n: [] for n in names}
+    probe = LoadProbe()
     total = 0.0
     i = 0
     while i < repeat or (total < min_total_s and i < max_repeat):
         for k in range(len(names)):
             name = names[(i + k) % len(names)]
-            t0 = time.perf_counter()
+            c0, t0 = time.process_time(), time.perf_counter()
             fns[name]()
-            dt = time.perf_counter() - t0
+            dt, dc = time.perf_counter() - t0, time.process_time() - c0
             total += dt
-            best[name] = min(best[name], dt)
+            rounds[name].append((dt, dc))
         i += 1
-    return best
+    return Timing(wall={n: min(w for w, _ in v) for n, v in rounds.items()},
+                  cpu={n: min(c for _, c in v) for n, v in rounds.items()},
+                  rounds_s=rounds, other_load=probe.other_load())
+
+
+def timed_once(fn: Callable[[], Any]) -> tuple[float, float, Any]:
+    """``(wall, cpu, result)`` of one call (for calls too slow to repeat)."""
+    c0, t0 = time.process_time(), time.perf_counter()
+    out = fn()
+    return time.perf_counter() - t0, time.process_time() - c0, out
+
+
+def speed_from(timing: Timing, id: str, title: str, *, peer: str, peer_key: str = "peer",
+               ours: str = "fogts", parallel: bool = False, suite: str = "",
+               tolerance: float = DEFAULT_TOLERANCE,
+               details: dict[str, Any] | None = None) -> Metric:
+    """A :func:`speed_metric` from a :class:`Timing` (``ours`` against ``peer_key``)."""
+    return speed_metric(id, title, fogts_s=timing.wall[ours], peer_s=timing.wall[peer_key],
+                        peer=peer, fogts_cpu_s=timing.cpu[ours],
+                        peer_cpu_s=timing.cpu[peer_key], parallel=parallel,
+                        other_load=timing.other_load, noise=timing.noise(ours, peer_key),
+                        suite=suite, tolerance=tolerance, details=details)
+
+
+def best_time(fn: Callable[[], Any], *, repeat: int = 3, warmup: int = 0) -> float:
+    """Smallest wall time of ``repeat`` calls of ``fn`` (after ``warmup`` untimed calls)."""
+    for _ in range(warmup):
+        fn()
+    return measure({"fn": fn}, repeat=repeat).wall["fn"]
+
+
+def paired_times(fogts_fn: Callable[[], Any], peer_fn: Callable[[], Any], *, repeat: int = 3,
+                 min_total_s: float = 0.0, max_repeat: int = 50) -> tuple[float, float]:
+    """Best wall times of ``fogts_fn`` and ``peer_fn``, measured alternately (:func:`measure`)."""
+    t = measure({"fogts": fogts_fn, "peer": peer_fn}, repeat=repeat, min_total_s=min_total_s,
+                max_repeat=max_repeat)
+    return t.wall["fogts"], t.wall["peer"]
+
+
+def interleaved_times(fns: dict[str, Callable[[], Any]], *, repeat: int = 3,
+                      min_total_s: float = 0.0, max_repeat: int = 50) -> dict[str, float]:
+    """Best wall time of each of several calls, measured in rotating order (:func:`measure`)."""
+    return measure(fns, repeat=repeat, min_total_s=min_total_s, max_repeat=max_repeat).wall
 
 
 # --------------------------------------------------------------------------- suites
@@ -181,9 +295,8 @@ SUITES: tuple[Suite, ...] = (
           "ARMA selection hit rate by true model"),
     Suite("alpha_id", "benchmarks.bench_alpha_id:metrics",
           "noise identification and confidence intervals against allantools"),
-    Suite("emd_kalman", "benchmarks._adapters:emd_kalman",
-          "EMD, steady-state Kalman filter and thermal fit speed",
-          module="benchmarks.bench_emd_kalman"),
+    Suite("emd_kalman", "benchmarks.bench_emd_kalman:metrics",
+          "EMD, steady-state Kalman filter and thermal fit speed"),
     Suite("thermal", "benchmarks.bench_thermal:metrics",
           "thermal coefficient recovery on simulated cold starts"),
     Suite("accuracy", "benchmarks.accuracy:metrics",
@@ -214,11 +327,19 @@ def _memory_gib() -> float | None:
     return None
 
 
+#: BLAS threads of the suites, unless the environment sets them: one, so a single-threaded
+#: figure is single-threaded on both sides (its CPU time is then its work) and an idle BLAS
+#: pool cannot spin on a loaded 2-core machine.  (Not OMP_NUM_THREADS: pyarrow sizes its
+#: own thread pool from it, and its readers are measured multi-threaded.)
+BLAS_ENV = {"OPENBLAS_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
+
+
 def machine_info() -> dict[str, Any]:
-    """CPU, cores, memory, OS, Python and the load average when the run started."""
+    """CPU, cores, memory, OS, Python, BLAS threads and the load average at the start."""
     load = os.getloadavg() if hasattr(os, "getloadavg") else None
     return {"cpu": _cpu_model(), "cores": os.cpu_count(), "memory_gib": _memory_gib(),
             "platform": platform.platform(), "python": platform.python_version(),
+            "blas_threads": {k: os.environ.get(k, v) for k, v in BLAS_ENV.items()},
             "loadavg_at_start": [round(v, 2) for v in load] if load else None}
 
 
@@ -266,7 +387,7 @@ def _run_child(suite: Suite, quick: bool, timeout_s: float | None) -> tuple[dict
     if quick:
         cmd.append("--quick")
     t0 = time.perf_counter()
-    env = {**os.environ, "PYTHONPATH": os.pathsep.join(
+    env = {**BLAS_ENV, **os.environ, "PYTHONPATH": os.pathsep.join(
         [str(ROOT), *filter(None, [os.environ.get("PYTHONPATH")])])}
     try:
         res = subprocess.run(cmd, cwd=ROOT, env=env, capture_output=True, text=True,
@@ -351,34 +472,72 @@ def _worse_by(new: float, old: float, better: str) -> float:
     return -change if better == "higher" else change
 
 
-def compare(new: dict[str, Any], old: dict[str, Any]) -> list[dict[str, Any]]:
-    """One row per metric of either document: ``{id, title, old, new, change, verdict}``.
+def compared_values(new: Metric, old: Metric) -> tuple[float, float, str]:
+    """The two figures ``--compare`` sets against each other, and the basis used.
 
+    * accuracy figure: its ``value`` (``"value"``);
+    * single-threaded speed figure: the CPU-time ratio ``cpu_value`` (``"cpu"``);
+    * parallel speed figure: the wall-time ratio when other processes kept at most
+      :data:`FREE_LOAD` cores busy in both runs (``"wall"``: the cores were free), else
+      ``"busy"``: not judged.  (Its CPU time is no substitute: threads that share one core
+      spend less CPU time than threads running side by side, so the CPU-time ratio moves
+      with the load too.)  Every parallel figure has a single-threaded sibling.
+    * a stored result without CPU times (older schema): the wall ratio (``"wall"``).
+    """
+    if new.get("kind") != "speed":
+        return new["value"], old["value"], "value"
+    if new.get("parallel") or old.get("parallel"):
+        loads = (new.get("other_load"), old.get("other_load"))
+        if all(isinstance(x, int | float) and _is_number(x) and x <= FREE_LOAD for x in loads):
+            return new["value"], old["value"], "wall"
+        return new["value"], old["value"], "busy"
+    cpu_new, cpu_old = new.get("cpu_value"), old.get("cpu_value")
+    if not (isinstance(cpu_new, int | float) and isinstance(cpu_old, int | float)
+            and _is_number(cpu_new) and _is_number(cpu_old)):
+        return new["value"], old["value"], "wall"
+    return float(cpu_new), float(cpu_old), "cpu"
+
+
+def compare_row(m: Metric, o: Metric | None) -> dict[str, Any]:
+    """One comparison row for new metric ``m`` against old metric ``o`` (see :func:`compare`)."""
+    row: dict[str, Any] = {"id": m["id"], "title": m["title"], "unit": m.get("unit", ""),
+                           "new": m["value"], "old": None if o is None else o["value"],
+                           "change": None, "basis": ""}
+    if o is None:
+        row["verdict"] = "new"
+        return row
+    new_v, old_v, basis = compared_values(m, o)
+    row.update(new=new_v, old=old_v, basis=basis)
+    if not _is_number(new_v) or not _is_number(old_v):
+        row["verdict"] = "not comparable"
+        return row
+    worse = _worse_by(float(new_v), float(old_v), m["better"])
+    row["change"] = worse
+    if basis == "busy":
+        row["verdict"] = "not judged (busy)"
+        return row
+    tol = float(m.get("tolerance", DEFAULT_TOLERANCE))
+    abs_tol = float(m.get("abs_tolerance", 0.0))
+    row["tolerance"] = tol
+    if worse > tol and abs(float(new_v) - float(old_v)) > abs_tol:
+        row["verdict"] = "REGRESSION"
+    else:
+        row["verdict"] = "better" if worse < -tol else "ok"
+    return row
+
+
+def compare(new: dict[str, Any], old: dict[str, Any]) -> list[dict[str, Any]]:
+    """One row per metric of either document: ``{id, title, old, new, change, basis, verdict}``.
+
+    ``old``/``new`` are the figures compared (:func:`compared_values`; ``basis`` says which).
     ``verdict`` is ``ok``, ``better``, ``REGRESSION``, ``MISSING`` (in old, not in new: the
     figure is no longer measured), ``new``, ``not measured`` (its suite did not run, or the
-    runs differ in ``quick``) or ``not comparable`` (a NaN value).
+    runs differ in ``quick``), ``not comparable`` (a NaN value) or ``not judged (busy)`` (a
+    parallel figure timed while other processes held a core).
     """
     old_by = {m["id"]: m for m in old.get("metrics", [])}
     new_by = {m["id"]: m for m in new.get("metrics", [])}
-    rows: list[dict[str, Any]] = []
-    for mid, m in new_by.items():
-        o = old_by.get(mid)
-        row = {"id": mid, "title": m["title"], "unit": m.get("unit", ""), "new": m["value"],
-               "old": None if o is None else o["value"], "change": None}
-        if o is None:
-            row["verdict"] = "new"
-        elif not _is_number(m["value"]) or not _is_number(o["value"]):
-            row["verdict"] = "not comparable"
-        else:
-            worse = _worse_by(float(m["value"]), float(o["value"]), m["better"])
-            row["change"] = worse
-            tol = float(m.get("tolerance", DEFAULT_TOLERANCE))
-            abs_tol = float(m.get("abs_tolerance", 0.0))
-            if worse > tol and abs(float(m["value"]) - float(o["value"])) > abs_tol:
-                row["verdict"] = "REGRESSION"
-            else:
-                row["verdict"] = "better" if worse < -tol else "ok"
-        rows.append(row)
+    rows = [compare_row(m, old_by.get(mid)) for mid, m in new_by.items()]
     quick = bool(new.get("quick"))
     ran = set(new.get("suites", {}))
     for mid, o in old_by.items():
@@ -387,25 +546,36 @@ def compare(new: dict[str, Any], old: dict[str, Any]) -> list[dict[str, Any]]:
             # measured before can go missing; suites left out with --only are not measured.
             measured = bool(old.get("quick")) == quick and (not ran or o.get("suite") in ran)
             rows.append({"id": mid, "title": o["title"], "unit": o.get("unit", ""),
-                         "old": o["value"], "new": None, "change": None,
+                         "old": o["value"], "new": None, "change": None, "basis": "",
                          "verdict": "MISSING" if measured else "not measured"})
     return rows
 
 
 def _is_number(v: Any) -> bool:
-    return isinstance(v, int | float) and v == v and v not in (float("inf"), float("-inf"))
+    return (isinstance(v, int | float) and not isinstance(v, bool) and v == v
+            and v not in (float("inf"), float("-inf")))
 
 
-def _merge_best(doc: dict[str, Any], again: list[Metric]) -> None:
-    """Keep, for every speed metric, the better of the two measurements."""
+def merge_best(doc: dict[str, Any], again: list[Metric], old: dict[str, Any]) -> None:
+    """Fold a re-measurement of speed figures into ``doc``, keeping the better measurement.
+
+    "Better" is judged the way :func:`compare` judges against ``old`` (the same basis), so
+    a re-measurement can clear a figure that timing noise flagged, but a slowdown that every
+    measurement shows stays flagged.  A kept re-measurement is marked ``remeasured``.
+    """
+    old_by = {m["id"]: m for m in old.get("metrics", [])}
     by_id = {m["id"]: m for m in again}
     for i, m in enumerate(doc["metrics"]):
         n = by_id.get(m["id"])
-        if n is None or m["kind"] != "speed" or not _is_number(n["value"]):
+        o = old_by.get(m["id"])
+        if n is None or m["kind"] != "speed" or o is None:
             continue
-        if not _is_number(m["value"]) or _worse_by(n["value"], m["value"], m["better"]) < 0:
-            n = {**n, "details": {**n.get("details", {}), "remeasured": True}}
-            doc["metrics"][i] = n
+        cur_row, cand_row = compare_row(m, o), compare_row(n, o)
+        cur, cand = cur_row["change"], cand_row["change"]
+        if cand_row["verdict"] == "not judged (busy)" and cur_row["verdict"] != cand_row["verdict"]:
+            continue  # a busy re-measurement does not replace a judged one
+        if cand is not None and (cur is None or cand < cur):
+            doc["metrics"][i] = {**n, "details": {**n.get("details", {}), "remeasured": True}}
 
 
 def merge_results(base: dict[str, Any], new: dict[str, Any]) -> dict[str, Any]:
@@ -492,13 +662,17 @@ def render_markdown(doc: dict[str, Any]) -> str:
     speed = [x for x in doc.get("metrics", []) if x["kind"] == "speed"]
     acc = [x for x in doc.get("metrics", []) if x["kind"] == "accuracy"]
     if speed:
-        lines += ["| speed | fogts (s) | peer (s) | ratio |", "|---|---:|---:|---:|"]
+        lines += ["| speed | fogts (s) | peer (s) | ratio | CPU-time ratio |",
+                  "|---|---:|---:|---:|---:|"]
         for x in speed:
             secs = x.get("seconds", {})
             peer = next((k for k in secs if k != "fogts"), "peer")
-            lines.append(f"| {_md_escape(x['title'])} | {_fmt(secs.get('fogts'))} | "
+            cpu = x.get("cpu_value")
+            cpu_cell = "-" if cpu is None else f"{_fmt(cpu)}x"
+            title = x["title"] + (" (parallel)" if x.get("parallel") else "")
+            lines.append(f"| {_md_escape(title)} | {_fmt(secs.get('fogts'))} | "
                          f"{_fmt(secs.get(peer))} ({_md_escape(peer)}) | "
-                         f"**{_fmt(x['value'])}x** |")
+                         f"**{_fmt(x['value'])}x** | {cpu_cell} |")
         lines.append("")
     if acc:
         lines += ["| accuracy | value | better |", "|---|---:|---|"]
@@ -514,12 +688,28 @@ def render_markdown(doc: dict[str, Any]) -> str:
     return "\n".join(lines).rstrip() + "\n"
 
 
+def report_bad(rows: list[dict[str, Any]], log: Callable[[str], None]) -> int:
+    """Log one line per regressed or missing figure; return how many there are."""
+    bad = [r for r in rows if r["verdict"] in ("REGRESSION", "MISSING")]
+    for r in bad:
+        if r["verdict"] == "MISSING":
+            log(f"MISSING {r['id']} ({r['title']}): measured before, not now")
+        else:
+            log(f"REGRESSION {r['id']} ({r['title']}): {r['basis']} {_fmt(r['old'])} -> "
+                f"{_fmt(r['new'])}, worse by {100 * r['change']:.1f} % (tolerance "
+                f"{100 * r.get('tolerance', DEFAULT_TOLERANCE):.0f} %)")
+    if bad:
+        log(f"{len(bad)} figure(s) got worse by more than their tolerance or went missing")
+    return len(bad)
+
+
 def render_comparison(rows: list[dict[str, Any]]) -> str:
-    lines = ["| figure | old | new | worse by | verdict |", "|---|---:|---:|---:|---|"]
+    lines = ["| figure | compared | old | new | worse by | verdict |",
+             "|---|---|---:|---:|---:|---|"]
     for r in rows:
         change = "-" if r["change"] is None else f"{100 * r['change']:+.1f} %"
-        lines.append(f"| {_md_escape(r['title'])} | {_fmt(r['old'])} | {_fmt(r['new'])} | "
-                     f"{change} | {r['verdict']} |")
+        lines.append(f"| {_md_escape(r['title'])} | {r.get('basis', '')} | {_fmt(r['old'])} | "
+                     f"{_fmt(r['new'])} | {change} | {r['verdict']} |")
     return "\n".join(lines) + "\n"
 
 
@@ -606,11 +796,7 @@ def main(argv: list[str] | None = None) -> int:
             return 2
         rows = compare(json.loads(args.against.read_text()), old)
         print(render_comparison(rows))
-        bad = [r for r in rows if r["verdict"] in ("REGRESSION", "MISSING")]
-        if bad:
-            log(f"{len(bad)} figure(s) got worse by more than their tolerance or went "
-                "missing: " + ", ".join(r["id"] for r in bad))
-        return 1 if bad else 0
+        return 1 if report_bad(rows, log) else 0
 
     doc = run_suites(suites, quick=args.quick, timeout_s=timeout, log=log,
                      jobs=max(1, args.jobs))
@@ -631,7 +817,7 @@ def main(argv: list[str] | None = None) -> int:
                 suite = next(s for s in SUITES if s.name == name)
                 status, metrics = _run_child(suite, args.quick, timeout)
                 if status["status"] == "ok":
-                    _merge_best(doc, metrics)
+                    merge_best(doc, metrics, old)
             rows = compare(doc, old)
 
     text = render_markdown(doc)
@@ -647,10 +833,7 @@ def main(argv: list[str] | None = None) -> int:
         code = 1
     if old is not None:
         print(render_comparison(rows))
-        bad = [r for r in rows if r["verdict"] in ("REGRESSION", "MISSING")]
-        if bad:
-            log(f"{len(bad)} figure(s) got worse by more than their tolerance or went missing: "
-                + ", ".join(r["id"] for r in bad))
+        if report_bad(rows, log):
             code = 1
         else:
             log(f"no regression against {args.compare}")

@@ -8,14 +8,17 @@ Figures (ratio = allantools seconds / fogts seconds, > 1 means fogts is faster):
   the deviations (must be <= 1e-9);
 * peak extra memory of each call (tracemalloc, numpy allocations included) as a multiple of
   the input array;
-* every estimator (adev, oadev, mdev, hdev, ohdev, totdev) on 10^6 samples, octave taus;
+* every estimator (adev, oadev, mdev, hdev, ohdev, totdev) on 10^6 samples, octave taus,
+  one thread (allantools has one);
 * ``--huge``: the end-to-end time on a 10^8-sample ``.npy`` (about 800 MB) of
   ``read_run`` + ``allan_deviation`` (with confidence intervals), and of the whole
   ``fogts allan`` command when it exists, against ``numpy.load`` + ``allantools.oadev``
   on the same octave taus; each side runs in a fresh interpreter.
 
-The machine is shared, so both sides are timed alternately and the best of each is kept
-(``benchmarks._runner.paired_times``); the load average is printed with the table.
+The machine is shared, so the contenders are timed in rotating rounds and the best wall and
+CPU time of each is kept (``benchmarks._runner.measure``); the load average is printed with
+the table.  The default-thread oadev is a ``parallel`` figure (see the runner's comparison
+rule); its single-threaded sibling is the 1-thread oadev.
 
 Run: ``python benchmarks/bench_allan.py [--quick] [--huge]``; the table is written to
 ``benchmarks/results/allan.md``.
@@ -108,28 +111,24 @@ def _oadev_metrics(quick: bool) -> list[Metric]:
     assert np.array_equal(ref[3].astype(np.int64), ours.n), "term counts differ"
     rel = float(np.max(np.abs(ours.dev / ref[1] - 1.0)))
 
-    repeat = 3
     def peer_call() -> Any:
         return allantools.oadev(y, rate=FS_HZ, data_type="freq", taus=taus)
 
-    t_auto, t_at = runner.paired_times(lambda: oadev(y, fs_hz=FS_HZ, m=m), peer_call,
-                                       repeat=repeat)
-    t_one, t_at2 = runner.paired_times(lambda: oadev(y, fs_hz=FS_HZ, m=m, workers=1),
-                                       peer_call, repeat=repeat)
-    t_at = min(t_at, t_at2)
+    timing = runner.measure({"fogts": lambda: oadev(y, fs_hz=FS_HZ, m=m),
+                             "fogts 1 thread": lambda: oadev(y, fs_hz=FS_HZ, m=m, workers=1),
+                             "peer": peer_call}, repeat=3, min_total_s=3.0 if quick else 0.0)
     mem_ours = peak_extra_bytes(lambda: oadev(y, fs_hz=FS_HZ, m=m))
     mem_one = peak_extra_bytes(lambda: oadev(y, fs_hz=FS_HZ, m=m, workers=1))
     mem_at = peak_extra_bytes(peer_call)
     threads = os.cpu_count() or 1
     size = f"{n:.0e}".replace("+0", "").replace("+", "")
-    speed, acc = runner.speed_metric, runner.accuracy_metric
+    speed, acc = runner.speed_from, runner.accuracy_metric
     title = f"oadev, {size} samples, {m.size} taus"
     return [
-        speed(f"speed.oadev.{tag}", f"{title}, {threads} threads", fogts_s=t_auto,
-              peer_s=t_at, peer="allantools",
-              details={"taus": int(m.size), "threads": threads}),
-        speed(f"speed.oadev.1thread.{tag}", f"{title}, 1 thread", fogts_s=t_one, peer_s=t_at,
-              peer="allantools", details={"taus": int(m.size), "threads": 1}),
+        speed(timing, f"speed.oadev.{tag}", f"{title}, {threads} threads", peer="allantools",
+              parallel=threads > 1, details={"taus": int(m.size), "threads": threads}),
+        speed(timing, f"speed.oadev.1thread.{tag}", f"{title}, 1 thread", peer="allantools",
+              ours="fogts 1 thread", details={"taus": int(m.size), "threads": 1}),
         acc(f"accuracy.oadev_vs_allantools.{tag}", f"{title}: largest relative difference "
             "to allantools", value=rel, better="lower", abs_tolerance=1e-9),
         acc(f"memory.oadev.{tag}", f"oadev peak extra memory, {threads} threads",
@@ -157,13 +156,15 @@ def _all_kinds_metrics(quick: bool) -> list[Metric]:
         res = fn(y, fs_hz=FS_HZ, m=grid.m)
         ref = peer(y, rate=FS_HZ, data_type="freq", taus=grid.tau_s)
         rel = float(np.max(np.abs(res.dev / ref[1] - 1.0)))
-        t_ours, t_at = runner.paired_times(
-            functools.partial(fn, y, fs_hz=FS_HZ, m=grid.m),
-            functools.partial(peer, y, rate=FS_HZ, data_type="freq", taus=grid.tau_s),
-            repeat=5)
-        out.append(runner.speed_metric(
-            f"speed.{kind}.octave.n={n}", f"{kind}, {n:,} samples, {grid.m.size} octave taus "
-            f"(max rel. diff {rel:.1e})", fogts_s=t_ours, peer_s=t_at, peer="allantools",
+        # one thread, like allantools (the thread pool is measured by speed.oadev.n=1e7)
+        timing = runner.measure(
+            {"fogts": functools.partial(fn, y, fs_hz=FS_HZ, m=grid.m, workers=1),
+             "peer": functools.partial(peer, y, rate=FS_HZ, data_type="freq",
+                                       taus=grid.tau_s)},
+            repeat=5, min_total_s=0.5 if quick else 2.0)
+        out.append(runner.speed_from(
+            timing, f"speed.{kind}.octave.n={n}", f"{kind}, {n:,} samples, {grid.m.size} "
+            f"octave taus, 1 thread (max rel. diff {rel:.1e})", peer="allantools",
             details={"max_rel_diff": rel}))
     return out
 

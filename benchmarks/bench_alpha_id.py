@@ -26,18 +26,18 @@ try:
     from benchmarks._runner import (
         Metric,
         accuracy_metric,
-        paired_times,
+        measure,
         script_main,
-        speed_metric,
+        speed_from,
     )
 except ImportError:  # run as a script: python benchmarks/bench_alpha_id.py
     sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
     from benchmarks._runner import (
         Metric,
         accuracy_metric,
-        paired_times,
+        measure,
         script_main,
-        speed_metric,
+        speed_from,
     )
 
 ALPHAS = (2, 1, 0, -1, -2)
@@ -93,12 +93,12 @@ def _speed(quick: bool) -> list[Metric]:
     ref = np.array(peer())
     got = ours()
     rel = float(np.max(np.abs(np.column_stack([got.ci_low, got.ci_high]) / ref - 1.0)))  # type: ignore[attr-defined]
-    t_ours, t_peer = paired_times(ours, peer, repeat=2)
+    timing = measure({"fogts": ours, "peer": peer}, repeat=3, min_total_s=1.0 if quick else 3.0)
     tag = f"n={n:.0e}".replace("+0", "")
     return [
-        speed_metric(f"speed.confidence.{tag}", f"noise ID + EDF + CI, {m.size} octave taus, "
-                     f"{n} samples", fogts_s=t_ours, peer_s=t_peer,
-                     peer="allantools noiseID", details={"taus": int(m.size)}),
+        speed_from(timing, f"speed.confidence.{tag}", f"noise ID + EDF + CI, {m.size} octave "
+                   f"taus, {n} samples", peer="allantools noiseID",
+                   details={"taus": int(m.size)}),
         accuracy_metric(f"accuracy.confidence_vs_allantools.{tag}",
                         "largest relative CI difference to allantools' noise-ID pipeline "
                         "(differs where the two identify different alphas)", value=rel,

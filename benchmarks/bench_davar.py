@@ -28,18 +28,18 @@ try:
     from benchmarks._runner import (
         Metric,
         accuracy_metric,
-        paired_times,
+        measure,
         script_main,
-        speed_metric,
+        speed_from,
     )
 except ImportError:  # run as a script: python benchmarks/bench_davar.py
     sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
     from benchmarks._runner import (
         Metric,
         accuracy_metric,
-        paired_times,
+        measure,
         script_main,
-        speed_metric,
+        speed_from,
     )
 
 FS_HZ = 100.0
@@ -78,22 +78,20 @@ def metrics(quick: bool = False) -> list[Metric]:
         return dynamic_allan(y, fs_hz=FS_HZ, window_s=WINDOW_S, step_s=STEP_S,
                              method="kernel")
 
-    repeat = 3 if quick else 2
-    t_fast, t_peer = paired_times(fast, lambda: allantools_loop(y, taus), repeat=repeat)
-    t_kernel, t_peer2 = paired_times(kernel, lambda: allantools_loop(y, taus), repeat=repeat)
+    timing = measure({"cumsum": fast, "kernel": kernel, "peer": lambda: allantools_loop(y, taus)},
+                     repeat=3, min_total_s=2.0 if quick else 5.0)
     n_win, n_tau = res.shape  # type: ignore[union-attr]
     size = f"{y.size / 1e6:.3g}M"
     details = {"samples": y.size, "windows": n_win, "taus": n_tau, "window_s": WINDOW_S,
                "step_s": STEP_S}
     return [
-        speed_metric(f"speed.davar.cumsum.n={size}",
-                     f"dynamic_allan ({y.size:,} samples, {n_win} windows x {n_tau} taus), "
-                     "vs allantools.oadev per window", fogts_s=t_fast, peer_s=t_peer,
-                     peer="allantools loop", details=details),
-        speed_metric(f"speed.davar.kernel.n={size}",
-                     "dynamic_allan method='kernel' (fogts oadev per window), vs allantools "
-                     "loop", fogts_s=t_kernel, peer_s=t_peer2, peer="allantools loop",
-                     details=details),
+        speed_from(timing, f"speed.davar.cumsum.n={size}",
+                   f"dynamic_allan ({y.size:,} samples, {n_win} windows x {n_tau} taus), "
+                   "vs allantools.oadev per window", ours="cumsum", peer="allantools loop",
+                   details=details),
+        speed_from(timing, f"speed.davar.kernel.n={size}",
+                   "dynamic_allan method='kernel' (fogts oadev per window), vs allantools "
+                   "loop", ours="kernel", peer="allantools loop", details=details),
         accuracy_metric(f"accuracy.davar.max_rel_diff.n={size}",
                         "dynamic_allan vs allantools per window: largest relative difference",
                         value=diff, better="lower", abs_tolerance=1e-9),

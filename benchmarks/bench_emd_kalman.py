@@ -19,32 +19,35 @@ written to ``benchmarks/results/emd_kalman.md``.
 from __future__ import annotations
 
 import argparse
-import time
-from collections.abc import Callable
+import sys
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 from scipy.signal import lfilter
 
+try:
+    from benchmarks import _runner as runner
+except ImportError:  # run as a script: python benchmarks/bench_emd_kalman.py
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+    from benchmarks import _runner as runner
 
-def _best(fn: Callable[[], Any], repeat: int) -> tuple[float, Any]:
-    best, out = float("inf"), None
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        out = fn()
-        best = min(best, time.perf_counter() - t0)
-    return best, out
+Metric = runner.Metric
 
 
-def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--quick", action="store_true", help="small sizes, one repeat")
-    args = ap.parse_args()
-    n_emd = 20_000 if args.quick else 100_000
-    n_kf = 20_000 if args.quick else 1_000_000
-    repeat = 1 if args.quick else 3
-    rows: list[tuple[str, str, str, str]] = []
+def _slug_id(task: str, quick: bool) -> str:
+    import re
+
+    return "speed.emd_kalman." + re.sub(r"[^a-z0-9]+", "_", task.lower()).strip("_") + (
+        ".quick" if quick else "")
+
+
+def metrics(quick: bool) -> list[Metric]:
+    """EMD, Kalman and thermal-fit speed figures (the runner's entry point)."""
+    n_emd = 20_000 if quick else 100_000
+    n_kf = 20_000 if quick else 1_000_000
+    repeat = 1 if quick else 3
+    out: list[Metric] = []
 
     # ---- EMD
     from fogts.emd import emd, separate_trend
@@ -53,18 +56,21 @@ def main() -> None:
     t = np.arange(n_emd, dtype=float)
     x = 3.0 * (1 - np.exp(-t / (n_emd / 6))) + 0.5 * t / n_emd + 0.3 * lfilter(
         [1.0, 0.3], [1.0, -0.5], rng.standard_normal(n_emd))
-    t_f, res = _best(lambda: emd(x), repeat)
+    res = emd(x)
     split = separate_trend(x, fs_hz=1.0)
     try:
         from PyEMD import EMD as PyEMD  # Apache-2.0 peer
-
-        peer = PyEMD(spline_kind="cubic")
-        t_p, imfs_p = _best(lambda: peer.emd(x), repeat)
-        rows.append((f"EMD, n = {n_emd:,}", f"{t_f:.2f} s ({res.n_imfs} IMFs, k = {split.k})",
-                     f"PyEMD {t_p:.2f} s ({len(imfs_p)} rows)", f"{t_p / t_f:.2f}x"))
     except ImportError:
-        rows.append((f"EMD, n = {n_emd:,}", f"{t_f:.2f} s ({res.n_imfs} IMFs)",
-                     "PyEMD not installed", "-"))
+        print("PyEMD not installed: EMD figure skipped", file=sys.stderr)
+    else:
+        peer = PyEMD(spline_kind="cubic")
+        n_rows = len(peer.emd(x))
+        timing = runner.measure({"fogts": lambda: emd(x), "peer": lambda: peer.emd(x)},
+                                repeat=repeat)
+        task = f"EMD, n = {n_emd:,}"
+        out.append(runner.speed_from(
+            timing, _slug_id(task, quick), f"{task} (fogts: {res.n_imfs} IMFs, k = "
+            f"{split.k}; PyEMD: {n_rows} rows)", peer="PyEMD"))
 
     # ---- Kalman
     from statsmodels.tsa.statespace.sarimax import SARIMAX
@@ -75,14 +81,22 @@ def main() -> None:
     drift = lfilter([1.0, ma[0]], [1.0, -ar[0], -ar[1]], rng.normal(0, np.sqrt(s2), n_kf))
     y = drift + rng.normal(0, np.sqrt(h), n_kf)
     params = {"ar.L1": ar[0], "ar.L2": ar[1], "ma.L1": ma[0], "sigma2": s2}
-    t_k, kf = _best(lambda: arma_kalman(y, params, measurement_noise=h, method="steady-state",
-                                        demean=False), repeat)
+
+    def ours() -> Any:
+        return arma_kalman(y, params, measurement_noise=h, method="steady-state", demean=False)
+
     model = SARIMAX(y, order=(2, 0, 1), trend="n", measurement_error=True)
-    t_s, ref = _best(lambda: model.smooth([ar[0], ar[1], ma[0], h, s2]), 1)
+    probe = runner.LoadProbe()
+    kf_t = runner.measure({"fogts": ours}, repeat=repeat)
+    t_s, c_s, ref = runner.timed_once(lambda: model.smooth([ar[0], ar[1], ma[0], h, s2]))
+    kf = ours()
     diff = float(np.max(np.abs(np.asarray(kf.smoothed) - ref.smoothed_state[0])))
-    rows.append((f"Kalman filter+smoother ARMA(2,1), n = {n_kf:,}",
-                 f"{t_k:.3f} s (steady-state, transient {kf.n_transient})",
-                 f"SARIMAX.smooth {t_s:.2f} s (max abs diff {diff:.1e})", f"{t_s / t_k:.1f}x"))
+    task = f"Kalman filter+smoother ARMA(2,1), n = {n_kf:,}"
+    out.append(runner.speed_metric(
+        _slug_id(task, quick), f"{task} (fogts steady-state, transient {kf.n_transient}; "
+        f"SARIMAX.smooth max abs diff {diff:.1e})", fogts_s=kf_t.wall["fogts"], peer_s=t_s,
+        peer="SARIMAX.smooth", fogts_cpu_s=kf_t.cpu["fogts"], peer_cpu_s=c_s,
+        other_load=probe.other_load(), noise={"rounds": 1}, details={"max_abs_diff": diff}))
 
     # ---- thermal fit
     import statsmodels.api as sm
@@ -93,21 +107,30 @@ def main() -> None:
     sim = simulate_startup(rng=4)
     temp = sim.run.temperature
     assert temp is not None
-    t_g, _ = _best(lambda: fit_thermal(sim.run.rate, temp, fs_hz=1.0), repeat)
-    X = design_matrix(temp, temperature_rate(temp, fs_hz=1.0), ("T*dT", "T2", "T", "dT2", "dT", "1"))
-    t_o, _ = _best(lambda: sm.OLS(sim.run.rate, X).fit(), repeat)
-    rows.append(("thermal fit, 1 h at 1 Hz", f"{t_g * 1e3:.1f} ms (GLS, AR(4) errors)",
-                 f"OLS {t_o * 1e3:.2f} ms", f"{t_o / t_g:.2f}x"))
+    X = design_matrix(temp, temperature_rate(temp, fs_hz=1.0),
+                      ("T*dT", "T2", "T", "dT2", "dT", "1"))
+    timing = runner.measure({"fogts": lambda: fit_thermal(sim.run.rate, temp, fs_hz=1.0),
+                             "peer": lambda: sm.OLS(sim.run.rate, X).fit()},
+                            repeat=max(repeat, 3), min_total_s=0.5 if quick else 2.0)
+    task = "thermal fit, 1 h at 1 Hz"
+    out.append(runner.speed_from(timing, _slug_id(task, quick),
+                                 f"{task} (fogts GLS with AR(4) errors; peer plain OLS)",
+                                 peer="OLS"))
+    return out
 
-    lines = ["| task | fogts | peer | peer time / fogts time |", "|---|---|---|---|"]
-    lines += [f"| {a} | {b} | {c} | {d} |" for a, b, c, d in rows]
-    text = "\n".join(lines)
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=(__doc__ or "").splitlines()[0])
+    ap.add_argument("--quick", action="store_true", help="small sizes, one repeat")
+    args = ap.parse_args(argv)
+    text = runner.render_markdown({"metrics": metrics(args.quick), "quick": args.quick})
     print(text)
     if not args.quick:
         out = Path(__file__).resolve().parent / "results" / "emd_kalman.md"
         out.parent.mkdir(parents=True, exist_ok=True)
-        out.write_text("# EMD / Kalman / thermal benchmark\n\n" + text + "\n")
+        out.write_text("# EMD / Kalman / thermal benchmark\n\n" + text)
+    return 0
 
 
 if __name__ == "__main__":
-    main()
+    raise SystemExit(main())

@@ -8,8 +8,11 @@ timing, so the figures are parsing speed, not disk speed.
 Figures (ratio = peer seconds / fogts seconds, > 1 means fogts is faster):
 
 * ``read_run`` on CSV against ``pandas.read_csv`` (C engine, the usual way to load a bench
-  file) and against ``pyarrow.csv.read_csv`` (multi-threaded);
-* ``read_run`` on Parquet against ``pandas.read_parquet``.
+  file; it keeps about two cores busy here) and against ``pyarrow.csv.read_csv``
+  (multi-threaded), and against ``pyarrow.csv.read_csv`` with one thread (``read_run``
+  parses on one thread);
+* ``read_run`` on Parquet against ``pandas.read_parquet`` (both read with pyarrow's thread
+  pool), and the same with one arrow thread.
 
 ``read_run`` does more than the peers: it detects columns and units, checks every value is
 finite and the time base is monotonic, and measures gaps and jitter.
@@ -28,10 +31,10 @@ from pathlib import Path
 import numpy as np
 
 try:
-    from benchmarks._runner import Metric, interleaved_times, script_main, speed_metric
+    from benchmarks._runner import Metric, measure, script_main, speed_from
 except ImportError:  # run as a script: python benchmarks/bench_io.py
     sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-    from benchmarks._runner import Metric, interleaved_times, script_main, speed_metric
+    from benchmarks._runner import Metric, measure, script_main, speed_from
 
 FULL_CSV_BYTES = 1_000_000_000
 QUICK_CSV_BYTES = 8_000_000
@@ -81,6 +84,7 @@ def _warm(path: Path) -> None:
 def metrics(quick: bool) -> list[Metric]:
     """Measure and return the figures (the runner's entry point)."""
     import pandas as pd
+    import pyarrow as pa
     import pyarrow.csv as pacsv
 
     from fogts.io import read_run
@@ -102,37 +106,57 @@ def metrics(quick: bool) -> list[Metric]:
                 gc.collect()
             return go
 
+        one = pacsv.ReadOptions(use_threads=False)
         _warm(csv)
         check = read_run(csv)
         assert check.n == n and check.temperature is not None, (check.n, n)
         del check
-        csv_t = interleaved_times({"fogts": timed(lambda: read_run(csv)),
-                                   "pandas": timed(lambda: pd.read_csv(csv)),
-                                   "arrow": timed(lambda: pacsv.read_csv(csv))},
-                                  repeat=repeat)
-        t_fogts, t_pandas, t_arrow = csv_t["fogts"], csv_t["pandas"], csv_t["arrow"]
+        csv_t = measure({"fogts": timed(lambda: read_run(csv)),
+                         "pandas": timed(lambda: pd.read_csv(csv)),
+                         "arrow": timed(lambda: pacsv.read_csv(csv)),
+                         "arrow 1 thread": timed(lambda: pacsv.read_csv(csv, read_options=one))},
+                        repeat=repeat, min_total_s=2.0 if quick else 0.0)
+        t_fogts, t_pandas, t_arrow = csv_t.wall["fogts"], csv_t.wall["pandas"], csv_t.wall["arrow"]
         _warm(parquet)
-        pq_t = interleaved_times({"fogts": timed(lambda: read_run(parquet)),
-                                  "pandas": timed(lambda: pd.read_parquet(parquet))},
-                                 repeat=max(repeat, 5), min_total_s=1.0 if quick else 0.0)
-        t_fogts_pq, t_pandas_pq = pq_t["fogts"], pq_t["pandas"]
+        pq_t = measure({"fogts": timed(lambda: read_run(parquet)),
+                        "pandas": timed(lambda: pd.read_parquet(parquet))},
+                       repeat=max(repeat, 5), min_total_s=1.0 if quick else 0.0)
+        t_fogts_pq = pq_t.wall["fogts"]
+        # the same with one arrow thread: the single-threaded sibling of the figure above
+        threads = pa.cpu_count()
+        pa.set_cpu_count(1)
+        try:
+            pq1_t = measure({"fogts": timed(lambda: read_run(parquet)),
+                             "pandas": timed(lambda: pd.read_parquet(parquet))},
+                            repeat=max(repeat, 5), min_total_s=1.0 if quick else 0.0)
+        finally:
+            pa.set_cpu_count(threads)
     finally:
         shutil.rmtree(folder, ignore_errors=True)
 
     details = {"rows": n, "csv_mb": round(mb, 1), "fogts_mb_per_s": round(mb / t_fogts, 1),
                "pandas_mb_per_s": round(mb / t_pandas, 1)}
     return [
-        speed_metric(f"speed.read_run.csv.{tag}", f"read_run, {size} CSV "
-                     f"({mb / t_fogts:.0f} MB/s), vs pandas.read_csv",
-                     fogts_s=t_fogts, peer_s=t_pandas, peer="pandas.read_csv", details=details),
-        speed_metric(f"speed.read_run.csv_arrow.{tag}", f"read_run, {size} CSV, vs "
-                     "pyarrow.csv.read_csv (multi-threaded)",
-                     fogts_s=t_fogts, peer_s=t_arrow, peer="pyarrow.csv",
-                     details={**details, "arrow_mb_per_s": round(mb / t_arrow, 1)}),
-        speed_metric(f"speed.read_run.parquet.{tag}", f"read_run, Parquet of the same {n:,} "
-                     f"rows ({mb_pq / t_fogts_pq:.0f} MB/s of file), vs pandas.read_parquet",
-                     fogts_s=t_fogts_pq, peer_s=t_pandas_pq, peer="pandas.read_parquet",
-                     details={"rows": n, "parquet_mb": round(mb_pq, 1)}),
+        speed_from(csv_t, f"speed.read_run.csv.{tag}", f"read_run, {size} CSV "
+                   f"({mb / t_fogts:.0f} MB/s), vs pandas.read_csv", peer_key="pandas",
+                   peer="pandas.read_csv", parallel=True, details=details),
+        speed_from(csv_t, f"speed.read_run.csv_arrow.{tag}", f"read_run, {size} CSV, vs "
+                   "pyarrow.csv.read_csv (multi-threaded)", peer_key="arrow",
+                   peer="pyarrow.csv", parallel=True,
+                   details={**details, "arrow_mb_per_s": round(mb / t_arrow, 1)}),
+        # the single-threaded sibling of the two CSV figures above
+        speed_from(csv_t, f"speed.read_run.csv_1thread.{tag}", f"read_run, {size} CSV, vs "
+                   "pyarrow.csv.read_csv with one thread (use_threads=False)",
+                   peer_key="arrow 1 thread", peer="pyarrow.csv 1 thread", details=details),
+        # both read Parquet with pyarrow's thread pool
+        speed_from(pq_t, f"speed.read_run.parquet.{tag}", f"read_run, Parquet of the same "
+                   f"{n:,} rows ({mb_pq / t_fogts_pq:.0f} MB/s of file), vs "
+                   "pandas.read_parquet", peer_key="pandas", peer="pandas.read_parquet",
+                   parallel=True, details={"rows": n, "parquet_mb": round(mb_pq, 1)}),
+        speed_from(pq1_t, f"speed.read_run.parquet_1thread.{tag}", "read_run, the same "
+                   "Parquet with one arrow thread (pyarrow.set_cpu_count(1)), vs "
+                   "pandas.read_parquet", peer_key="pandas", peer="pandas.read_parquet",
+                   details={"rows": n, "parquet_mb": round(mb_pq, 1)}),
     ]
 
 

@@ -68,7 +68,8 @@ def white_rw_study(seeds: int, hours: float) -> dict[str, dict[str, float]]:
     err: dict[str, list[tuple[float, float]]] = {}
     cover: dict[str, list[tuple[bool, bool]]] = {}
     seconds: dict[str, float] = {}
-    methods = {"WLS, 5 terms": {}, "WLS, 5 terms, no selection": {"significance": None},
+    methods: dict[str, dict[str, Any]] = {
+               "WLS, 5 terms": {}, "WLS, 5 terms, no selection": {"significance": None},
                "WLS, N and K": {"terms": "N,K"},
                "GLS, 5 terms": {"method": "gls"},
                "GLS, 5 terms, no selection": {"method": "gls", "significance": None},

@@ -10,11 +10,11 @@ identified coefficients, n = 10^4, 50 seeds each (``--quick``: 5), simulated wit
 * ``fogts, AIC only``: the same fits ranked by AIC alone (no whiteness gate), to show what
   the gate changes;
 * peer: statsmodels' own ``ARIMA(order=(p,0,q), trend="n").fit()`` on the standardised series,
-  lowest AIC, on the first 10 seeds (``--quick``: 2); its time against ``select_arma`` on the
+  lowest AIC, on the first 10 seeds (``--quick``: 1); its time against ``select_arma`` on the
   same series (ratio = statsmodels seconds / fogts seconds, fogts doing all the diagnostics
   too), and the largest AIC shortfall of fogts against it (must stay <= 0.05);
 * the seed paper's drift x_t = -0.2699 x_{t-1} - 0.002968 x_{t-2} + a_t + 0.277 a_{t-1}
-  (10 Hz x 3 h = 108,000 samples, 10 seeds; ``--quick``: 3): how often the ARMA(2,1) fit is
+  (10 Hz x 3 h = 108,000 samples, 10 seeds; ``--quick``: 2): how often the ARMA(2,1) fit is
   flagged for near-cancelling roots and how often a one-parameter model is selected.
 
 Run: ``python benchmarks/bench_selection_rate.py [--quick] [--seeds N] [--out FILE.md]``.
@@ -33,10 +33,22 @@ from typing import Any
 import numpy as np
 
 try:
-    from benchmarks._runner import Metric, accuracy_metric, render_markdown, speed_metric
+    from benchmarks._runner import (
+        LoadProbe,
+        Metric,
+        accuracy_metric,
+        render_markdown,
+        speed_metric,
+    )
 except ImportError:  # run as a script: python benchmarks/bench_selection_rate.py
     sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-    from benchmarks._runner import Metric, accuracy_metric, render_markdown, speed_metric
+    from benchmarks._runner import (
+        LoadProbe,
+        Metric,
+        accuracy_metric,
+        render_markdown,
+        speed_metric,
+    )
 
 TRUE_MODELS: dict[str, tuple[list[float], list[float]]] = {
     "AR(1)": ([0.6], []),
@@ -81,14 +93,15 @@ def metrics(quick: bool, seeds: int | None = None) -> list[Metric]:
     from fogts.errors import FogtsWarning
 
     n_seeds = seeds if seeds is not None else (5 if quick else 50)
-    n_peer = min(n_seeds, 2 if quick else 10)
-    n_paper = 3 if quick else 10
+    n_peer = min(n_seeds, 1 if quick else 10)
+    n_paper = 2 if quick else 10
     out: list[Metric] = []
     hits: dict[str, int] = {}
     hits20: dict[str, int] = {}
     hits_aic: dict[str, int] = {}
     hits_peer: dict[str, int] = {}
-    t_fogts = t_peer = 0.0
+    t_fogts = t_peer = c_fogts = c_peer = 0.0
+    probe = LoadProbe()
     shortfall = -math.inf
     nonconv = 0
     for name, (ar, ma) in TRUE_MODELS.items():
@@ -96,11 +109,11 @@ def metrics(quick: bool, seeds: int | None = None) -> list[Metric]:
         for seed in range(n_seeds):
             x = simulate(ar, ma, N, seed)
             x = x - x.mean()
-            t0 = time.perf_counter()
+            c0, t0 = time.process_time(), time.perf_counter()
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore", FogtsWarning)
                 sel = select_arma(x)
-            dt = time.perf_counter() - t0
+            dt, dc = time.perf_counter() - t0, time.process_time() - c0
             best = sel.best
             ok = best is not None and best.model == name
             hits[name] += ok
@@ -109,10 +122,12 @@ def metrics(quick: bool, seeds: int | None = None) -> list[Metric]:
             nonconv += sum(not c.converged for c in fitted)
             hits_aic[name] += min(fitted, key=lambda c: c.aic).model == name
             if seed < n_peer:
-                t0 = time.perf_counter()
+                c0, t0 = time.process_time(), time.perf_counter()
                 aics = statsmodels_select(x)
                 t_peer += time.perf_counter() - t0
+                c_peer += time.process_time() - c0
                 t_fogts += dt
+                c_fogts += dc
                 hits_peer[name] += min(aics, key=aics.__getitem__) == name
                 shortfall = max(shortfall, *(c.aic - aics[c.model] for c in fitted))
         details: dict[str, Any] = {
@@ -141,7 +156,8 @@ def metrics(quick: bool, seeds: int | None = None) -> list[Metric]:
         f"select_arma (5 fits + all diagnostics) vs statsmodels ARIMA.fit loop, n = 10^4, "
         f"{n_peer * len(TRUE_MODELS)} series; max AIC shortfall of fogts {shortfall:+.2g}",
         fogts_s=t_fogts, peer_s=t_peer, peer="statsmodels ARIMA.fit", suite=SUITE,
-        details={"max_aic_shortfall": shortfall}))
+        fogts_cpu_s=c_fogts, peer_cpu_s=c_peer, other_load=probe.other_load(),
+        noise={"rounds": 1}, details={"max_aic_shortfall": shortfall}))
     out.append(accuracy_metric(
         f"accuracy.selection.aic_shortfall.n=1e4.series={n_peer * len(TRUE_MODELS)}",
         "largest AIC of a fogts fit minus statsmodels' (standardised series); <= 0.05 required",

@@ -6,7 +6,7 @@ Figures:
   wall time and peak traced memory (``tracemalloc``, numpy allocations included) as a
   multiple of the output (the rate array plus the time array of the Run).  The synthesis
   runs in chunks of 2^20 samples, so the peak should stay close to 1x the output.
-* **speed against allantools** on 2^22 samples (2^20 with ``--quick``): N + B + K with
+* **speed against allantools** on 2^22 samples (2^18 with ``--quick``): N + B + K with
   fogts (flicker as a sum of Markov processes, and as Kasdin-Walter) against
   ``allantools.noise_kasdin.Noise`` generating the same three power laws (white FM,
   flicker FM, random-walk FM; b = -2, -3, -4 on phase) and differencing the phase to rate,
@@ -14,7 +14,7 @@ Figures:
   fogts seconds; also the peak memory of each as a multiple of its output.
 
 Run: ``python benchmarks/bench_simulate.py [--quick]``; the table goes to
-``benchmarks/results/simulate.md``.  ``--quick`` uses 10^7 samples for the chunked run.
+``benchmarks/results/simulate.md``.  ``--quick`` uses 2x10^6 samples for the chunked run.
 """
 
 from __future__ import annotations
@@ -33,18 +33,18 @@ try:
     from benchmarks._runner import (
         Metric,
         accuracy_metric,
-        paired_times,
+        measure,
         script_main,
-        speed_metric,
+        speed_from,
     )
 except ImportError:  # run as a script: python benchmarks/bench_simulate.py
     sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
     from benchmarks._runner import (
         Metric,
         accuracy_metric,
-        paired_times,
+        measure,
         script_main,
-        speed_metric,
+        speed_from,
     )
 
 FS_HZ = 100.0
@@ -84,7 +84,7 @@ def allantools_nbk(n: int, seed: int = 1) -> np.ndarray:
 def metrics(quick: bool = False) -> list[Metric]:
     from fogts.simulate import simulate_gyro
 
-    big = 10**7 if quick else 10**8
+    big = 2 * 10**6 if quick else 10**8
     arma = {"ar": [0.5], "sigma2": 1e-4}
 
     def chunked() -> object:
@@ -92,7 +92,7 @@ def metrics(quick: bool = False) -> list[Metric]:
 
     t_big, peak_big = traced(chunked)
     out_bytes = 2 * 8 * big  # rate + time
-    n = 2**20 if quick else 2**22
+    n = 2**18 if quick else 2**22
 
     def markov() -> object:
         return simulate_gyro(NBK, fs_hz=FS_HZ, duration_s=n / FS_HZ, rng=1)
@@ -100,8 +100,8 @@ def metrics(quick: bool = False) -> list[Metric]:
     def kasdin() -> object:
         return simulate_gyro(NBK, fs_hz=FS_HZ, duration_s=n / FS_HZ, rng=1, flicker="kasdin")
 
-    t_markov, t_peer = paired_times(markov, lambda: allantools_nbk(n), repeat=2)
-    t_kasdin, t_peer2 = paired_times(kasdin, lambda: allantools_nbk(n), repeat=2)
+    timing = measure({"markov": markov, "kasdin": kasdin, "peer": lambda: allantools_nbk(n)},
+                     repeat=3 if quick else 2)
     _, peak_markov = traced(markov)
     _, peak_kasdin = traced(kasdin)
     _, peak_peer = traced(lambda: allantools_nbk(n))
@@ -113,20 +113,20 @@ def metrics(quick: bool = False) -> list[Metric]:
                         value=peak_big / out_bytes, better="lower", unit="x output",
                         details={"seconds": t_big, "peak_bytes": peak_big,
                                  "output_bytes": out_bytes}),
-        speed_metric(f"speed.simulate_gyro.nbk_markov.n={n}",
+        speed_from(timing, f"speed.simulate_gyro.nbk_markov.n={n}",
                      f"simulate_gyro N+B+K, {n:,} samples, flicker as Markov sum (peak "
                      f"{peak_markov / (16 * n):.2f}x output), vs allantools Kasdin (peak "
-                     f"{peak_peer / (8 * n):.1f}x output)", fogts_s=t_markov, peer_s=t_peer,
+                     f"{peak_peer / (8 * n):.1f}x output)", ours="markov",
                      peer="allantools noise_kasdin"),
-        speed_metric(f"speed.simulate_gyro.nbk_kasdin.n={n}",
+        speed_from(timing, f"speed.simulate_gyro.nbk_kasdin.n={n}",
                      f"simulate_gyro N+B+K, {n:,} samples, Kasdin-Walter flicker (peak "
                      f"{peak_kasdin / (16 * n):.2f}x output), vs allantools Kasdin",
-                     fogts_s=t_kasdin, peer_s=t_peer2, peer="allantools noise_kasdin"),
+                     ours="kasdin", peer="allantools noise_kasdin"),
     ]
 
 
 def main(argv: list[str] | None = None) -> int:
-    return script_main(__doc__, metrics, argv, quick_help="10^7 samples instead of 10^8", default_out=RESULTS)
+    return script_main(__doc__, metrics, argv, quick_help="2x10^6 samples instead of 10^8", default_out=RESULTS)
 
 
 if __name__ == "__main__":
