@@ -10,7 +10,7 @@ are shared and noisy):
   (DARE + lfilter, exact over the transient) vs statsmodels' ``SARIMAX(...,
   measurement_error=True).smooth`` with the same parameters; the largest difference of the
   smoothed series is printed too.
-* Thermal fit (GLS with AR(16) errors) of a 1 h cold start vs plain OLS on the same design.
+* Thermal fit (GLS with AR(4) errors) of a 1 h cold start vs plain OLS on the same design.
 
 Run ``python benchmarks/bench_emd_kalman.py`` (or ``--quick`` for a smoke run); the table is
 written to ``benchmarks/results/emd_kalman.md``.
@@ -114,7 +114,7 @@ def metrics(quick: bool) -> list[Metric]:
                             repeat=max(repeat, 3), min_total_s=0.5 if quick else 2.0)
     task = "thermal fit, 1 h at 1 Hz"
     out.append(runner.speed_from(timing, _slug_id(task, quick),
-                                 f"{task} (fogts GLS with AR(16) errors; peer plain OLS)",
+                                 f"{task} (fogts GLS with AR(4) errors; peer plain OLS)",
                                  peer="OLS"))
     return out
 
