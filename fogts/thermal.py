@@ -553,7 +553,10 @@ def _gls_sandwich_stderr(resid: FloatArray, X: FloatArray, rho: FloatArray,
     for j in range(p):
         g[: n - 1 - j] -= rho[j] * v[1 + j :]
     acov = acovf(resid, nlag=noise_order, fft=True)  # biased (1/n): Yule-Walker "mle"
-    phi = solve_toeplitz(acov[:noise_order], acov[1:])
+    try:
+        phi = solve_toeplitz(acov[:noise_order], acov[1:])
+    except np.linalg.LinAlgError:  # (numerically) exact fit: no noise to model
+        phi = np.zeros(noise_order)
     sigma2 = float(acov[0] - phi @ acov[1:])
     z = lfilter([1.0], np.concatenate([[1.0], -phi]), g[::-1], axis=0)[::-1]
     bread = np.linalg.inv(xw.T @ xw)

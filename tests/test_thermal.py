@@ -247,3 +247,12 @@ def test_sandwich_stderr_matches_a_dense_computation() -> None:
     np.testing.assert_allclose(got, want, rtol=0.03)
     # and the GLSAR's own standard errors are smaller: the AR(4) noise model is too short
     assert np.all(want > np.asarray(res.bse))
+
+
+def test_noise_free_drift_has_zero_standard_errors() -> None:
+    # the residual is exactly zero, so the AR(16) noise model is singular: no noise, SE 0
+    t = np.arange(600.0)
+    temp = 20.0 + 0.02 * t
+    m = fit_thermal(2.0 * temp, temp, fs_hz=1.0, terms=("T", "1"))
+    assert m.coefficients["T"] == pytest.approx(2.0, rel=1e-12)
+    assert m.stderr == {"T": 0.0, "1": 0.0}
