@@ -636,13 +636,32 @@ def script_main(doc: str | None, metrics: Callable[[bool], list[Metric]],
     p.add_argument("--out", type=Path, default=None,
                    help=f"also write the markdown table to this file{hint}")
     args = p.parse_args(argv)
-    text = render_markdown({"metrics": metrics(args.quick), "quick": args.quick})
+    text = measured_markdown(lambda: metrics(args.quick), quick=args.quick)
     print(text)
-    target = args.out if args.out is not None else (None if args.quick else default_out)
+    write_table(text, args.out if args.out is not None else (None if args.quick else default_out))
+    return 0
+
+
+def measured_markdown(run: Callable[[], list[Metric]], *, quick: bool,
+                      how: str = "ratios are paired, best of the rounds") -> str:
+    """Run ``run()`` and render its figures with the machine, versions, date and the load
+    average at start and end (a single-suite script's table)."""
+    start = machine_info()
+    figures = run()
+    load_end = os.getloadavg() if hasattr(os, "getloadavg") else None
+    text = render_markdown({
+        "metrics": figures, "quick": quick, "machine": start, "versions": library_versions(),
+        "date": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())})
+    return text + (f"\nLoad average at start {start.get('loadavg_at_start')}, at end "
+                   f"{[round(v, 2) for v in load_end] if load_end else None} "
+                   f"(the machine is shared; {how}).\n")
+
+
+def write_table(text: str, target: Path | None) -> None:
+    """Write a markdown table to ``target`` (nothing when None)."""
     if target is not None:
         target.parent.mkdir(parents=True, exist_ok=True)
-        target.write_text(text + "\n")
-    return 0
+        target.write_text(text if text.endswith("\n") else text + "\n")
 
 
 def render_markdown(doc: dict[str, Any]) -> str:

@@ -257,21 +257,11 @@ def main(argv: list[str] | None = None) -> int:
     if importlib.util.find_spec("allantools") is None:
         print("error: allantools is not installed", file=sys.stderr)
         return 2
-    start = runner.machine_info()
-    figures = metrics(args.quick, huge=args.huge)
-    load_end = os.getloadavg() if hasattr(os, "getloadavg") else None
-    text = runner.render_markdown({
-        "metrics": figures, "quick": args.quick, "machine": start,
-        "versions": runner.library_versions(),
-        "date": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())})
-    text += (f"\nLoad average at start {start.get('loadavg_at_start')}, at end "
-             f"{[round(v, 2) for v in load_end] if load_end else None} "
-             f"(the machine is shared; ratios are paired, best-of-N).\n")
+    text = runner.measured_markdown(lambda: metrics(args.quick, huge=args.huge),
+                                    quick=args.quick)
     print(text)
-    target = args.out if args.out is not None else (None if args.quick else RESULTS)
-    if target is not None:
-        target.parent.mkdir(parents=True, exist_ok=True)
-        target.write_text(text)
+    runner.write_table(text, args.out if args.out is not None
+                       else (None if args.quick else RESULTS))
     return 0
 
 

@@ -45,12 +45,10 @@ from __future__ import annotations
 
 import argparse
 import gc
-import os
 import shutil
 import subprocess
 import sys
 import tempfile
-import time
 import tracemalloc
 import warnings
 from pathlib import Path
@@ -320,25 +318,16 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--out", type=Path, default=None,
                    help=f"write the markdown table here (default {RESULTS} for a full run)")
     args = p.parse_args(argv)
-    start = runner.machine_info()
-    figures = metrics(args.quick)
-    load_end = os.getloadavg() if hasattr(os, "getloadavg") else None
-    text = runner.render_markdown({
-        "metrics": figures, "quick": args.quick, "machine": start,
-        "versions": runner.library_versions(),
-        "date": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())})
-    text += (f"\nLoad average at start {start.get('loadavg_at_start')}, at end "
-             f"{[round(v, 2) for v in load_end] if load_end else None} "
-             "(the machine is shared; fogts is timed before and after the peer, best kept).\n")
+    text = runner.measured_markdown(
+        lambda: metrics(args.quick), quick=args.quick,
+        how="fogts is timed before and after the peer, best kept")
     text += "".join(f"\n- {note}" for note in NOTES) + ("\n" if NOTES else "")
     r_version = _r_version()
     if r_version:
         text += f"R: {r_version}.\n"
     print(text)
-    target = args.out if args.out is not None else (None if args.quick else RESULTS)
-    if target is not None:
-        target.parent.mkdir(parents=True, exist_ok=True)
-        target.write_text(text)
+    runner.write_table(text, args.out if args.out is not None
+                       else (None if args.quick else RESULTS))
     return 0
 
 
