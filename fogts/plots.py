@@ -235,6 +235,38 @@ def _num_tex(v: float) -> str:
     return rf"{mant}$\times$10$^{{{int(exp)}}}$"
 
 
+def _value_pm_tex(value: float, stderr: float) -> str:
+    """``value ± stderr`` rounded to the standard error's two significant digits.
+
+    The two share one power of ten when the value is outside [0.01, 1e4), e.g.
+    ``(2.0030 ± 0.0045)×10^-3`` instead of ``0.002 ± 4.45×10^-6``, so the reader sees how
+    many digits of the value mean something.
+    """
+    if not (np.isfinite(stderr) and stderr > 0 and np.isfinite(value) and value != 0):
+        return _num_tex(value) + (rf" ± {_num_tex(stderr)}" if np.isfinite(stderr) else "")
+    exp = 0 if 1e-2 <= abs(value) < 1e4 else int(np.floor(np.log10(abs(value))))
+    scale = 10.0 ** exp
+    decimals = max(0, 1 - int(np.floor(np.log10(stderr / scale))))
+    text = f"{value / scale:.{decimals}f} ± {stderr / scale:.{decimals}f}"
+    return text if exp == 0 else rf"({text})$\times$10$^{{{exp}}}$"
+
+
+def _readoff_line(ax: Any, res: Any, readoff: Any, name: str, tau_ro: float,
+                  dev_ro: float) -> None:
+    """The dotted -1/2 or +1/2 line from the curve point it was drawn through to the point
+    it is read at (B is read on the curve itself)."""
+    if name not in ("N", "K"):
+        return
+    tau_from = float(getattr(readoff, f"tau_{name}_s"))
+    tau = np.asarray(res.tau_s, dtype=np.float64)
+    hit = np.flatnonzero(np.isclose(tau, tau_from, rtol=1e-9))
+    if hit.size == 0 or tau_from == tau_ro:
+        return
+    dev_from = float(np.asarray(res.dev, dtype=np.float64)[hit[0]])
+    ax.plot([tau_from, tau_ro], [dev_from, dev_ro], ":", color=_TERM_STYLE[name][0], lw=1.1,
+            zorder=4)
+
+
 def _allan_curve(ax: Any, res: Any, colour: str, label: str) -> None:
     tau = np.asarray(res.tau_s, dtype=np.float64)
     dev = np.asarray(res.dev, dtype=np.float64)
@@ -318,8 +350,13 @@ def plot_allan(result: Any, noise: Any = None, *, ax: Any = None) -> Figure:
                              for c in curves])
     ymin = float(np.nanmin(np.where(good & (lo_all > 0), lo_all, dev_all)[good]))
     ymax = float(np.nanmax(np.where(good & np.isfinite(hi_all), hi_all, dev_all)[good]))
-    ylim = (ymin / 2.5, ymax * 2.5)
     xlim = (float(tau_all.min()) / 1.5, float(tau_all.max()) * 1.5)
+    if single and models[0] is not None:  # widen to show read-off points near the data
+        near = [dev for _, tau, dev in models[0].readoff.points
+                if np.isfinite(dev) and xlim[0] <= tau <= xlim[1]
+                and ymin / 20 <= dev <= ymax * 20]
+        ymin, ymax = min([ymin, *near]), max([ymax, *near])
+    ylim = (ymin / 2.5, ymax * 2.5)
     fine = np.logspace(np.log10(xlim[0]), np.log10(xlim[1]), 400)
 
     for i, (res, model) in enumerate(zip(curves, models, strict=True)):
@@ -342,11 +379,11 @@ def plot_allan(result: Any, noise: Any = None, *, ax: Any = None) -> Figure:
             if not shown.any():
                 continue
             tcolour, slope = _TERM_STYLE[term.name]
-            se = (rf" ± {_num_tex(term.stderr)}" if np.isfinite(term.stderr) else "")
             flag = "" if term.identifiable else " (not identifiable)"
             ax.plot(fine[shown], line[shown], "--", color=tcolour, lw=1.3,
-                    label=f"{term.name}: slope {slope}, {term.name} = {_num_tex(term.value)}"
-                          f"{se} {_TERM_UNIT_TEX[term.name]}{flag}", zorder=2)
+                    label=f"{term.name}: slope {slope}, {term.name} = "
+                          f"{_value_pm_tex(term.value, term.stderr)} "
+                          f"{_TERM_UNIT_TEX[term.name]}{flag}", zorder=2)
         ro = model.readoff
         names = {"N": f"read-off N = {_num_tex(ro.N)} {_TERM_UNIT_TEX['N']} (−1/2 line at τ = 1 s)",
                  "K": f"read-off K = {_num_tex(ro.K)} {_TERM_UNIT_TEX['K']} (+1/2 line at τ = 3 s)",
@@ -357,6 +394,7 @@ def plot_allan(result: Any, noise: Any = None, *, ax: Any = None) -> Figure:
                     and ylim[0] <= dev_ro <= ylim[1]):
                 ax.plot([tau_ro], [dev_ro], markers[name], color=_TERM_STYLE[name][0],
                         mfc="none", ms=9, mew=1.6, label=names[name], zorder=6)
+                _readoff_line(ax, res, ro, name, tau_ro, dev_ro)
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.set_xlim(*xlim)

@@ -15,6 +15,7 @@
 from __future__ import annotations
 
 import gzip
+from fractions import Fraction
 from pathlib import Path
 
 import allantools
@@ -126,8 +127,9 @@ def test_stable32_ocxo_octave_not_reproducible_to_1e4(
 
     OHDEV: with the rounded input the worst point is 2.3e-4 (m = 1), not 1e-4: the third
     difference ``x3 - 3 x2 + 3 x1 - x0`` on a phase of 2e4 also rounds ``3 x`` in
-    Stable32's arithmetic (allantools, evaluating that formula literally on the rounded
-    phase, lands at 1.7e-5), and fogts does not imitate arithmetic it improves on.
+    Stable32's arithmetic (evaluating that formula literally on the rounded phase lands at
+    1.7e-5), and fogts does not imitate arithmetic it improves on: fogts returns the exact
+    value, see ``test_stable32_ohdev_octave_error_is_stable32_arithmetic``.
     TOTDEV: m <= 8 and m >= 2048 agree to 1e-4, m = 16..1024 drift to 1.2e-2 with or
     without the rounding, and also if a linear frequency drift is removed first; the
     all-tau TOTDEV file (fractional input) is matched to 1e-4 in
@@ -136,6 +138,35 @@ def test_stable32_ocxo_octave_not_reproducible_to_1e4(
     """
     path = shared_path("stable32", "ocxo", f"{kind}_octave.txt")
     check_stable32(stable32_rounded_input(ocxo_freq), kind, path, rtol=rtol)
+
+
+def test_stable32_ohdev_octave_error_is_stable32_arithmetic(ocxo_freq: np.ndarray) -> None:
+    """The 2.3e-4 of the OCXO OHDEV octave file is Stable32's own rounding, not fogts'.
+
+    Evaluating ``x3 - 3 x2 + 3 x1 - x0`` in float64 on the un-normalised phase Stable32 kept
+    (values up to 2e4) reproduces every point of the file to 1e-4 (measured 1.7e-5).  The
+    same statistic in exact integer arithmetic on that phase differs from the file by
+    2.3e-4 at m = 1, and fogts returns the exact value to the last bit.
+    """
+    path = shared_path("stable32", "ocxo", "ohdev_octave.txt")
+    ref = stable32(path)
+    phase = np.concatenate([[0.0], np.cumsum(ocxo_freq)])
+    literal = []
+    for m in ref["m"]:
+        n = phase.size - 3 * m
+        d3 = phase[3 * m:] - 3 * phase[2 * m:2 * m + n] + 3 * phase[m:m + n] - phase[:n]
+        literal.append(np.sqrt(np.mean(d3 * d3) / 6) / m)
+    np.testing.assert_allclose(literal, ref["dev"], rtol=1e-4, atol=0)
+
+    scale = 2 ** 60  # every phase value is a multiple of 2**-60 (|x| >= 2**-8 or 0)
+    ints = [int(Fraction(v) * scale) for v in phase]
+    assert all(Fraction(v) * scale == k for v, k in zip(phase, ints, strict=True))
+    sum_sq = sum((ints[i + 3] - 3 * ints[i + 2] + 3 * ints[i + 1] - ints[i]) ** 2
+                 for i in range(len(ints) - 3))
+    exact = np.sqrt(float(Fraction(sum_sq, scale * scale)) / (len(ints) - 3) / 6)
+    ours = est.ohdev(stable32_rounded_input(ocxo_freq), fs_hz=1.0, m=[1]).dev[0]
+    assert ours == pytest.approx(exact, rel=1e-12)
+    assert abs(exact / ref["dev"][0] - 1) > 2e-4
 
 
 GPS_FILES = [("adev", "ADEV_decade"), ("oadev", "OADEV_octave"), ("mdev", "MDEV_octave"),
