@@ -38,7 +38,7 @@ _EXPORTS: dict[str, str] = {
     "allan_deviation": "fogts.allan.api",
     "AllanResult": "fogts.allan.result", "AllanResultSet": "fogts.allan.result",
     "tau_grid": "fogts.allan.taus", "TauGrid": "fogts.allan.taus",
-    "confidence_table": "fogts.allan.confidence",
+    "confidence_table": "fogts.allan.confidence", "totdev_bias": "fogts.allan.confidence",
     "fit_noise": "fogts.allan.noise", "NoiseModel": "fogts.allan.noise",
     "NoiseTerm": "fogts.allan.noise",
     "read_curve": "fogts.allan.readout", "CurveReadout": "fogts.allan.readout",
@@ -86,7 +86,7 @@ def __dir__() -> list[str]:
 if TYPE_CHECKING:  # static names for type checkers and IDEs
     from fogts.allan.api import allan_deviation
     from fogts.allan.compare import AllanComparison, compare_allan
-    from fogts.allan.confidence import confidence_table
+    from fogts.allan.confidence import confidence_table, totdev_bias
     from fogts.allan.dynamic import DynamicAllanResult, dynamic_allan
     from fogts.allan.noise import NoiseModel, NoiseTerm, fit_noise
     from fogts.allan.readout import CurveReadout, read_curve

@@ -259,9 +259,15 @@ def _allantools_check(y: Any, res: Any) -> dict[str, Any]:
     m_peer = np.rint(np.asarray(taus) * res.fs_hz).astype(np.int64)
     common, mine, theirs = np.intersect1d(res.m, m_peer, return_indices=True)
     peer = np.asarray(dev, dtype=np.float64)[theirs]
+    label = f"allantools {allantools.__version__} {res.kind}(data_type='freq')"
+    if res.bias_corrected:  # allantools' totdev is uncorrected: apply fogts' bias to it
+        from fogts.allan.confidence import totdev_bias
+
+        peer = peer / np.sqrt(totdev_bias(res.alpha[mine], res.m[mine], res.n_samples + 1))
+        label += " / sqrt(fogts' totdev_bias)"
     rel = np.abs(res.dev[mine] - peer) / np.abs(peer)
     worst = int(np.argmax(rel)) if rel.size else -1
-    return {"peer": f"allantools {allantools.__version__} {res.kind}(data_type='freq')",
+    return {"peer": label,
             "n_compared": int(common.size),
             "max_rel_diff": float(rel[worst]) if rel.size else None,
             "tau_at_max": float(res.tau_s[mine][worst]) if rel.size else None,
@@ -277,7 +283,7 @@ def _allan_axis_payload(res: Any, model: Any, prepared: Any, check: Any) -> dict
         p["fit"] = float(f)
     out: dict[str, Any] = {
         "axis": res.axis, "kind": res.kind, "units": res.units,
-        "confidence": res.confidence, "points": points,
+        "confidence": res.confidence, "bias_corrected": res.bias_corrected, "points": points,
         "noise": model.noise_dict() if model is not None else {},
         "noise_fit": ({k: v for k, v in model.to_dict().items() if k != "terms"}
                       if model is not None else
@@ -357,6 +363,7 @@ def allan_cmd(
     csv_out: Annotated[Path | None, typer.Option("--csv", help="Write the points (and the fitted curve) to PATH (.csv, .tsv, .parquet).")] = None,
     plot: Annotated[Path | None, typer.Option("--plot", help="Log-log figure with CIs, the fit and its term lines (several inputs: an overlay): .png, .svg or .pdf.")] = None,
     check_allantools: Annotated[bool, typer.Option("--check-allantools", help="Recompute with allantools on the same data and taus; print the largest relative difference.")] = False,
+    bias_correction: Annotated[bool, typer.Option("--bias-correction", help="--kind totdev: divide TOTVAR by its bias at flicker- and random-walk-FM taus (Howe 1999), as Stable32 does.")] = False,
 ) -> None:
     """Allan deviation with confidence intervals, the IEEE-952 noise terms (Q, N, B, K, R)
     with standard errors, and the curve read-outs (minimum, regions, slopes).
@@ -377,7 +384,8 @@ def allan_cmd(
                                 terms=term_names, method=method,
                                 keep_all_terms=keep_all_terms, axis=axis, outliers=outliers,
                                 detrend=detrend, decimate=decimate,
-                                check_allantools=check_allantools) for f in files]
+                                check_allantools=check_allantools,
+                                bias_correction=bias_correction) for f in files]
         payload = (analyses[0].payload if len(analyses) == 1
                    else {"inputs": [a.payload for a in analyses]})
         _emit_json(payload, json_out)
@@ -425,7 +433,8 @@ def _allan_file(file: Path, rate_column: str | None, time_column: str | None,
                 temperature_column: str | None, fs: float | None, units: str | None, *,
                 kind: str, taus: Any, confidence: float, terms: tuple[str, ...], method: str,
                 keep_all_terms: bool, axis: str | None, outliers: float | None, detrend: int | None,
-                decimate: int | None, check_allantools: bool) -> _AllanAnalysis:
+                decimate: int | None, check_allantools: bool,
+                bias_correction: bool = False) -> _AllanAnalysis:
     from fogts.allan import AllanResult, allan_deviation
     from fogts.allan.noise import FITTABLE_KINDS, fit_noise
     from fogts.errors import FogtsWarning
@@ -443,7 +452,8 @@ def _allan_file(file: Path, rate_column: str | None, time_column: str | None,
                                decimate=decimate, stationarity=False)
             source, y = prepared, prepared.x
         res = allan_deviation(source, kind=kind, taus=taus,  # type: ignore[arg-type]
-                              confidence=confidence, axis=None if prepared else i)
+                              confidence=confidence, axis=None if prepared else i,
+                              bias_correction=bias_correction)
         assert isinstance(res, AllanResult)
         model = (fit_noise(res, terms=terms, method=method,  # type: ignore[arg-type]
                            confidence=confidence,

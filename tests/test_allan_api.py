@@ -230,8 +230,8 @@ def test_to_frame_and_to_dict_layout(rate: np.ndarray) -> None:
     assert len(frame) == len(res)
     np.testing.assert_array_equal(frame["dev"].to_numpy(), res.dev)
     d = res.to_dict()
-    assert list(d) == ["kind", "units", "axis", "fs_hz", "n_samples", "confidence", "points",
-                       "dropped", "notes"]
+    assert list(d) == ["kind", "units", "axis", "fs_hz", "n_samples", "confidence",
+                       "bias_corrected", "points", "dropped", "notes"]
     assert list(d["points"][0]) == ["tau", "m", "n", "dev", "ci_low", "ci_high", "edf",
                                     "alpha", "alpha_method"]
     assert d["points"][1]["m"] == 2 and d["points"][1]["tau"] == 0.2
@@ -358,3 +358,63 @@ def test_result_consistency_checks() -> None:
         AllanResult(**{**base, "edf": [1.0]})  # type: ignore[arg-type]
     with pytest.raises(DataError, match=r"AllanResult.alpha_method has 1 values; dev has 2"):
         AllanResult(**base, alpha_method=("acf",))  # type: ignore[arg-type]
+
+
+# --------------------------------------------------------------------------- totdev bias
+
+
+def test_totdev_bias_correction_reproduces_stable32_ocxo_octave_file() -> None:
+    """End to end: fogts' own noise identification plus the bias correction gives the
+    Stable32 OCXO TOTDEV octave file (f / 1e7 with Stable32's phase rounding, see
+    tests/test_allan_estimators.py) wherever fogts and Stable32 identify the same noise."""
+    from tests.conftest import shared_path
+    from tests.test_allan_estimators import stable32, stable32_rounded_input
+
+    freq = np.loadtxt(shared_path("stable32", "ocxo", "ocxo_frequency.txt"), comments="#") / 1e7
+    ref = stable32(shared_path("stable32", "ocxo", "totdev_octave.txt"))
+    y = stable32_rounded_input(freq)
+    res = allan_deviation(y, fs_hz=1.0, kind="totdev", taus=ref["tau"], bias_correction=True)
+    plain = allan_deviation(y, fs_hz=1.0, kind="totdev", taus=ref["tau"])
+    assert isinstance(res, AllanResult) and isinstance(plain, AllanResult)
+    assert res.bias_corrected and not plain.bias_corrected
+    assert any("Howe 1999" in note for note in res.notes)
+    same = res.alpha == ref["alpha"]
+    # measured: 11 of 14 alphas agree; at m = 2048..8192 (8 to 2 terms) fogts' B1 ratio
+    # says random-walk FM where Stable32 says white FM, and the correction follows it
+    assert np.count_nonzero(same) >= 11
+    np.testing.assert_allclose(res.dev[same], ref["dev"][same], rtol=1e-4, atol=0)
+    np.testing.assert_allclose(res.ci_low[same], ref["lo"][same], rtol=1e-3, atol=0)
+    np.testing.assert_allclose(res.ci_high[same], ref["hi"][same], rtol=1e-3, atol=0)
+    assert np.max(np.abs(plain.dev / ref["dev"] - 1)) > 1e-2
+    np.testing.assert_allclose(res.dev / res.ci_low, plain.dev / plain.ci_low, rtol=1e-12)
+
+
+def test_totdev_bias_matches_monte_carlo_on_a_rate_random_walk() -> None:
+    """Howe's bias E[TOTVAR]/AVAR = 1 - 0.75 tau/T for random-walk FM, checked with fogts'
+    kernels: 400 records of 2048 samples (seed 5); the overlapping Allan variance of the
+    same records is the unbiased reference.  Tolerance: 3 Monte-Carlo standard errors."""
+    from fogts.allan.confidence import totdev_bias
+    from fogts.allan.estimators import oadev, totdev
+
+    rng = np.random.default_rng(5)
+    m = np.array([128, 256, 512])
+    ratios = []
+    for _ in range(400):
+        y = np.cumsum(rng.standard_normal(2048))
+        ratios.append(totdev(y, fs_hz=1.0, m=m).dev ** 2)
+        ratios.append(oadev(y, fs_hz=1.0, m=m).dev ** 2)
+    tot, ovar = np.array(ratios[0::2]), np.array(ratios[1::2])
+    ratio = tot.mean(axis=0) / ovar.mean(axis=0)
+    expected = totdev_bias(-2, m, 2049)          # 0.953, 0.906, 0.813
+    se = tot.std(axis=0) / np.sqrt(len(tot)) / ovar.mean(axis=0)
+    assert np.all(np.abs(ratio - expected) < 3 * se), (ratio, expected, se)
+    assert ratio[-1] < 0.9                           # the bias is real at tau = T/4
+
+
+def test_bias_correction_argument_errors(rate: np.ndarray) -> None:
+    with pytest.raises(DataError, match="bias_correction applies to kind='totdev' only.*'oadev'"):
+        allan_deviation(rate, fs_hz=FS, bias_correction=True)
+    with pytest.raises(DataError, match="bias_correction needs the per-tau noise identification"):
+        allan_deviation(rate, fs_hz=FS, kind="totdev", confidence=None, bias_correction=True)
+    with pytest.raises(DataError, match="bias_correction must be True or False, got 'yes'"):
+        allan_deviation(rate, fs_hz=FS, kind="totdev", bias_correction="yes")  # type: ignore[arg-type]

@@ -5,7 +5,8 @@
   digits: rounding alone is up to 5e-5), term counts ``#`` exactly.  The OCXO octave
   files of the overlapping kinds were made from an un-normalised input whose phase
   rounding Stable32 kept; ``stable32_rounded_input`` reproduces it (OADEV, MDEV to 1e-4;
-  OHDEV 3e-4 and TOTDEV 2e-2 are explained where they are tested).
+  OHDEV 3e-4 is explained where it is tested; TOTDEV matches once Stable32's TOTVAR bias
+  correction at flicker and random-walk FM points is applied).
 * NBS14 1000-point set: the published values at tau = 1, 10, 100 s within 1e-6 relative.
 * allantools over random inputs (hypothesis, derandomised) for every grid: 1e-9 relative.
 * A real gyro: ADIS16405 run 1, axis X, against the published SMAC avar curve, 1e-5.
@@ -26,6 +27,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import fogts.allan.estimators as est
+from fogts.allan.confidence import totdev_bias
 from fogts.allan.estimators import ESTIMATORS, phase_from_rate
 from fogts.allan.taus import KINDS, tau_grid
 from fogts.errors import DataError, InsufficientDataError
@@ -120,24 +122,39 @@ def test_stable32_ocxo_octave_overlapping(ocxo_freq: np.ndarray, kind: str) -> N
     assert check_stable32(ocxo_freq, kind, path, rtol=2e-3) > 1e-3
 
 
-@pytest.mark.parametrize("kind, rtol", [("ohdev", 3e-4), ("totdev", 2e-2)])
+@pytest.mark.parametrize("kind, rtol", [("ohdev", 3e-4)])
 def test_stable32_ocxo_octave_not_reproducible_to_1e4(
         ocxo_freq: np.ndarray, kind: str, rtol: float) -> None:
-    """OHDEV and TOTDEV octave files: the phase rounding explains most, not all.
+    """OHDEV octave file: the phase rounding explains most, not all.
 
     OHDEV: with the rounded input the worst point is 2.3e-4 (m = 1), not 1e-4: the third
     difference ``x3 - 3 x2 + 3 x1 - x0`` on a phase of 2e4 also rounds ``3 x`` in
     Stable32's arithmetic (evaluating that formula literally on the rounded phase lands at
     1.7e-5), and fogts does not imitate arithmetic it improves on: fogts returns the exact
-    value, see ``test_stable32_ohdev_octave_error_is_stable32_arithmetic``.
-    TOTDEV: m <= 8 and m >= 2048 agree to 1e-4, m = 16..1024 drift to 1.2e-2 with or
-    without the rounding, and also if a linear frequency drift is removed first; the
-    all-tau TOTDEV file (fractional input) is matched to 1e-4 in
-    ``test_stable32_ocxo_all_tau``, so this is a property of this one Stable32 run.
-    allantools' test suite skips this file for the same reason.  n matches exactly.
+    value, see ``test_stable32_ohdev_octave_error_is_stable32_arithmetic``.  n matches
+    exactly.
     """
     path = shared_path("stable32", "ocxo", f"{kind}_octave.txt")
     check_stable32(stable32_rounded_input(ocxo_freq), kind, path, rtol=rtol)
+
+
+def test_stable32_ocxo_totdev_octave_is_bias_corrected(ocxo_freq: np.ndarray) -> None:
+    """The OCXO TOTDEV octave file is TOTVAR / B, B = 1 - a tau/T at the FM points.
+
+    Stable32 divides TOTVAR by its bias ratio (Howe 1999; ``totdev_bias``) wherever it
+    identified flicker FM (a = 1/(3 ln 2)) or random-walk FM (a = 3/4): m = 16..1024 here,
+    which is why the raw totdev is 3e-4..1.2e-2 low there and exact at m <= 8 (PM, white
+    FM) and m >= 2048 (white FM).  The all-tau files, printed without noise types, are
+    uncorrected (``test_stable32_ocxo_all_tau``).  With the rounded input every point
+    agrees to 1e-4 (measured 8.6e-6); n exactly.
+    """
+    path = shared_path("stable32", "ocxo", "totdev_octave.txt")
+    ref = stable32(path)
+    out = est.totdev(stable32_rounded_input(ocxo_freq), fs_hz=1.0, m=ref["m"])
+    np.testing.assert_array_equal(out.n, ref["n"])
+    bias = totdev_bias(ref["alpha"], ref["m"], ocxo_freq.size + 1)
+    np.testing.assert_allclose(out.dev / np.sqrt(bias), ref["dev"], rtol=S32_TOL, atol=0)
+    assert np.max(np.abs(out.dev / ref["dev"] - 1)) > 1e-2  # uncorrected: 1.2e-2 at m = 1024
 
 
 def test_stable32_ohdev_octave_error_is_stable32_arithmetic(ocxo_freq: np.ndarray) -> None:

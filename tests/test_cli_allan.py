@@ -95,6 +95,31 @@ def test_check_allantools_and_options(gyro_npy: Path) -> None:
     assert doc["preprocessing"]["detrend"]["order"] == 1
 
 
+def test_totdev_bias_correction_and_its_allantools_check(gyro_npy: Path) -> None:
+    code, out, err = _run([gyro_npy, "--fs", FS, "--kind", "totdev", "--bias-correction",
+                           "--check-allantools", "--terms", "N,K", "--json", "-"])
+    assert code == 0, err
+    doc = json.loads(out)
+    assert doc["bias_corrected"] is True
+    assert "totdev_bias" in doc["allantools_check"]["peer"]
+    assert doc["allantools_check"]["max_rel_diff"] < 1e-9
+    code, plain, err = _run([gyro_npy, "--fs", FS, "--kind", "totdev", "--json", "-",
+                             "--terms", "N,K"])
+    assert code == 0, err
+    devs = [p["dev"] for p in doc["points"]]
+    raw = [p["dev"] for p in json.loads(plain)["points"]]
+    assert json.loads(plain)["bias_corrected"] is False
+    assert all(a >= b for a, b in zip(devs, raw, strict=True)) and devs[-1] > raw[-1]
+
+
+def test_bias_correction_with_another_kind_is_a_usage_error(gyro_npy: Path) -> None:
+    code, _out, err = _run([gyro_npy, "--fs", FS, "--bias-correction"])
+    assert code == 2
+    assert err.strip().splitlines() == [
+        "error: bias_correction applies to kind='totdev' only (the other estimators are "
+        "unbiased for every power-law noise), got kind='oadev'"]
+
+
 def test_mdev_is_computed_but_not_fitted(gyro_npy: Path) -> None:
     code, out, err = _run([gyro_npy, "--fs", FS, "--kind", "mdev", "--json", "-"])
     assert code == 0

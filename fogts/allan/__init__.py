@@ -7,6 +7,7 @@ Public entry point: :func:`allan_deviation` (-> :class:`AllanResult` or
 from __future__ import annotations
 
 from fogts.allan.api import allan_deviation
+from fogts.allan.confidence import totdev_bias
 from fogts.allan.estimators import (
     ESTIMATORS,
     EstimatorOutput,
@@ -36,4 +37,5 @@ __all__ = [
     "ohdev",
     "tau_grid",
     "totdev",
+    "totdev_bias",
 ]

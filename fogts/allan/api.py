@@ -18,7 +18,7 @@ import pandas as pd
 
 from fogts._typing import FloatArray, IntArray
 from fogts._validate import check_choice, check_fraction, check_positive, to_float_array
-from fogts.allan.confidence import confidence_table
+from fogts.allan.confidence import confidence_table, totdev_bias
 from fogts.allan.estimators import ESTIMATORS
 from fogts.allan.result import AllanResult, AllanResultSet
 from fogts.allan.taus import KINDS, Kind, tau_grid
@@ -51,6 +51,7 @@ def allan_deviation(
     units: str | None = None,
     per_decade: int = 20,
     workers: int | None = None,
+    bias_correction: bool = False,
 ) -> AllanResult | AllanResultSet:
     """Allan-family deviation of gyro rate data, with confidence intervals.
 
@@ -88,6 +89,14 @@ def allan_deviation(
         Points per decade of the ``"dense"`` grid.
     workers : int, optional
         Threads for the estimator (default: all cores for large inputs).
+    bias_correction : bool
+        ``kind="totdev"`` only: divide TOTVAR by its bias ratio ``B = 1 - a tau/T`` at the
+        points identified as flicker FM (``a = 1/(3 ln 2)``) or random-walk FM
+        (``a = 3/4``), as Stable32 does (Howe 1999; :func:`fogts.allan.confidence.
+        totdev_bias`).  Uncorrected TOTDEV of a rate random walk is ``sqrt(1 - 0.75 tau/T)``
+        low at long tau, which biases K fitted from it.  The correction is only as good as
+        the noise type identified at each tau, which is uncertain at the last few taus.
+        The default (False) is the plain estimator that allantools also computes.
 
     Returns
     -------
@@ -97,7 +106,9 @@ def allan_deviation(
     Raises
     ------
     DataError
-        Bad argument, non-finite data, unknown axis, missing sample rate.
+        Bad argument, non-finite data, unknown axis, missing sample rate;
+        ``bias_correction`` with another kind or without ``confidence`` (the correction
+        needs the per-point noise type).
     InsufficientDataError
         Too few samples for any tau.
 
@@ -114,11 +125,13 @@ def allan_deviation(
     kind = check_choice("kind", kind, KINDS)  # type: ignore[assignment]
     if confidence is not None:
         confidence = check_fraction("confidence", confidence)
+    _check_bias_correction(bias_correction, kind, confidence)
     if units is not None:
         units = parse_rate_unit(units)
     series, fs, unit, notes = unpack_axes(x, fs_hz=fs_hz, axis=axis, units=units)
     curves = [_one_curve(s, fs_hz=fs, units=unit, kind=kind, taus=taus, confidence=confidence,
-                         per_decade=per_decade, workers=workers, notes=notes)
+                         per_decade=per_decade, workers=workers, notes=notes,
+                         bias_correction=bias_correction)
               for s in series]
     if len(curves) == 1 and (axis is not None or not is_multi_axis(x)):
         return curves[0]
@@ -134,9 +147,22 @@ def is_multi_axis(x: Any) -> bool:
     return isinstance(x, np.ndarray) and x.ndim == 2
 
 
+def _check_bias_correction(bias_correction: Any, kind: str, confidence: float | None) -> None:
+    if not isinstance(bias_correction, bool | np.bool_):
+        raise DataError(f"bias_correction must be True or False, got {bias_correction!r}")
+    if not bias_correction:
+        return
+    if kind != "totdev":
+        raise DataError(f"bias_correction applies to kind='totdev' only (the other estimators "
+                        f"are unbiased for every power-law noise), got kind={kind!r}")
+    if confidence is None:
+        raise DataError("bias_correction needs the per-tau noise identification; pass a "
+                        "confidence level, not confidence=None")
+
+
 def _one_curve(s: AxisSeries, *, fs_hz: float, units: str, kind: str, taus: Any,
                confidence: float | None, per_decade: int, workers: int | None,
-               notes: tuple[str, ...]) -> AllanResult:
+               notes: tuple[str, ...], bias_correction: bool = False) -> AllanResult:
     grid = tau_grid(taus, fs_hz=fs_hz, n_samples=s.y.size, kind=kind, per_decade=per_decade)
     est = ESTIMATORS[kind](s.y, fs_hz=fs_hz, m=grid.m, workers=workers)
     size = grid.m.size
@@ -152,11 +178,19 @@ def _one_curve(s: AxisSeries, *, fs_hz: float, units: str, kind: str, taus: Any,
         edf, alpha = table.edf, table.alpha
         methods = tuple(str(v) for v in table.alpha_method)
         level = float(table.confidence)
+    dev = est.dev
+    if bias_correction:
+        root_b = np.sqrt(totdev_bias(alpha, grid.m, s.y.size + 1))
+        dev, ci_low, ci_high = dev / root_b, ci_low / root_b, ci_high / root_b
+        notes = (*notes, "totdev divided by sqrt(B), B = 1 - a tau/T with a = 0.481 at "
+                 "flicker-FM and 0.75 at random-walk-FM points (Howe 1999), as Stable32 "
+                 f"reports it; {int(np.count_nonzero(root_b < 1))} of {root_b.size} points "
+                 "corrected")
     return AllanResult(kind=kind, units=units, axis=s.name, fs_hz=fs_hz, n_samples=s.y.size,
-                       confidence=level, tau_s=grid.tau_s, m=grid.m, n=est.n, dev=est.dev,
+                       confidence=level, tau_s=grid.tau_s, m=grid.m, n=est.n, dev=dev,
                        ci_low=ci_low, ci_high=ci_high, edf=edf, alpha=alpha,
                        dropped=grid.dropped, alpha_method=methods,
-                       notes=(*grid.notes, *notes))
+                       notes=(*grid.notes, *notes), bias_corrected=bias_correction)
 
 
 def unpack_axes(x: Any, *, fs_hz: float | None, axis: int | str | None, units: str | None

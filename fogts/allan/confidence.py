@@ -30,7 +30,9 @@ steps of NIST SP1065 (W. J. Riley, *Handbook of Frequency Stability Analysis*, 2
    :math:`\\sigma^2 \\cdot edf / \\chi^2`), with :func:`scipy.stats.chi2.ppf`.
 
 :func:`confidence_table` does all three in one call; :func:`fogts.allan.allan_deviation`
-uses it for every curve.
+uses it for every curve.  :func:`totdev_bias` gives the noise-dependent bias of the total
+variance (Howe 1999), which Stable32 divides out of its TOTDEV at flicker and random-walk
+FM points.
 
 Checked against Stable32's MinSigma/MaxSigma columns (PHASE.DAT, OCXO and GPS reference
 files: at most 6e-4 relative with Stable32's alpha, except one flicker-PM totdev point at
@@ -67,6 +69,7 @@ __all__ = [
     "confidence_table",
     "edf_for",
     "identify_noise",
+    "totdev_bias",
 ]
 
 #: Fewest decimated phase points (``n // m + 1``) for the lag-1 autocorrelation method;
@@ -623,6 +626,14 @@ def _greenhall_edf(alpha: int, d: int, m: int, modified: bool, overlapped: bool,
     return 1.0 / inv
 
 
+def _check_totdev_m(m: IntArray, n: int) -> None:
+    """Raise unless every ``m`` leaves a totdev (``2 m <= n_phase - 1``)."""
+    too_big = 2 * m > n - 1
+    if np.any(too_big):
+        raise InsufficientDataError(f"m={int(m[too_big].flat[0])} is too large for totdev with "
+                                    f"n_phase={n}: needs 2*m <= n_phase - 1 = {n - 1}")
+
+
 def _edf_totdev(alpha: int, m: int, n: int) -> float:
     """Total-deviation EDF (NIST SP1065 section 5.3).
 
@@ -684,12 +695,10 @@ def edf_for(kind: str, alpha: npt.ArrayLike, m: npt.ArrayLike, n_phase: int) -> 
     n = check_int("n_phase", n_phase, minimum=2)
     a_arr, m_arr = np.broadcast_arrays(_check_alpha(alpha, kind), _check_m(m))
     out = np.empty(a_arr.shape, dtype=np.float64)
+    if kind == "totdev":
+        _check_totdev_m(m_arr, n)
     for i, (ai, mi) in enumerate(zip(a_arr.tolist(), m_arr.tolist(), strict=True)):
         if kind == "totdev":
-            if 2 * mi > n - 1:
-                raise InsufficientDataError(
-                    f"m={mi} is too large for totdev with n_phase={n}: needs 2*m <= "
-                    f"n_phase - 1 = {n - 1}")
             out[i] = _edf_totdev(ai, mi, n)
             continue
         d, modified, overlapped = _FAMILY[kind]
@@ -700,6 +709,56 @@ def edf_for(kind: str, alpha: npt.ArrayLike, m: npt.ArrayLike, n_phase: int) -> 
                 f"{span} phase points")
         out[i] = _greenhall_edf(ai, d, mi, modified, overlapped, n)
     return out
+
+
+# TOTVAR bias (Howe 1999, Table 1; NIST SP1065, total variance with eq. 25): E[TOTVAR] / AVAR =
+# 1 - a tau/T, a = 1/(3 ln 2) for flicker FM and 3/4 for random-walk FM (0 otherwise).
+_TOTVAR_BIAS_A: dict[int, float] = {-1: 1.0 / (3.0 * math.log(2.0)), -2: 0.75}
+
+
+def totdev_bias(alpha: npt.ArrayLike, m: npt.ArrayLike, n_phase: int) -> FloatArray:
+    """Bias ratio ``E[TOTVAR] / AVAR`` of the total variance, by noise type.
+
+    TOTVAR is unbiased for white PM, flicker PM and white FM noise, and low for flicker FM
+    and random-walk FM: ``B = 1 - a tau/T`` with ``a = 1/(3 ln 2) = 0.481`` (flicker FM,
+    ``alpha = -1``) and ``a = 3/4`` (random-walk FM, ``alpha = -2``), ``tau/T = m /
+    (n_phase - 1)`` (D. A. Howe, "Total variance explained", Proc. 1999 Joint Meeting
+    EFTF/IEEE IFCS, pp. 1093-1099, Table 1; NIST SP1065, total variance, eq. 25).  Dividing TOTVAR
+    by ``B`` (the deviation by ``sqrt(B)``) gives the bias-corrected total deviation that
+    Stable32 reports when it has identified a noise type at the point (its octave files
+    with confidence intervals); its all-tau files without intervals are uncorrected.
+
+    Parameters
+    ----------
+    alpha : int or array_like of int
+        Power-law exponent of the rate spectrum, 2..-2.
+    m : int or array_like of int
+        Averaging factors; broadcast against ``alpha``.
+    n_phase : int
+        Number of phase points, i.e. rate samples + 1.
+
+    Returns
+    -------
+    ndarray
+        ``B`` per point (1-D): 1 for ``alpha >= 0``, below 1 for ``alpha = -1, -2``.
+
+    Raises
+    ------
+    DataError
+        Non-integer or out-of-range ``alpha`` or ``m``, or ``n_phase < 2``.
+    InsufficientDataError
+        An ``m`` above ``(n_phase - 1) / 2`` (no totdev there).
+
+    Examples
+    --------
+    >>> totdev_bias([0, -1, -2], 100, 1001).round(4).tolist()
+    [1.0, 0.9519, 0.925]
+    """
+    n = check_int("n_phase", n_phase, minimum=2)
+    a_arr, m_arr = np.broadcast_arrays(_check_alpha(alpha, "totdev"), _check_m(m))
+    _check_totdev_m(m_arr, n)
+    a = np.array([_TOTVAR_BIAS_A.get(int(v), 0.0) for v in a_arr.ravel()], dtype=np.float64)
+    return np.asarray(1.0 - a * m_arr.ravel() / (n - 1.0), dtype=np.float64)
 
 
 # =========================================================================== intervals

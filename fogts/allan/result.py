@@ -85,6 +85,9 @@ class AllanResult:
     notes : tuple of str
         Anything else done to the request or the data (tau rounding, preparation steps,
         why no confidence intervals are given).
+    bias_corrected : bool
+        True for a ``totdev`` curve divided by its noise-type bias
+        (:func:`fogts.allan.confidence.totdev_bias`), as Stable32 reports it.
     """
 
     kind: str
@@ -104,6 +107,7 @@ class AllanResult:
     dropped: tuple[DroppedTau, ...] = ()
     alpha_method: tuple[str, ...] = ()
     notes: tuple[str, ...] = ()
+    bias_corrected: bool = False
 
     def __post_init__(self) -> None:
         for name in _FLOAT_FIELDS:
@@ -176,7 +180,8 @@ class AllanResult:
         ]
         return {"kind": self.kind, "units": self.units, "axis": self.axis,
                 "fs_hz": float(self.fs_hz), "n_samples": int(self.n_samples),
-                "confidence": _num(self.confidence), "points": points,
+                "confidence": _num(self.confidence), "bias_corrected": self.bias_corrected,
+                "points": points,
                 "dropped": [d.to_dict() for d in self.dropped], "notes": list(self.notes)}
 
     def summary(self) -> str:
