@@ -309,7 +309,8 @@ def _allan_tables(res: Any, model: Any, check: Any, quiet_json: str | None) -> N
     rows = [[g(t, 6), int(m), int(n), g(d), g(lo), g(hi), g(e, 4)]
             for t, m, n, d, lo, hi, e in zip(res.tau_s, res.m, res.n, res.dev, res.ci_low,
                                              res.ci_high, res.edf, strict=True)]
-    _print(_table(escape(f"{res.kind} of {res.axis} ({res.units}), {pct}"),
+    corrected = ", bias-corrected (Howe 1999)" if res.bias_corrected else ""
+    _print(_table(escape(f"{res.kind} of {res.axis} ({res.units}), {pct}{corrected}"),
                   ["tau (s)", "m", "n", "dev", "ci_low", "ci_high", "edf"], rows),
            quiet_json=quiet_json)
     for d in res.dropped:

@@ -110,6 +110,10 @@ def test_totdev_bias_correction_and_its_allantools_check(gyro_npy: Path) -> None
     raw = [p["dev"] for p in json.loads(plain)["points"]]
     assert json.loads(plain)["bias_corrected"] is False
     assert all(a >= b for a, b in zip(devs, raw, strict=True)) and devs[-1] > raw[-1]
+    code, out, err = _run([gyro_npy, "--fs", FS, "--kind", "totdev", "--bias-correction",
+                           "--terms", "N,K"])
+    assert code == 0, err
+    assert "totdev of rate (deg/h), 68.3 % CI, bias-corrected (Howe 1999)" in out
 
 
 def test_bias_correction_with_another_kind_is_a_usage_error(gyro_npy: Path) -> None:
