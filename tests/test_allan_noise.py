@@ -21,13 +21,13 @@ import numpy as np
 import pandas as pd
 import pytest
 
-import fogts.allan.noise as noise_module
+import fogts.allan.covariance as covariance_module
 from fogts.allan import AllanResult, AllanResultSet, allan_deviation
+from fogts.allan.covariance import CovarianceModel, model_covariance
 from fogts.allan.noise import (
     NoiseModel,
     _covariance_basis,
     _Curve,
-    _model_cov,
     c_from_terms,
     fit_noise,
     parse_terms,
@@ -231,12 +231,12 @@ def test_covariance_model_reproduces_sp1065_edf() -> None:
     powers = np.array([-2, -1], dtype=np.int64)
     basis = _covariance_basis(curve, powers)
     assert basis is not None
-    var_wfm = np.diag(_model_cov(basis, np.array([0.0, 1.0]), powers))
+    var_wfm = np.diag(model_covariance(basis, np.array([0.0, 1.0]), powers))
     edf_wfm = 2 * (1.0 / m) ** 2 / var_wfm
     big_n = n + 1
     sp1065 = (3 * (big_n - 1) / (2 * m) - 2 * (big_n - 2) / big_n) * 4 * m**2 / (4 * m**2 + 5)
     np.testing.assert_allclose(edf_wfm, sp1065, rtol=5e-4)
-    var_wpm = np.diag(_model_cov(basis, np.array([1.0, 0.0]), powers))
+    var_wpm = np.diag(model_covariance(basis, np.array([1.0, 0.0]), powers))
     edf_wpm = 2 * (1.0 / m**2) ** 2 / var_wpm
     terms = n - 2 * m + 1  # cnt(h) = M - |h| pairs at lags 0, +-m, +-2m: 36, 16, 1 (s^4)
     np.testing.assert_allclose(edf_wpm, 36 * terms**2 / (70 * terms - 36 * m), rtol=1e-9)
@@ -259,7 +259,7 @@ def test_covariance_model_matches_monte_carlo_correlations() -> None:
         powers = np.array([power], dtype=np.int64)
         basis = _covariance_basis(curve, powers)
         assert basis is not None
-        cov = _model_cov(basis, np.array([coef]), powers)
+        cov = model_covariance(basis, np.array([coef]), powers)
         model_corr = cov / np.sqrt(np.outer(np.diag(cov), np.diag(cov)))
         np.testing.assert_allclose(np.corrcoef(sims.T), model_corr, atol=0.1)
         # variance itself within the Monte-Carlo error (sd of a variance ~ sqrt(2/reps))
@@ -303,21 +303,21 @@ def test_adev_covariance_matches_exact_quadratic_forms(monkeypatch: pytest.Monke
         powers = np.array([power], dtype=np.int64)
         basis = _covariance_basis(curve, powers)
         assert basis is not None
-        model = _model_cov(basis, np.array([1.0]), powers)
+        model = model_covariance(basis, np.array([1.0]), powers)
         exact = _adev_cov_exact(m, n, phase_cov[power])
         return float(np.max(np.abs(model - exact)
                             / np.sqrt(np.outer(np.diag(exact), np.diag(exact)))))
 
     # default: the (5, 7) pair is phase-averaged; within 3 % on the correlation scale
     assert max(worst(p) for p in phase_cov) < 0.03
-    monkeypatch.setattr(noise_module, "_MAX_PHASES", 10**9)  # every residue class summed
+    monkeypatch.setattr(covariance_module, "_MAX_PHASES", 10**9)  # every residue class summed
     for power in phase_cov:
         assert worst(power) < 1e-9
 
 
 def test_lattice_count_matches_enumeration() -> None:
     """Pairs (k, l) with l m_j - k m_i = lag, counted in closed form and by enumeration."""
-    from fogts.allan.noise import _lattice_count
+    from fogts.allan.covariance import _lattice_count
 
     for mi, mj, ni, nj in [(1, 4, 50, 11), (4, 6, 20, 13), (5, 7, 11, 7), (7, 8, 2, 2),
                            (3, 3, 9, 9), (6, 15, 40, 15)]:
@@ -349,7 +349,6 @@ def test_adev_and_totdev_covariance_match_monte_carlo(noise: str) -> None:
     larger m: at m = 1 totdev *is* oadev, and the EDF understates its variance 2x for
     white FM).  The 500-record study with flicker FM is in the report of issue 3."""
     from fogts.allan.confidence import edf_for
-    from fogts.allan.noise import _CovModel
     from fogts.simulate import simulate_gyro
 
     n, reps = 1024, 800
@@ -372,7 +371,7 @@ def test_adev_and_totdev_covariance_match_monte_carlo(noise: str) -> None:
         assert basis is not None
         a = np.array([float(np.median(mean / m.astype(float) ** power))])
         edf = edf_for("totdev", np.full(m.size, alpha), m, n + 1)
-        model = _CovModel(basis, powers, kind)(a, mean, edf)
+        model = CovarianceModel(basis, powers, kind)(a, mean, edf)
         keep = slice(first, None)
         rel_emp = np.diag(cov)[keep] / mean[keep] ** 2
         rel_mod = np.diag(model)[keep] / mean[keep] ** 2
@@ -385,7 +384,6 @@ def test_adev_and_totdev_covariance_match_monte_carlo(noise: str) -> None:
 def test_totdev_covariance_model() -> None:
     """totdev: EDF variances 2 mu^2 / edf on the diagonal, oadev's correlations off it; a
     model without random terms (R only) leaves the diagonal alone."""
-    from fogts.allan.noise import _CovModel
 
     m = np.array([1, 2, 4, 8, 16])
     curve = _Curve(tau=m.astype(float), dev=np.ones(m.size), edf=np.ones(m.size),
@@ -397,14 +395,14 @@ def test_totdev_covariance_model() -> None:
     a = np.array([1.0, 0.01])
     mu = a[0] / m + a[1] * m
     edf = 1000.0 / m
-    tot = _CovModel(basis, powers, "totdev")(a, mu, edf)
+    tot = CovarianceModel(basis, powers, "totdev")(a, mu, edf)
     np.testing.assert_allclose(np.diag(tot), 2 * mu**2 / edf, rtol=1e-12)
-    oad = _CovModel(basis, powers, "oadev")(a, mu, edf)
+    oad = CovarianceModel(basis, powers, "oadev")(a, mu, edf)
     np.testing.assert_allclose(tot / np.sqrt(np.outer(np.diag(tot), np.diag(tot))),
                                oad / np.sqrt(np.outer(np.diag(oad), np.diag(oad))), rtol=1e-12)
-    ramp = _CovModel(basis, np.array([2], dtype=np.int64), "totdev")
+    ramp = CovarianceModel(basis, np.array([2], dtype=np.int64), "totdev")
     np.testing.assert_allclose(ramp(np.array([1.0]), mu, edf), np.diag(2 * mu**2 / edf))
-    assert "totdev EDF variances" in _CovModel(basis, powers, "totdev").label
+    assert "totdev EDF variances" in CovarianceModel(basis, powers, "totdev").label
 
 
 @pytest.mark.parametrize(("kind", "method", "expected"), [
