@@ -11,7 +11,9 @@ Interface (engineer S's ``select_arma`` depends on it; do not rename)::
         llf, aic, bic, hqic, aicc: float   # original units (llf = llf_std - n*log(scale))
         nobs: int
         sigma2: float
-        resid: FloatArray             # innovations a_t (exact Kalman innovations), original units
+        resid: FloatArray             # innovations a_t (exact Kalman innovations), original units;
+                                      # select_arma keeps it only for the selected candidate and
+                                      # recomputes the others' on access (bit-identical)
         converged: bool
         warnings: tuple[str, ...]
         scale: float                  # the standard deviation the series was divided by
@@ -37,6 +39,7 @@ No mean is fitted (``trend="n"``): the caller removes the mean first.
 
 from __future__ import annotations
 
+import copy
 import math
 import warnings as _warnings
 from dataclasses import dataclass, field
@@ -77,6 +80,13 @@ class ArmaFit:
     The fit is done on ``x / scale`` (when ``standardized``) and transformed back:
     AR and MA coefficients are scale-free, ``sigma2`` is multiplied by ``scale**2`` and the
     log-likelihood of the original series is ``llf_std - nobs * log(scale)``.
+
+    ``resid`` (the innovations a_t, as long as the series) is normally stored.  A ``"fast"``
+    fit may instead hold only a reference to the series it was fitted on (``select_arma``
+    does this for every candidate but the selected one, to keep one series-length array per
+    selection): ``resid`` is then recomputed on each access from the parameters and that
+    series by the same exact-innovations code the fit used, so it is bit-identical to the
+    stored array.  Keep a reference (``a = fit.resid``) when using it repeatedly.
     """
 
     p: int
@@ -174,6 +184,76 @@ class ArmaFit:
             lines.append("  NOT CONVERGED")
         lines.extend(f"  warning: {w}" for w in self.warnings)
         return "\n".join(lines)
+
+    def _without_resid(self, x: FloatArray) -> ArmaFit:
+        """A copy that does not store ``resid`` but recomputes it from ``x`` on access.
+
+        ``x`` must be the float64 series this fit was fitted on (in the original units).  Only
+        ``"fast"`` fits can recompute their innovations bit for bit (a ``"statsmodels"`` fit
+        comes from statsmodels' Kalman filter): any other fit is returned unchanged, and so
+        is the fit when ``x`` is not a float64 array of its length.
+        """
+        if (self.method != "fast" or not isinstance(x, np.ndarray) or x.dtype != np.float64
+                or x.shape != (self.nobs,)):
+            return self
+        out = copy.copy(self)
+        object.__setattr__(out, "resid", None)
+        object.__setattr__(out, _RESID_SOURCE, x)
+        return out
+
+    def _with_resid(self) -> ArmaFit:
+        """A copy that stores ``resid`` (computed once if this fit recomputes it)."""
+        if self.__dict__.get(_RESID_STORE) is not None:
+            return self
+        out = copy.copy(self)
+        object.__setattr__(out, "resid", self.resid)
+        out.__dict__.pop(_RESID_SOURCE, None)
+        return out
+
+
+_RESID_STORE = "_resid"           # instance-dict key of the stored innovations
+_RESID_SOURCE = "_resid_source"   # instance-dict key of the series to recompute them from
+
+
+class _Innovations:
+    """Data descriptor behind ``ArmaFit.resid``: the stored array, or a recomputation.
+
+    Installed on the class after ``@dataclass`` has made ``resid`` an ordinary field (its
+    ``__init__``, ``repr=False``, ``fields()`` and ``replace()`` are unchanged: the generated
+    ``__init__`` stores through ``__set__``).  See :class:`ArmaFit` for when it recomputes.
+    """
+
+    def __get__(self, obj: ArmaFit | None, objtype: type | None = None) -> Any:
+        if obj is None:
+            return self
+        stored = obj.__dict__.get(_RESID_STORE)
+        if stored is not None:
+            return stored
+        x = obj.__dict__.get(_RESID_SOURCE)
+        if x is None:
+            raise AttributeError("this ArmaFit holds neither its innovations nor the series "
+                                 "to recompute them from")
+        return _exact_innovations(x, obj)
+
+    def __set__(self, obj: ArmaFit, value: FloatArray | None) -> None:
+        obj.__dict__[_RESID_STORE] = value
+
+
+setattr(ArmaFit, "resid", _Innovations())  # noqa: B010  (mypy keeps the plain field type)
+
+
+def _exact_innovations(x: FloatArray, fit: ArmaFit) -> FloatArray:
+    """The innovations of a ``"fast"`` fit, recomputed exactly as :func:`fit_arma` made them.
+
+    Same standardisation (``x / scale``), same exact likelihood evaluation
+    (:meth:`_Arma.evaluate` at the fitted coefficients, which are stored as the very float64
+    values the optimiser ended on) and the same back-scaling, so the result is bit-identical
+    to the array the fit returned.
+    """
+    xs = x / fit.scale if fit.standardized else x
+    with np.errstate(over="raise", invalid="raise", divide="raise", under="ignore"):
+        e = _Arma(xs, fit.p, fit.q).evaluate(fit.ar, fit.ma).e
+    return e * fit.scale
 
 
 def _criteria(llf: float, k: int, n: int) -> tuple[float, float, float, float]:
@@ -533,21 +613,42 @@ class _Arma:
                     for j in range(u + 1, q + 1):
                         c -= theta[j - 1] * de[:, q + u - j]
                     grad_ss += g[u] * c
+            del g
             dS = dS + 2.0 * grad_ss
         if not hessian:
             return dS, dD, None
-        u_ = lfilter([1.0], a_poly, x) if q else x
-        v_ = lfilter([1.0], a_poly, e) if q else e
         t0 = max(p + q, 2 * q)      # the largest lag used below
-        jac = [(u_, i) for i in range(1, p + 1)] + [(v_, j) for j in range(1, q + 1)]
+        # Hessian of S: HS[i, j] = 2 (A[i, j] + B[i, j]) with A the sum of Jacobian products
+        # and B the second-derivative term (zero for phi-phi).  u = x/theta(B), v = a/theta(B)
+        # and the adjoint g are series-length: for an ARMA the terms are summed in an order
+        # that keeps two of the three in memory at a time (u is filtered twice); each entry is
+        # the same dot products, added in the same order, as summing them all at once.
+        A = np.zeros((k, k))
+        B = np.zeros((k, k))
+        u_ = lfilter([1.0], a_poly, x) if q else x
+        for i in range(p):
+            for j in range(i, p):
+                A[i, j] = _lagdot(u_, u_, i + 1, j + 1, t0)
+            for j in range(q):
+                B[i, p + j] = _lagdot(gfull, u_, 0, i + 1 + j + 1, t0)
+        del u_
+        v_ = lfilter([1.0], a_poly, e) if q else e
+        for i in range(q):
+            for j in range(i, q):
+                A[p + i, p + j] = _lagdot(v_, v_, i + 1, j + 1, t0)
+                B[p + i, p + j] = 2.0 * _lagdot(gfull, v_, 0, i + 1 + j + 1, t0)
+        del gfull
+        if p and q:
+            u_ = lfilter([1.0], a_poly, x)
+            for i in range(p):
+                for j in range(q):
+                    A[i, p + j] = _lagdot(u_, v_, i + 1, j + 1, t0)
         HS = np.empty((k, k))
         for i in range(k):
             for j in range(i, k):
-                val = _lagdot(jac[i][0], jac[j][0], jac[i][1], jac[j][1], t0)
-                if i < p <= j:          # phi_i, theta_j
-                    val += _lagdot(gfull, u_, 0, jac[i][1] + jac[j][1], t0)
-                elif i >= p:            # theta_i, theta_j
-                    val += 2.0 * _lagdot(gfull, v_, 0, jac[i][1] + jac[j][1], t0)
+                val = A[i, j]
+                if j >= p:              # phi_i, theta_j or theta_i, theta_j
+                    val += B[i, j]
                 HS[i, j] = HS[j, i] = 2.0 * val
         return dS, dD, HS
 

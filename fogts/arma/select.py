@@ -247,7 +247,11 @@ class Candidate:
 
     @property
     def resid(self) -> FloatArray | None:
-        """Innovations a_t (original units), None for a failed fit."""
+        """Innovations a_t (original units), None for a failed fit.
+
+        Stored for the selected candidate; for the others recomputed on each access from the
+        parameters and the data (bit-identical to the fit's, see :class:`ArmaFit`).
+        """
         return None if self.fit is None else self.fit.resid
 
     @property
@@ -588,12 +592,14 @@ def _evaluate(p: int, q: int, inp: _Input, criterion: str, lags: tuple[int, ...]
                     f"{roots.ma_radius:.4f} >= 1)")
     diag = residual_diagnostics(fit.resid, x, p=p, q=q, lags=lags)
     flags = near_cancellations(roots) + insignificant_terms(fit.params, fit.bse)
+    # memory: drop the series-length innovations now (recomputed bit for bit on access);
+    # select_arma stores them again for the selected candidate only
     return Candidate(model=name, p=p, q=q, status="ok", reason=None, rank=None,
                      criterion=criterion, params=dict(fit.params), bse=dict(fit.bse),
                      llf=fit.llf, aic=fit.aic, bic=fit.bic, hqic=fit.hqic, aicc=fit.aicc,
                      sigma2=fit.sigma2, roots=roots, diagnostics=diag, flags=flags,
-                     warnings=tuple(msgs), converged=fit.converged, fit=fit, data=x,
-                     index=inp.index, time=inp.time)
+                     warnings=tuple(msgs), converged=fit.converged,
+                     fit=fit._without_resid(x), data=x, index=inp.index, time=inp.time)
 
 
 def _rank(cands: list[Candidate], criterion: str) -> list[Candidate]:
@@ -740,6 +746,10 @@ def select_arma(
                           "short of the optimum", ConvergenceWarning, stacklevel=2)
     ranked = _rank(evaluated, criterion)
     sel = ranked[0] if ranked and ranked[0].ok else None
+    if sel is not None and sel.fit is not None:
+        # the selected candidate keeps its innovations in memory (predict, plots, report),
+        # recomputed once, exactly as the fit made them
+        sel = ranked[0] = _replace(sel, fit=sel.fit._with_resid())
     all_white_failed = not any(c.white for c in ranked)
     notes = tuple(n for n in (_quantisation_note(inp.raw, inp.units),) if n)
     verdict = " ".join((_verdict(sel, ranked, criterion, corr), *notes))
