@@ -613,42 +613,21 @@ class _Arma:
                     for j in range(u + 1, q + 1):
                         c -= theta[j - 1] * de[:, q + u - j]
                     grad_ss += g[u] * c
-            del g
             dS = dS + 2.0 * grad_ss
         if not hessian:
             return dS, dD, None
-        t0 = max(p + q, 2 * q)      # the largest lag used below
-        # Hessian of S: HS[i, j] = 2 (A[i, j] + B[i, j]) with A the sum of Jacobian products
-        # and B the second-derivative term (zero for phi-phi).  u = x/theta(B), v = a/theta(B)
-        # and the adjoint g are series-length: for an ARMA the terms are summed in an order
-        # that keeps two of the three in memory at a time (u is filtered twice); each entry is
-        # the same dot products, added in the same order, as summing them all at once.
-        A = np.zeros((k, k))
-        B = np.zeros((k, k))
         u_ = lfilter([1.0], a_poly, x) if q else x
-        for i in range(p):
-            for j in range(i, p):
-                A[i, j] = _lagdot(u_, u_, i + 1, j + 1, t0)
-            for j in range(q):
-                B[i, p + j] = _lagdot(gfull, u_, 0, i + 1 + j + 1, t0)
-        del u_
         v_ = lfilter([1.0], a_poly, e) if q else e
-        for i in range(q):
-            for j in range(i, q):
-                A[p + i, p + j] = _lagdot(v_, v_, i + 1, j + 1, t0)
-                B[p + i, p + j] = 2.0 * _lagdot(gfull, v_, 0, i + 1 + j + 1, t0)
-        del gfull
-        if p and q:
-            u_ = lfilter([1.0], a_poly, x)
-            for i in range(p):
-                for j in range(q):
-                    A[i, p + j] = _lagdot(u_, v_, i + 1, j + 1, t0)
+        t0 = max(p + q, 2 * q)      # the largest lag used below
+        jac = [(u_, i) for i in range(1, p + 1)] + [(v_, j) for j in range(1, q + 1)]
         HS = np.empty((k, k))
         for i in range(k):
             for j in range(i, k):
-                val = A[i, j]
-                if j >= p:              # phi_i, theta_j or theta_i, theta_j
-                    val += B[i, j]
+                val = _lagdot(jac[i][0], jac[j][0], jac[i][1], jac[j][1], t0)
+                if i < p <= j:          # phi_i, theta_j
+                    val += _lagdot(gfull, u_, 0, jac[i][1] + jac[j][1], t0)
+                elif i >= p:            # theta_i, theta_j
+                    val += 2.0 * _lagdot(gfull, v_, 0, jac[i][1] + jac[j][1], t0)
                 HS[i, j] = HS[j, i] = 2.0 * val
         return dS, dD, HS
 
