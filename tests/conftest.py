@@ -16,6 +16,7 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 from pathlib import Path
 
 import matplotlib
+import numpy as np
 import pytest
 
 matplotlib.use("Agg")
@@ -42,3 +43,30 @@ def shared() -> type:
         root = SHARED_DATA
 
     return _Shared
+
+
+# ---- Stable32 reference files (used by the Allan estimator and API tests)
+
+
+def stable32(path: Path) -> dict[str, np.ndarray]:
+    """Columns of a Stable32 result file: ``AF Tau # Alpha MinSigma Sigma MaxSigma``."""
+    a = np.loadtxt(path, comments="#", ndmin=2)
+    return {"m": a[:, 0].astype(np.int64), "tau": a[:, 1], "n": a[:, 2].astype(np.int64),
+            "alpha": a[:, 3].astype(np.int64), "lo": a[:, 4], "dev": a[:, 5], "hi": a[:, 6]}
+
+
+def stable32_rounded_input(freq: np.ndarray) -> np.ndarray:
+    """The frequency Stable32 effectively analysed for the OCXO octave files.
+
+    Those files were made from ``ocxo_frequency.001``, whose header says Average = 1.0:
+    Stable32 was given ``f / 1e7`` itself, not the fractional frequency, and integrated it
+    to phase without removing the mean.  The phase then grows to 2e4 while its second
+    differences are ~1e-10, so every stored phase point carries a rounding error of about
+    eps x 2e4 = 4e-12, and the overlapping statistics computed from it are off by ~5e-4
+    (OADEV(1 s) = 7.6143e-11 in oadev_octave.txt against 7.6106e-11 in adev_octave.txt and
+    in stable32_oadev_alltau.txt, which fogts matches to 6e-7; at m = 1 they are the same
+    statistic).  Integrating the same way here and differencing the rounded phase back
+    (exact by Sterbenz's lemma) hands fogts the rate that phase implies.
+    """
+    phase = np.concatenate([[0.0], np.cumsum(freq)])
+    return np.diff(phase)

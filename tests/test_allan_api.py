@@ -367,8 +367,7 @@ def test_totdev_bias_correction_reproduces_stable32_ocxo_octave_file() -> None:
     """End to end: fogts' own noise identification plus the bias correction gives the
     Stable32 OCXO TOTDEV octave file (f / 1e7 with Stable32's phase rounding, see
     tests/test_allan_estimators.py) wherever fogts and Stable32 identify the same noise."""
-    from tests.conftest import shared_path
-    from tests.test_allan_estimators import stable32, stable32_rounded_input
+    from tests.conftest import shared_path, stable32, stable32_rounded_input
 
     freq = np.loadtxt(shared_path("stable32", "ocxo", "ocxo_frequency.txt"), comments="#") / 1e7
     ref = stable32(shared_path("stable32", "ocxo", "totdev_octave.txt"))
@@ -398,12 +397,9 @@ def test_totdev_bias_matches_monte_carlo_on_a_rate_random_walk() -> None:
 
     rng = np.random.default_rng(5)
     m = np.array([128, 256, 512])
-    ratios = []
-    for _ in range(400):
-        y = np.cumsum(rng.standard_normal(2048))
-        ratios.append(totdev(y, fs_hz=1.0, m=m).dev ** 2)
-        ratios.append(oadev(y, fs_hz=1.0, m=m).dev ** 2)
-    tot, ovar = np.array(ratios[0::2]), np.array(ratios[1::2])
+    walks = [np.cumsum(rng.standard_normal(2048)) for _ in range(400)]
+    tot = np.array([totdev(y, fs_hz=1.0, m=m).dev ** 2 for y in walks])
+    ovar = np.array([oadev(y, fs_hz=1.0, m=m).dev ** 2 for y in walks])
     ratio = tot.mean(axis=0) / ovar.mean(axis=0)
     expected = totdev_bias(-2, m, 2049)          # 0.953, 0.906, 0.813
     se = tot.std(axis=0) / np.sqrt(len(tot)) / ovar.mean(axis=0)

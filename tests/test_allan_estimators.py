@@ -31,16 +31,9 @@ from fogts.allan.confidence import totdev_bias
 from fogts.allan.estimators import ESTIMATORS, phase_from_rate
 from fogts.allan.taus import KINDS, tau_grid
 from fogts.errors import DataError, InsufficientDataError
-from tests.conftest import shared_path
+from tests.conftest import shared_path, stable32, stable32_rounded_input
 
 S32_TOL = 1e-4
-
-
-def stable32(path: Path) -> dict[str, np.ndarray]:
-    """Columns of a Stable32 result file: ``AF Tau # Alpha MinSigma Sigma MaxSigma``."""
-    a = np.loadtxt(path, comments="#", ndmin=2)
-    return {"m": a[:, 0].astype(np.int64), "tau": a[:, 1], "n": a[:, 2].astype(np.int64),
-            "alpha": a[:, 3].astype(np.int64), "lo": a[:, 4], "dev": a[:, 5], "hi": a[:, 6]}
 
 
 def check_stable32(y: np.ndarray, kind: str, path: Path, *, fs_hz: float = 1.0,
@@ -95,23 +88,6 @@ def test_stable32_ocxo_octave_non_overlapping(ocxo_freq: np.ndarray, kind: str) 
     # 1.1e-4 / 1.5e-4 off; n is exact there too.
     assert check_stable32(ocxo_freq, kind, path, rows=slice(0, -1)) < S32_TOL
     assert check_stable32(ocxo_freq, kind, path, rtol=2e-4) < 2e-4
-
-
-def stable32_rounded_input(freq: np.ndarray) -> np.ndarray:
-    """The frequency Stable32 effectively analysed for the OCXO octave files.
-
-    Those files were made from ``ocxo_frequency.001``, whose header says Average = 1.0:
-    Stable32 was given ``f / 1e7`` itself, not the fractional frequency, and integrated it
-    to phase without removing the mean.  The phase then grows to 2e4 while its second
-    differences are ~1e-10, so every stored phase point carries a rounding error of about
-    eps x 2e4 = 4e-12, and the overlapping statistics computed from it are off by ~5e-4
-    (OADEV(1 s) = 7.6143e-11 in oadev_octave.txt against 7.6106e-11 in adev_octave.txt and
-    in stable32_oadev_alltau.txt, which fogts matches to 6e-7; at m = 1 they are the same
-    statistic).  Integrating the same way here and differencing the rounded phase back
-    (exact by Sterbenz's lemma) hands fogts the rate that phase implies.
-    """
-    phase = np.concatenate([[0.0], np.cumsum(freq)])
-    return np.diff(phase)
 
 
 @pytest.mark.parametrize("kind", ["oadev", "mdev"])
