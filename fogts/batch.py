@@ -602,6 +602,7 @@ def run_batch(
         No file matches, ``workers`` < 1, or the scheduler cannot be reached.
     """
     from fogts.io import write_frame_atomic, write_text_atomic
+    from fogts.paths import check_outputs
     from fogts.report import json_dumps
 
     t0 = time.perf_counter()
@@ -614,9 +615,10 @@ def run_batch(
         workers = check_int("workers", workers, minimum=1)
     files = expand_patterns(patterns)
     jdir = Path(json_dir) if json_dir is not None else _default_json_dir(summary)
+    check_outputs({"summary_path": summary}, {"patterns": files})
     jdir.mkdir(parents=True, exist_ok=True)
-    if not summary.parent.is_dir():
-        raise DataError(f"output directory does not exist: {str(summary.parent)!r}")
+    check_outputs({f"per-run JSON of {f!r}": jdir / run_key(f) for f in files},
+                  {"patterns": files})
 
     outcomes: dict[str, RunOutcome] = {}
     skipped = 0

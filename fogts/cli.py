@@ -17,7 +17,7 @@ from __future__ import annotations
 import re
 import sys
 import warnings
-from collections.abc import Iterator, Mapping
+from collections.abc import Iterable, Iterator, Mapping
 from contextlib import contextmanager
 from pathlib import Path
 from typing import Annotated, Any
@@ -80,16 +80,23 @@ def _main_options(
 
 
 @contextmanager
-def _guard(options: Mapping[str, str] | None = None) -> Iterator[None]:
+def _guard(options: Mapping[str, str] | None = None, *,
+           outputs: Mapping[str, Path | str | None] | None = None,
+           inputs: Mapping[str, Iterable[Path]] | None = None) -> Iterator[None]:
     """Run a command body: warnings become ``warning: ...`` lines on stderr (each once),
     and any exception becomes one line ``error: ...`` on stderr with exit code 2.
 
     ``options`` maps library argument names (``latitude_deg``) to the command's option
     names (``--latitude``), so that an error raised by the library names what the user
-    typed."""
+    typed.  ``outputs`` (option -> path) and ``inputs`` (argument -> paths) are checked by
+    :func:`fogts.paths.check_outputs` before the body runs: no output replaces an input."""
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("default")
         try:
+            if outputs:
+                from fogts.paths import check_outputs
+
+                check_outputs(outputs, inputs or {})
             yield
         except (typer.Exit, typer.Abort):
             raise
@@ -192,7 +199,7 @@ def info_cmd(
     json_out: JsonOpt = None,
 ) -> None:
     """Show what was read: columns, sample rate, duration, gaps, jitter and statistics."""
-    with _guard():
+    with _guard(outputs={"--json": json_out}, inputs={"FILE": [file]}):
         run = _read(file, rate_column, time_column, temperature_column, fs, units)
         payload = _info_payload(run)
         _emit_json(payload, json_out)
@@ -376,7 +383,8 @@ def allan_cmd(
     """
     from fogts.allan.noise import parse_terms
 
-    with _guard():
+    with _guard(outputs={"--json": json_out, "--csv": csv_out, "--plot": plot},
+                inputs={"FILES": files}):
         tau_spec = _tau_option(taus)
         term_names = parse_terms(terms)
         _check_output_names(plot=plot, csv=csv_out)
@@ -581,7 +589,7 @@ def batch_cmd(
 
     from fogts.batch import BatchOptions, BatchProgress, run_batch
 
-    with _guard():
+    with _guard({"summary_path": "--output", "patterns": "PATTERNS"}):
         options = BatchOptions(rate_column=rate_column, time_column=time_column,
                                temperature_column=temperature_column, fs_hz=fs, units=units,
                                kind=kind, taus=taus, detrend=detrend, decimate=decimate,
@@ -650,7 +658,7 @@ def report_cmd(
     """
     from fogts.report_html import build_report, write_report
 
-    with _guard():
+    with _guard(outputs={"--output": output}, inputs={"FILE": [file]}):
         run = _read(file, rate_column, time_column, temperature_column, fs, units)
         rep = build_report(run, title=title, outliers=outliers, detrend=detrend,
                            decimate=decimate, kind=kind, taus=taus, criterion=criterion,
@@ -764,7 +772,10 @@ def simulate_cmd(
     )
     from fogts.units import parse_duration
 
-    with _guard(_SIMULATE_OPTIONS):
+    sidecar_path = output.with_name(output.name + ".json")
+    with _guard(_SIMULATE_OPTIONS, outputs={"--output": output,
+                                            "--output's sidecar": sidecar_path},
+                inputs={"--from-json": [noise_json] if noise_json else []}):
         if not output.name.lower().endswith(_SIM_SUFFIXES):
             raise DataError(f"--output must end in {', '.join(_SIM_SUFFIXES)}; got "
                              f"{output.name!r}")
@@ -988,7 +999,7 @@ def davar_cmd(
     from fogts.allan.dynamic import dynamic_allan
     from fogts.units import parse_duration
 
-    with _guard():
+    with _guard(outputs={"--json": json_out, "--plot": plot}, inputs={"FILE": [file]}):
         window_s = parse_duration(window, "--window")
         step_s = parse_duration(step, "--step")
         tau_spec = _tau_option(taus)
@@ -1042,7 +1053,8 @@ def filter_cmd(
     """
     from fogts._validate import check_choice
 
-    with _guard():
+    with _guard(outputs={"--output": output, "--json": json_out, "--plot": plot},
+                inputs={"FILE": [file]}):
         check_choice("--method", method, FILTER_METHODS)
         if method == "kalman":
             noise = _parse_measurement_noise(measurement_noise)
@@ -1178,7 +1190,10 @@ def compensate_cmd(
     compensate; prints the model and the bias stability before and after."""
     from fogts.thermal import startup_compensation
 
-    with _guard():
+    with _guard(outputs={"--output": output, "--save-model": save_model, "--json": json_out,
+                         "--plot": plot},
+                inputs={"FILE": [file], "--model": [model] if model else [],
+                        "--calibration": calibration or []}):
         run = _read(file, rate_column, time_column, temperature_column, fs, units)
         pick: int | str = int(axis) if axis.lstrip("-").isdigit() else axis
         given = _load_thermal_model(model) if model is not None else None
@@ -1277,7 +1292,9 @@ def northfind_cmd(
     from fogts.errors import DataError
     from fogts.northfind import four_position, simulate_north_seeking
 
-    with _guard(_NORTHFIND_OPTIONS):
+    with _guard(_NORTHFIND_OPTIONS, outputs={"--json": json_out, "--plot": plot},
+                inputs={"FILES": files or [],
+                        "--thermal-model": [thermal_model] if thermal_model else []}):
         thermal = _load_thermal_model(thermal_model) if thermal_model is not None else None
         if simulate is not None:
             if files:
@@ -1414,7 +1431,8 @@ def select_cmd(
     from fogts.errors import DataError
     from fogts.preprocess import prepare
 
-    with _guard():
+    with _guard(outputs={"--json": json_out, "--plot": plot, "--predict": predict},
+                inputs={"FILE": [file]}):
         if criterion not in ("aic", "bic", "hqic", "aicc"):
             raise DataError(f"--criterion must be one of aic, bic, hqic, aicc; got {criterion!r}")
         orders = parse_candidates(candidates)
@@ -1494,8 +1512,42 @@ def select_cmd(
     raise typer.Exit(sel.exit_code)
 
 
+_GLOBAL_FLAGS = ("--debug", "--version")
+
+
+def _hoist_global_flags(argv: list[str]) -> list[str]:
+    """Move ``--debug`` and ``--version`` given after the command name to the front, so that
+    ``fogts info X --debug`` works like ``fogts --debug info X``.
+
+    A token is moved only where it is a flag, not the value of an option that takes one
+    (``--title --debug`` keeps its title); tokens after ``--`` are left alone."""
+    group = typer.main.get_command(app)
+    names = getattr(group, "commands", {})
+    command = next((names[t] for t in argv if t in names), None)
+    if command is None:
+        return argv
+    takes_value = {opt for p in command.params if not getattr(p, "is_flag", True)
+                   for opt in p.opts}
+    front: list[str] = []
+    rest: list[str] = []
+    start = argv.index(command.name) if command.name in argv else 0
+    skip_next = False
+    for i, token in enumerate(argv):
+        if i <= start or skip_next or "--" in argv[:i]:
+            rest.append(token)
+            skip_next = False
+            continue
+        if token in _GLOBAL_FLAGS:
+            front.append(token)
+            continue
+        skip_next = token in takes_value
+        rest.append(token)
+    return front + rest
+
+
 def main(argv: list[str] | None = None) -> None:
     """Console-script entry point: usage errors become one line ``error: ...``, exit 2."""
+    argv = _hoist_global_flags(list(sys.argv[1:] if argv is None else argv))
     try:
         rv = app(args=argv, prog_name="fogts", standalone_mode=False)
     except _click_exc.NoArgsIsHelpError as exc:

@@ -34,10 +34,10 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from fogts._typing import FloatArray
+from fogts._typing import FloatArray, IntArray
 from fogts._validate import check_positive
 from fogts.errors import DataError, DataQualityWarning, InsufficientDataError
-from fogts.run import Run, SamplingReport
+from fogts.run import MissingReport, Run, SamplingReport
 from fogts.units import parse_rate_unit
 
 __all__ = [
@@ -90,6 +90,7 @@ def read_run(
     temperature_column: str | None = None,
     fs_hz: float | None = None,
     units: str | None = None,
+    nan: str = "error",
 ) -> Run:
     """Read a static gyro recording.
 
@@ -109,7 +110,13 @@ def read_run(
         Sample rate in Hz.  Overrides the median time step; required without a time base.
     units : str, optional
         Rate unit (``deg/h``, ``deg/s``, ``rad/s``, ``arcsec/s``).  Default: taken from a
-        unit hint in the column name (``gyro_x_deg_s``), else ``deg/h``.
+        unit hint in the column name (``gyro_x_deg_s``), else ``deg/h`` (and
+        ``Run.units_source`` is ``"assumed"``).
+    nan : {"error", "drop", "interpolate"}
+        Empty, NaN and infinite cells: an error naming the first one (default), rows
+        dropped (with a time column they become gaps; without one the time base keeps the
+        row numbers, so they are gaps too), or interpolated linearly in time.  What was
+        done is recorded in ``Run.missing``.  Non-numeric text is always an error.
 
     Returns
     -------
@@ -132,10 +139,12 @@ def read_run(
     if fs_hz is not None:
         fs_hz = check_positive("fs_hz", fs_hz)
     unit = parse_rate_unit(units) if units is not None else None
+    if nan not in NAN_POLICIES:
+        raise DataError(f"nan must be one of {', '.join(NAN_POLICIES)}; got {nan!r}")
     table = _load_table(source)
     options: dict[str, Any] = {"rate_column": rate_column, "time_column": time_column,
                                "temperature_column": temperature_column, "fs_hz": fs_hz,
-                               "units": unit}
+                               "units": unit, "nan": nan}
     try:
         return _table_to_run(table, **options)
     except DataError:
@@ -584,7 +593,13 @@ def _detect_rate(table: _Table, cols: list[str], time: str | None,
                     f"{', '.join(cols)}; pass rate_column= (CLI --rate-column)")
 
 
-def _numeric_column(table: _Table, name: str) -> FloatArray:
+#: What ``read_run(nan=...)`` may do with empty, NaN and infinite cells.
+NAN_POLICIES = ("error", "drop", "interpolate")
+
+
+def _numeric_column(table: _Table, name: str, *, missing_ok: bool = False) -> FloatArray:
+    """One column as float64.  Non-numeric text is always an error; empty, NaN and inf
+    cells are an error too unless ``missing_ok`` (then they are returned as NaN)."""
     col = table.frame[name]
     if col.dtype.kind in "fiub":
         values = col.to_numpy(dtype=np.float64)
@@ -595,17 +610,25 @@ def _numeric_column(table: _Table, name: str) -> FloatArray:
             text = text.str.replace(",", ".", regex=False)
         values = pd.to_numeric(text, errors="coerce").to_numpy(dtype=np.float64)
         lowered = text.str.lower()
-        bad_text = np.isnan(values) & ~lowered.isin(["nan", "+nan", "-nan"]).to_numpy()
+        allowed = ["nan", "+nan", "-nan"] + (["", "na", "n/a", "null", "none"] if missing_ok
+                                             else [])
+        bad_text = np.isnan(values) & ~lowered.isin(allowed).to_numpy()
     if bad_text.any():
         row = int(np.argmax(bad_text))
         cell = table.frame[name].iloc[row]
-        shown = "an empty cell" if str(cell).strip() == "" else f"non-numeric value {cell!r}"
-        raise DataError(f"column {name!r} has {shown} at {_where(table, row)}")
+        empty = str(cell).strip() == ""
+        shown = "an empty cell" if empty else f"non-numeric value {cell!r}"
+        hint = ("; pass nan='drop' or nan='interpolate' (CLI --nan drop|interpolate)" if empty
+                else "")
+        raise DataError(f"column {name!r} has {shown} at {_where(table, row)}{hint}")
     nonfinite = ~np.isfinite(values)
-    if nonfinite.any():
+    if missing_ok:
+        values = np.where(nonfinite, np.nan, values) if nonfinite.any() else values
+    elif nonfinite.any():
         row = int(np.argmax(nonfinite))
         raise DataError(f"column {name!r} has {float(values[row])!r} at {_where(table, row)}; fogts "
-                        "never drops rows silently: remove or interpolate it first")
+                        "never drops rows silently: pass nan='drop' or nan='interpolate' "
+                        "(CLI --nan drop|interpolate)")
     huge = np.abs(values) > MAX_ABS_VALUE
     if huge.any():
         row = int(np.argmax(huge))
@@ -701,6 +724,11 @@ def _round_rate(fs: float) -> float:
     return float(f"{fs:.10g}")
 
 
+def _whole_multiples(ratio: FloatArray) -> bool:
+    """True when most step ratios are close to whole numbers (dropped samples)."""
+    return bool(np.median(np.abs(ratio - np.rint(ratio))) < 0.1)
+
+
 def _sample_rate(dt: FloatArray | None, given: float | None, from_file: float | None,
                  source: str) -> tuple[float, str]:
     """Pick the sample rate: given > median time step > file metadata.
@@ -708,13 +736,17 @@ def _sample_rate(dt: FloatArray | None, given: float | None, from_file: float | 
     Burst-logged stamps (samples buffered and stamped in clumps) make the median step far
     shorter than the true mean step.  When more than 5 % of the steps are longer than
     1.5 x the median (so the median does not describe the sampling; a few real gaps do not
-    trigger this), the mean step is used and a warning is issued.
+    trigger this), the mean step is used and a warning is issued -- unless the long steps
+    are whole multiples of the median step (median distance to the nearest multiple below
+    0.1 step): that is a clock that dropped samples, so the median step is the rate and
+    the long steps are gaps (:func:`sampling_report` lists them).
     """
     if given is not None:
         return given, "given"
     if dt is not None:
         median, mean = float(np.median(dt)), float(np.mean(dt))
-        if np.mean(dt > GAP_FACTOR * median) <= 0.05:
+        long = dt[dt > GAP_FACTOR * median]
+        if long.size <= 0.05 * dt.size or _whole_multiples(long / median):
             return _round_rate(1.0 / median), "median step"
         warnings.warn(f"{source}: median time step {median:.6g} s differs from the mean step "
                       f"{mean:.6g} s by more than 10 % (burst-logged time stamps); using the "
@@ -734,30 +766,58 @@ def _unit_from_names(names: Sequence[str]) -> str | None:
     return None
 
 
+def _rate_unit(given: str | None, rate_names: Sequence[str], file_key: str) -> tuple[str, str]:
+    """The rate unit and where it came from (see :attr:`fogts.run.Run.units_source`)."""
+    if given is not None:
+        return given, "given"
+    from_columns = _unit_from_names(rate_names)
+    if from_columns is not None:
+        return from_columns, "column name"
+    from_key = _unit_from_names([file_key]) if file_key else None
+    if from_key is not None:
+        return from_key, "file key"
+    return "deg/h", "assumed"
+
+
 def _table_to_run(table: _Table, *, rate_column: str | Sequence[str] | None,
                   time_column: str | None, temperature_column: str | None,
-                  fs_hz: float | None, units: str | None) -> Run:
+                  fs_hz: float | None, units: str | None, nan: str = "error") -> Run:
     roles = _assign_roles(table, rate_column, time_column, temperature_column)
     n = table.frame.shape[0]
     if n < MIN_SAMPLES:
         raise InsufficientDataError(f"{table.source} has {n} data row(s); at least "
                                     f"{MIN_SAMPLES} are needed")
-    rate_cols = [_numeric_column(table, c) for c in roles.rate]
-    rate = rate_cols[0] if len(rate_cols) == 1 else np.column_stack(rate_cols)
-    for name, col in zip(roles.rate, rate_cols, strict=True):
-        if np.ptp(col) == 0:
-            raise DataError(f"rate column {name!r} is constant (every value is {col[0]:g}); a "
-                            "gyro record must vary: check the column or the logger")
-    temperature = _numeric_column(table, roles.temperature) if roles.temperature else None
+    missing: MissingReport | None = None
+    kept_rows: IntArray | None = None
+    if nan != "error":
+        table, missing, kept_rows = _apply_missing_drop(table, roles, nan)
+    rate_cols = [_numeric_column(table, c, missing_ok=nan == "interpolate") for c in roles.rate]
+    temperature = (_numeric_column(table, roles.temperature, missing_ok=nan == "interpolate")
+                   if roles.temperature else None)
     time, start, dt = _time_base(table, roles.time)
     if fs_hz is None and dt is None and table.fs_hz is None:
         cols = ", ".join(table.frame.columns)
         raise DataError(f"no time column found (columns are: {cols}) and no sample rate "
                         "given; pass fs_hz= (CLI --fs) or add a time column")
     fs, fs_source = _sample_rate(dt, fs_hz, table.fs_hz, table.source)
+    if time is None and kept_rows is not None and kept_rows.size < n:
+        # Dropped rows of a record without time stamps stay visible as gaps.
+        time = kept_rows / fs
+        dt = np.diff(time)
     if time is None:
-        time = np.arange(n, dtype=np.float64) / fs
-    unit = units or _unit_from_names([*roles.rate, table.unit_hint]) or "deg/h"
+        time = np.arange(table.frame.shape[0], dtype=np.float64) / fs
+    if nan == "interpolate":
+        filled = [_interpolate_missing(c, time) for c in rate_cols]
+        rate_cols = [c for c, _ in filled]
+        missing = _missing_report(nan, roles.rate, [m for _, m in filled], temperature)
+        if temperature is not None:
+            temperature = _interpolate_missing(temperature, time)[0]
+    for name, col in zip(roles.rate, rate_cols, strict=True):
+        if np.ptp(col) == 0:
+            raise DataError(f"rate column {name!r} is constant (every value is {col[0]:g}); a "
+                            "gyro record must vary: check the column or the logger")
+    rate = rate_cols[0] if len(rate_cols) == 1 else np.column_stack(rate_cols)
+    unit, unit_source = _rate_unit(units, roles.rate, table.unit_hint)
     return Run(
         rate=np.ascontiguousarray(rate, dtype=np.float64),
         time=time,
@@ -770,7 +830,79 @@ def _table_to_run(table: _Table, *, rate_column: str | Sequence[str] | None,
         sampling=sampling_report(dt, float(fs), fs_source),
         start_time=start,
         comments=table.comments,
+        units_source=unit_source,
+        missing=missing,
     )
+
+
+def _apply_missing_drop(table: _Table, roles: _Roles, policy: str
+                        ) -> tuple[_Table, MissingReport | None, IntArray | None]:
+    """For ``nan="drop"``: remove every row with an empty/NaN/inf cell in a rate,
+    temperature or time column (time stamps are never interpolated)."""
+    names = [*roles.rate, *([roles.temperature] if roles.temperature else [])]
+    if roles.time is not None and _is_numeric_time(table, roles.time):
+        names.append(roles.time)
+    if policy == "interpolate":
+        if roles.time is None or not _is_numeric_time(table, roles.time):
+            return table, None, None
+        names = [roles.time]
+    bad_by_col = {c: ~np.isfinite(_numeric_column(table, c, missing_ok=True)) for c in names}
+    if policy == "interpolate":
+        bad = bad_by_col[roles.time]  # type: ignore[index]
+        if bad.any():
+            row = int(np.argmax(bad))
+            raise DataError(f"time column {roles.time!r} has an empty or NaN time stamp at "
+                            f"{_where(table, row)}; time stamps are never interpolated: pass "
+                            "nan='drop' (CLI --nan drop)")
+        return table, None, None
+    bad = np.logical_or.reduce(list(bad_by_col.values()))
+    if not bad.any():
+        return table, None, None
+    rows = np.flatnonzero(bad)
+    kept = np.flatnonzero(~bad)
+    report = MissingReport(policy, int(rows.size),
+                           {c: int(b.sum()) for c, b in bad_by_col.items()},
+                           tuple(int(r) for r in rows[:20]))
+    frame = table.frame.iloc[kept].reset_index(drop=True)
+    lines = table.line_of_row[kept] if table.line_of_row is not None else None
+    if frame.shape[0] < MIN_SAMPLES:
+        raise InsufficientDataError(f"{table.source}: {frame.shape[0]} row(s) left after "
+                                    f"dropping {rows.size} with missing cells; at least "
+                                    f"{MIN_SAMPLES} are needed")
+    index = table.from_index[kept] if table.from_index is not None else None
+    return (dataclasses.replace(table, frame=frame, line_of_row=lines, from_index=index),
+            report, kept)
+
+
+def _is_numeric_time(table: _Table, name: str) -> bool:
+    return table.frame[name].dtype.kind in "fiu" or bool(
+        _NUMBER.match(str(table.frame[name].iloc[0]).strip()))
+
+
+def _interpolate_missing(values: FloatArray, time: FloatArray) -> tuple[FloatArray, IntArray]:
+    """Fill NaN linearly in time (np.interp: the ends take the nearest finite value)."""
+    bad = np.isnan(values)
+    if not bad.any():
+        return values, np.empty(0, dtype=np.int64)
+    if bad.all():
+        raise DataError("a column has no finite value at all; nothing to interpolate from")
+    out = values.copy()
+    out[bad] = np.interp(time[bad], time[~bad], values[~bad])
+    return out, np.flatnonzero(bad)
+
+
+def _missing_report(policy: str, rate_names: Sequence[str], rate_rows: list[IntArray],
+                    temperature: FloatArray | None) -> MissingReport | None:
+    by_col = {n: int(r.size) for n, r in zip(rate_names, rate_rows, strict=True)}
+    all_rows = [*rate_rows]
+    if temperature is not None:
+        t_rows = np.flatnonzero(np.isnan(temperature))
+        by_col["temperature"] = int(t_rows.size)
+        all_rows.append(t_rows)
+    rows = np.unique(np.concatenate(all_rows))
+    if rows.size == 0:
+        return None
+    return MissingReport(policy, int(rows.size), by_col, tuple(int(r) for r in rows[:20]))
 
 
 def _time_base(table: _Table, time_name: str | None

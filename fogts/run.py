@@ -16,7 +16,7 @@ import pandas as pd
 from fogts._typing import FloatArray
 from fogts.errors import DataError
 
-__all__ = ["Run", "SamplingReport"]
+__all__ = ["MissingReport", "Run", "SamplingReport"]
 
 
 @dataclass(frozen=True)
@@ -76,6 +76,41 @@ class SamplingReport:
 
 
 @dataclass(frozen=True)
+class MissingReport:
+    """Empty, NaN or infinite cells found when reading, and what was done with them.
+
+    Attributes
+    ----------
+    policy : str
+        ``"drop"`` (the rows were removed; with a time column they become gaps) or
+        ``"interpolate"`` (filled linearly in time; leading/trailing cells take the
+        nearest value).
+    n_rows : int
+        Rows that had at least one missing cell.
+    by_column : dict of str -> int
+        Missing cells per column.
+    first_rows : tuple of int
+        Data rows (0-based, in the file) of the first missing cells (at most 20).
+    """
+
+    policy: str
+    n_rows: int
+    by_column: dict[str, int]
+    first_rows: tuple[int, ...]
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"policy": self.policy, "n_rows": self.n_rows,
+                "by_column": dict(self.by_column), "first_rows": list(self.first_rows)}
+
+    def summary(self) -> str:
+        """One line, e.g. ``"3 row(s) with empty/NaN cells dropped (rate: 3; first row 17)"``."""
+        done = "dropped" if self.policy == "drop" else "interpolated linearly in time"
+        cols = ", ".join(f"{k}: {v}" for k, v in self.by_column.items() if v)
+        return (f"{self.n_rows} row(s) with empty/NaN/inf cells {done} ({cols}; first at data "
+                f"row {self.first_rows[0] if self.first_rows else '-'})")
+
+
+@dataclass(frozen=True)
 class Run:
     """One gyro recording.
 
@@ -103,6 +138,13 @@ class Run:
         ISO-8601 time of the first sample if the source had absolute time stamps.
     comments : tuple of str
         ``#`` comment lines found in a text file, in order.
+    units_source : str
+        Where ``units`` came from: ``"given"`` (the ``units`` argument, CLI ``--units``),
+        ``"column name"`` (a hint such as ``gyro_x_deg_s``), ``"file key"`` (an .npz key
+        such as ``gyro_deg_s``) or ``"assumed"`` (nothing said: deg/h by convention; every
+        command then warns).
+    missing : MissingReport or None
+        Empty/NaN/inf cells dropped or interpolated on reading (None: there were none).
     """
 
     rate: FloatArray
@@ -116,6 +158,13 @@ class Run:
     sampling: SamplingReport | None = None
     start_time: str | None = None
     comments: tuple[str, ...] = field(default=())
+    units_source: str = "given"
+    missing: MissingReport | None = None
+
+    @property
+    def units_assumed(self) -> bool:
+        """True when no unit was given or found and ``units`` is the deg/h default."""
+        return self.units_source == "assumed"
 
     @property
     def n(self) -> int:

@@ -261,7 +261,7 @@ def test_bad_arguments(files: Path, tmp_path: Path) -> None:
         BatchOptions(detrend=11)
     with pytest.raises(DataError, match="decimate must be >= 1, got 0"):
         BatchOptions(decimate=0)
-    with pytest.raises(DataError, match=r"output directory does not exist"):
+    with pytest.raises(DataError, match=r"summary_path '.*s\.csv': the folder '.*no' does not exist"):
         run_batch([str(files / "*.csv")], summary_path=tmp_path / "no" / "s.csv",
                   json_dir=tmp_path / "j", analysis=_fake_analysis, workers=1)
 

@@ -110,7 +110,7 @@ def test_simulate_bad_output_and_json(tmp_path: Path) -> None:
     assert res.exit_code == 2 and "--output must end in .csv" in res.stderr
     res = runner.invoke(app, ["simulate", "--duration", "10s", "-o",
                               str(tmp_path / "missing" / "x.csv")])
-    assert res.exit_code == 2 and "output directory does not exist" in res.stderr
+    assert res.exit_code == 2 and "missing' does not exist; create it first" in res.stderr
     bad = tmp_path / "bad.json"
     bad.write_text("{not json")
     res = runner.invoke(app, ["simulate", "--duration", "10s", "--from-json", str(bad), "-o",
