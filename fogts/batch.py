@@ -50,7 +50,9 @@ import numpy as np
 import pandas as pd
 
 from fogts._validate import check_choice, check_int
-from fogts.errors import DataError
+from fogts.errors import DataError, DataQualityWarning
+from fogts.hygiene import GAP_POLICIES
+from fogts.io import NAN_POLICIES
 from fogts.report import error_message, warning_texts
 
 __all__ = [
@@ -68,7 +70,7 @@ __all__ = [
 
 #: Columns of the summary table, in order (one row per run and axis).
 SUMMARY_COLUMNS: tuple[str, ...] = (
-    "file", "axis", "n", "fs_hz", "units",
+    "file", "axis", "n", "fs_hz", "units", "units_source", "n_gaps", "n_glitches",
     "N", "N_stderr", "B", "B_stderr", "K", "K_stderr",
     "selected", "aic", "white", "status", "error", "json",
 )
@@ -106,6 +108,12 @@ class BatchOptions:
         Ranking criterion of the ARMA selection.
     select : bool
         Run the ARMA selection (``False`` gives info and Allan only).
+    nan : str
+        Empty/NaN/inf cells: ``error``, ``drop`` or ``interpolate`` (see
+        :func:`fogts.io.read_run`).
+    gaps : str
+        Gaps in the time base: ``warn``, ``error``, ``split`` or ``ignore`` (see
+        :func:`fogts.hygiene.assess_run`).
     """
 
     rate_column: str | None = None
@@ -119,11 +127,15 @@ class BatchOptions:
     decimate: int | None = None
     criterion: str = "aic"
     select: bool = True
+    nan: str = "error"
+    gaps: str = "warn"
 
     def __post_init__(self) -> None:
         check_choice("kind", self.kind, _KINDS)
         check_choice("taus", self.taus, _TAU_SPECS)
         check_choice("criterion", self.criterion, _CRITERIA)
+        check_choice("nan", self.nan, NAN_POLICIES)
+        check_choice("gaps", self.gaps, GAP_POLICIES)
         if self.detrend is not None:
             check_int("detrend", self.detrend, minimum=0, maximum=10)
         if self.decimate is not None:
@@ -381,6 +393,7 @@ def analyze_file(file: str, options: BatchOptions) -> RunOutcome:
     Never raises for a problem with the file: it returns an outcome with ``status="error"``
     and the message.  An axis that fails gives an error row for that axis only.
     """
+    from fogts.hygiene import assess_run
     from fogts.io import read_run
     from fogts.report import run_info, to_jsonable
 
@@ -393,8 +406,11 @@ def analyze_file(file: str, options: BatchOptions) -> RunOutcome:
                 rate_cols = parts if len(parts) > 1 else parts[0]
             run = read_run(file, rate_column=rate_cols, time_column=options.time_column,
                            temperature_column=options.temperature_column,
-                           fs_hz=options.fs_hz, units=options.units)
-            info = run_info(run)
+                           fs_hz=options.fs_hz, units=options.units, nan=options.nan)
+            run, quality = assess_run(run, gaps=options.gaps)  # type: ignore[arg-type]
+            for line in quality.warnings():  # named after the file by warning_texts' caller
+                warnings.warn(f"{Path(file).name}: {line}", DataQualityWarning, stacklevel=1)
+            info = {**run_info(run), "data_quality": quality.to_dict()}
         except Exception as exc:
             msg = error_message(exc)
             doc = _document(file, "error", msg, {}, [], warning_texts(caught))
@@ -405,7 +421,10 @@ def analyze_file(file: str, options: BatchOptions) -> RunOutcome:
         axes_doc: list[dict[str, Any]] = []
         for i, name in enumerate(run.axes):
             row = _blank_row(file, name)
-            row.update(n=run.n, fs_hz=run.fs_hz, units=run.units)
+            row.update(n=run.n, fs_hz=run.fs_hz, units=run.units,
+                       units_source=run.units_source,
+                       n_gaps=run.sampling.n_gaps if run.sampling is not None else 0,
+                       n_glitches=quality.glitch_count(name))
             axis_doc: dict[str, Any] = {"axis": name, "status": "ok", "error": ""}
             try:
                 fields, adoc = _analyze_axis(run, i, options)

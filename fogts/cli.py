@@ -55,6 +55,8 @@ TempColOpt = Annotated[str | None, typer.Option("--temperature-column", help="Te
 FsOpt = Annotated[float | None, typer.Option("--fs", help="Sample rate in Hz (overrides the time column).")]
 UnitsOpt = Annotated[str | None, typer.Option("--units", help="Rate unit of the input: deg/h, deg/s, rad/s, arcsec/s (default: from a unit in the column name such as gyro_x_deg_s, else deg/h).")]
 JsonOpt = Annotated[str | None, typer.Option("--json", help="Write JSON to PATH, or '-' for stdout.")]
+NanOpt = Annotated[str, typer.Option("--nan", help="Empty, NaN or inf cells: error (name the first one), drop (the rows become gaps) or interpolate (linearly in time).")]
+GapsOpt = Annotated[str, typer.Option("--gaps", help="Gaps in the time base: warn (analyse as if regular, and say so), error, split (analyse the longest regular segment) or ignore (no warning; still in the JSON).")]
 
 
 class ExitCode:
@@ -137,15 +139,26 @@ _NORTHFIND_OPTIONS = {"latitude_deg": "--latitude", "transition_s": "--transitio
 
 
 def _read(path: Path, rate_column: str | None, time_column: str | None,
-          temperature_column: str | None, fs: float | None, units: str | None) -> Any:
+          temperature_column: str | None, fs: float | None, units: str | None, *,
+          nan: str = "error", gaps: str = "warn", glitches: bool = True) -> tuple[Any, Any]:
+    """Read one input and check its hygiene (:func:`fogts.hygiene.assess_run`): assumed
+    units, missing cells, gaps and glitches are printed at once as ``warning:`` lines
+    naming the file, before any analysis output.  Returns the Run (restricted to the
+    longest regular segment with ``--gaps split``) and its DataQuality."""
+    from fogts.hygiene import assess_run
     from fogts.io import read_run
 
     rate_cols: str | list[str] | None = None
     if rate_column:
         parts = [c.strip() for c in rate_column.split(",") if c.strip()]
         rate_cols = parts if len(parts) > 1 else parts[0]
-    return read_run(path, rate_column=rate_cols, time_column=time_column,
-                    temperature_column=temperature_column, fs_hz=fs, units=units)
+    run = read_run(path, rate_column=rate_cols, time_column=time_column,
+                   temperature_column=temperature_column, fs_hz=fs, units=units, nan=nan)
+    run, quality = assess_run(run, gaps=gaps, glitches=glitches)  # type: ignore[arg-type]
+    for line in quality.warnings():
+        err_console.print(f"warning: {Path(run.source).name}: {line}", markup=False,
+                          soft_wrap=True)
+    return run, quality
 
 
 def _emit_json(payload: dict[str, Any], target: str | None) -> None:
@@ -196,12 +209,15 @@ def info_cmd(
     temperature_column: TempColOpt = None,
     fs: FsOpt = None,
     units: UnitsOpt = None,
+    nan: NanOpt = "error",
     json_out: JsonOpt = None,
 ) -> None:
-    """Show what was read: columns, sample rate, duration, gaps, jitter and statistics."""
+    """Show what was read: columns, sample rate, duration, gaps, jitter, glitches and
+    statistics."""
     with _guard(outputs={"--json": json_out}, inputs={"FILE": [file]}):
-        run = _read(file, rate_column, time_column, temperature_column, fs, units)
-        payload = _info_payload(run)
+        run, quality = _read(file, rate_column, time_column, temperature_column, fs, units,
+                             nan=nan, gaps="ignore")
+        payload = {**_info_payload(run), "data_quality": quality.to_dict()}
         _emit_json(payload, json_out)
         if json_out != "-":
             from fogts.report import info_text
@@ -372,6 +388,8 @@ def allan_cmd(
     plot: Annotated[Path | None, typer.Option("--plot", help="Log-log figure with CIs, the fit and its term lines (several inputs: an overlay): .png, .svg or .pdf.")] = None,
     check_allantools: Annotated[bool, typer.Option("--check-allantools", help="Recompute with allantools on the same data and taus; print the largest relative difference.")] = False,
     bias_correction: Annotated[bool, typer.Option("--bias-correction", help="--kind totdev: divide TOTVAR by its bias at flicker- and random-walk-FM taus (Howe 1999), as Stable32 does.")] = False,
+    nan: NanOpt = "error",
+    gaps: GapsOpt = "warn",
 ) -> None:
     """Allan deviation with confidence intervals, the IEEE-952 noise terms (Q, N, B, K, R)
     with standard errors, and the curve read-outs (minimum, regions, slopes).
@@ -394,7 +412,8 @@ def allan_cmd(
                                 keep_all_terms=keep_all_terms, axis=axis, outliers=outliers,
                                 detrend=detrend, decimate=decimate,
                                 check_allantools=check_allantools,
-                                bias_correction=bias_correction) for f in files]
+                                bias_correction=bias_correction, nan=nan, gaps=gaps)
+                    for f in files]
         payload = (analyses[0].payload if len(analyses) == 1
                    else {"inputs": [a.payload for a in analyses]})
         _emit_json(payload, json_out)
@@ -406,8 +425,10 @@ def allan_cmd(
             run = a.run
             _say([f"{run.source}: {run.n} samples at {run.fs_hz:.6g} Hz "
                   f"({run.duration_s:.6g} s), rate in {run.units}"], json_out)
-            for res, model, readout, check in zip(a.results, a.models, a.readouts, a.checks,
-                                                  strict=True):
+            for res, model, readout, check, lines in zip(a.results, a.models, a.readouts,
+                                                         a.checks, a.lines, strict=True):
+                if lines:
+                    _say([f"{res.axis}: {line}" for line in lines], json_out)
                 _allan_tables(res, model, check, json_out)
                 _curve_table(res, readout, json_out)
 
@@ -415,13 +436,15 @@ def allan_cmd(
 class _AllanAnalysis:
     """Everything `fogts allan` computed for one input file."""
 
-    def __init__(self, run: Any) -> None:
+    def __init__(self, run: Any, quality: Any) -> None:
         self.run = run
+        self.quality = quality
         self.results: list[Any] = []
         self.models: list[Any] = []
         self.readouts: list[Any] = []
         self.checks: list[Any] = []
         self.blocks: list[dict[str, Any]] = []
+        self.lines: list[list[str]] = []  # preprocessing and data notes, one list per axis
 
     @property
     def payload(self) -> dict[str, Any]:
@@ -429,9 +452,11 @@ class _AllanAnalysis:
         out: dict[str, Any] = {
             "input": {"source": run.source, "n": run.n, "fs_hz": run.fs_hz,
                       "duration_s": run.duration_s, "units": run.units,
+                      "units_source": run.units_source,
                       "axis": first["axis"], "axes": [b["axis"] for b in self.blocks],
                       "columns": list(run.columns)},
             **first,
+            "data_quality": self.quality.to_dict(),
         }
         if len(self.blocks) > 1:
             out["axes"] = self.blocks
@@ -443,20 +468,21 @@ def _allan_file(file: Path, rate_column: str | None, time_column: str | None,
                 kind: str, taus: Any, confidence: float, terms: tuple[str, ...], method: str,
                 keep_all_terms: bool, axis: str | None, outliers: float | None, detrend: int | None,
                 decimate: int | None, check_allantools: bool,
-                bias_correction: bool = False) -> _AllanAnalysis:
+                bias_correction: bool = False, nan: str = "error",
+                gaps: str = "warn") -> _AllanAnalysis:
     from fogts.allan import AllanResult, allan_deviation
     from fogts.allan.noise import FITTABLE_KINDS, fit_noise
     from fogts.errors import FogtsWarning
+    from fogts.preprocess import prepare
 
-    run = _read(file, rate_column, time_column, temperature_column, fs, units)
-    analysis = _AllanAnalysis(run)
+    run, quality = _read(file, rate_column, time_column, temperature_column, fs, units,
+                         nan=nan, gaps=gaps)
+    analysis = _AllanAnalysis(run, quality)
     for i in _axis_picks(run, axis):
         prepared = None
         source: Any = run
         y = run.axis(i)
         if outliers is not None or detrend is not None or decimate is not None:
-            from fogts.preprocess import prepare
-
             prepared = prepare(run, axis=i, outliers=outliers, detrend=detrend,
                                decimate=decimate, stationarity=False)
             source, y = prepared, prepared.x
@@ -475,12 +501,72 @@ def _allan_file(file: Path, rate_column: str | None, time_column: str | None,
         check = _allantools_check(y, res) if check_allantools else None
         block = _allan_axis_payload(res, model, prepared, check)
         block["curve"] = readout.to_dict()
+        lines = list(prepared.steps) if prepared is not None else []
+        if prepared is not None and prepared.outliers is not None:
+            unscreened = (prepare(run, axis=i, outliers=None, detrend=detrend,
+                                  decimate=decimate, stationarity=False)
+                          if detrend is not None or decimate is not None else run)
+            effect = _outlier_effect(prepared, model, unscreened, i, lambda r: fit_noise(
+                r, terms=terms, method=method, confidence=confidence,  # type: ignore[arg-type]
+                significance=None if keep_all_terms else 0.05), kind=kind, taus=taus,
+                confidence=confidence, bias_correction=bias_correction)
+            block["outliers_effect"] = effect
+            lines.append(effect["text"])
+        if model is not None:
+            plausibility = _plausibility(model, run.units)
+            block["plausibility"] = plausibility.to_dict()
+            if plausibility.verdict == "implausible":
+                err_console.print(f"warning: {Path(run.source).name}: {res.axis}: "
+                                  f"{plausibility.message}", markup=False, soft_wrap=True)
+        analysis.lines.append(lines)
         analysis.results.append(res)
         analysis.models.append(model)
         analysis.readouts.append(readout)
         analysis.checks.append(check)
         analysis.blocks.append(block)
     return analysis
+
+
+def _plausibility(model: Any, units: str) -> Any:
+    """N and B against the range real gyros span (:mod:`fogts.allan.plausibility`)."""
+    from fogts.allan.plausibility import check_plausibility
+
+    def value(name: str) -> float | None:
+        return model[name].value if name in model.names else None
+
+    return check_plausibility(value("N"), value("B"), units=units)
+
+
+def _outlier_effect(prepared: Any, model: Any, unscreened: Any, axis: int, fit: Any, *,
+                    kind: str, taus: Any, confidence: float,
+                    bias_correction: bool) -> dict[str, Any]:
+    """How many samples ``--outliers`` replaced and what that did to N (the same analysis
+    on the data without the replacement)."""
+    from fogts.allan import allan_deviation
+
+    report = prepared.outliers
+    share = report.count / max(prepared.n_input, 1)
+    out: dict[str, Any] = {"replaced": report.count, "share": share,
+                           "sigma_factor": report.sigma_factor}
+    text = (f"--outliers {report.sigma_factor:g}: replaced {report.count:,} of "
+            f"{prepared.n_input:,} samples ({100 * share:.3g} %)")
+    if model is None or "N" not in model.names:
+        out["text"] = text
+        return out
+    raw = allan_deviation(unscreened, kind=kind, taus=taus,  # type: ignore[arg-type]
+                          confidence=confidence,
+                          axis=None if unscreened is not prepared and hasattr(unscreened, "x")
+                          else axis, bias_correction=bias_correction)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the unscreened fit's own warnings are not news
+        raw_model = fit(raw)
+    n_clean = model["N"].value
+    n_raw = raw_model["N"].value if "N" in raw_model.names else float("nan")
+    change = n_clean / n_raw - 1.0 if n_raw > 0 else float("nan")
+    out.update({"N": n_clean, "N_unscreened": n_raw, "N_change": change})
+    out["text"] = (f"{text}; N = {n_clean:.4g} {model['N'].unit} against {n_raw:.4g} without "
+                   f"the replacement ({100 * change:+.1f} %)")
+    return out
 
 
 def _axis_picks(run: Any, axis: str | None) -> list[int]:
@@ -570,6 +656,8 @@ def batch_cmd(
     decimate: Annotated[int | None, typer.Option("--decimate", help="Block-average K samples before the ARMA selection.")] = None,
     criterion: Annotated[str, typer.Option("--criterion", help="ARMA ranking criterion: aic, bic, hqic, aicc.")] = "aic",
     no_select: Annotated[bool, typer.Option("--no-select", help="Skip the ARMA selection (info and Allan only).")] = False,
+    nan: NanOpt = "error",
+    gaps: GapsOpt = "warn",
 ) -> None:
     """Run info, allan and select on many files; write one summary row per run and axis.
 
@@ -593,7 +681,7 @@ def batch_cmd(
         options = BatchOptions(rate_column=rate_column, time_column=time_column,
                                temperature_column=temperature_column, fs_hz=fs, units=units,
                                kind=kind, taus=taus, detrend=detrend, decimate=decimate,
-                               criterion=criterion, select=not no_select)
+                               criterion=criterion, select=not no_select, nan=nan, gaps=gaps)
         bar = Progress(SpinnerColumn(), TextColumn("{task.description}"), BarColumn(),
                        MofNCompleteColumn(),
                        TextColumn("failed {task.fields[failed]}, remaining "
@@ -649,6 +737,8 @@ def report_cmd(
     taus: Annotated[str, typer.Option("--taus", help="Tau grid: octave, decade, dense, all.")] = "octave",
     criterion: Annotated[str, typer.Option("--criterion", help="ARMA ranking criterion: aic, bic, hqic, aicc.")] = "aic",
     davar_window: Annotated[float | None, typer.Option("--davar-window", help="Dynamic Allan window in seconds (default: a tenth of the record).")] = None,
+    nan: NanOpt = "error",
+    gaps: GapsOpt = "warn",
 ) -> None:
     """Write one self-contained HTML report of a recording.
 
@@ -659,8 +749,9 @@ def report_cmd(
     from fogts.report_html import build_report, write_report
 
     with _guard(outputs={"--output": output}, inputs={"FILE": [file]}):
-        run = _read(file, rate_column, time_column, temperature_column, fs, units)
-        rep = build_report(run, title=title, outliers=outliers, detrend=detrend,
+        run, quality = _read(file, rate_column, time_column, temperature_column, fs, units,
+                             nan=nan, gaps=gaps)
+        rep = build_report(run, quality=quality, title=title, outliers=outliers, detrend=detrend,
                            decimate=decimate, kind=kind, taus=taus, criterion=criterion,
                            davar_window_s=davar_window)
         write_report(output, rep)
@@ -993,6 +1084,8 @@ def davar_cmd(
     units: UnitsOpt = None,
     json_out: JsonOpt = None,
     plot: Annotated[Path | None, typer.Option("--plot", help="Heat map of log deviation over (time, tau): .png, .svg or .pdf.")] = None,
+    nan: NanOpt = "error",
+    gaps: GapsOpt = "warn",
 ) -> None:
     """Dynamic Allan deviation (DAVAR, Galleani & Tavella 2009): the deviation in a
     window sliding along the record, and a non-stationarity score."""
@@ -1004,10 +1097,11 @@ def davar_cmd(
         step_s = parse_duration(step, "--step")
         tau_spec = _tau_option(taus)
         pick: int | str | None = int(axis) if axis is not None and axis.isdigit() else axis
-        run = _read(file, rate_column, time_column, temperature_column, fs, units)
+        run, quality = _read(file, rate_column, time_column, temperature_column, fs, units,
+                             nan=nan, gaps=gaps)
         result = dynamic_allan(run, window_s=window_s, step_s=step_s, kind=kind,  # type: ignore[arg-type]
                                taus=tau_spec, confidence=confidence, axis=pick)
-        payload = {"input": str(file), **result.to_dict()}
+        payload = {"input": str(file), **result.to_dict(), "data_quality": quality.to_dict()}
         _emit_json(payload, json_out)
         if plot is not None:
             from fogts.plots import plot_dynamic_allan
@@ -1047,6 +1141,8 @@ def filter_cmd(
     units: UnitsOpt = None,
     json_out: JsonOpt = None,
     plot: Annotated[Path | None, typer.Option("--plot", help="Figure (.png, .svg, .pdf): observed/filtered/smoothed for kalman; the before/after Allan overlay with --compare-allan.")] = None,
+    nan: NanOpt = "error",
+    gaps: GapsOpt = "warn",
 ) -> None:
     """Filter a gyro record: Kalman filter with an ARMA drift model (seed 004), or a
     zero-phase IIR / moving-average low-pass with a before/after Allan comparison (seed 001).
@@ -1058,7 +1154,8 @@ def filter_cmd(
         check_choice("--method", method, FILTER_METHODS)
         if method == "kalman":
             noise = _parse_measurement_noise(measurement_noise)
-        run = _read(file, rate_column, time_column, temperature_column, fs, units)
+        run, _ = _read(file, rate_column, time_column, temperature_column, fs, units, nan=nan,
+                       gaps=gaps)
         pick: int | str = int(axis) if axis.lstrip("-").isdigit() else axis
         x = run.axis(pick)
         if method == "kalman":
@@ -1185,6 +1282,7 @@ def compensate_cmd(
     units: UnitsOpt = None,
     json_out: JsonOpt = None,
     plot: Annotated[Path | None, typer.Option("--plot", help="Raw rate, trend, compensated rate and temperature: .png, .svg or .pdf.")] = None,
+    nan: NanOpt = "error",
 ) -> None:
     """Fit the seed-004 temperature-drift model D = aT·dT + bT² + cT + d·dT² + e·dT + f and
     compensate; prints the model and the bias stability before and after."""
@@ -1194,10 +1292,11 @@ def compensate_cmd(
                          "--plot": plot},
                 inputs={"FILE": [file], "--model": [model] if model else [],
                         "--calibration": calibration or []}):
-        run = _read(file, rate_column, time_column, temperature_column, fs, units)
+        run, quality = _read(file, rate_column, time_column, temperature_column, fs, units,
+                             nan=nan)
         pick: int | str = int(axis) if axis.lstrip("-").isdigit() else axis
         given = _load_thermal_model(model) if model is not None else None
-        extra = [_read(c, rate_column, time_column, temperature_column, fs, units)
+        extra = [_read(c, rate_column, time_column, temperature_column, fs, units, nan=nan)[0]
                  for c in (calibration or [])]
         if extra and given is not None:
             from fogts.errors import DataError
@@ -1215,7 +1314,7 @@ def compensate_cmd(
             from fogts.report import json_dumps
 
             write_text_atomic(save_model, json_dumps(result.model.to_dict()) + "\n")
-        payload = {"input": str(file), **result.to_dict()}
+        payload = {"input": str(file), **result.to_dict(), "data_quality": quality.to_dict()}
         if given is not None:
             payload["thermal"]["source"] = str(model)
         _emit_json(payload, json_out)
@@ -1242,8 +1341,8 @@ def _position_rates(files: list[Path], *, position_column: str, rate_column: str
     from fogts.thermal import compensate
 
     if len(files) == 1:
-        run = _read(files[0], f"{rate_column or 'rate'},{position_column}", time_column,
-                    temperature_column, fs, units)
+        run, _ = _read(files[0], f"{rate_column or 'rate'},{position_column}", time_column,
+                       temperature_column, fs, units, gaps="ignore", glitches=False)
         if thermal is not None:
             run = compensate(run, thermal, axis=0)
         import pandas as pd
@@ -1260,7 +1359,8 @@ def _position_rates(files: list[Path], *, position_column: str, rate_column: str
     rates = {}
     fs_hz, unit = 0.0, "deg/h"
     for p, path in zip(POSITIONS_DEG, files, strict=True):
-        run = _read(path, rate_column, time_column, temperature_column, fs, units)
+        run, _ = _read(path, rate_column, time_column, temperature_column, fs, units,
+                       gaps="ignore", glitches=False)
         if thermal is not None:
             run = compensate(run, thermal, axis=0)
         rates[p] = run.axis(0)
@@ -1420,6 +1520,8 @@ def select_cmd(
     json_out: JsonOpt = None,
     plot: Annotated[Path | None, typer.Option("--plot", help="Diagnostics figure (data ACF/PACF, residual ACF, Q-Q, prediction): .png, .svg or .pdf.")] = None,
     predict: Annotated[Path | None, typer.Option("--predict", help="Write the one-step prediction as CSV (time, observed, predicted, residual); .csv, .csv.gz, .tsv or .parquet.")] = None,
+    nan: NanOpt = "error",
+    gaps: GapsOpt = "warn",
 ) -> None:
     """Select the ARMA model of the drift (seed 000): fit AR(1), AR(2), AR(3), ARMA(1,1) and ARMA(2,1), check that their residuals are white, rank them and predict one step ahead.
 
@@ -1437,7 +1539,8 @@ def select_cmd(
             raise DataError(f"--criterion must be one of aic, bic, hqic, aicc; got {criterion!r}")
         orders = parse_candidates(candidates)
         _check_output_names(plot=plot, predict=predict)
-        run = _read(file, rate_column, time_column, temperature_column, fs, units)
+        run, quality = _read(file, rate_column, time_column, temperature_column, fs, units,
+                             nan=nan, gaps=gaps)
         pick: int | str = 0 if axis is None else (int(axis) if axis.isdigit() else axis)
         if isinstance(pick, str) and pick not in run.axes:
             raise DataError(f"--axis {pick!r} not found; axes are: {', '.join(run.axes)}")
@@ -1447,7 +1550,9 @@ def select_cmd(
                            decimate=decimate)
         sel = select_arma(prepared, candidates=orders, criterion=criterion)  # type: ignore[arg-type]
         payload = sel.to_dict()
-        payload["input"] = {**payload["input"], "file": str(file)}
+        payload["input"] = {**payload["input"], "file": str(file),
+                            "units_source": run.units_source}
+        payload["data_quality"] = quality.to_dict()
         _emit_json(payload, json_out)
         if plot is not None:
             from fogts.plots import plot_selection

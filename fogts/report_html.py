@@ -310,6 +310,7 @@ class _Context:
 
     run: Run
     options: dict[str, Any]
+    quality: Any = None  # fogts.hygiene.DataQuality
     prepared: dict[int, Any] = field(default_factory=dict)
     allan: dict[int, Any] = field(default_factory=dict)
     noise: dict[int, Any] = field(default_factory=dict)
@@ -366,6 +367,8 @@ def _input_blocks(ctx: _Context, notes: list[str]) -> list[Block]:
         ("duration", _duration_text(info["duration_s"])),
         ("columns", ", ".join(info["columns"])),
         ("rate axes", f"{', '.join(info['axes'])} [{info['units']}]"),
+        ("rate unit from", "ASSUMED (no unit in the column names; pass --units)"
+         if ctx.run.units_assumed else ctx.run.units_source),
         ("temperature", "yes" if info["temperature"] else "no temperature column"),
     ]
     if info["start_time"]:
@@ -378,6 +381,10 @@ def _input_blocks(ctx: _Context, notes: list[str]) -> list[Block]:
     else:
         rows.append(("time base", "none in the file: built from the sample rate"))
     blocks = [_table("What was read", ["item", "value"], rows, numeric=[False, False])]
+    issues = tuple(ctx.quality.warnings()) if ctx.quality is not None else ()
+    blocks.append(Block(kind="list", caption="Data quality (units, missing cells, gaps, "
+                        "glitches)", items=issues or ("no issue found: units named, no "
+                                                      "missing cells, no gaps, no glitches",)))
     stats = [[name, st["mean"], st["std"], st["min"], st["max"]]
              for name, st in info["stats"].items()]
     blocks.append(_table("Statistics of the raw data", ["column", "mean", "std", "min", "max"],
@@ -638,6 +645,7 @@ def _section(sid: str, part: str, title: str, build: Callable[[list[str]], list[
 def build_report(
     run: Run,
     *,
+    quality: Any = None,
     title: str | None = None,
     parts: Sequence[str] = PARTS,
     outliers: float | None = None,
@@ -655,6 +663,9 @@ def build_report(
     ----------
     run : Run
         The recording (from :func:`fogts.io.read_run`).
+    quality : DataQuality, optional
+        Its hygiene (:func:`fogts.hygiene.assess_run`); computed with the default gap
+        policy (warn) when not given.  Shown in the input section.
     title : str, optional
         Document title (default: "Gyro report: <file name>").
     parts : sequence of str
@@ -695,7 +706,11 @@ def build_report(
     bias_average_s = check_positive("bias_average_s", bias_average_s)
     if davar_window_s is not None:
         davar_window_s = check_positive("davar_window_s", davar_window_s)
-    ctx = _Context(run=run, options={"outliers": outliers, "detrend": detrend,
+    if quality is None:
+        from fogts.hygiene import assess_run
+
+        run, quality = assess_run(run)
+    ctx = _Context(run=run, quality=quality, options={"outliers": outliers, "detrend": detrend,
                                      "decimate": decimate, "kind": kind, "taus": taus,
                                      "criterion": criterion, "davar_window_s": davar_window_s,
                                      "bias_average_s": bias_average_s})

@@ -70,3 +70,11 @@ def stable32_rounded_input(freq: np.ndarray) -> np.ndarray:
     """
     phase = np.concatenate([[0.0], np.cumsum(freq)])
     return np.diff(phase)
+
+
+def error_output(stderr: str) -> str:
+    """``stderr`` without the ``warning:`` lines a command prints about its input (assumed
+    units, gaps, glitches) as soon as it has read it: what is left of a failed command
+    must be its one ``error:`` line."""
+    return "\n".join(ln for ln in stderr.strip().splitlines()
+                     if not ln.startswith("warning: ")).strip()

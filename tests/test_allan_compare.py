@@ -15,6 +15,7 @@ from fogts.allan.compare import compare_allan
 from fogts.cli import app
 from fogts.errors import DataError
 from fogts.filters import lowpass
+from tests.conftest import error_output
 
 FS = 100.0
 runner = CliRunner()
@@ -117,6 +118,6 @@ def test_cli_moving_average(record: Path, tmp_path: Path) -> None:
 def test_cli_filter_errors(record: Path, tmp_path: Path, args: list[str], message: str) -> None:
     res = runner.invoke(app, ["filter", str(record), "-o", str(tmp_path / "o.csv"), *args])
     assert res.exit_code == 2
-    lines = res.stderr.strip().splitlines()
+    lines = error_output(res.stderr).splitlines()
     assert len(lines) == 1 and lines[0].startswith("error: ") and message in lines[0]
     assert not (tmp_path / "o.csv").exists()  # nothing written on error

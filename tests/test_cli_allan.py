@@ -12,7 +12,7 @@ import pytest
 from typer.testing import CliRunner
 
 from fogts.cli import app
-from tests.conftest import shared_path
+from tests.conftest import error_output, shared_path
 
 runner = CliRunner()
 
@@ -119,7 +119,7 @@ def test_totdev_bias_correction_and_its_allantools_check(gyro_npy: Path) -> None
 def test_bias_correction_with_another_kind_is_a_usage_error(gyro_npy: Path) -> None:
     code, _out, err = _run([gyro_npy, "--fs", FS, "--bias-correction"])
     assert code == 2
-    assert err.strip().splitlines() == [
+    assert error_output(err).splitlines() == [
         "error: bias_correction applies to kind='totdev' only (the other estimators are "
         "unbiased for every power-law noise), got kind='oadev'"]
 
@@ -187,11 +187,11 @@ def test_errors_are_one_line_exit_2(gyro_npy: Path, tmp_path: Path, args: list[s
 
 def test_missing_file_and_too_short(tmp_path: Path) -> None:
     code, _, err = _run([tmp_path / "nope.csv"])
-    assert code == 2 and err.startswith("error: ")
+    assert code == 2 and error_output(err).startswith("error: ")
     short = tmp_path / "short.npy"
     np.save(short, np.random.default_rng(0).normal(size=6))
     code, _, err = _run([short, "--fs", "10"])
-    assert code == 2 and err.startswith("error: ") and "Traceback" not in err
+    assert code == 2 and error_output(err).startswith("error: ") and "Traceback" not in err
 
 
 def test_unsupported_terms_are_dropped_unless_kept(gyro_npy: Path) -> None:

@@ -11,6 +11,7 @@ import pytest
 from typer.testing import CliRunner
 
 from fogts.cli import app
+from tests.conftest import error_output
 
 runner = CliRunner()
 
@@ -64,5 +65,5 @@ def test_overlay_bad_second_file(two_gyros: tuple[Path, Path], tmp_path: Path) -
     res = runner.invoke(app, ["allan", str(two_gyros[0]), str(tmp_path / "missing.csv"),
                               "--json", str(tmp_path / "x.json")])
     assert res.exit_code == 2
-    assert res.stderr.strip().startswith("error: file not found")
+    assert error_output(res.stderr).startswith("error: file not found")
     assert not (tmp_path / "x.json").exists()

@@ -12,7 +12,7 @@ from typer.testing import CliRunner
 
 from fogts.cli import app
 from fogts.simulate_startup import simulate_startup
-from tests.conftest import shared_path
+from tests.conftest import error_output, shared_path
 
 runner = CliRunner()
 
@@ -85,7 +85,7 @@ def test_compensate_bad_input(tmp_path: Path) -> None:
     res = runner.invoke(app, ["compensate", str(src), "--model", str(bad)])
     assert res.exit_code == 2 and "is not valid JSON" in res.stderr
     res = runner.invoke(app, ["compensate", str(src), "--model", str(tmp_path / "nope.json")])
-    assert res.exit_code == 2 and res.stderr.startswith("error: ")
+    assert res.exit_code == 2 and error_output(res.stderr).startswith("error: ")
     good = tmp_path / "m.json"
     assert runner.invoke(app, ["compensate", str(src), "--no-emd", "--save-model",
                                str(good)]).exit_code == 0

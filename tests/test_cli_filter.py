@@ -12,6 +12,7 @@ from scipy.signal import lfilter
 from typer.testing import CliRunner
 
 from fogts.cli import app
+from tests.conftest import error_output
 
 runner = CliRunner()
 
@@ -61,5 +62,5 @@ def test_filter_auto_runs_the_selection(ar_file: Path, tmp_path: Path) -> None:
 def test_filter_bad_options(ar_file: Path, tmp_path: Path, args: list[str], message: str) -> None:
     res = runner.invoke(app, ["filter", str(ar_file), "-o", str(tmp_path / "x.csv"), *args])
     assert res.exit_code == 2
-    lines = res.stderr.strip().splitlines()
+    lines = error_output(res.stderr).splitlines()
     assert len(lines) == 1 and lines[0].startswith("error: ") and message in lines[0], res.stderr

@@ -13,6 +13,7 @@ from typer.testing import CliRunner
 
 from fogts.cli import app
 from fogts.units import earth_rate_component
+from tests.conftest import error_output
 
 runner = CliRunner()
 LAT = 32.05
@@ -78,7 +79,7 @@ def test_bad_usage(tmp_path: Path, args: list[str], message: str) -> None:
         argv.append(str(path))
     res = runner.invoke(app, [*argv, *args, "--fs", "1"])
     assert res.exit_code == 2, res.output
-    assert message in res.stderr and res.stderr.startswith("error: ")
+    assert message in res.stderr and error_output(res.stderr).startswith("error: ")
 
 
 def test_missing_position_and_wrong_file_count(tmp_path: Path) -> None:

@@ -26,6 +26,7 @@ from fogts.errors import DataError, InsufficientDataError
 from fogts.io import read_run
 from fogts.northfind import angle_error_deg, four_position, simulate_startup_positions
 from fogts.simulate_startup import DEFAULT_STARTUP_COEFFICIENTS, simulate_startup
+from tests.conftest import error_output
 
 runner = CliRunner()
 DATA = Path(__file__).resolve().parents[1] / "data"
@@ -257,7 +258,7 @@ def test_simulate_startup_bad_input(tmp_path: Path, args: list[str], message: st
     out = tmp_path / "x.csv"
     res = runner.invoke(app, ["simulate", *args, "-o", str(out)])
     assert res.exit_code == 2
-    assert message in res.stderr and res.stderr.startswith("error: ")
+    assert message in res.stderr and error_output(res.stderr).startswith("error: ")
     assert "Traceback" not in res.output + res.stderr
     assert not out.exists()
 
@@ -269,7 +270,7 @@ def test_simulate_startup_bad_input(tmp_path: Path, args: list[str], message: st
 def test_northfind_errors_name_the_option(args: list[str], message: str) -> None:
     res = runner.invoke(app, ["northfind", *args])
     assert res.exit_code == 2
-    assert res.stderr.startswith(message)
+    assert error_output(res.stderr).startswith(message)
     assert "latitude_deg" not in res.stderr and "n_trials" not in res.stderr
 
 

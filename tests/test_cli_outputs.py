@@ -1,0 +1,148 @@
+"""No output ever replaces an input (issue 13): every output option of every command is
+checked against the command's inputs before any analysis runs, through one shared check
+(:func:`fogts.paths.check_outputs`).  Each attempt exits 2 with one ``error:`` line naming
+both the output option and the input, and leaves the input byte-identical (by hash)."""
+
+from __future__ import annotations
+
+import hashlib
+import os
+from pathlib import Path
+
+import numpy as np
+import pytest
+from typer.testing import CliRunner
+
+from fogts.cli import _hoist_global_flags, app, main
+from fogts.errors import DataError
+from fogts.paths import check_outputs
+from tests.conftest import error_output
+
+runner = CliRunner()
+
+
+def _digest(path: Path) -> str:
+    return hashlib.sha256(path.read_bytes()).hexdigest()
+
+
+@pytest.fixture
+def recording(tmp_path: Path) -> Path:
+    """A small 100 Hz record with a named unit (no unit warning in these tests)."""
+    rng = np.random.default_rng(20261124)
+    t = np.arange(6000) / 100.0
+    path = tmp_path / "X.csv"
+    np.savetxt(path, np.c_[t, rng.standard_normal(t.size)], delimiter=",",
+               header="time,rate_deg_h", comments="")
+    return path
+
+
+# The six overwrite attempts measured on main before the fix (each replaced the input).
+SIX_ATTEMPTS = [
+    (["allan", "{x}", "--csv", "{x}"], "--csv"),
+    (["allan", "{x}", "--json", "{x}"], "--json"),
+    (["select", "{x}", "--json", "{x}"], "--json"),
+    (["select", "{x}", "--predict", "{x}"], "--predict"),
+    (["filter", "{x}", "-o", "{x}", "--method", "moving-average", "--window", "1"],
+     "--output"),
+    (["report", "{x}", "-o", "{x}"], "--output"),
+]
+
+
+@pytest.mark.parametrize(("args", "option"), SIX_ATTEMPTS)
+def test_output_never_replaces_the_input(recording: Path, args: list[str], option: str) -> None:
+    before = _digest(recording)
+    res = runner.invoke(app, [a.format(x=recording) for a in args])
+    assert res.exit_code == 2
+    lines = res.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith(f"error: {option} ")
+    assert "is the input FILE" in lines[0] and "never replaces an input" in lines[0]
+    assert "Traceback" not in res.output + res.stderr
+    assert _digest(recording) == before
+
+
+@pytest.mark.parametrize("alias", ["symlink", "hardlink", "dotdot"])
+def test_aliases_of_the_input_are_seen_through(recording: Path, alias: str) -> None:
+    before = _digest(recording)
+    if alias == "symlink":
+        out = recording.with_name("link.csv")
+        out.symlink_to(recording)
+    elif alias == "hardlink":
+        out = recording.with_name("hard.csv")
+        os.link(recording, out)
+    else:
+        (recording.parent / "sub").mkdir()
+        out = recording.parent / "sub" / ".." / recording.name
+    res = runner.invoke(app, ["allan", str(recording), "--csv", str(out)])
+    assert res.exit_code == 2
+    assert f"error: --csv {str(out)!r} is the input FILES {str(recording)!r}" in res.stderr
+    assert _digest(recording) == before
+
+
+def test_other_commands_protect_their_inputs(recording: Path, tmp_path: Path) -> None:
+    before = _digest(recording)
+    cases = [
+        (["info", str(recording), "--json", str(recording)], "--json"),
+        (["davar", str(recording), "--json", str(recording), "--window", "10s",
+          "--step", "5s"], "--json"),
+        (["compensate", str(recording), "--save-model", str(recording)], "--save-model"),
+        (["batch", str(recording), "-o", str(recording)], "--output"),
+    ]
+    for args, option in cases:
+        res = runner.invoke(app, args)
+        assert res.exit_code == 2, args
+        assert error_output(res.stderr).startswith(f"error: {option} "), res.stderr
+        assert "never replaces an input" in res.stderr
+    assert _digest(recording) == before
+
+
+def test_simulate_sidecar_never_replaces_its_from_json_input(tmp_path: Path) -> None:
+    out = tmp_path / "Y.csv"
+    assert runner.invoke(app, ["simulate", "-o", str(out), "--N", "0.1",
+                               "--duration", "10s"]).exit_code == 0
+    sidecar = tmp_path / "Y.csv.json"
+    before = _digest(sidecar)
+    res = runner.invoke(app, ["simulate", "-o", str(out), "--from-json", str(sidecar),
+                              "--duration", "10s"])
+    assert res.exit_code == 2
+    assert "--output's sidecar" in res.stderr and "is the input --from-json" in res.stderr
+    assert _digest(sidecar) == before
+
+
+def test_special_file_and_duplicate_outputs_are_refused(recording: Path, tmp_path: Path) -> None:
+    res = runner.invoke(app, ["info", str(recording), "--json", "/dev/null"])
+    assert res.exit_code == 2
+    assert "error: --json '/dev/null' is a character device, not a regular file" in res.stderr
+    assert "use '-' for standard output" in res.stderr
+    res = runner.invoke(app, ["allan", str(recording), "--json", str(tmp_path / "a.csv"),
+                              "--csv", str(tmp_path / "a.csv")])
+    assert res.exit_code == 2 and "name the same file" in res.stderr
+    res = runner.invoke(app, ["allan", str(recording), "--csv", str(tmp_path / "no" / "a.csv")])
+    assert res.exit_code == 2 and "does not exist; create it first" in res.stderr
+    res = runner.invoke(app, ["allan", str(recording), "--json", str(tmp_path)])
+    assert res.exit_code == 2 and "is a directory, not a regular file" in res.stderr
+
+
+def test_check_outputs_library_errors(tmp_path: Path) -> None:
+    src = tmp_path / "in.csv"
+    src.write_text("t,rate\n")
+    with pytest.raises(DataError, match=r"--csv '.*in\.csv' is the input FILE '.*in\.csv'"):
+        check_outputs({"--csv": src}, {"FILE": [src]})
+    with pytest.raises(DataError, match=r"--x '.*o\.csv' and --y '.*o\.csv' name the same"):
+        check_outputs({"--y": tmp_path / "o.csv", "--x": tmp_path / "o.csv"}, {})
+    check_outputs({"--json": "-", "--csv": None}, {"FILE": [src]})  # nothing to check
+    check_outputs({"--csv": tmp_path / "new.csv"}, {"FILE": [tmp_path / "absent.csv"]})
+
+
+def test_debug_and_version_after_the_command(recording: Path,
+                                             capsys: pytest.CaptureFixture[str]) -> None:
+    assert _hoist_global_flags(["info", "x", "--debug"]) == ["--debug", "info", "x"]
+    # the value of an option that takes one is left alone
+    assert _hoist_global_flags(["report", "x", "--title", "--debug"]) == \
+        ["report", "x", "--title", "--debug"]
+    assert _hoist_global_flags(["select", "x", "--", "--debug"]) == \
+        ["select", "x", "--", "--debug"]
+    with pytest.raises(SystemExit) as exc:
+        main(["info", str(recording), "--version"])
+    assert exc.value.code == 0 and capsys.readouterr().out.startswith("fogts ")
+    with pytest.raises(DataError, match="file not found"):  # --debug: the exception itself
+        main(["info", str(recording.with_name("absent.csv")), "--debug"])
