@@ -146,7 +146,8 @@ class GlitchReport:
     def to_frame(self) -> pd.DataFrame:
         """One row per listed event."""
         return pd.DataFrame([dataclasses.asdict(e) for e in self.events],
-                            columns=["row", "time_s", "n_samples", "value", "sigmas"])
+                            columns=["row", "time_s", "n_samples", "value", "sigmas",
+                                     "duration_s"])
 
     def summary(self, shown: int = 3) -> str:
         """``"1 glitch ... beyond 7 robust sigmas: t = 4046 s: -17 deg/s (-47 sigma, ...)"``;
