@@ -703,6 +703,8 @@ def batch_cmd(
                                workers=workers, scheduler=scheduler, resume=resume,
                                options=options, progress=on_progress)
         console.print(result.summary(), markup=False, soft_wrap=True)
+        for line in _batch_quality_lines(result.rows):
+            err_console.print(f"warning: {line}", markup=False, soft_wrap=True)
         errors = [r for r in result.rows if r["status"] == "error"]
         if errors:
             from rich.text import Text
@@ -717,6 +719,21 @@ def batch_cmd(
         err_console.print("error: interrupted; rerun with --resume to finish", markup=False)
         raise typer.Exit(ExitCode.ERROR)
     raise typer.Exit(ExitCode.NEGATIVE if errors else ExitCode.OK)
+
+
+def _batch_quality_lines(rows: Iterable[Mapping[str, Any]]) -> list[str]:
+    """One line per data-quality finding across the batch, naming the files (details in
+    each run's JSON ``info.data_quality``)."""
+    checks = (("units_source", lambda v: v == "assumed", "rate unit assumed (deg/h)"),
+              ("n_gaps", lambda v: bool(v), "gaps in the time base"),
+              ("n_glitches", lambda v: bool(v), "glitches"))
+    lines = []
+    for key, flagged, label in checks:
+        files = sorted({Path(str(r["file"])).name for r in rows if flagged(r.get(key))})
+        if files:
+            lines.append(f"{label} in {len(files)} file(s): {', '.join(files)} (see the per-run "
+                         "JSON, info.data_quality)")
+    return lines
 
 
 # ---- report -----------------------------------------------------------------------------

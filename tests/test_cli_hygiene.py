@@ -187,3 +187,13 @@ def test_datetime_index_with_dropped_samples_is_gaps_not_bursts() -> None:
     assert run.fs_hz == pytest.approx(100.0)
     assert run.sampling is not None and run.sampling.fs_source == "median step"
     assert run.sampling.n_gaps > 1000
+
+
+def test_batch_names_the_files_with_gaps(gappy_csv: Path, tmp_path: Path) -> None:
+    out = tmp_path / "summary.csv"
+    res = runner.invoke(app, ["batch", str(gappy_csv), "-o", str(out), "--no-select",
+                              "--workers", "1"])
+    assert res.exit_code == 0, res.stderr
+    assert "warning: gaps in the time base in 1 file(s): gap.csv" in res.stderr
+    row = pd.read_csv(out).iloc[0]
+    assert (row["units_source"], row["n_gaps"], row["n_glitches"]) == ("column name", 1, 0)
