@@ -142,6 +142,8 @@ def read_run(
     if nan not in NAN_POLICIES:
         raise DataError(f"nan must be one of {', '.join(NAN_POLICIES)}; got {nan!r}")
     table = _load_table(source)
+    if isinstance(source, str | os.PathLike):
+        table = dataclasses.replace(table, sidecar_unit=_sidecar_unit(Path(source)))
     options: dict[str, Any] = {"rate_column": rate_column, "time_column": time_column,
                                "temperature_column": temperature_column, "fs_hz": fs_hz,
                                "units": unit, "nan": nan}
@@ -150,7 +152,8 @@ def read_run(
     except DataError:
         if table.reparse is None:
             raise
-        return _table_to_run(table.reparse(), **options)  # raises again, naming the line
+        reparsed = dataclasses.replace(table.reparse(), sidecar_unit=table.sidecar_unit)
+        return _table_to_run(reparsed, **options)  # raises again, naming the line
 
 
 def read_json(path: str | os.PathLike[str], what: str = "JSON file") -> Any:
@@ -257,6 +260,7 @@ class _Table:
     from_index: pd.Index | None  # DatetimeIndex/TimedeltaIndex time base
     header: bool
     unit_hint: str = ""  # e.g. an .npz key such as ``gyro_deg_s``
+    sidecar_unit: str | None = None  # from a ``<file>.json`` written by fogts simulate
     # For text parsed by the fast path: re-parse line by line (for error messages that
     # name the file line).
     reparse: Callable[[], _Table] | None = None
@@ -766,10 +770,35 @@ def _unit_from_names(names: Sequence[str]) -> str | None:
     return None
 
 
-def _rate_unit(given: str | None, rate_names: Sequence[str], file_key: str) -> tuple[str, str]:
+#: Largest sidecar JSON read for its unit.
+_SIDECAR_MAX_BYTES = 1 << 20
+
+
+def _sidecar_unit(path: Path) -> str | None:
+    """The rate unit recorded in ``<path>.json`` when fogts wrote it (``fogts simulate``
+    records the unit of the file it writes there), else None.  Never raises: a sidecar
+    that is absent, large, unreadable or not fogts' own is ignored."""
+    import json
+
+    side = path.with_name(path.name + ".json")
+    try:
+        if not side.is_file() or side.stat().st_size > _SIDECAR_MAX_BYTES:
+            return None
+        doc = json.loads(side.read_text(encoding="utf-8"))
+        if not (isinstance(doc, dict) and str(doc.get("generator", "")).startswith("fogts")):
+            return None
+        return parse_rate_unit(str(doc["units"]))
+    except (OSError, ValueError, KeyError, DataError):
+        return None
+
+
+def _rate_unit(given: str | None, rate_names: Sequence[str], file_key: str,
+               sidecar: str | None = None) -> tuple[str, str]:
     """The rate unit and where it came from (see :attr:`fogts.run.Run.units_source`)."""
     if given is not None:
         return given, "given"
+    if sidecar is not None:
+        return sidecar, "file metadata"
     from_columns = _unit_from_names(rate_names)
     if from_columns is not None:
         return from_columns, "column name"
@@ -817,7 +846,7 @@ def _table_to_run(table: _Table, *, rate_column: str | Sequence[str] | None,
             raise DataError(f"rate column {name!r} is constant (every value is {col[0]:g}); a "
                             "gyro record must vary: check the column or the logger")
     rate = rate_cols[0] if len(rate_cols) == 1 else np.column_stack(rate_cols)
-    unit, unit_source = _rate_unit(units, roles.rate, table.unit_hint)
+    unit, unit_source = _rate_unit(units, roles.rate, table.unit_hint, table.sidecar_unit)
     return Run(
         rate=np.ascontiguousarray(rate, dtype=np.float64),
         time=time,

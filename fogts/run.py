@@ -141,8 +141,9 @@ class Run:
     units_source : str
         Where ``units`` came from: ``"given"`` (the ``units`` argument, CLI ``--units``),
         ``"column name"`` (a hint such as ``gyro_x_deg_s``), ``"file key"`` (an .npz key
-        such as ``gyro_deg_s``) or ``"assumed"`` (nothing said: deg/h by convention; every
-        command then warns).
+        such as ``gyro_deg_s``), ``"file metadata"`` (the ``units`` of a ``<file>.json``
+        sidecar written by ``fogts simulate``) or ``"assumed"`` (nothing said: deg/h by
+        convention; every command then warns).
     missing : MissingReport or None
         Empty/NaN/inf cells dropped or interpolated on reading (None: there were none).
     """

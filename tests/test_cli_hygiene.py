@@ -197,3 +197,16 @@ def test_batch_names_the_files_with_gaps(gappy_csv: Path, tmp_path: Path) -> Non
     assert "warning: gaps in the time base in 1 file(s): gap.csv" in res.stderr
     row = pd.read_csv(out).iloc[0]
     assert (row["units_source"], row["n_gaps"], row["n_glitches"]) == ("column name", 1, 0)
+
+
+def test_units_from_a_fogts_sidecar(tmp_path: Path) -> None:
+    src = tmp_path / "sim.csv"
+    res = runner.invoke(app, ["simulate", "-o", str(src), "--N", "0.01", "--duration", "60s",
+                              "--units", "deg/s", "--seed", "3"])
+    assert res.exit_code == 0
+    run = read_run(src)
+    assert (run.units, run.units_source) == ("deg/s", "file metadata")
+    # a JSON beside the file that fogts did not write is not trusted
+    (tmp_path / "sim.csv.json").write_text('{"generator": "other", "units": "rad/s"}')
+    assert read_run(src).units_source == "assumed"
+    assert read_run(src, units="rad/s").units_source == "given"
