@@ -515,7 +515,8 @@ def _allan_file(file: Path, rate_column: str | None, time_column: str | None,
         if model is not None:
             plausibility = _plausibility(model, run.units)
             block["plausibility"] = plausibility.to_dict()
-            if plausibility.verdict == "implausible":
+            if plausibility.verdict == "implausible" or (run.units_assumed
+                                                          and plausibility.ambiguous):
                 err_console.print(f"warning: {Path(run.source).name}: {res.axis}: "
                                   f"{plausibility.message}", markup=False, soft_wrap=True)
         analysis.lines.append(lines)

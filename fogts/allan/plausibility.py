@@ -1,208 +1,644 @@
-"""Are the fitted N and B those of a real gyro?  A guard against a wrong rate unit.
+"""Are the fitted N and B those of a real gyro?  A check of the rate unit.
 
-fogts assumes deg/h when a recording names no unit.  Read in the wrong unit, every
-coefficient is off by the unit ratio (57.3 between deg/s and rad/s, 3600 between deg/h and
-deg/s, 206265 between deg/h and rad/s), and the numbers stop looking like any gyro: an
-XSens MEMS recorded in rad/s and read as deg/h gives N = 1.1e-5 deg/sqrt(h), below the
-best strategic-grade gyro.  :func:`check_plausibility` compares N (angle random walk) and
-B (bias instability) with the span of real gyros and, when they fall outside it, says
-which input unit would put them inside.
+A recording whose column names carry no unit is read as deg/h (``Run.units_source ==
+"assumed"``).  If it was really in rad/s, every Allan deviation, and so every IEEE-952
+coefficient, comes out 206 265 times too small; in deg/s, 3600 times.  The noise fit cannot
+notice: the curve has the same shape in every unit.  What can notice is a comparison with
+the range real gyros span.  :func:`check_plausibility` places the angle random walk N
+(deg/sqrt(h)) and the bias instability B (deg/h), as :mod:`fogts.allan.noise` reports them
+(IEEE Std 952-1997 Annex C; DESIGN.md "Definitions"), in a table of gyro grades, and when
+they fit none it says which other rate unit of :data:`fogts.units.RATE_UNITS` would make
+them fit.  A change of rate unit multiplies N and B by the same factor (the ratio of the
+units' deg/h factors, :func:`fogts.units.to_deg_per_hour_factor`), so the pair moves along
+the diagonal of the (log N, log B) plane.
 
-The grades (:data:`GRADES`, N in deg/sqrt(h), B in deg/h) are the usual ranges, widened
-by about a factor of two at each end:
+Gyro grades
+-----------
+N in deg/sqrt(h), B in deg/h (Allan-variance bias instability, the flicker floor / 0.664).
+Each range is the span of the published figures quoted beside it, widened by a factor of
+about 2 to 5 on each side, because datasheet figures are specification limits (a unit is often
+better than its limit) and in-run B from an Allan curve is usually below a datasheet's
+turn-on or repeatability bias.  A pair (N, B) is plausible if one grade holds both.
 
-* strategic and navigation-grade RLG/FOG: e.g. Honeywell GG1320AN (ARW 0.0035 deg/sqrt(h),
-  bias stability 0.0035 deg/h), HG9900 (0.002 deg/sqrt(h), 0.003 deg/h); strategic iFOGs
-  reach ARW ~1e-4 deg/sqrt(h) (Lefevre, *The Fiber-Optic Gyroscope*, 2nd ed., 2014);
-* tactical FOG/RLG: KVH DSP-1750 (0.012 deg/sqrt(h), 0.05 deg/h), Northrop Grumman
-  LN-200 (0.07 deg/sqrt(h), 1 deg/h), Honeywell HG1700 (0.125-0.3 deg/sqrt(h), 1 deg/h);
-* industrial MEMS: ADIS16495 (0.09 deg/sqrt(h), 0.8 deg/h), Sensonor STIM300
-  (0.15 deg/sqrt(h), 0.5 deg/h), ADIS16405 (2 deg/sqrt(h), 25 deg/h);
-* consumer MEMS: InvenSense MPU-6050 (0.005 deg/s/sqrt(Hz) = 0.3 deg/sqrt(h)), Bosch
-  BMI055 (0.014 deg/s/sqrt(Hz) = 0.84 deg/sqrt(h)), bias instability up to ~1000 deg/h.
+=============  ======================  ===============  ==============  ==========================
+grade          technology              N (deg/sqrt(h))  B (deg/h)       anchors
+=============  ======================  ===============  ==============  ==========================
+strategic      FOG, RLG (marine,       3e-5 .. 1e-3     1e-4 .. 3e-3    best instruments reach
+               submarine, space)                                        N, B of order 1e-4 (order
+                                                                        of magnitude only: few
+                                                                        datasheets are public) [2]_;
+                                                                        "inertial grade" N < 1e-3,
+                                                                        B < 0.01 [1]_
+navigation     RLG, FOG (1 nmi/h       3e-4 .. 1e-2     1e-3 .. 5e-2    Honeywell HG9900: N <= 0.002,
+               aircraft/marine INS)                                     B <= 0.003; GG1320AN:
+                                                                        N <= 0.0035, B <= 0.0035
+                                                                        [3]_; aviation-grade bias
+                                                                        ~0.001..0.01 [6]_
+tactical       FOG, RLG, high-end      1e-3 .. 0.5      3e-3 .. 30      KVH/Emcore DSP-1750:
+               MEMS                                                     N <= 0.012, B <= 0.1 [5]_;
+                                                                        Honeywell HG1700: N 0.125..
+                                                                        0.3, B 1..10 [3]_; tactical
+                                                                        grade N 0.05..0.5, B 0.1..10
+                                                                        [1]_ [2]_
+industrial     industrial/automotive   0.05 .. 10       0.5 .. 100      ADIS16488: N 0.26, B 5.1;
+               MEMS                                                     ADIS16448: 0.66, 14.5;
+                                                                        ADIS16405: 2.0, 25 (0.007
+                                                                        deg/s); ADXRS150/300 rate
+                                                                        noise 0.05/0.1 deg/s/
+                                                                        sqrt(Hz), N 3/6 [4]_
+consumer       consumer MEMS           0.07 .. 6        3 .. 1000       MPU-6050 0.005, BMI160 0.007,
+                                                                        L3G4200D 0.03 deg/s/sqrt(Hz):
+                                                                        N 0.3, 0.4, 1.8 (N = 60 x
+                                                                        noise density) [4]_; "rate
+                                                                        grade" N > 0.5, B 10..1000
+                                                                        [1]_ [2]_
+=============  ======================  ===============  ==============  ==========================
 
-The grade table follows Groves, *Principles of GNSS, Inertial, and Multisensor
-Integrated Navigation Systems*, 2nd ed. (2013), sec. 4.4, and Passaro et al. (2017),
-"Gyroscope technology and applications: a review in the industrial perspective",
-Sensors 17(10), 2284, Table 1; the device figures are from the manufacturers' datasheets.
-The envelope is deliberately wide: a real recording can be noisier than its datasheet
-(vibration, quantisation), so only values far outside any gyro are called implausible.
+The envelope, the union of the grades, is N in [3e-5, 10] deg/sqrt(h) and B in [1e-4, 1e3]
+deg/h.  Its lower end lies a factor of about 3 below the best strategic-grade FOG and RLG
+(~1e-4 in both); its upper end is a factor of ~1.5 to 3 above the noisiest rate gyros we
+know datasheets of (ADXRS300, 0.1 deg/s/sqrt(Hz), N = 6) and the top of the "rate grade"
+bias range (1000 deg/h).  Out of scope, and so reported as implausible: electrostatically
+suspended gyros (not rate sensors), metre-scale ring lasers for geodesy, atom-interferometer
+gyros.
+
+Checked against the curves in ``../shared/data/allan_curves`` (N = adev(1 s)/60 and
+B = min adev/0.664, in deg/h; ``tests/test_allan_plausibility.py``): ADIS16405 (deg/s)
+N 2.3..2.6, B 28..46; NavChip (rad/s) 0.22..0.25, 17..18; KVH 1750 FOG (deg/s) 0.003, 0.06..
+0.08; LN-200 FOG (rad/s) 0.038..0.041, 0.015..0.062; iMAR FOG (rad/s) 0.09..0.12, 0.08..
+0.18; six MEMS from imu_utils (deg/h) 0.22..0.62, 6.3..26.  All are plausible.  (SMAC does
+not document its units; they are inferred from the datasheets, as in the noise-fit tests.
+The KVH curve would be plausible in rad/s too: N 0.17, B 3.3..4.5.)
+
+Limits of the check
+    The grades overlap along the diagonal, so a factor of 57 (rad/s vs deg/s) or of 3600
+    (deg/s vs deg/h) often moves a pair from one grade to another rather than out of the
+    envelope.  An industrial MEMS gyro in deg/s read as deg/h (ADIS16405: N 6.4e-4,
+    B 9e-3) looks like a navigation-grade FOG or RLG; the check cannot tell the two apart
+    from N and B.  The report lists such other plausible units (``also_plausible_units``,
+    ``ambiguous``) so that a caller which knows the unit was only assumed can say so.  A
+    rad/s recording read as deg/h (factor 206 265), the common mistake, is caught for every
+    gyro with N below 6 deg/sqrt(h): its N lands below the envelope.
+
+References
+----------
+.. [1] N. Yazdi, F. Ayazi and K. Najafi, "Micromachined inertial sensors", Proc. IEEE
+   86(8):1640-1659, 1998, Table I (rate, tactical and inertial grade).
+.. [2] V. M. N. Passaro, A. Cuccovillo, L. Vaiani, M. De Carlo and C. E. Campanella,
+   "Gyroscope technology and applications: a review in the industrial perspective",
+   Sensors 17(10):2284, 2017 (grade classification and technology survey).
+.. [3] Honeywell Aerospace datasheets: HG9900 and HG1700 IMUs, GG1320AN digital laser gyro.
+.. [4] Analog Devices datasheets: ADIS16405, ADIS16448, ADIS16488 IMUs; ADXRS150, ADXRS300
+   gyros.  InvenSense MPU-6050, Bosch BMI160 and STMicroelectronics L3G4200D datasheets
+   (rate noise density).
+.. [5] KVH (now Emcore) DSP-1750 fiber optic gyro datasheet (ARW <= 0.012 deg/sqrt(h),
+   i.e. 0.7 deg/h/sqrt(Hz); bias instability <= 0.1 deg/h, typ. 0.05 deg/h).
+.. [6] P. D. Groves, *Principles of GNSS, Inertial, and Multisensor Integrated Navigation
+   Systems*, 2nd ed., Artech House, 2013, ch. 4 (grades of IMU, gyro biases and noise).
+.. [7] IEEE Std 952-1997, Annex C (definitions of N and B; see DESIGN.md).
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Literal
 
+import numpy as np
 import pandas as pd
 
 from fogts.errors import DataError
 from fogts.units import RATE_UNITS, parse_rate_unit, to_deg_per_hour_factor
 
-__all__ = ["GRADES", "Grade", "PlausibilityReport", "check_plausibility"]
+__all__ = [
+    "B_ENVELOPE",
+    "GYRO_GRADES",
+    "N_ENVELOPE",
+    "GyroGrade",
+    "PlausibilityReport",
+    "UnitAlternative",
+    "check_plausibility",
+    "grade_table",
+]
+
+Verdict = Literal["plausible", "implausible", "not checked"]
+#: A coefficient as callers hold it (None: the term was not fitted).
+Coefficient = float | int | np.floating[Any] | np.integer[Any] | None
+
+N_UNIT = "deg/sqrt(h)"
+B_UNIT = "deg/h"
 
 
 @dataclass(frozen=True)
-class Grade:
-    """A class of gyros and the ranges of N (deg/sqrt(h)) and B (deg/h) it spans."""
+class GyroGrade:
+    """One grade of gyro: the N and B ranges its instruments span.
 
-    name: str
+    Attributes
+    ----------
+    key : str
+        Short name (``"strategic"``, ``"navigation"``, ``"tactical"``, ``"industrial"``,
+        ``"consumer"``).
+    label : str
+        Noun phrase for messages ("tactical-grade gyro").
+    technology : str
+    n_range : tuple of float
+        Angle random walk N, deg/sqrt(h), inclusive.
+    b_range : tuple of float
+        Bias instability B, deg/h, inclusive.
+    anchors : str
+        The published figures the ranges were widened from (see the module docstring).
+    """
+
+    key: str
+    label: str
+    technology: str
     n_range: tuple[float, float]
     b_range: tuple[float, float]
+    anchors: str
 
-    def holds(self, n: float | None, b: float | None) -> bool:
-        return (n is None or self.n_range[0] <= n <= self.n_range[1]) and \
-            (b is None or self.b_range[0] <= b <= self.b_range[1])
+    def contains(self, N: float | None, B: float | None) -> bool:
+        """True if every available value lies in this grade's range."""
+        return ((N is None or self.n_range[0] <= N <= self.n_range[1])
+                and (B is None or self.b_range[0] <= B <= self.b_range[1]))
 
-    def distance(self, n: float | None, b: float | None) -> float:
-        """Log10 distance of (N, B) from the middle of the grade (for ranking units)."""
-        total = 0.0
-        for value, (lo, hi) in ((n, self.n_range), (b, self.b_range)):
-            if value is not None:
-                total += abs(math.log10(value) - 0.5 * (math.log10(lo) + math.log10(hi)))
-        return total
+    def distance(self, N: float | None, B: float | None) -> float:
+        """RMS over the available values of the log-distance to the middle of the range,
+        in units of the half-width (0 at the middle, 1 on the edge)."""
+        offsets = [_offset(v, r) for v, r in ((N, self.n_range), (B, self.b_range))
+                   if v is not None]
+        if not offsets:
+            return math.nan
+        return math.sqrt(sum(u * u for u in offsets) / len(offsets))
 
 
-#: Gyro grades, strategic FOG to consumer MEMS (sources in the module docstring).
-GRADES: tuple[Grade, ...] = (
-    Grade("strategic/navigation-grade FOG or RLG", (5e-5, 0.01), (5e-5, 0.02)),
-    Grade("tactical-grade FOG or RLG", (0.005, 0.6), (0.01, 10.0)),
-    Grade("industrial MEMS", (0.05, 4.0), (0.2, 100.0)),
-    Grade("consumer MEMS", (0.1, 20.0), (1.0, 2000.0)),
+def _offset(value: float, bounds: tuple[float, float]) -> float:
+    lo, hi = math.log10(bounds[0]), math.log10(bounds[1])
+    return (math.log10(value) - (lo + hi) / 2) / ((hi - lo) / 2)
+
+
+#: The table of gyro grades (module docstring), best first.
+GYRO_GRADES: tuple[GyroGrade, ...] = (
+    GyroGrade("strategic", "strategic-grade FOG or RLG",
+              "FOG, RLG (marine, submarine, space)", (3e-5, 1e-3), (1e-4, 3e-3),
+              "best instruments reach N, B of order 1e-4; inertial grade N < 0.001, "
+              "B < 0.01 (Yazdi 1998; Passaro 2017; Groves 2013 ch. 4)"),
+    GyroGrade("navigation", "navigation-grade FOG or RLG",
+              "RLG, FOG (1 nmi/h aircraft and marine INS)", (3e-4, 1e-2), (1e-3, 5e-2),
+              "Honeywell HG9900 N <= 0.002, B <= 0.003; GG1320AN N, B <= 0.0035; aviation-"
+              "grade bias ~0.001..0.01 (Groves 2013 ch. 4)"),
+    GyroGrade("tactical", "tactical-grade gyro", "FOG, RLG, high-end MEMS",
+              (1e-3, 0.5), (3e-3, 30.0),
+              "KVH/Emcore DSP-1750 N <= 0.012, B <= 0.1; Honeywell HG1700 N 0.125..0.3, "
+              "B 1..10; tactical grade N 0.05..0.5, B 0.1..10 (Yazdi 1998; Passaro 2017)"),
+    GyroGrade("industrial", "industrial/automotive MEMS gyro",
+              "industrial and automotive MEMS", (0.05, 10.0), (0.5, 100.0),
+              "ADIS16488 N 0.26, B 5.1; ADIS16448 N 0.66, B 14.5; ADIS16405 N 2.0, B 25; "
+              "ADXRS150/300 N 3/6 (Analog Devices datasheets)"),
+    GyroGrade("consumer", "consumer MEMS gyro", "consumer MEMS", (0.07, 6.0), (3.0, 1000.0),
+              "MPU-6050, BMI160, L3G4200D N 0.3, 0.4, 1.8 (60 x noise density); rate grade "
+              "N > 0.5, B 10..1000 (Yazdi 1998)"),
 )
+
+#: Envelope of N (deg/sqrt(h)) over every grade.
+N_ENVELOPE: tuple[float, float] = (min(g.n_range[0] for g in GYRO_GRADES),
+                                   max(g.n_range[1] for g in GYRO_GRADES))
+#: Envelope of B (deg/h) over every grade.
+B_ENVELOPE: tuple[float, float] = (min(g.b_range[0] for g in GYRO_GRADES),
+                                   max(g.b_range[1] for g in GYRO_GRADES))
+
+_GRADE = {g.key: g for g in GYRO_GRADES}
+
+
+def grade_table() -> pd.DataFrame:
+    """The grade table as a frame (one row per grade).
+
+    Examples
+    --------
+    >>> grade_table().loc["tactical", ["N_low", "N_high", "B_low", "B_high"]].tolist()
+    [0.001, 0.5, 0.003, 30.0]
+    """
+    rows = [{"grade": g.key, "label": g.label, "technology": g.technology,
+             "N_low": g.n_range[0], "N_high": g.n_range[1], "B_low": g.b_range[0],
+             "B_high": g.b_range[1], "anchors": g.anchors} for g in GYRO_GRADES]
+    return pd.DataFrame(rows).set_index("grade")
+
+
+def _grades_of(N: float | None, B: float | None) -> tuple[tuple[str, ...], float]:
+    """Grades holding (N, B), closest to a grade's middle first, and that distance."""
+    hits = sorted((g.distance(N, B), i, g.key) for i, g in enumerate(GYRO_GRADES)
+                  if g.contains(N, B))
+    if not hits:
+        return (), math.nan
+    return tuple(k for _, _, k in hits), hits[0][0]
+
+
+@dataclass(frozen=True)
+class UnitAlternative:
+    """N and B as they would be if the input had been in another rate unit.
+
+    Attributes
+    ----------
+    units : str
+        The other rate unit.
+    factor : float
+        N and B are multiplied by this (deg/h factor of ``units`` over that of the unit the
+        values were read in).
+    N, B : float or None
+        Rescaled values (None where the term was not fitted).
+    plausible : bool
+        Whether the rescaled pair lies in a grade.
+    grades : tuple of str
+        The grades holding it, closest to a grade's middle first.
+    distance : float
+        Distance to the middle of the first of ``grades`` (0 middle, 1 edge; NaN if none).
+    """
+
+    units: str
+    factor: float
+    N: float | None
+    B: float | None
+    plausible: bool
+    grades: tuple[str, ...]
+    distance: float
+
+    @property
+    def same_scale(self) -> bool:
+        """True when this unit gives the same numbers (deg/h and arcsec/s)."""
+        return math.isclose(self.factor, 1.0, rel_tol=1e-12)
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"units": self.units, "factor": self.factor, "N": self.N, "B": self.B,
+                "plausible": self.plausible, "grades": list(self.grades),
+                "distance": _json_float(self.distance)}
 
 
 @dataclass(frozen=True)
 class PlausibilityReport:
-    """The verdict on (N, B) and, when implausible, the units that would fix it.
+    """Whether a fitted N and B fit a real gyro, and which rate unit would make them fit.
 
     Attributes
     ----------
-    verdict : str
-        ``"plausible"``, ``"implausible"`` or ``"not checked"`` (neither N nor B fitted).
-    n, b : float or None
-        N in deg/sqrt(h) and B in deg/h as fitted (None: not fitted or fitted to zero).
+    verdict : {"plausible", "implausible", "not checked"}
+        ``"not checked"`` when neither N nor B is available (not fitted or zero).
+    N, B : float or None
+        The values judged, deg/sqrt(h) and deg/h as read in ``units``; None when not
+        available (``N_status``/``B_status`` say why).
+    N_status, B_status : str
+        ``"used"``, ``"not fitted"`` (None given) or ``"zero"`` (fitted to zero).
     units : str
-        The rate unit the data were read in.
+        The rate unit the recording was read in (canonical spelling).
     grades : tuple of str
-        Grades (:data:`GRADES`) that hold the values.
-    alternatives : tuple of dict
-        For an implausible result: each other unit whose rescaled N and B land inside a
-        grade, best first, as ``{"units", "N", "B", "grade"}``.
+        Keys of :data:`GYRO_GRADES` holding the values, closest to a grade's middle first.
+    distance : float
+        Distance of the values to the middle of the first grade (NaN if none).
+    reason : str
+        Why the verdict (which value lies outside which bound).
+    alternatives : tuple of UnitAlternative
+        The values rescaled to every other unit of :data:`fogts.units.RATE_UNITS`, in that
+        order (empty when not checked).
+    notes : tuple of str
+        What the check was based on (a value missing or zero).
     """
 
-    verdict: str
-    n: float | None
-    b: float | None
+    verdict: Verdict
+    N: float | None
+    B: float | None
+    N_status: str
+    B_status: str
     units: str
     grades: tuple[str, ...]
-    alternatives: tuple[dict[str, Any], ...]
+    distance: float
+    reason: str
+    alternatives: tuple[UnitAlternative, ...]
+    notes: tuple[str, ...] = ()
+
+    # ------------------------------------------------------------------ derived
+    @property
+    def judged_on(self) -> tuple[str, ...]:
+        """The values the verdict rests on: ``("N", "B")``, ``("N",)``, ``("B",)`` or ()."""
+        return tuple(n for n, v in (("N", self.N), ("B", self.B)) if v is not None)
+
+    def _plausible_others(self) -> tuple[str, ...]:
+        alts = sorted((a.distance, i, a.units) for i, a in enumerate(self.alternatives)
+                      if a.plausible and not a.same_scale)
+        return tuple(u for _, _, u in alts)
+
+    @property
+    def suggested_units(self) -> tuple[str, ...]:
+        """When implausible: the units that would make the values plausible, best first
+        (closest to the middle of a grade); else ()."""
+        return self._plausible_others() if self.verdict == "implausible" else ()
+
+    @property
+    def also_plausible_units(self) -> tuple[str, ...]:
+        """When plausible: other units (with other numbers) that would be plausible too,
+        best first; else ()."""
+        return self._plausible_others() if self.verdict == "plausible" else ()
+
+    @property
+    def ambiguous(self) -> bool:
+        """Plausible, but plausible in another rate unit too: N and B cannot confirm the
+        unit (worth saying when the unit was assumed rather than read from the file)."""
+        return bool(self.also_plausible_units)
+
+    def alternative(self, units: str) -> UnitAlternative:
+        """The values rescaled to ``units`` (any spelling :func:`parse_rate_unit` accepts)."""
+        key = parse_rate_unit(units, "units")
+        for alt in self.alternatives:
+            if alt.units == key:
+                return alt
+        others = ", ".join(a.units for a in self.alternatives) or "none (not checked)"
+        raise DataError(f"units must be a unit other than the one the values were read in "
+                        f"({self.units}); alternatives are: {others}; got {units!r}")
 
     @property
     def message(self) -> str:
-        """One line for a ``warning:``."""
-        if self.verdict != "implausible":
-            return f"N and B are {self.verdict}" + (f" ({self.grades[0]})" if self.grades
-                                                   else "")
-        shown = " and ".join(v for v in (_fmt("N", self.n, "deg/sqrt(h)"),
-                                         _fmt("B", self.b, "deg/h")) if v)
-        text = (f"{shown} lie outside every real gyro (strategic FOG to consumer MEMS) for a "
-                f"rate in {self.units}")
-        if not self.alternatives:
-            return text + "; check the input unit and the data"
-        fixes = []
-        for alt in self.alternatives:
-            values = " and ".join(v for v in (_fmt("N", alt["N"], "deg/sqrt(h)"),
-                                              _fmt("B", alt["B"], "deg/h")) if v)
-            fixes.append(f"if the input was {alt['units']}, {values}, typical of a "
-                         f"{alt['grade']}")
-        return f"{text}; {'; '.join(fixes)} (pass --units)"
+        """One line for a CLI to print after ``"warning: "`` (meant for the implausible
+        and ambiguous cases, but defined for every verdict)."""
+        read = f"(input read as {self.units}{_judged_note(self)})"
+        they, them = ("it", "it") if len(self.judged_on) == 1 else ("they", "them")
+        if self.verdict == "not checked":
+            return f"the unit plausibility was not checked: {self.reason} {read}"
+        if self.verdict == "plausible":
+            verb = "is" if len(self.judged_on) == 1 else "are"
+            text = (f"{_values_text(self.N, self.B)} {read} {verb} typical of "
+                    f"{_grades_phrase(self.grades)}")
+            if self.ambiguous:
+                text += f"; {they} would also be plausible if the input was " + "; or ".join(
+                    _alt_text(group) for group in self._groups(self.also_plausible_units))
+            return text
+        text = f"{self.reason} {read}"
+        if self.suggested_units:
+            text += "; if the input was " + "; if ".join(
+                _alt_text(group) for group in self._groups(self.suggested_units))
+        else:
+            text += ("; no other rate unit (" + ", ".join(a.units for a in self.alternatives)
+                     + f") makes {them} plausible: check the recording's scale factor")
+        return text + "; set the rate unit explicitly (--units)"
 
+    def _groups(self, units: tuple[str, ...]) -> list[list[UnitAlternative]]:
+        """``units`` grouped by scale factor (deg/h and arcsec/s give the same numbers)."""
+        groups: list[list[UnitAlternative]] = []
+        for alt in (self.alternative(u) for u in units):
+            for group in groups:
+                if math.isclose(group[0].factor, alt.factor, rel_tol=1e-12):
+                    group.append(alt)
+                    break
+            else:
+                groups.append([alt])
+        return groups
+
+    # ------------------------------------------------------------------ exports
     def to_dict(self) -> dict[str, Any]:
-        return {"verdict": self.verdict, "N": self.n, "B": self.b, "units": self.units,
-                "grades": list(self.grades), "alternatives": [dict(a) for a in self.alternatives],
-                "message": self.message}
+        """JSON-safe dict with stable keys (NaN becomes None)."""
+        return {
+            "verdict": self.verdict,
+            "units": self.units,
+            "N": {"value": self.N, "unit": N_UNIT, "status": self.N_status},
+            "B": {"value": self.B, "unit": B_UNIT, "status": self.B_status},
+            "judged_on": list(self.judged_on),
+            "grades": list(self.grades),
+            "distance": _json_float(self.distance),
+            "reason": self.reason,
+            "message": self.message,
+            "suggested_units": list(self.suggested_units),
+            "also_plausible_units": list(self.also_plausible_units),
+            "alternatives": [a.to_dict() for a in self.alternatives],
+            "envelope": {"N": list(N_ENVELOPE), "B": list(B_ENVELOPE)},
+            "notes": list(self.notes),
+        }
 
     def to_frame(self) -> pd.DataFrame:
-        """One row per alternative unit (empty when plausible)."""
-        return pd.DataFrame(list(self.alternatives), columns=["units", "N", "B", "grade"])
+        """One row per rate unit: the unit read first, then the alternatives."""
+        rows = [{"units": self.units, "role": "as read", "factor": 1.0, "N": self.N,
+                 "B": self.B, "plausible": self.verdict == "plausible",
+                 "grades": ", ".join(self.grades), "distance": self.distance}]
+        for a in self.alternatives:
+            role = ("suggested" if a.units in self.suggested_units else
+                    "also plausible" if a.units in self.also_plausible_units else
+                    "same numbers" if a.same_scale else "alternative")
+            rows.append({"units": a.units, "role": role, "factor": a.factor, "N": a.N,
+                         "B": a.B, "plausible": a.plausible, "grades": ", ".join(a.grades),
+                         "distance": a.distance})
+        frame = pd.DataFrame(rows).set_index("units")
+        return frame.astype({"N": np.float64, "B": np.float64})
 
     def summary(self) -> str:
-        return self.message
+        lines = [f"unit plausibility: {self.verdict} (N, B read as {self.units}; "
+                 f"envelope N {N_ENVELOPE[0]:g}..{N_ENVELOPE[1]:g} {N_UNIT}, "
+                 f"B {B_ENVELOPE[0]:g}..{B_ENVELOPE[1]:g} {B_UNIT})",
+                 f"  {self.reason}"]
+        if self.verdict == "not checked":
+            return "\n".join(lines)
+        lines.append(f"  {'units':<9}{'N':>11}  {'B':>11}  verdict")
+        rows = [(self.units, self.N, self.B, self.verdict == "plausible", self.grades, "")]
+        rows += [(a.units, a.N, a.B, a.plausible, a.grades,
+                  " (same numbers)" if a.same_scale else "") for a in self.alternatives]
+        for units, n, b, ok, grades, extra in rows:
+            verdict = ("plausible: " + ", ".join(grades)) if ok else "implausible"
+            lines.append(f"  {units:<9}{_fmt_opt(n):>11}  {_fmt_opt(b):>11}  {verdict}{extra}")
+        if self.suggested_units:
+            lines.append("  suggested units, best first: " + ", ".join(self.suggested_units))
+        if self.also_plausible_units:
+            lines.append("  also plausible in: " + ", ".join(self.also_plausible_units)
+                         + " (N and B cannot confirm the unit)")
+        lines += [f"  note: {n}" for n in self.notes]
+        return "\n".join(lines)
 
 
-def _fmt(name: str, value: float | None, unit: str) -> str:
-    return "" if value is None else f"{name} = {value:.3g} {unit}"
+# --------------------------------------------------------------------------- helpers
 
 
-def _usable(name: str, value: float | None) -> float | None:
+def _json_float(x: float) -> float | None:
+    return x if math.isfinite(x) else None
+
+
+def _fmt(x: float) -> str:
+    return f"{x:.3g}"
+
+
+def _fmt_opt(x: float | None) -> str:
+    return "-" if x is None else f"{x:.4g}"
+
+
+def _a(label: str) -> str:
+    return ("an " if label[0].lower() in "aeiou" else "a ") + label
+
+
+def _values_text(N: float | None, B: float | None) -> str:
+    parts = []
+    if N is not None:
+        parts.append(f"N = {_fmt(N)} {N_UNIT}")
+    if B is not None:
+        parts.append(f"B = {_fmt(B)} {B_UNIT}")
+    return " and ".join(parts)
+
+
+def _grades_phrase(keys: tuple[str, ...]) -> str:
+    return " or ".join(_a(_GRADE[k].label) for k in keys)
+
+
+def _alt_text(group: list[UnitAlternative]) -> str:
+    alt = group[0]
+    values = ", ".join(f"{n} = {_fmt(v)} {u}" for n, v, u in
+                       (("N", alt.N, N_UNIT), ("B", alt.B, B_UNIT)) if v is not None)
+    names = " or ".join(a.units for a in group)
+    return f"{names}: {values}, typical of {_grades_phrase(alt.grades)}"
+
+
+def _judged_note(report: PlausibilityReport) -> str:
+    missing = [(n, s) for n, s in (("N", report.N_status), ("B", report.B_status))
+               if s != "used"]
+    if not missing or not report.judged_on:
+        return ""
+    name, status = missing[0]
+    why = "not fitted" if status == "not fitted" else "fitted to zero"
+    return f"; {name} {why}, judged on {report.judged_on[0]} alone"
+
+
+def _check_value(name: str, value: Any) -> tuple[float | None, str]:
+    """(value or None, status) for one coefficient; None and 0 mean 'not available'."""
     if value is None:
-        return None
+        return None, "not fitted"
+    if isinstance(value, bool) or not isinstance(value, int | float | np.integer | np.floating):
+        raise DataError(f"{name} must be a number >= 0 or None, got {value!r}")
     v = float(value)
-    if math.isnan(v) or v < 0:
-        raise DataError(f"{name} must be a non-negative number or None, got {value!r}")
-    return v if v > 0 else None
+    if not math.isfinite(v) or v < 0:
+        unit = N_UNIT if name == "N" else B_UNIT
+        raise DataError(f"{name} must be a finite number >= 0 ({unit}) or None, got {value!r}; "
+                        "pass None for a term that was not fitted, 0 for one fitted to zero")
+    if v == 0.0:
+        return None, "zero"
+    return v, "used"
 
 
-def _grades_of(n: float | None, b: float | None) -> tuple[Grade, ...]:
-    return tuple(g for g in GRADES if g.holds(n, b))
+def _side(value: float, bounds: tuple[float, float]) -> int:
+    return -1 if value < bounds[0] else 1 if value > bounds[1] else 0
 
 
-def check_plausibility(n: float | None, b: float | None, *, units: str) -> PlausibilityReport:
-    """Compare N (deg/sqrt(h)) and B (deg/h) with the span of real gyros.
+def _reason(N: float | None, B: float | None) -> str:
+    """Why (N, B) is in no grade."""
+    below = [(n, v, b) for n, v, b in (("N", N, N_ENVELOPE), ("B", B, B_ENVELOPE))
+             if v is not None and _side(v, b) < 0]
+    above = [(n, v, b) for n, v, b in (("N", N, N_ENVELOPE), ("B", B, B_ENVELOPE))
+             if v is not None and _side(v, b) > 0]
+    units = {"N": N_UNIT, "B": B_UNIT}
+    parts = []
+    if below:
+        values = " and ".join(f"{n} = {_fmt(v)} {units[n]}" for n, v, _ in below)
+        limits = ", ".join(f"{n} >= {b[0]:g} {units[n]}" for n, _, b in below)
+        verb = "is" if len(below) == 1 else "are"
+        parts.append(f"{values} {verb} below any real gyro (even strategic-grade FOG and RLG "
+                     f"stay at {limits})")
+    if above:
+        values = " and ".join(f"{n} = {_fmt(v)} {units[n]}" for n, v, _ in above)
+        limits = ", ".join(f"{n} <= {b[1]:g} {units[n]}" for n, _, b in above)
+        verb = "is" if len(above) == 1 else "are"
+        parts.append(f"{values} {verb} above any real gyro (even consumer MEMS stay at "
+                     f"{limits})")
+    if parts:
+        return "; ".join(parts)
+    # both inside the envelope, but no grade holds both
+    assert N is not None and B is not None
+    n_grades = [g.key for g in GYRO_GRADES if g.contains(N, None)]
+    b_grades = [g.key for g in GYRO_GRADES if g.contains(None, B)]
+    return (f"N = {_fmt(N)} {N_UNIT} (a {'/'.join(n_grades)}-grade value) and "
+            f"B = {_fmt(B)} {B_UNIT} (a {'/'.join(b_grades)}-grade value) fit no single "
+            "gyro grade")
+
+
+# --------------------------------------------------------------------------- entry point
+
+
+def check_plausibility(N: Coefficient, B: Coefficient, *, units: str) -> PlausibilityReport:
+    """Compare a fitted N and B with the range real gyros span; suggest the rate unit.
 
     Parameters
     ----------
-    n, b : float or None
-        Angle random walk and bias instability as fitted by :func:`fogts.fit_noise`
-        (deg/h-based units).  None or 0 (a term not fitted, or fitted to zero) is left
-        out of the judgement.
+    N : float or None
+        Angle random walk in deg/sqrt(h), as :func:`fogts.allan.noise.fit_noise` reports it
+        (IEEE Std 952-1997 Annex C: N = C_-1/60 with the rate in deg/h).  None when the term
+        was not fitted, 0 when it was fitted to zero: the check then rests on B alone.
+    B : float or None
+        Bias instability in deg/h (B = C_0/0.664), same conventions.
     units : str
-        The rate unit the data were read in (one of :data:`fogts.units.RATE_UNITS`).
+        The rate unit the recording was read in (``deg/h``, ``deg/s``, ``rad/s``,
+        ``arcsec/s`` or an alias :func:`fogts.units.parse_rate_unit` accepts).
 
     Returns
     -------
     PlausibilityReport
-        When implausible, the other units that would make (N, B) plausible, best first
-        (closest, in log10, to the middle of a grade).
+        ``verdict`` "plausible" if one grade of :data:`GYRO_GRADES` holds the values,
+        "implausible" if none does, "not checked" if neither value is available; the
+        values rescaled to every other rate unit, and ``suggested_units``.
 
     Raises
     ------
     DataError
-        A negative or NaN value, or an unknown unit.
+        If N or B is negative, NaN, infinite or not a number, or ``units`` is unknown.
+
+    Notes
+    -----
+    A change of rate unit from ``units`` to ``u`` multiplies N and B by
+    ``to_deg_per_hour_factor(u) / to_deg_per_hour_factor(units)``.  Suggested units are
+    those whose rescaled values lie in a grade, ordered by the distance to the middle of
+    that grade in log space (RMS over N and B of the offset in units of the grade's
+    half-width).  See the module docstring for the grade table and its sources.
 
     Examples
     --------
-    >>> rep = check_plausibility(1.09e-5, 5.0e-5, units="deg/h")   # rad/s read as deg/h
-    >>> rep.verdict, [(a["units"], round(a["N"], 3)) for a in rep.alternatives]
-    ('implausible', [('deg/s', 0.039), ('rad/s', 2.248)])
-    >>> check_plausibility(0.012, 0.05, units="deg/h").verdict      # a KVH DSP-1750
-    'plausible'
+    An XSens gyro recorded in rad/s but read as deg/h (``cont_imu1_gyro_x.npz``):
+
+    >>> r = check_plausibility(1.089e-5, 5.031e-5, units="deg/h")
+    >>> r.verdict, r.suggested_units
+    ('implausible', ('deg/s', 'rad/s'))
+    >>> round(r.alternative("rad/s").N, 3), r.alternative("rad/s").grades
+    (2.246, ('industrial', 'consumer'))
+
+    The ADIS16405 read in its true unit, deg/s:
+
+    >>> r = check_plausibility(2.31, 33.7, units="deg/s")
+    >>> r.verdict, r.grades
+    ('plausible', ('consumer', 'industrial'))
     """
-    unit = parse_rate_unit(units)
-    n_v, b_v = _usable("N", n), _usable("B", b)
-    if n_v is None and b_v is None:
-        return PlausibilityReport("not checked", None, None, unit, (), ())
-    held = _grades_of(n_v, b_v)
-    if held:
-        return PlausibilityReport("plausible", n_v, b_v, unit, tuple(g.name for g in held), ())
-    return PlausibilityReport("implausible", n_v, b_v, unit, (),
-                              _alternatives(n_v, b_v, unit))
+    unit = parse_rate_unit(units, "units")
+    n, n_status = _check_value("N", N)
+    b, b_status = _check_value("B", B)
+    statuses = {"not fitted": "was not fitted", "zero": "was fitted to zero"}
+    notes = tuple(f"{name} {statuses[s]}; judged on {other} alone"
+                  for name, s, other, v in (("N", n_status, "B", b), ("B", b_status, "N", n))
+                  if s != "used" and v is not None)
+    if n is None and b is None:
+        reason = (f"N {statuses[n_status]} and B {statuses[b_status]}, so there is nothing "
+                  "to compare with real gyros")
+        return PlausibilityReport(
+            verdict="not checked", N=None, B=None, N_status=n_status, B_status=b_status,
+            units=unit, grades=(), distance=math.nan, reason=reason, alternatives=(),
+            notes=notes)
 
+    grades, distance = _grades_of(n, b)
+    if grades:
+        verdict: Verdict = "plausible"
+        verb = "lies" if n is None or b is None else "lie"
+        reason = (f"{_values_text(n, b)} {verb} in the range of: "
+                  + ", ".join(_GRADE[k].label for k in grades))
+    else:
+        verdict = "implausible"
+        reason = _reason(n, b)
 
-def _alternatives(n: float | None, b: float | None, unit: str) -> tuple[dict[str, Any], ...]:
-    """Other input units under which (N, B) fall inside a grade, best first."""
-    found = []
+    base = to_deg_per_hour_factor(unit)
+    alternatives = []
     for other in RATE_UNITS:
         if other == unit:
             continue
-        scale = to_deg_per_hour_factor(other) / to_deg_per_hour_factor(unit)
-        n2 = None if n is None else n * scale
-        b2 = None if b is None else b * scale
-        grades = _grades_of(n2, b2)
-        if grades:
-            best = min(grades, key=lambda g: g.distance(n2, b2))
-            found.append(({"units": other, "N": n2, "B": b2, "grade": best.name},
-                          best.distance(n2, b2)))
-    return tuple(f for f, _ in sorted(found, key=lambda item: item[1]))
+        factor = to_deg_per_hour_factor(other) / base
+        an = None if n is None else n * factor
+        bn = None if b is None else b * factor
+        alt_grades, alt_distance = _grades_of(an, bn)
+        alternatives.append(UnitAlternative(
+            units=other, factor=factor, N=an, B=bn, plausible=bool(alt_grades),
+            grades=alt_grades, distance=alt_distance))
+    return PlausibilityReport(
+        verdict=verdict, N=n, B=b, N_status=n_status, B_status=b_status, units=unit,
+        grades=grades, distance=distance, reason=reason, alternatives=tuple(alternatives),
+        notes=notes)
