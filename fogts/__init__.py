@@ -31,7 +31,12 @@ _EXPORTS: dict[str, str] = {
     "FogtsWarning": "fogts.errors",
     # reading and preparing
     "Run": "fogts.run", "SamplingReport": "fogts.run",
-    "read_run": "fogts.io",
+    "read_run": "fogts.io", "MissingReport": "fogts.run",
+    "assess_run": "fogts.hygiene", "DataQuality": "fogts.hygiene",
+    "detect_glitches": "fogts.hygiene", "GlitchReport": "fogts.hygiene",
+    "find_gaps": "fogts.hygiene", "GapReport": "fogts.hygiene",
+    "check_plausibility": "fogts.allan.plausibility",
+    "PlausibilityReport": "fogts.allan.plausibility",
     "prepare": "fogts.preprocess", "Prepared": "fogts.preprocess",
     "convert_rate": "fogts.units", "earth_rate_component": "fogts.units",
     # Allan analysis
