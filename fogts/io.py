@@ -836,11 +836,12 @@ def _table_to_run(table: _Table, *, rate_column: str | Sequence[str] | None,
     if time is None:
         time = np.arange(table.frame.shape[0], dtype=np.float64) / fs
     if nan == "interpolate":
-        filled = [_interpolate_missing(c, time) for c in rate_cols]
+        filled = [_interpolate_missing(c, time, name)
+                  for c, name in zip(rate_cols, roles.rate, strict=True)]
         rate_cols = [c for c, _ in filled]
         missing = _missing_report(nan, roles.rate, [m for _, m in filled], temperature)
         if temperature is not None:
-            temperature = _interpolate_missing(temperature, time)[0]
+            temperature = _interpolate_missing(temperature, time, str(roles.temperature))[0]
     for name, col in zip(roles.rate, rate_cols, strict=True):
         if np.ptp(col) == 0:
             raise DataError(f"rate column {name!r} is constant (every value is {col[0]:g}); a "
@@ -908,13 +909,15 @@ def _is_numeric_time(table: _Table, name: str) -> bool:
         _NUMBER.match(str(table.frame[name].iloc[0]).strip()))
 
 
-def _interpolate_missing(values: FloatArray, time: FloatArray) -> tuple[FloatArray, IntArray]:
+def _interpolate_missing(values: FloatArray, time: FloatArray, name: str
+                         ) -> tuple[FloatArray, IntArray]:
     """Fill NaN linearly in time (np.interp: the ends take the nearest finite value)."""
     bad = np.isnan(values)
     if not bad.any():
         return values, np.empty(0, dtype=np.int64)
     if bad.all():
-        raise DataError("a column has no finite value at all; nothing to interpolate from")
+        raise DataError(f"column {name!r} has no finite value at all; nan='interpolate' has "
+                        "nothing to interpolate from")
     out = values.copy()
     out[bad] = np.interp(time[bad], time[~bad], values[~bad])
     return out, np.flatnonzero(bad)

@@ -119,7 +119,8 @@ def test_console_script_no_traceback(tmp_path: Path) -> None:
 
 def _cli_args(kwargs: dict[str, object]) -> list[str]:
     names = {"rate_column": "--rate-column", "time_column": "--time-column",
-             "temperature_column": "--temperature-column", "fs_hz": "--fs", "units": "--units"}
+             "temperature_column": "--temperature-column", "fs_hz": "--fs", "units": "--units",
+             "nan": "--nan"}
     args: list[str] = []
     for key, value in kwargs.items():
         args += [names[key], str(value)]

@@ -229,6 +229,17 @@ HOSTILE: list[tuple[str, str | bytes, dict[str, object], type[Exception], str]] 
     ("bad.gz", b"\x1f\x8bnot really gzip", {}, DataError, "not a valid gzip file"),
     ("bad.parquet", b"PAR1 garbage", {}, DataError, "cannot read Parquet file"),
     ("bad.npz", b"PK garbage", {}, DataError, "not a valid .npz file"),
+    ("nan_policy.csv", "time,rate\n0,1\n0.1,2\n0.2,3\n", {"nan": "skip"}, DataError,
+     "nan must be one of error, drop, interpolate; got 'skip'"),
+    ("nan_hint.csv", "time,rate\n0,1\n0.1,nan\n0.2,3\n", {}, DataError,
+     r"has nan at data row 1 .*pass nan='drop' or nan='interpolate' \(CLI --nan"),
+    ("nan_time.csv", "time,rate\n0,1\n,2\n0.2,3\n0.3,4\n", {"nan": "interpolate"},
+     DataError, r"time column 'time' has an empty or NaN time stamp at data row 1 .*never "
+                r"interpolated: pass nan='drop'"),
+    ("all_nan.csv", "time,rate,T\n0,1,nan\n0.1,2,nan\n0.2,3,nan\n", {"nan": "interpolate"},
+     DataError, "column 'T' has no finite value at all"),
+    ("drop_all.csv", "time,rate\n0,1\n0.1,nan\n0.2,nan\n0.3,\n", {"nan": "drop"},
+     InsufficientDataError, r"1 row\(s\) left after dropping 3 with missing cells"),
 ]
 
 
