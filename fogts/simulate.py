@@ -65,6 +65,7 @@ import scipy.signal
 
 from fogts._typing import FloatArray, RngLike
 from fogts._validate import as_rng, check_choice, check_int, check_positive
+from fogts.allan.terms import TERM_DESCRIPTION, TERM_UNIT, TO_SECONDS
 from fogts.errors import DataError, FogtsWarning
 from fogts.run import Run, SamplingReport
 from fogts.thermal import THERMAL_TERMS, design_matrix, temperature_rate
@@ -88,11 +89,10 @@ FLICKER_METHODS: tuple[str, ...] = get_args(FlickerMethod)
 DEFAULT_CHUNK = 1 << 20
 
 # Conversion of each coefficient to deg/h-and-seconds units (DESIGN.md "Definitions").
-_TO_INTERNAL = {"Q": 1.0, "N": 60.0, "B": 1.0, "K": 1.0 / 60.0, "R": 1.0 / 3600.0}
-_UNITS = {"Q": "arcsec", "N": "deg/sqrt(h)", "B": "deg/h", "K": "deg/h^1.5", "R": "deg/h^2",
-          "q_c": "deg/h/sqrt(s)", "T_c": "s", "Omega_0": "deg/h", "f_0": "Hz", "bias": "deg/h"}
-_NAMES = {"Q": "angle quantisation", "N": "angle random walk", "B": "bias instability",
-          "K": "rate random walk", "R": "rate ramp", "q_c": "Markov driving noise",
+_TO_INTERNAL = TO_SECONDS
+_UNITS = {**TERM_UNIT, "q_c": "deg/h/sqrt(s)", "T_c": "s", "Omega_0": "deg/h", "f_0": "Hz",
+          "bias": "deg/h"}
+_NAMES = {**TERM_DESCRIPTION, "q_c": "Markov driving noise",
           "T_c": "Markov correlation time", "Omega_0": "sinusoid amplitude",
           "f_0": "sinusoid frequency", "bias": "constant bias"}
 _ALIASES = {"markov_q": "q_c", "qc": "q_c", "markov_t": "T_c", "tc": "T_c",

@@ -4,7 +4,7 @@ record, compared with the fixtures in ``tests/golden/``.
 They guard refactors (the layout redesign must not change a number) and the JSON
 contracts.  Regenerate after an intended change with::
 
-    python -m tests.test_golden
+    OPENBLAS_NUM_THREADS=1 python -m tests.test_golden
 
 Comparison: keys, strings, booleans and integers must be equal; floats within
 ``REL_TOL`` relative or ``ABS_TOL`` absolute.  The fixtures are written on one machine, and
@@ -184,7 +184,7 @@ def _is_float(text: Any) -> bool:
 def test_outputs_match_the_golden_fixtures(name: str, tmp_path: Path) -> None:
     fixture = GOLDEN / f"{name}.json"
     if not fixture.exists():
-        pytest.fail(f"no golden fixture {fixture.name}; run python -m tests.test_golden")
+        pytest.fail(f"no golden fixture {fixture.name}; run OPENBLAS_NUM_THREADS=1 python -m tests.test_golden")
     expected = json.loads(fixture.read_text())
     _close(expected, run_case(name, tmp_path), name)
 

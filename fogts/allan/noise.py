@@ -188,6 +188,15 @@ from fogts._typing import FloatArray, IntArray
 from fogts._validate import check_choice, check_fraction
 from fogts.allan.covariance import CovarianceModel, covariance_basis
 from fogts.allan.readout import read_curve
+from fogts.allan.terms import (
+    B_PLATEAU,
+    C_UNIT,
+    NOISE_TERMS,
+    TERM_DESCRIPTION,
+    TERM_FACTOR,
+    TERM_POWER,
+    TERM_UNIT,
+)
 from fogts.errors import (
     ConvergenceWarning,
     DataError,
@@ -211,31 +220,11 @@ __all__ = [
     "terms_from_c",
 ]
 
-TermName = Literal["Q", "N", "B", "K", "R"]
 FitMethod = Literal["wls", "gls", "ols"]
-NOISE_TERMS: tuple[str, ...] = get_args(TermName)
 FIT_METHODS: tuple[str, ...] = get_args(FitMethod)
 #: Allan-variance kinds whose expected value follows the IEEE-952 tau laws.  (The modified
 #: and Hadamard variances have other constants, so their curves cannot be fitted here.)
 FITTABLE_KINDS: tuple[str, ...] = ("adev", "oadev", "totdev")
-
-#: Power of tau of each term's basis function in sigma^2(tau) = sum a_n tau^n.
-TERM_POWER: dict[str, int] = {"Q": -2, "N": -1, "B": 0, "K": 1, "R": 2}
-#: term value (deg/h-based units) = factor * C_n (rate in deg/h, tau in s); DESIGN.md.
-TERM_FACTOR: dict[str, float] = {
-    "Q": 1.0 / math.sqrt(3.0),
-    "N": 1.0 / 60.0,
-    "B": 1.0 / 0.664,
-    "K": 60.0 * math.sqrt(3.0),
-    "R": 3600.0 * math.sqrt(2.0),
-}
-TERM_UNIT: dict[str, str] = {"Q": "arcsec", "N": "deg/sqrt(h)", "B": "deg/h",
-                             "K": "deg/h^1.5", "R": "deg/h^2"}
-C_UNIT: dict[str, str] = {"Q": "deg/h*s", "N": "deg/h*sqrt(s)", "B": "deg/h",
-                          "K": "deg/h/sqrt(s)", "R": "deg/h/s"}
-TERM_DESCRIPTION: dict[str, str] = {"Q": "quantization", "N": "angle random walk",
-                                    "B": "bias instability", "K": "rate random walk",
-                                    "R": "rate ramp"}
 
 #: A term's region: where it makes up at least this share of the fitted sigma^2.
 COVERAGE_SHARE = 0.25
@@ -1193,7 +1182,7 @@ def _slope_readoff(tau: FloatArray, dev: FloatArray, factor: float,
     else:
         b_dev, tau_b = float(dev[0]), float(tau[0])
     return SlopeReadoff(
-        N=n_dev * factor / 60.0, K=k_dev * factor * 60.0, B=b_dev * factor / 0.664,
+        N=n_dev * factor / 60.0, K=k_dev * factor * 60.0, B=b_dev * factor / B_PLATEAU,
         tau_N_s=tau_n, tau_K_s=tau_k, tau_B_s=tau_b, slope_N=slope_n, slope_K=slope_k,
         points=(("N", 1.0, n_dev), ("K", 3.0, k_dev), ("B", tau_b, b_dev)))
 

@@ -23,6 +23,7 @@ import numpy as np
 import pandas as pd
 
 from fogts._typing import FloatArray
+from fogts.allan.terms import B_PLATEAU
 from fogts.errors import DataError, InsufficientDataError
 
 __all__ = ["CurveReadout", "DominantRange", "read_curve"]
@@ -177,7 +178,7 @@ def read_curve(tau_s: Any, dev: Any, ci_low: Any = None, ci_high: Any = None, *,
     lo_min = float(lo[i_min]) if np.isfinite(lo[i_min]) else float(d[i_min])
     hi_min = float(hi[i_min]) if np.isfinite(hi[i_min]) else float(d[i_min])
     return CurveReadout(float(t[i_min]), float(d[i_min]), (lo_min, hi_min), float(confidence),
-                        float(d[i_min] / 0.664), segments, slopes, regions, dominant)
+                        float(d[i_min] / B_PLATEAU), segments, slopes, regions, dominant)
 
 
 def _regions(t: FloatArray, d: FloatArray, lo: FloatArray, hi: FloatArray, i_min: int
