@@ -18,7 +18,6 @@ column, the data row and the file line.
 from __future__ import annotations
 
 import dataclasses
-import gzip
 import io as _io
 import os
 import re
@@ -34,6 +33,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from fogts._limits import check_npy, check_npz, check_regular_file, max_input_bytes, read_capped
 from fogts._typing import FloatArray, IntArray
 from fogts._validate import check_positive
 from fogts.errors import DataError, DataQualityWarning, InsufficientDataError
@@ -174,8 +174,9 @@ def read_json(path: str | os.PathLike[str], what: str = "JSON file") -> Any:
         raise DataError(f"{what} not found: {str(source)!r}")
     if source.is_dir():
         raise DataError(f"{what} {str(source)!r} is a directory, not a file")
+    check_regular_file(source, what)
     try:
-        return json.loads(source.read_text(encoding="utf-8"))
+        return json.loads(read_capped(source, compressed=False).decode("utf-8"))
     except (json.JSONDecodeError, UnicodeDecodeError) as exc:
         raise DataError(f"{what} {str(source)!r} is not valid JSON: {exc}") from None
 
@@ -306,28 +307,30 @@ def _array_table(arr: np.ndarray, source: str, fs_hz: float | None,
 
 
 def _file_table(path: Path) -> _Table:
-    if not path.exists():
-        raise DataError(f"file not found: {str(path)!r}")
-    if path.is_dir():
-        raise DataError(f"{str(path)!r} is a directory, not a file")
+    """Read a file by its suffix; only regular files, within the input limits
+    (:mod:`fogts._limits`)."""
+    st = check_regular_file(path)
     suffixes = [s.lower() for s in path.suffixes]
     last = suffixes[-1] if suffixes else ""
     try:
         if last in _PARQUET_SUFFIXES:
+            if st.st_size > max_input_bytes():
+                raise DataError(f"{str(path)!r} is larger than the input limit; oversized "
+                                "input is refused (set FOGTS_MAX_INPUT_BYTES to raise it)")
             return _parquet_table(path)
         if last == ".npy":
+            _check_magic(path, b"\x93NUMPY", ".npy")
+            check_npy(path)
             return _npy_table(path)
         if last == ".npz":
+            _check_magic(path, b"PK\x03\x04", ".npz")
+            check_npz(path)
             return _npz_table(path)
-        raw = path.read_bytes()
+        with open(path, "rb") as fh:
+            gzipped = last == ".gz" or fh.read(2) == b"\x1f\x8b"
     except PermissionError:
         raise DataError(f"cannot read {str(path)!r}: permission denied") from None
-    if last == ".gz" or raw[:2] == b"\x1f\x8b":
-        try:
-            raw = gzip.decompress(raw)
-        except (OSError, EOFError) as exc:
-            raise DataError(f"{str(path)!r} is not a valid gzip file ({exc})") from None
-    return _text_table(raw, str(path))
+    return _text_table(read_capped(path, compressed=gzipped), str(path))
 
 
 def _parquet_table(path: Path) -> _Table:
