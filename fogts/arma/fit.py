@@ -947,10 +947,17 @@ def _fit_fast(xs: FloatArray, p: int, q: int) -> tuple[dict[str, float], dict[st
     S = ev.S
     sigma2 = S / n
     llf = -0.5 * n * (math.log(2 * math.pi) + 1.0 + math.log(sigma2)) - 0.5 * ev.D
-    # observed information for the standard errors: the Hessian of the last Newton step
-    # (exact for n <= _FD_HESSIAN_MAX_N; analytic above, where D's O(1) curvature is dropped)
-    d2S, d2D = res.HS, res.HD
-    dS_opt = -(S / n) * res.dD     # the stationarity condition of f at the optimum
+    # observed information for the standard errors, at the optimum itself: exact (central
+    # differences of the exact gradient) for n <= _FD_HESSIAN_MAX_N; above, the analytic
+    # Hessian of the last Newton step, where D's O(1) curvature is dropped.  Evaluating it at
+    # the optimum (not at whichever iterate came last) keeps the standard errors independent
+    # of the path the iterations took, and so of the data's scale and of the BLAS kernel.
+    if n <= _FD_HESSIAN_MAX_N:
+        _, dD_opt, _ = model.derivatives(ev, hessian=False)
+        d2S, d2D = model.fd_hessians(ev)
+    else:
+        dD_opt, d2S, d2D = res.dD, res.HS, res.HD
+    dS_opt = -(S / n) * dD_opt     # the stationarity condition of f at the optimum
     H = _full_hessian(n, S, dS_opt, d2S, d2D)
     with np.errstate(invalid="ignore"):
         try:
