@@ -311,3 +311,24 @@ def test_verdict_names_a_simpler_model_within_two_units() -> None:
         if close:
             return
     pytest.fail("no seed produced an over-fitted selection with a simpler model close by")
+
+
+def test_cancellation_verdict_follows_the_numbers() -> None:
+    """ADIS16405 run 1, axis Z at 1 Hz: ARMA(1,1) has nearly cancelling roots, yet AR(1) is
+    ~2185 AIC units worse and not white, so the verdict must not say a lower order does as
+    well (it did before), and must show the numbers it rests on."""
+    import re
+
+    from fogts.io import read_run
+    from fogts.preprocess import prepare
+    from tests.conftest import shared_path
+
+    run = read_run(shared_path("imu", "adis_16405_imu1_gyro.npz"))
+    sel = select_arma(prepare(run, axis="Gyro. Z", decimate=100))
+    assert sel.selected is not None and sel.selected.model == "ARMA(1,1)"
+    assert sel.selected.flagged("near_cancellation")
+    assert "a lower order would do as well" not in sel.verdict
+    m = re.search(r"yet no lower order does as well: the best lower-order candidate, AR\(1\), "
+                  r"is \+(\d+\.\d) AIC units and is not white; keep ARMA\(1,1\)", sel.verdict)
+    assert m is not None, sel.verdict
+    assert float(m.group(1)) == pytest.approx(2185.0, rel=0.01)

@@ -634,6 +634,25 @@ def _quantisation_note(raw: FloatArray | None, units: str | None) -> str | None:
             "(decimate) before modelling the drift.")
 
 
+def _cancellation_sentence(sel: Candidate, ranked: Sequence[Candidate], criterion: str,
+                           simpler_exists: bool) -> str:
+    """What nearly cancelling AR/MA roots mean here: a lower order does as well only when a
+    lower-order candidate is white and close in the criterion; otherwise say why not, with
+    the numbers of the best lower-order candidate."""
+    if simpler_exists:
+        return " Its AR and MA roots nearly cancel."
+    crit = criterion.upper()
+    lower = [c for c in ranked if c.ok and c.p + c.q < sel.p + sel.q]
+    if not lower:
+        return " Its AR and MA roots nearly cancel, but no lower-order candidate was fitted."
+    best = min(lower, key=lambda c: getattr(c, criterion))
+    delta = getattr(best, criterion) - getattr(sel, criterion)
+    why = "and is not white" if not best.white else "though white"
+    return (f" Its AR and MA roots nearly cancel, yet no lower order does as well: the best "
+            f"lower-order candidate, {best.model}, is {delta:+.1f} {crit} units {why}; keep "
+            f"{sel.model}.")
+
+
 def _verdict(sel: Candidate | None, ranked: Sequence[Candidate], criterion: str,
              corr: Correlogram) -> str:
     crit = criterion.upper()
@@ -650,10 +669,10 @@ def _verdict(sel: Candidate | None, ranked: Sequence[Candidate], criterion: str,
         text = (f"{sel.model} describes the drift: its residuals are white (rho_a2, rho_ax3 and "
                 f"Ljung-Box all pass), lowest {crit} among the white candidates; one-step "
                 f"prediction removes {removed:.1f} % of the variance.")
-        if sel.flagged("near_cancellation"):
-            text += " Its AR and MA roots nearly cancel, so a lower order would do as well."
         simpler = [c for c in ranked if c.white and c.p + c.q < sel.p + sel.q
                    and getattr(c, criterion) - getattr(sel, criterion) < CLOSE_CALL]
+        if sel.flagged("near_cancellation"):
+            text += _cancellation_sentence(sel, ranked, criterion, bool(simpler))
         if simpler:
             alt = min(simpler, key=lambda c: (c.p + c.q, getattr(c, criterion)))
             text += (f" The simpler {alt.model} is within {CLOSE_CALL:g} {crit} units and also "
