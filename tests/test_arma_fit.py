@@ -511,3 +511,26 @@ def test_non_convergence_is_attached_and_warned(monkeypatch: pytest.MonkeyPatch)
     assert not fit.converged
     assert any("did not converge in 1 iterations" in w for w in fit.warnings)
     assert "NOT CONVERGED" in fit.summary()
+
+
+def test_white_plus_rate_random_walk_fits_near_the_unit_root() -> None:
+    """The typical gyro model (white noise + rate random walk) puts the ARMA(1,1) optimum
+    within 1e-5 of phi = 1; the derivatives' difference steps used to cross it and raise
+    "not positive definite (LAPACK dpbtrf)".  Reference: statsmodels' exact ML on the
+    standardised series (AIC shifted by 2 n log s back to the data's scale)."""
+    from statsmodels.tsa.arima.model import ARIMA
+
+    r = np.random.default_rng(900107)  # the issue's reproduction
+    n = 100_000
+    x = 0.1 * r.standard_normal(n) + np.cumsum(1e-4 * r.standard_normal(n))
+    x = x - x.mean()
+    fit = fit_arma(x, 1, 1)
+    assert fit.converged and fit.ar[0] > 0.9999
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        ref = ARIMA(x / x.std(), order=(1, 0, 1), trend="n").fit()
+    assert fit.aic <= ref.aic + 2 * n * math.log(x.std()) + 0.05  # the selection's acceptance
+    assert fit_arma(x, 2, 1).converged
+    for seed in range(5):  # AR(1) with phi = 0.9999: ARMA(2,1) failed in 5 of 10 seeds
+        y = lfilter([1.0], [1.0, -0.9999], np.random.default_rng(seed).standard_normal(20_000))
+        assert np.isfinite(fit_arma(y - y.mean(), 2, 1).aic)

@@ -373,6 +373,24 @@ def _admissible(phi: FloatArray, theta: FloatArray, margin: float = 1e-9) -> boo
     return (_spectral_radius(phi) < 1.0 - margin) and (_spectral_radius(-theta) < 1.0 - margin)
 
 
+def _fd_steps(beta: FloatArray, p: int, h: float) -> FloatArray:
+    """Central-difference step per parameter: ``h``, halved until both ``beta +- step``
+    stay stationary and invertible.  Near the boundary (an AR root within ``h`` of 1, as a
+    white + rate-random-walk gyro record gives ARMA(1,1)) a full step would evaluate a
+    non-stationary model, whose covariance has no Cholesky factor."""
+    steps = np.full(beta.size, h)
+    for j in range(beta.size):
+        while steps[j] > 1e-12:
+            up, down = beta.copy(), beta.copy()
+            up[j] += steps[j]
+            down[j] -= steps[j]
+            if _admissible(up[:p], up[p:], margin=0.0) and \
+                    _admissible(down[:p], down[p:], margin=0.0):
+                break
+            steps[j] *= 0.5
+    return steps
+
+
 def _shrink_into_region(phi: FloatArray, theta: FloatArray) -> tuple[FloatArray, FloatArray]:
     """Scale c_j -> lam^j c_j (every inverse root times lam) until the model is admissible."""
     out = []
@@ -583,7 +601,7 @@ class _Arma:
         p, q, n, x = self.p, self.q, self.n, self.x
         k = p + q
         beta = ev.beta
-        h = _FD_STEP
+        h = _fd_steps(beta, p, _FD_STEP)
         pert = np.repeat(beta[None, :], 2 * k, axis=0)
         idx = np.arange(k)
         pert[2 * idx, idx] += h
@@ -607,7 +625,7 @@ class _Arma:
                 grad_ss[p + j - 1] = -_lagdot(gfull, e, 0, j, s)
             if q:
                 # start-up terms: the steady recursion starts from the block's last innovations
-                de = (e_tr[0::2, s - q:s] - e_tr[1::2, s - q:s]) / (2 * h)   # (k, q)
+                de = (e_tr[0::2, s - q:s] - e_tr[1::2, s - q:s]) / (2 * h[:, None])  # (k, q)
                 for u in range(min(q, n - s)):
                     c = np.zeros(k)
                     for j in range(u + 1, q + 1):
@@ -669,11 +687,12 @@ class _Arma:
         """Hessians of S and D by central differences of the exact gradient (cost 4k passes)."""
         p, k = self.p, self.p + self.q
         beta = ev.beta
-        hs = _HESS_STEP
+        steps = _fd_steps(beta, p, _HESS_STEP)
         d2S = np.empty((k, k))
         d2D = np.empty((k, k))
         for j in range(k):
             grads = []
+            hs = float(steps[j])
             for sgn in (1.0, -1.0):
                 b2 = beta.copy()
                 b2[j] += sgn * hs
