@@ -75,7 +75,13 @@ _EXPORTS: dict[str, str] = {
 __all__ = ["__version__", *sorted(_EXPORTS)]
 
 
+#: Submodules reachable as attributes (``fogts.plots.plot_allan``) without an import.
+_SUBMODULES = ("allan", "arma", "plots", "units", "io", "hygiene", "report", "simulate")
+
+
 def __getattr__(name: str) -> Any:
+    if name in _SUBMODULES:
+        return importlib.import_module(f"fogts.{name}")
     module = _EXPORTS.get(name)
     if module is None:
         raise AttributeError(f"module 'fogts' has no attribute {name!r}")
@@ -89,11 +95,13 @@ def __dir__() -> list[str]:
 
 
 if TYPE_CHECKING:  # static names for type checkers and IDEs
+    from fogts import allan, arma, hygiene, io, plots, report, simulate, units
     from fogts.allan.api import allan_deviation
     from fogts.allan.compare import AllanComparison, compare_allan
     from fogts.allan.confidence import confidence_table, totdev_bias
     from fogts.allan.dynamic import DynamicAllanResult, dynamic_allan
     from fogts.allan.noise import NoiseModel, NoiseTerm, fit_noise
+    from fogts.allan.plausibility import PlausibilityReport, check_plausibility
     from fogts.allan.readout import CurveReadout, read_curve
     from fogts.allan.result import AllanResult, AllanResultSet
     from fogts.allan.taus import TauGrid, tau_grid
@@ -111,6 +119,14 @@ if TYPE_CHECKING:  # static names for type checkers and IDEs
         ModelFitError,
     )
     from fogts.filters import FilterResult, lowpass, moving_average
+    from fogts.hygiene import (
+        DataQuality,
+        GapReport,
+        GlitchReport,
+        assess_run,
+        detect_glitches,
+        find_gaps,
+    )
     from fogts.io import read_run
     from fogts.kalman import KalmanResult, arma_kalman
     from fogts.northfind import (
@@ -121,7 +137,7 @@ if TYPE_CHECKING:  # static names for type checkers and IDEs
     )
     from fogts.preprocess import Prepared, prepare
     from fogts.report_html import build_report, write_report
-    from fogts.run import Run, SamplingReport
+    from fogts.run import MissingReport, Run, SamplingReport
     from fogts.simulate import ArmaSpec, NoiseSpec, simulate_arma, simulate_gyro
     from fogts.simulate_startup import simulate_startup
     from fogts.thermal import (
