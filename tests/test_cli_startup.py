@@ -275,7 +275,7 @@ def test_northfind_errors_name_the_option(args: list[str], message: str) -> None
 
 
 def test_option_names_replace_whole_words_only() -> None:
-    from fogts.cli import _option_names
+    from fogts.cli._common import _option_names
 
     names = {"fs_hz": "--fs", "tau_s": "--time-constants"}
     assert _option_names("fs_hz must be > 0, got -3.0", names) == "--fs must be > 0, got -3.0"

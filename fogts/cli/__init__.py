@@ -1,0 +1,85 @@
+"""The ``fogts`` command line.  ``fogts = "fogts.cli:main"`` is the console script.
+
+The typer app, the shared options and the error guard are in :mod:`fogts.cli._common`;
+each command is a thin module of its own (parse options, call the library, print).
+"""
+
+from __future__ import annotations
+
+import importlib
+import sys
+
+import typer
+
+from fogts.cli._common import ExitCode, app, console, err_console
+
+#: The commands, in the order ``fogts --help`` lists them; importing a command's module
+#: registers it on the app.
+COMMANDS = ("info", "allan", "batch", "report", "simulate", "davar", "filter", "compensate",
+            "northfind", "select")
+for _name in COMMANDS:
+    importlib.import_module(f"fogts.cli.{_name}")
+
+try:  # typer >= 0.16 vendors click as typer._click
+    from typer._click import exceptions as _click_exc
+except ImportError:  # pragma: no cover - older typer uses click itself
+    from click import exceptions as _click_exc  # type: ignore[no-redef]
+
+__all__ = ["app", "main"]
+
+
+_GLOBAL_FLAGS = ("--debug", "--version")
+
+
+def _hoist_global_flags(argv: list[str]) -> list[str]:
+    """Move ``--debug`` and ``--version`` given after the command name to the front, so that
+    ``fogts info X --debug`` works like ``fogts --debug info X``.
+
+    A token is moved only where it is a flag, not the value of an option that takes one
+    (``--title --debug`` keeps its title); tokens after ``--`` are left alone."""
+    group = typer.main.get_command(app)
+    names = getattr(group, "commands", {})
+    command = next((names[t] for t in argv if t in names), None)
+    if command is None:
+        return argv
+    takes_value = {opt for p in command.params if not getattr(p, "is_flag", True)
+                   for opt in p.opts}
+    front: list[str] = []
+    rest: list[str] = []
+    start = argv.index(command.name) if command.name in argv else 0
+    skip_next = False
+    for i, token in enumerate(argv):
+        if i <= start or skip_next or "--" in argv[:i]:
+            rest.append(token)
+            skip_next = False
+            continue
+        if token in _GLOBAL_FLAGS:
+            front.append(token)
+            continue
+        skip_next = token in takes_value
+        rest.append(token)
+    return front + rest
+
+
+def main(argv: list[str] | None = None) -> None:
+    """Console-script entry point: usage errors become one line ``error: ...``, exit 2."""
+    argv = _hoist_global_flags(list(sys.argv[1:] if argv is None else argv))
+    try:
+        rv = app(args=argv, prog_name="fogts", standalone_mode=False)
+    except _click_exc.NoArgsIsHelpError as exc:
+        console.print(exc.format_message(), markup=False, soft_wrap=True)
+        raise SystemExit(ExitCode.OK) from None
+    except _click_exc.ClickException as exc:
+        ctx = getattr(exc, "ctx", None)
+        name = ctx.command.name if ctx is not None and ctx.command is not None else None
+        hint = f" (see 'fogts {name} --help')" if name and name != "fogts" else \
+            " (see 'fogts --help')"
+        err_console.print(f"error: {exc.format_message()}{hint}", markup=False, soft_wrap=True)
+        raise SystemExit(ExitCode.ERROR) from None
+    except typer.Exit as exc:
+        raise SystemExit(exc.exit_code) from None
+    except typer.Abort:
+        err_console.print("error: aborted", markup=False)
+        raise SystemExit(ExitCode.ERROR) from None
+    raise SystemExit(rv if isinstance(rv, int) else 0)
+

@@ -1,0 +1,249 @@
+"""The ``fogts`` command line: the typer app, the options every command shares, the error
+guard and the input/output helpers.  Each command lives in its own module of this package
+(``fogts.cli.allan``, ``fogts.cli.select``, ...); this is the only package that prints.
+
+* input options shared by every command (``--rate-column``, ``--time-column``,
+  ``--temperature-column``, ``--fs``, ``--units``, ``--nan``) come from the ``*Opt``
+  aliases below and are turned into a :class:`fogts.run.Run` by :func:`_read`;
+* the body runs inside :func:`_guard`, which checks the output names against the inputs
+  and maps any exception to one line ``error: ...`` on stderr and exit code 2 (no
+  traceback unless ``--debug``);
+* JSON goes through :func:`_emit_json` (``-`` means stdout; files are written atomically).
+
+Exit codes (DESIGN.md): 0 success, 1 negative verdict, 2 bad usage/input/internal error.
+"""
+
+from __future__ import annotations
+
+import re
+import sys
+import warnings
+from collections.abc import Iterable, Iterator, Mapping
+from contextlib import contextmanager
+from pathlib import Path
+from typing import Annotated, Any
+
+import typer
+from rich.console import Console
+from rich.table import Table
+
+from fogts import __version__
+
+app = typer.Typer(
+    name="fogts",
+    help="Fibre-optic-gyro drift analysis: Allan variance, IEEE-952 noise terms, ARMA models.",
+    no_args_is_help=True,
+    add_completion=False,
+    pretty_exceptions_enable=False,
+)
+# Outside a terminal (pipes, CI logs, CliRunner) rich would wrap tables at 80 columns.
+_WIDTH = None if sys.stdout.isatty() else 120
+console = Console(highlight=False, width=_WIDTH)
+err_console = Console(stderr=True, highlight=False, width=_WIDTH)
+
+_STATE: dict[str, bool] = {"debug": False}
+
+# ---------------------------------------------------------------- shared input options
+FileArg = Annotated[Path, typer.Argument(help="Input recording (CSV/TSV/text, .gz, Parquet, .npy/.npz).")]
+RateColOpt = Annotated[str | None, typer.Option("--rate-column", help="Rate column(s), comma-separated; default: auto-detect.")]
+TimeColOpt = Annotated[str | None, typer.Option("--time-column", help="Time column; default: auto-detect.")]
+TempColOpt = Annotated[str | None, typer.Option("--temperature-column", help="Temperature column; default: auto-detect.")]
+FsOpt = Annotated[float | None, typer.Option("--fs", help="Sample rate in Hz (overrides the time column).")]
+UnitsOpt = Annotated[str | None, typer.Option("--units", help="Rate unit of the input: deg/h, deg/s, rad/s, arcsec/s (default: from a unit in the column name such as gyro_x_deg_s, else deg/h).")]
+JsonOpt = Annotated[str | None, typer.Option("--json", help="Write JSON to PATH, or '-' for stdout.")]
+NanOpt = Annotated[str, typer.Option("--nan", help="Empty, NaN or inf cells: error (name the first one), drop (the rows become gaps) or interpolate (linearly in time).")]
+GapsOpt = Annotated[str, typer.Option("--gaps", help="Gaps in the time base: warn (analyse as if regular, and say so), error, split (analyse the longest regular segment) or ignore (no warning; still in the JSON).")]
+
+
+class ExitCode:
+    OK = 0
+    NEGATIVE = 1
+    ERROR = 2
+
+
+def _version_callback(value: bool) -> None:
+    if value:
+        console.print(f"fogts {__version__}")
+        raise typer.Exit(0)
+
+
+@app.callback()
+def _main_options(
+    version: Annotated[bool, typer.Option("--version", callback=_version_callback,
+                                          is_eager=True, help="Print the version and exit.")] = False,
+    debug: Annotated[bool, typer.Option("--debug", help="Show tracebacks on errors.")] = False,
+) -> None:
+    """fogts: turn a static gyro recording into a validated noise model."""
+    _STATE["debug"] = debug
+
+
+@contextmanager
+def _guard(options: Mapping[str, str] | None = None, *,
+           outputs: Mapping[str, Path | str | None] | None = None,
+           inputs: Mapping[str, Iterable[Path]] | None = None) -> Iterator[None]:
+    """Run a command body: warnings become ``warning: ...`` lines on stderr (each once),
+    and any exception becomes one line ``error: ...`` on stderr with exit code 2.
+
+    ``options`` maps library argument names (``latitude_deg``) to the command's option
+    names (``--latitude``), so that an error raised by the library names what the user
+    typed.  ``outputs`` (option -> path) and ``inputs`` (argument -> paths) are checked by
+    :func:`fogts.paths.check_outputs` before the body runs: no output replaces an input."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("default")
+        try:
+            if outputs:
+                from fogts.paths import check_outputs
+
+                check_outputs(outputs, inputs or {})
+            yield
+        except (typer.Exit, typer.Abort):
+            raise
+        except Exception as exc:
+            if _STATE["debug"]:
+                raise
+            from fogts.report import error_message
+
+            message = _option_names(error_message(exc), options or {})
+            err_console.print(f"error: {message}", markup=False, soft_wrap=True)
+            raise typer.Exit(ExitCode.ERROR) from None
+        finally:
+            from fogts.report import warning_texts
+
+            for text in warning_texts(caught):
+                err_console.print(f"warning: {text}", markup=False, soft_wrap=True)
+
+
+def _option_names(message: str, options: Mapping[str, str]) -> str:
+    """Replace whole-word library argument names in ``message`` by option names."""
+    for name, option in options.items():
+        message = re.sub(rf"(?<![\w-]){re.escape(name)}(?!\w)", option, message)
+    return message
+
+
+def _read(path: Path, rate_column: str | None, time_column: str | None,
+          temperature_column: str | None, fs: float | None, units: str | None, *,
+          nan: str = "error", gaps: str = "warn", glitches: bool = True) -> tuple[Any, Any]:
+    """Read one input and check its hygiene (:func:`fogts.hygiene.assess_run`): assumed
+    units, missing cells, gaps and glitches are printed at once as ``warning:`` lines
+    naming the file, before any analysis output.  Returns the Run (restricted to the
+    longest regular segment with ``--gaps split``) and its DataQuality."""
+    from fogts.hygiene import assess_run
+    from fogts.io import read_run
+
+    rate_cols: str | list[str] | None = None
+    if rate_column:
+        parts = [c.strip() for c in rate_column.split(",") if c.strip()]
+        rate_cols = parts if len(parts) > 1 else parts[0]
+    run = read_run(path, rate_column=rate_cols, time_column=time_column,
+                   temperature_column=temperature_column, fs_hz=fs, units=units, nan=nan)
+    run, quality = assess_run(run, gaps=gaps, glitches=glitches)  # type: ignore[arg-type]
+    for line in quality.warnings():
+        err_console.print(f"warning: {Path(run.source).name}: {line}", markup=False,
+                          soft_wrap=True)
+    return run, quality
+
+
+def _emit_json(payload: dict[str, Any], target: str | None) -> None:
+    """Write ``payload`` as JSON to ``target`` ('-' = stdout); files are written atomically."""
+    if target is None:
+        return
+    from fogts.io import write_text_atomic
+    from fogts.report import json_dumps
+
+    text = json_dumps(payload)
+    if target == "-":
+        sys.stdout.write(text + "\n")
+    else:
+        write_text_atomic(Path(target), text + "\n")
+
+
+def _table(title: str, columns: list[str], rows: list[list[Any]]) -> Table:
+    table = Table(title=title, title_justify="left")
+    for c in columns:
+        table.add_column(c, justify="left" if c in ("term", "model", "name", "column", "read-out") else "right")
+    for r in rows:
+        table.add_row(*[str(v) for v in r])
+    return table
+
+
+def _print(*objects: Any, quiet_json: str | None = None) -> None:
+    """Print to the terminal unless JSON goes to stdout (keep stdout parseable)."""
+    target = err_console if quiet_json == "-" else console
+    target.print(*objects)
+
+
+
+_TAU_GRIDS = ("octave", "decade", "dense", "all")
+
+
+def _tau_option(text: str, option: str = "--taus") -> Any:
+    """``octave``, ``decade``, ``dense``, ``all``, or taus in seconds separated by commas."""
+    from fogts.errors import DataError
+
+    if text in _TAU_GRIDS:
+        return text
+    try:
+        values = [float(t) for t in text.split(",") if t.strip()]
+    except ValueError:
+        values = []
+    if not values:
+        raise DataError(f"{option} must be {', '.join(_TAU_GRIDS)} or taus in seconds "
+                        f"separated by commas; got {text!r}")
+    return values
+
+
+_FIGURE_SUFFIXES = (".png", ".svg", ".pdf")
+_TABLE_SUFFIXES = (".csv", ".csv.gz", ".tsv", ".txt", ".parquet", ".pq")
+
+
+def _check_output_names(**outputs: Path | None) -> None:
+    """Reject output names the writers would refuse, before any analysis runs.
+
+    ``plot`` must be a figure (.png, .svg, .pdf); every other keyword names a table option
+    (``csv=...`` is ``--csv``) written by :func:`fogts.io.write_frame_atomic`.
+    """
+    from fogts.errors import DataError
+
+    for option, path in outputs.items():
+        if path is None:
+            continue
+        name = path.name.lower()
+        if option == "plot" and not name.endswith(_FIGURE_SUFFIXES):
+            raise DataError(f"--plot must end in .png, .svg or .pdf; got {path.name!r}")
+        if option != "plot" and not name.endswith(_TABLE_SUFFIXES):
+            raise DataError(f"--{option} must end in .csv, .csv.gz, .tsv, .txt or .parquet; "
+                            f"got {path.name!r}")
+
+
+
+def _save_figure(fig: Any, path: str | Path) -> None:
+    """Save a Figure atomically; the format follows the suffix (.png, .svg, .pdf)."""
+    from fogts.errors import DataError
+    from fogts.io import atomic_path
+
+    target = Path(path)
+    fmt = target.suffix.lstrip(".").lower()
+    if fmt not in ("png", "svg", "pdf"):
+        raise DataError(f"--plot must end in .png, .svg or .pdf; got {target.name!r}")
+    with atomic_path(target) as tmp:
+        fig.savefig(tmp, format=fmt, dpi=150)
+
+
+
+def _say(lines: list[str], json_out: str | None) -> None:
+    """Print text lines unwrapped (to stderr when the JSON goes to stdout)."""
+    target = err_console if json_out == "-" else console
+    target.print("\n".join(lines), markup=False, soft_wrap=True)
+
+
+
+def _load_thermal_model(path: Path) -> Any:
+    from fogts.io import read_json
+    from fogts.thermal import ThermalModel
+
+    data = read_json(path, "thermal model")
+    if isinstance(data, dict) and "thermal" in data and "terms" not in data:
+        data = data["thermal"].get("model", data["thermal"])  # a `compensate --json` file
+    return ThermalModel.from_dict(data)
+
+

@@ -1,0 +1,124 @@
+"""`fogts batch`: info, allan and select on many files, on a process pool or a Dask cluster."""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping
+from pathlib import Path
+from typing import Annotated, Any
+
+import typer
+from rich.table import Table
+
+from fogts.cli._common import (
+    ExitCode,
+    FsOpt,
+    GapsOpt,
+    NanOpt,
+    RateColOpt,
+    TempColOpt,
+    TimeColOpt,
+    UnitsOpt,
+    _guard,
+    app,
+    console,
+    err_console,
+)
+
+
+@app.command("batch")
+def batch_cmd(
+    patterns: Annotated[list[str], typer.Argument(help="Input files or glob patterns (quote them to let fogts expand '**').")],
+    output: Annotated[Path, typer.Option("--output", "-o", help="Summary table (.csv or .parquet): one row per run and axis.")],
+    json_dir: Annotated[Path | None, typer.Option("--json-dir", help="Folder for the per-run JSON (default: <summary name>_runs beside the summary).")] = None,
+    workers: Annotated[int | None, typer.Option("--workers", help="Local worker processes (default: the number of CPUs).")] = None,
+    scheduler: Annotated[str | None, typer.Option("--scheduler", help="Dask scheduler address (tcp://host:8786): run on that cluster instead of locally (needs the fogts\\[dask] extra).")] = None,
+    resume: Annotated[bool, typer.Option("--resume", help="Skip runs whose per-run JSON already exists (delete a failed run's JSON to retry it).")] = False,
+    rate_column: RateColOpt = None,
+    time_column: TimeColOpt = None,
+    temperature_column: TempColOpt = None,
+    fs: FsOpt = None,
+    units: UnitsOpt = None,
+    kind: Annotated[str, typer.Option("--kind", help="Allan estimator: adev, oadev, mdev, hdev, ohdev, totdev.")] = "oadev",
+    taus: Annotated[str, typer.Option("--taus", help="Tau grid: octave, decade, dense, all.")] = "octave",
+    detrend: Annotated[int | None, typer.Option("--detrend", help="Polynomial order removed before the ARMA selection.")] = None,
+    decimate: Annotated[int | None, typer.Option("--decimate", help="Block-average K samples before the ARMA selection.")] = None,
+    criterion: Annotated[str, typer.Option("--criterion", help="ARMA ranking criterion: aic, bic, hqic, aicc.")] = "aic",
+    no_select: Annotated[bool, typer.Option("--no-select", help="Skip the ARMA selection (info and Allan only).")] = False,
+    nan: NanOpt = "error",
+    gaps: GapsOpt = "warn",
+) -> None:
+    """Run info, allan and select on many files; write one summary row per run and axis.
+
+    A bad file gives a row with status=error and the message; the batch goes on.
+
+    Exit code 0 if every run is ok, 1 if any failed.
+    """
+    from rich.progress import (
+        BarColumn,
+        MofNCompleteColumn,
+        Progress,
+        SpinnerColumn,
+        TextColumn,
+        TimeElapsedColumn,
+        TimeRemainingColumn,
+    )
+
+    from fogts.batch import BatchOptions, BatchProgress, run_batch
+
+    with _guard({"summary_path": "--output", "patterns": "PATTERNS"}):
+        options = BatchOptions(rate_column=rate_column, time_column=time_column,
+                               temperature_column=temperature_column, fs_hz=fs, units=units,
+                               kind=kind, taus=taus, detrend=detrend, decimate=decimate,
+                               criterion=criterion, select=not no_select, nan=nan, gaps=gaps)
+        bar = Progress(SpinnerColumn(), TextColumn("{task.description}"), BarColumn(),
+                       MofNCompleteColumn(),
+                       TextColumn("failed {task.fields[failed]}, remaining "
+                                  "{task.fields[remaining]}"),
+                       TimeElapsedColumn(), TextColumn("ETA"), TimeRemainingColumn(),
+                       console=err_console, transient=False)
+        task_id: list[Any] = []
+
+        def on_progress(p: BatchProgress) -> None:
+            if not task_id:
+                task_id.append(bar.add_task("runs", total=p.total, completed=p.done,
+                                            failed=p.failed, remaining=p.remaining))
+            else:
+                bar.update(task_id[0], completed=p.done, failed=p.failed,
+                           remaining=p.remaining)
+
+        with bar:
+            result = run_batch(patterns, summary_path=output, json_dir=json_dir,
+                               workers=workers, scheduler=scheduler, resume=resume,
+                               options=options, progress=on_progress)
+        console.print(result.summary(), markup=False, soft_wrap=True)
+        for line in _batch_quality_lines(result.rows):
+            err_console.print(f"warning: {line}", markup=False, soft_wrap=True)
+        errors = [r for r in result.rows if r["status"] == "error"]
+        if errors:
+            from rich.text import Text
+
+            failed = Table(title="failed runs", title_justify="left")
+            for c in ("file", "axis", "error"):
+                failed.add_column(c)
+            for r in errors:  # Text(): file names and messages are not rich markup
+                failed.add_row(Text(r["file"]), Text(r["axis"] or ""), Text(r["error"]))
+            console.print(failed)
+    if result.interrupted:
+        err_console.print("error: interrupted; rerun with --resume to finish", markup=False)
+        raise typer.Exit(ExitCode.ERROR)
+    raise typer.Exit(ExitCode.NEGATIVE if errors else ExitCode.OK)
+
+
+def _batch_quality_lines(rows: Iterable[Mapping[str, Any]]) -> list[str]:
+    """One line per data-quality finding across the batch, naming the files (details in
+    each run's JSON ``info.data_quality``)."""
+    checks = (("units_source", lambda v: v == "assumed", "rate unit assumed (deg/h)"),
+              ("n_gaps", lambda v: bool(v), "gaps in the time base"),
+              ("n_glitches", lambda v: bool(v), "glitches"))
+    lines = []
+    for key, flagged, label in checks:
+        files = sorted({Path(str(r["file"])).name for r in rows if flagged(r.get(key))})
+        if files:
+            lines.append(f"{label} in {len(files)} file(s): {', '.join(files)} (see the per-run "
+                         "JSON, info.data_quality)")
+    return lines

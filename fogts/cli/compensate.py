@@ -1,0 +1,93 @@
+"""`fogts compensate`: start-up temperature-drift model and compensation."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from fogts.cli._common import (
+    FileArg,
+    FsOpt,
+    JsonOpt,
+    NanOpt,
+    RateColOpt,
+    TempColOpt,
+    TimeColOpt,
+    UnitsOpt,
+    _emit_json,
+    _guard,
+    _load_thermal_model,
+    _read,
+    _save_figure,
+    _say,
+    app,
+)
+
+
+@app.command("compensate")
+def compensate_cmd(
+    file: FileArg,
+    output: Annotated[Path | None, typer.Option("-o", "--output", help="Output table (.csv or .parquet): time, raw, trend, used, compensated, temperature.")] = None,
+    emd: Annotated[bool, typer.Option("--emd/--no-emd", help="Separate the trend by EMD and Kalman-filter the rest before fitting (seed 004).")] = True,
+    save_model: Annotated[Path | None, typer.Option("--save-model", help="Save the fitted thermal model as JSON.")] = None,
+    model: Annotated[Path | None, typer.Option("--model", help="Apply a saved thermal model (JSON) instead of fitting one.")] = None,
+    calibration: Annotated[list[Path] | None, typer.Option("--calibration", help="Further calibration run(s) fitted together with FILE (repeat the option), e.g. cold starts at other ambient temperatures.")] = None,
+    arma_model: Annotated[str, typer.Option("--arma-model", help="ARMA model of the EMD rest: auto, AR(1), AR(2), AR(3), ARMA(1,1), ARMA(2,1).")] = "auto",
+    average: Annotated[float, typer.Option("--average", help="Averaging time of the bias stability in seconds (GJB/IEEE: 10 s).")] = 10.0,
+    dt_smoothing: Annotated[float, typer.Option("--dt-smoothing", help="Window in seconds of the temperature-rate (dT/dt) estimate.")] = 60.0,
+    axis: Annotated[str, typer.Option("--axis", help="Axis to compensate (name or index).")] = "0",
+    rate_column: RateColOpt = None,
+    time_column: TimeColOpt = None,
+    temperature_column: TempColOpt = None,
+    fs: FsOpt = None,
+    units: UnitsOpt = None,
+    json_out: JsonOpt = None,
+    plot: Annotated[Path | None, typer.Option("--plot", help="Raw rate, trend, compensated rate and temperature: .png, .svg or .pdf.")] = None,
+    nan: NanOpt = "error",
+) -> None:
+    """Fit the seed-004 temperature-drift model D = aT·dT + bT² + cT + d·dT² + e·dT + f and
+    compensate; prints the model and the bias stability before and after."""
+    from fogts.thermal import startup_compensation
+
+    with _guard(outputs={"--output": output, "--save-model": save_model, "--json": json_out,
+                         "--plot": plot},
+                inputs={"FILE": [file], "--model": [model] if model else [],
+                        "--calibration": calibration or []}):
+        run, quality = _read(file, rate_column, time_column, temperature_column, fs, units,
+                             nan=nan)
+        pick: int | str = int(axis) if axis.lstrip("-").isdigit() else axis
+        given = _load_thermal_model(model) if model is not None else None
+        extra = [_read(c, rate_column, time_column, temperature_column, fs, units, nan=nan)[0]
+                 for c in (calibration or [])]
+        if extra and given is not None:
+            from fogts.errors import DataError
+
+            raise DataError("--calibration fits a model; it cannot be combined with --model")
+        result = startup_compensation(run, axis=pick, emd=emd, model=given,
+                                      arma_model=arma_model, dT_smoothing_s=dt_smoothing,
+                                      average_s=average, calibration=extra)
+        if output is not None:
+            from fogts.io import write_frame_atomic
+
+            write_frame_atomic(output, result.to_frame())
+        if save_model is not None:
+            from fogts.io import write_text_atomic
+            from fogts.report import json_dumps
+
+            write_text_atomic(save_model, json_dumps(result.model.to_dict()) + "\n")
+        payload = {"input": str(file), **result.to_dict(), "data_quality": quality.to_dict()}
+        if given is not None:
+            payload["thermal"]["source"] = str(model)
+        _emit_json(payload, json_out)
+        if plot is not None:
+            from fogts.plots import plot_compensation
+
+            _save_figure(plot_compensation(result), plot)
+        lines = [result.summary()]
+        if output is not None:
+            lines.append(f"wrote {output} ({run.n} rows)")
+        if save_model is not None:
+            lines.append(f"saved the thermal model to {save_model}")
+        _say(lines, json_out)

@@ -1,0 +1,71 @@
+"""`fogts davar`: the dynamic Allan deviation."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from fogts.cli._common import (
+    FileArg,
+    FsOpt,
+    GapsOpt,
+    JsonOpt,
+    NanOpt,
+    RateColOpt,
+    TempColOpt,
+    TimeColOpt,
+    UnitsOpt,
+    _emit_json,
+    _guard,
+    _read,
+    _save_figure,
+    _tau_option,
+    app,
+    console,
+    err_console,
+)
+
+
+@app.command("davar")
+def davar_cmd(
+    file: FileArg,
+    window: Annotated[str, typer.Option("--window", help="Window length: 200s, 5min, ... (the seed paper uses 201 s).")] = "200s",
+    step: Annotated[str, typer.Option("--step", help="Step between windows: 20s, 1min, ...")] = "20s",
+    kind: Annotated[str, typer.Option("--kind", help="Estimator per window: oadev, mdev, ohdev (fast), adev, hdev, totdev.")] = "oadev",
+    taus: Annotated[str, typer.Option("--taus", help="Tau grid within the window: octave, decade, dense, all, or taus in s separated by commas.")] = "octave",
+    axis: Annotated[str | None, typer.Option("--axis", help="Analyse one axis (name or index) (default: every axis).")] = None,
+    confidence: Annotated[float, typer.Option("--confidence", help="Confidence level of each window's interval.")] = 0.683,
+    rate_column: RateColOpt = None,
+    time_column: TimeColOpt = None,
+    temperature_column: TempColOpt = None,
+    fs: FsOpt = None,
+    units: UnitsOpt = None,
+    json_out: JsonOpt = None,
+    plot: Annotated[Path | None, typer.Option("--plot", help="Heat map of log deviation over (time, tau): .png, .svg or .pdf.")] = None,
+    nan: NanOpt = "error",
+    gaps: GapsOpt = "warn",
+) -> None:
+    """Dynamic Allan deviation (DAVAR, Galleani & Tavella 2009): the deviation in a
+    window sliding along the record, and a non-stationarity score."""
+    from fogts.allan.dynamic import dynamic_allan
+    from fogts.units import parse_duration
+
+    with _guard(outputs={"--json": json_out, "--plot": plot}, inputs={"FILE": [file]}):
+        window_s = parse_duration(window, "--window")
+        step_s = parse_duration(step, "--step")
+        tau_spec = _tau_option(taus)
+        pick: int | str | None = int(axis) if axis is not None and axis.isdigit() else axis
+        run, quality = _read(file, rate_column, time_column, temperature_column, fs, units,
+                             nan=nan, gaps=gaps)
+        result = dynamic_allan(run, window_s=window_s, step_s=step_s, kind=kind,  # type: ignore[arg-type]
+                               taus=tau_spec, confidence=confidence, axis=pick)
+        payload = {"input": str(file), **result.to_dict(), "data_quality": quality.to_dict()}
+        _emit_json(payload, json_out)
+        if plot is not None:
+            from fogts.plots import plot_dynamic_allan
+
+            _save_figure(plot_dynamic_allan(result), plot)
+        target = err_console if json_out == "-" else console
+        target.print(result.summary(), markup=False, soft_wrap=True)

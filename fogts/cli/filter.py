@@ -1,0 +1,159 @@
+"""`fogts filter`: Kalman filter from the ARMA drift model, or a zero-phase low-pass."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated, Any
+
+import typer
+
+from fogts.cli._common import (
+    FileArg,
+    FsOpt,
+    GapsOpt,
+    JsonOpt,
+    NanOpt,
+    RateColOpt,
+    TempColOpt,
+    TimeColOpt,
+    UnitsOpt,
+    _emit_json,
+    _guard,
+    _read,
+    _save_figure,
+    _say,
+    app,
+)
+
+FILTER_METHODS = ("kalman", "iir", "moving-average")
+
+
+@app.command("filter")
+def filter_cmd(
+    file: FileArg,
+    output: Annotated[Path, typer.Option("-o", "--output", help="Output table (.csv or .parquet): time, observed, filtered (kalman adds smoothed, predicted).")],
+    method: Annotated[str, typer.Option("--method", help="kalman (ARMA drift model in Harvey state-space form), iir (zero-phase low-pass) or moving-average.")] = "kalman",
+    model: Annotated[str, typer.Option("--model", help="Drift model for --method kalman: auto (run the ARMA selection), AR(1), AR(2), AR(3), ARMA(1,1), ARMA(2,1).")] = "auto",
+    measurement_noise: Annotated[str, typer.Option("--measurement-noise", help="Kalman measurement-noise variance in (rate unit)^2, or 'estimate' (ML with the ARMA parameters fixed).")] = "estimate",
+    cutoff: Annotated[float | None, typer.Option("--cutoff", help="--method iir: cutoff in Hz (zero-phase -3 dB point for butter), below fs/2.")] = None,
+    order: Annotated[int, typer.Option("--order", help="--method iir: filter order of one pass.")] = 4,
+    design: Annotated[str, typer.Option("--design", help="--method iir: butter, cheby1 or ellip.")] = "butter",
+    window: Annotated[float | None, typer.Option("--window", help="--method moving-average: window in seconds.")] = None,
+    compare_allan: Annotated[bool, typer.Option("--compare-allan", help="Allan deviation and noise terms before and after filtering, side by side (with --plot: the overlay figure).")] = False,
+    axis: Annotated[str, typer.Option("--axis", help="Axis to filter (name or index).")] = "0",
+    rate_column: RateColOpt = None,
+    time_column: TimeColOpt = None,
+    temperature_column: TempColOpt = None,
+    fs: FsOpt = None,
+    units: UnitsOpt = None,
+    json_out: JsonOpt = None,
+    plot: Annotated[Path | None, typer.Option("--plot", help="Figure (.png, .svg, .pdf): observed/filtered/smoothed for kalman; the before/after Allan overlay with --compare-allan.")] = None,
+    nan: NanOpt = "error",
+    gaps: GapsOpt = "warn",
+) -> None:
+    """Filter a gyro record: Kalman filter with an ARMA drift model (seed 004), or a
+    zero-phase IIR / moving-average low-pass with a before/after Allan comparison (seed 001).
+    """
+    from fogts._validate import check_choice
+
+    with _guard(outputs={"--output": output, "--json": json_out, "--plot": plot},
+                inputs={"FILE": [file]}):
+        check_choice("--method", method, FILTER_METHODS)
+        if method == "kalman":
+            noise = _parse_measurement_noise(measurement_noise)
+        run, _ = _read(file, rate_column, time_column, temperature_column, fs, units, nan=nan,
+                       gaps=gaps)
+        pick: int | str = int(axis) if axis.lstrip("-").isdigit() else axis
+        x = run.axis(pick)
+        if method == "kalman":
+            _kalman_filter(run, x, file, output, model, noise, json_out, plot, method)
+        else:
+            _lowpass_filter(run, x, file, output, method, cutoff, order, design, window,
+                            compare_allan, json_out, plot)
+
+
+def _parse_measurement_noise(text: str) -> Any:
+    from fogts.errors import DataError
+
+    if text == "estimate":
+        return text
+    try:
+        return float(text)
+    except ValueError:
+        raise DataError("--measurement-noise must be 'estimate' or a variance in "
+                        f"(rate unit)^2; got {text!r}") from None
+
+
+def _kalman_filter(run: Any, x: Any, file: Path, output: Path, model: str, noise: Any,
+                   json_out: str | None, plot: Path | None, method: str) -> None:
+    import numpy as np
+    import pandas as pd
+
+    from fogts.io import write_frame_atomic
+    from fogts.kalman import arma_kalman, resolve_arma_model
+
+    fit = resolve_arma_model(x, model)
+    result = arma_kalman(x, fit, measurement_noise=noise)
+    frame = pd.DataFrame({"time": run.time, "observed": x,
+                          "filtered": np.asarray(result.filtered),
+                          "smoothed": np.asarray(result.smoothed),
+                          "predicted": np.asarray(result.predicted)})
+    write_frame_atomic(output, frame)
+    fit_dict = fit.to_dict() if hasattr(fit, "to_dict") else {}
+    _emit_json({"input": str(file), "method": method, "units": run.units,
+                "model": fit_dict, "kalman": result.to_dict(), "output": str(output)},
+               json_out)
+    if plot is not None:
+        from fogts.plots import plot_kalman
+
+        _save_figure(plot_kalman(result, time_s=run.time, units=run.units), plot)
+    equation = fit.equation() if hasattr(fit, "equation") else result.model
+    _say([f"drift model ({'selected by AIC' if model == 'auto' else 'given'}): {equation}",
+          result.summary(), f"wrote {output} ({run.n} rows)"], json_out)
+
+
+def _lowpass_filter(run: Any, x: Any, file: Path, output: Path, method: str,
+                    cutoff: float | None, order: int, design: str, window: float | None,
+                    compare: bool, json_out: str | None, plot: Path | None) -> None:
+    import pandas as pd
+
+    from fogts.errors import DataError
+    from fogts.filters import lowpass, moving_average
+    from fogts.io import write_frame_atomic
+
+    if method == "iir":
+        if cutoff is None:
+            raise DataError("--method iir needs --cutoff HZ (below the Nyquist frequency "
+                            f"{run.fs_hz / 2:g} Hz)")
+        result = lowpass(x, fs_hz=run.fs_hz, cutoff_hz=cutoff, order=order,
+                         design=design)  # type: ignore[arg-type]
+    else:
+        if window is None:
+            raise DataError("--method moving-average needs --window SECONDS")
+        result = moving_average(x, fs_hz=run.fs_hz, window_s=window)
+    if plot is not None and not compare:
+        raise DataError("--plot with --method iir or moving-average draws the Allan overlay: "
+                        "add --compare-allan")
+    comparison = None
+    if compare:
+        from fogts.allan.compare import compare_allan
+
+        comparison = compare_allan(x, result.filtered, fs_hz=run.fs_hz, units=run.units,
+                                   cutoff_hz=result.cutoff_hz,
+                                   labels=("raw", f"{method} filtered"))
+    write_frame_atomic(output, pd.DataFrame({"time": run.time, "observed": x,
+                                             "filtered": result.filtered}))
+    payload: dict[str, Any] = {"input": str(file), "method": method, "units": run.units,
+                               "filter": result.to_dict(), "output": str(output)}
+    if comparison is not None:
+        payload["compare_allan"] = comparison.to_dict()
+    _emit_json(payload, json_out)
+    if plot is not None and comparison is not None:
+        from fogts.plots import plot_allan_comparison
+
+        _save_figure(plot_allan_comparison(comparison), plot)
+    lines = [result.summary()]
+    if comparison is not None:
+        lines += ["", "noise terms before and after filtering:", comparison.summary()]
+    lines.append(f"wrote {output} ({run.n} rows)")
+    _say(lines, json_out)

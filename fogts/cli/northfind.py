@@ -1,0 +1,131 @@
+"""`fogts northfind`: four-position north seeking."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated, Any
+
+import typer
+
+from fogts.cli._common import (
+    FsOpt,
+    JsonOpt,
+    RateColOpt,
+    TempColOpt,
+    TimeColOpt,
+    UnitsOpt,
+    _emit_json,
+    _guard,
+    _load_thermal_model,
+    _read,
+    _save_figure,
+    _say,
+    app,
+)
+
+#: Library argument names of ``fogts northfind`` and their options.
+_NORTHFIND_OPTIONS = {"latitude_deg": "--latitude", "transition_s": "--transition",
+                      "bias_sigma_deg_h": "--bias-sigma", "n_trials": "--simulate"}
+
+
+def _position_rates(files: list[Path], *, position_column: str, rate_column: str | None,
+                    time_column: str | None, temperature_column: str | None, fs: float | None,
+                    units: str | None, thermal: Any) -> tuple[dict[int, Any], dict[int, float] | None, float, str]:
+    import numpy as np
+
+    from fogts.errors import DataError
+    from fogts.northfind import POSITIONS_DEG, positions_from_frame
+    from fogts.thermal import compensate
+
+    if len(files) == 1:
+        run, _ = _read(files[0], f"{rate_column or 'rate'},{position_column}", time_column,
+                       temperature_column, fs, units, gaps="ignore", glitches=False)
+        if thermal is not None:
+            run = compensate(run, thermal, axis=0)
+        import pandas as pd
+
+        frame = pd.DataFrame({"position_deg": run.rate[:, 1], "rate": run.rate[:, 0],
+                              "time": run.time})
+        rates = positions_from_frame(frame)
+        keys = np.round(frame["position_deg"].to_numpy()) % 360
+        times = {p: float(frame["time"].to_numpy()[keys == p].mean()) for p in POSITIONS_DEG}
+        return rates, times, run.fs_hz, run.units
+    if len(files) != 4:
+        raise DataError(f"give one file with a {position_column!r} column, or four files (0, 90, "
+                        f"180, 270 degrees in that order); got {len(files)} files")
+    rates = {}
+    fs_hz, unit = 0.0, "deg/h"
+    for p, path in zip(POSITIONS_DEG, files, strict=True):
+        run, _ = _read(path, rate_column, time_column, temperature_column, fs, units,
+                       gaps="ignore", glitches=False)
+        if thermal is not None:
+            run = compensate(run, thermal, axis=0)
+        rates[p] = run.axis(0)
+        fs_hz, unit = run.fs_hz, run.units
+    return rates, None, fs_hz, unit
+
+
+@app.command("northfind")
+def northfind_cmd(
+    files: Annotated[list[Path] | None, typer.Argument(help="One CSV with position_deg and rate columns, or four files for 0/90/180/270 degrees (omit with --simulate).")] = None,
+    latitude: Annotated[float, typer.Option("--latitude", help="Latitude in degrees (|L| <= 89).")] = ...,  # type: ignore[assignment]
+    thermal_model: Annotated[Path | None, typer.Option("--thermal-model", help="Compensate the rates with a saved thermal model (JSON from 'fogts compensate --save-model').")] = None,
+    position_column: Annotated[str, typer.Option("--position-column", help="Column holding the position in degrees (0/90/180/270).")] = "position_deg",
+    transition: Annotated[float, typer.Option("--transition", help="Seconds spent turning between positions (four-file input).")] = 0.0,
+    bias_sigma: Annotated[float, typer.Option("--bias-sigma", help="1-sigma position-to-position bias variation in deg/h for the error budget.")] = 0.0,
+    simulate: Annotated[int | None, typer.Option("--simulate", help="Simulation mode: repeat cold-start north seeking N times, with and without thermal compensation.")] = None,
+    seed: Annotated[int, typer.Option("--seed", help="Random seed of the simulation mode.")] = 4,
+    rate_column: RateColOpt = None,
+    time_column: TimeColOpt = None,
+    temperature_column: TempColOpt = None,
+    fs: FsOpt = None,
+    units: UnitsOpt = None,
+    json_out: JsonOpt = None,
+    plot: Annotated[Path | None, typer.Option("--plot", help="Simulation mode: azimuth error per trial (.png, .svg, .pdf).")] = None,
+) -> None:
+    """Four-position north seeking (seed 004): azimuth of the input axis at position 0,
+    clockwise from true north, with its error budget; or, with --simulate N, the cold-start
+    error with and without thermal compensation."""
+    from fogts.errors import DataError
+    from fogts.northfind import four_position, simulate_north_seeking
+
+    with _guard(_NORTHFIND_OPTIONS, outputs={"--json": json_out, "--plot": plot},
+                inputs={"FILES": files or [],
+                        "--thermal-model": [thermal_model] if thermal_model else []}):
+        thermal = _load_thermal_model(thermal_model) if thermal_model is not None else None
+        if simulate is not None:
+            if files:
+                raise DataError("--simulate takes no input files")
+            notes = []
+            if thermal is None:
+                from fogts.northfind import simulated_calibration
+
+                thermal = simulated_calibration((15.0, 20.0, 25.0), rng=seed + 1_000_003)
+                notes.append("thermal model fitted on three separate simulated calibration cold "
+                             "starts (ambient 15, 20, 25 degC)")
+            study = simulate_north_seeking(simulate, latitude_deg=latitude, model=thermal,
+                                           rng=seed)
+            payload = {"mode": "simulate", "seed": seed, **study.to_dict(), "notes": notes}
+            _emit_json(payload, json_out)
+            if plot is not None:
+                from fogts.plots import plot_north_seeking
+
+                _save_figure(plot_north_seeking(study), plot)
+            _say([study.summary(), *notes], json_out)
+            return
+        if not files:
+            raise DataError("give one positions file or four files, or --simulate N")
+        rates, times, fs_hz, unit = _position_rates(
+            files, position_column=position_column, rate_column=rate_column,
+            time_column=time_column, temperature_column=temperature_column, fs=fs, units=units,
+            thermal=thermal)
+        result = four_position(rates, latitude_deg=latitude, fs_hz=fs_hz, units=unit,
+                               position_time_s=times, transition_s=transition,
+                               bias_sigma_deg_h=bias_sigma)
+        payload = {"input": [str(f) for f in files],
+                   "thermal_model": None if thermal_model is None else str(thermal_model),
+                   **result.to_dict()}
+        _emit_json(payload, json_out)
+        if plot is not None:
+            raise DataError("--plot is available in --simulate mode only")
+        _say([result.summary()], json_out)

@@ -1,0 +1,70 @@
+"""`fogts report`: one self-contained HTML report of a recording."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from fogts.cli._common import (
+    ExitCode,
+    FileArg,
+    FsOpt,
+    GapsOpt,
+    NanOpt,
+    RateColOpt,
+    TempColOpt,
+    TimeColOpt,
+    UnitsOpt,
+    _guard,
+    _read,
+    app,
+    console,
+    err_console,
+)
+
+
+@app.command("report")
+def report_cmd(
+    file: FileArg,
+    output: Annotated[Path, typer.Option("--output", "-o", help="HTML file to write (self-contained: figures embedded, no network needed).")],
+    rate_column: RateColOpt = None,
+    time_column: TimeColOpt = None,
+    temperature_column: TempColOpt = None,
+    fs: FsOpt = None,
+    units: UnitsOpt = None,
+    title: Annotated[str | None, typer.Option("--title", help="Document title (default: 'Gyro report: <file name>').")] = None,
+    outliers: Annotated[float | None, typer.Option("--outliers", help="Replace samples beyond this many robust sigmas before the ARMA analysis.")] = None,
+    detrend: Annotated[int | None, typer.Option("--detrend", help="Polynomial order removed before the ARMA analysis.")] = None,
+    decimate: Annotated[int | None, typer.Option("--decimate", help="Block-average K samples before the ARMA analysis.")] = None,
+    kind: Annotated[str, typer.Option("--kind", help="Allan estimator: adev, oadev, mdev, hdev, ohdev, totdev.")] = "oadev",
+    taus: Annotated[str, typer.Option("--taus", help="Tau grid: octave, decade, dense, all.")] = "octave",
+    criterion: Annotated[str, typer.Option("--criterion", help="ARMA ranking criterion: aic, bic, hqic, aicc.")] = "aic",
+    davar_window: Annotated[float | None, typer.Option("--davar-window", help="Dynamic Allan window in seconds (default: a tenth of the record).")] = None,
+    nan: NanOpt = "error",
+    gaps: GapsOpt = "warn",
+) -> None:
+    """Write one self-contained HTML report of a recording.
+
+    Sections: input, time series, Allan deviation and noise terms, ARMA selection, prediction, dynamic Allan deviation and the thermal model (the last two when they apply).
+
+    Exit code 1 if a section could not be computed (the report is still written and says why).
+    """
+    from fogts.report_html import build_report, write_report
+
+    with _guard(outputs={"--output": output}, inputs={"FILE": [file]}):
+        run, quality = _read(file, rate_column, time_column, temperature_column, fs, units,
+                             nan=nan, gaps=gaps)
+        rep = build_report(run, quality=quality, title=title, outliers=outliers, detrend=detrend,
+                           decimate=decimate, kind=kind, taus=taus, criterion=criterion,
+                           davar_window_s=davar_window)
+        write_report(output, rep)
+        failed = [s for s in rep.sections if s.status != "ok"]
+        for s in failed:
+            err_console.print(f"warning: {s.title}: {s.message}", markup=False, soft_wrap=True)
+        console.print(f"wrote {output} ({len(rep.sections)} sections, {rep.n_figures} "
+                      f"figures)", markup=False, soft_wrap=True)
+        for part, why in rep.omitted:
+            console.print(f"not included: {part}: {why}", markup=False, soft_wrap=True)
+    raise typer.Exit(ExitCode.NEGATIVE if failed else ExitCode.OK)

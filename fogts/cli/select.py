@@ -1,0 +1,211 @@
+"""`fogts select`: the ARMA model of the drift, its residual checks and prediction."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated, Any
+
+import typer
+from rich.table import Table
+
+from fogts.cli._common import (
+    FileArg,
+    FsOpt,
+    GapsOpt,
+    JsonOpt,
+    NanOpt,
+    RateColOpt,
+    TempColOpt,
+    TimeColOpt,
+    UnitsOpt,
+    _check_output_names,
+    _emit_json,
+    _guard,
+    _read,
+    _save_figure,
+    app,
+    console,
+    err_console,
+)
+
+
+def _fmt(v: Any, spec: str = ".4g") -> str:
+    import math
+
+    return "–" if v is None or (isinstance(v, float) and not math.isfinite(v)) else \
+        format(v, spec)
+
+
+def _select_notes(c: Any) -> str:
+    """Short notes for one candidate row: why not white, redundancy, convergence."""
+    if not c.ok:
+        return f"fit failed: {c.reason}"
+    notes = []
+    if c.flagged("near_cancellation"):
+        notes.append("AR/MA roots nearly cancel")
+    insig = [f.details["param"] for f in c.flagged("insignificant")]
+    if insig:
+        notes.append(f"{', '.join(insig)} not significant")
+    if not c.converged:
+        notes.append("did not converge")
+    return "; ".join(notes)
+
+
+def _select_table(sel: Any) -> Table:
+    from rich.text import Text
+
+    crit = sel.criterion.upper()
+    best = sel.selected.criterion_value if sel.selected is not None else float("nan")
+    band = 1.96 / sel.n ** 0.5
+    title = f"ARMA candidates ranked by {crit}, white residuals first"
+    if sel.selected is not None:
+        title += f" ({crit} of #1: {best:.2f})"
+    table = Table(title=title, title_justify="left", box=None, pad_edge=False, padding=(0, 1),
+                  header_style="bold underline")
+    for name in ("#", "model", f"Δ{crit}", "σ_a²", "ρ_a,2", "ρ_ax,3",
+                 *[f"LB p({lag})" for lag in sel.lags], "white"):
+        table.add_column(name, justify="left" if name == "model" else "right", no_wrap=True)
+    for c in sel.candidates:
+        if not c.ok:
+            table.add_row("–", c.model, *["–"] * (4 + len(sel.lags)), Text("failed", "red"))
+            continue
+        d = c.diagnostics
+
+        def chk(value: float, ok: bool | None) -> Text:
+            return Text(_fmt(value, "+.4f"), "" if ok in (True, None) else "red")
+
+        lbs = [Text(_fmt(x.pvalue, ".3g"), "" if x.passed in (True, None) else "red")
+               for x in d.ljung_box]
+        table.add_row(str(c.rank), Text(c.model, "bold" if c is sel.selected else ""),
+                      _fmt(c.criterion_value - best, "+.2f"), _fmt(c.sigma2, ".3g"),
+                      chk(d.rho_a2.value, d.rho_a2.passed), chk(d.rho_ax3.value, d.rho_ax3.passed),
+                      *lbs, Text("yes", "green") if c.white else Text("no", "red"))
+    table.caption = (f"white: |ρ_a,2|, |ρ_ax,3| ≤ 1.96/√n = {band:.3g} (seed eqs. 11, 12) and "
+                     f"Ljung–Box p ≥ 0.05 at each lag (model_df = p+q); red: check fails")
+    table.caption_justify = "left"
+    return table
+
+
+def _select_params(c: Any, units: str | None) -> list[str]:
+    lines = []
+    for k, v in c.params.items():
+        se = c.bse.get(k)
+        t = v / se if se else float("nan")
+        unit = f" ({units})²" if k == "sigma2" and units else ""
+        sig = "" if k == "sigma2" else f"  t = {t:+.1f}"
+        lines.append(f"  {k:<7} = {v: .6g} ± {_fmt(se, '.2g')}{unit}{sig}")
+    return lines
+
+
+@app.command("select")
+def select_cmd(
+    file: FileArg,
+    rate_column: RateColOpt = None,
+    time_column: TimeColOpt = None,
+    temperature_column: TempColOpt = None,
+    fs: FsOpt = None,
+    units: UnitsOpt = None,
+    axis: Annotated[str | None, typer.Option("--axis", help="Axis to model, by name or index (default: the first).")] = None,
+    outliers: Annotated[float | None, typer.Option("--outliers", help="Replace samples beyond this many robust sigmas first.")] = None,
+    detrend: Annotated[int | None, typer.Option("--detrend", help="Remove a polynomial trend of this order; 0 removes the mean only (default: remove the mean).")] = None,
+    decimate: Annotated[int | None, typer.Option("--decimate", help="Block-average K samples first (e.g. 100 Hz -> 1 Hz with K=100).")] = None,
+    candidates: Annotated[str | None, typer.Option("--candidates", help="Models to compare, e.g. 'AR(1),AR(2),ARMA(1,1)' (default: AR(1),AR(2),AR(3),ARMA(1,1),ARMA(2,1)).")] = None,
+    criterion: Annotated[str, typer.Option("--criterion", help="Ranking criterion: aic, bic, hqic, aicc.")] = "aic",
+    json_out: JsonOpt = None,
+    plot: Annotated[Path | None, typer.Option("--plot", help="Diagnostics figure (data ACF/PACF, residual ACF, Q-Q, prediction): .png, .svg or .pdf.")] = None,
+    predict: Annotated[Path | None, typer.Option("--predict", help="Write the one-step prediction as CSV (time, observed, predicted, residual); .csv, .csv.gz, .tsv or .parquet.")] = None,
+    nan: NanOpt = "error",
+    gaps: GapsOpt = "warn",
+) -> None:
+    """Select the ARMA model of the drift (seed 000): fit AR(1), AR(2), AR(3), ARMA(1,1) and ARMA(2,1), check that their residuals are white, rank them and predict one step ahead.
+
+    Exit code 0 if the selected model leaves white residuals, 1 if no candidate does (the best one is still reported), 2 on bad input.
+    """
+    from rich.text import Text
+
+    from fogts.arma.select import parse_candidates, select_arma
+    from fogts.errors import DataError
+    from fogts.preprocess import prepare
+
+    with _guard(outputs={"--json": json_out, "--plot": plot, "--predict": predict},
+                inputs={"FILE": [file]}):
+        if criterion not in ("aic", "bic", "hqic", "aicc"):
+            raise DataError(f"--criterion must be one of aic, bic, hqic, aicc; got {criterion!r}")
+        orders = parse_candidates(candidates)
+        _check_output_names(plot=plot, predict=predict)
+        run, quality = _read(file, rate_column, time_column, temperature_column, fs, units,
+                             nan=nan, gaps=gaps)
+        pick: int | str = 0 if axis is None else (int(axis) if axis.isdigit() else axis)
+        if isinstance(pick, str) and pick not in run.axes:
+            raise DataError(f"--axis {pick!r} not found; axes are: {', '.join(run.axes)}")
+        if isinstance(pick, int) and not 0 <= pick < run.n_axes:
+            raise DataError(f"--axis must be 0..{run.n_axes - 1}, got {pick}")
+        prepared = prepare(run, axis=pick, outliers=outliers, detrend=detrend,
+                           decimate=decimate)
+        sel = select_arma(prepared, candidates=orders, criterion=criterion)  # type: ignore[arg-type]
+        payload = sel.to_dict()
+        payload["input"] = {**payload["input"], "file": str(file),
+                            "units_source": run.units_source}
+        payload["data_quality"] = quality.to_dict()
+        _emit_json(payload, json_out)
+        if plot is not None:
+            from fogts.plots import plot_selection
+
+            _save_figure(plot_selection(sel), plot)
+        pred = None
+        if predict is not None and sel.selected is not None:
+            from fogts.io import write_frame_atomic
+
+            pred = sel.selected.predict()
+            frame = pred.to_frame().reset_index(drop=True)
+            if "time" not in frame:
+                frame.insert(0, "time", prepared.time)
+            write_frame_atomic(predict, frame[["time", "observed", "predicted", "residual"]])
+
+        out = err_console if json_out == "-" else console
+
+        def say(text: str = "", style: str = "") -> None:
+            out.print(Text(text, style), soft_wrap=True)
+
+        dur = run.duration_s
+        dur_text = f"{dur / 3600:.3g} h" if dur >= 3600 else (
+            f"{dur / 60:.3g} min" if dur >= 60 else f"{dur:.3g} s")
+        say(f"read      {file}: {run.n:,} samples of {prepared.axis!r} at {run.fs_hz:g} Hz "
+            f"({dur_text}), rate in {run.units}")
+        if run.n_axes > 1:
+            say(f"{'':<10}axes in the file: {', '.join(run.axes)} (choose with --axis)")
+        for i, step in enumerate(prepared.steps):
+            say(f"{'prepared' if i == 0 else '':<10}{step}")
+        say(f"{'modelled':<10}{sel.n:,} samples at {prepared.fs_hz:g} Hz")
+        corr = sel.correlogram
+        say(f"{'ACF/PACF':<10}ACF {corr.acf_pattern.describe()}, PACF "
+            f"{corr.pacf_pattern.describe()} -> {corr.suggestion}")
+        out.print(_select_table(sel))
+        for c in sel.candidates:
+            note = _select_notes(c)
+            if note and c is not sel.selected:
+                say(f"{'note':<10}{c.model}: {note}")
+        best = sel.selected
+        if best is not None:
+            how = (f"lowest {sel.criterion.upper()} among the white candidates" if best.white
+                   else f"lowest {sel.criterion.upper()}; residuals NOT white")
+            say(f"selected  {best.model} ({how}), drift in {prepared.units}:", "bold")
+            say(f"  {best.equation()}", "bold")
+            for line in _select_params(best, prepared.units):
+                say(line)
+            for f in best.flags:
+                say(f"  note: {f.message}")
+            bp = best.predict()
+            say(f"  one-step prediction: std {bp.variance_observed ** 0.5:.4g} -> "
+                f"{bp.variance_residual ** 0.5:.4g} {prepared.units} "
+                f"({100 * bp.variance_removed:.1f} % of the variance removed)")
+        say(f"verdict   {sel.verdict}", "green" if sel.exit_code == 0 else "red")
+        if json_out not in (None, "-"):
+            say(f"wrote     {json_out}")
+        if plot is not None:
+            say(f"wrote     {plot}")
+        if pred is not None:
+            say(f"wrote     {predict}")
+        elif predict is not None:
+            say(f"not written {predict}: no candidate could be fitted")
+    raise typer.Exit(sel.exit_code)

@@ -1,0 +1,312 @@
+"""`fogts simulate`: gyro noise from IEEE-952 coefficients, or a cold start."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated, Any
+
+import typer
+
+from fogts.cli._common import (
+    _guard,
+    app,
+    console,
+)
+
+#: Library argument names of ``fogts simulate`` (both modes) and their options.
+_SIMULATE_OPTIONS = {
+    "fs_hz": "--fs", "duration_s": "--duration", "latitude_deg": "--latitude",
+    "azimuth_deg": "--azimuth", "position_s": "--position-time", "turn_s": "--turn-time",
+    "start_delay_s": "--start-after", "start_s": "--start-after",
+    "ambient_degC": "--ambient-c", "peak_rate_degC_s": "--peak-heating-c-s",
+    "tau_s": "--time-constants", "white_sigma_deg_h": "--white-deg-h",
+    "temperature_resolution_degC": "--temperature-resolution-c",
+}
+
+
+_SIM_SUFFIXES = (".csv", ".csv.gz", ".tsv", ".txt", ".parquet", ".pq")
+
+
+def _pair(text: str | None, option: str, names: str) -> tuple[float, float] | None:
+    """Parse ``"a,b"`` into two floats (for --markov and --sine)."""
+    import math
+
+    from fogts.errors import DataError
+
+    if text is None:
+        return None
+    parts = [p.strip() for p in text.split(",")]
+    try:
+        a, b = (float(p) for p in parts) if len(parts) == 2 else (math.nan, math.nan)
+    except ValueError:
+        a = b = math.nan
+    if not (math.isfinite(a) and math.isfinite(b)):
+        raise DataError(f"{option} must be two numbers '{names}', got {text!r}")
+    return a, b
+
+
+def _coefficients(text: str | None, option: str) -> dict[str, float] | None:
+    """Parse ``"T=0.02,dT=30,1=0.5"`` into a dict."""
+    from fogts.errors import DataError
+
+    if text is None:
+        return None
+    out: dict[str, float] = {}
+    for part in text.split(","):
+        key, sep, value = part.partition("=")
+        try:
+            out[key.strip()] = float(value)
+        except ValueError:
+            sep = ""
+        if not sep:
+            raise DataError(f"{option} must look like 'T=0.02,dT=30,1=0.5', got {text!r}")
+    return out
+
+
+@app.command("simulate")
+def simulate_cmd(
+    output: Annotated[Path, typer.Option("--output", "-o", help="Output file: .csv, .csv.gz, .tsv, .txt or .parquet. The true parameters go to OUTPUT.json beside it.")],
+    fs: Annotated[float | None, typer.Option("--fs", help="Sample rate in Hz (default 100; 1 with --startup, as in seed 004).")] = None,
+    duration: Annotated[str | None, typer.Option("--duration", help="Record length: 3h, 90min, 600s, 1d, 1h30min or seconds (default 1h).")] = None,
+    q_term: Annotated[float, typer.Option("--Q", help="Angle quantisation Q in arcsec.")] = 0.0,
+    n_term: Annotated[float, typer.Option("--N", help="Angle random walk N in deg/sqrt(h).")] = 0.0,
+    b_term: Annotated[float, typer.Option("--B", help="Bias instability B in deg/h (Allan plateau 0.664 B).")] = 0.0,
+    k_term: Annotated[float, typer.Option("--K", help="Rate random walk K in deg/h^1.5.")] = 0.0,
+    r_term: Annotated[float, typer.Option("--R", help="Rate ramp R in deg/h^2.")] = 0.0,
+    markov: Annotated[str | None, typer.Option("--markov", help="First-order Markov term 'q_c,T_c': q_c in deg/h/sqrt(s), T_c in s.")] = None,
+    sine: Annotated[str | None, typer.Option("--sine", help="Sinusoid 'amplitude,frequency': deg/h and Hz.")] = None,
+    bias: Annotated[float, typer.Option("--bias", help="Constant rate offset in deg/h.")] = 0.0,
+    arma: Annotated[str | None, typer.Option("--arma", help="ARMA drift added to the rate, e.g. 'ar=0.9,-0.2;ma=0.3;sigma2=1e-4' (statsmodels signs; deg/h).")] = None,
+    noise_json: Annotated[Path | None, typer.Option("--from-json", help="Take the noise terms from a JSON file: 'fogts allan --json' output, a NoiseModel dict or a simulate sidecar; --Q/--N/... override single terms.")] = None,
+    axes: Annotated[int, typer.Option("--axes", help="Number of independent axes (rate_x, rate_y, rate_z).")] = 1,
+    temperature_profile: Annotated[str | None, typer.Option("--temperature-profile", help="Temperature column: 'constant:T', 'warmup:START,END,TAU' (degC; TAU like 20min) or 'ramp:START,END'.")] = None,
+    thermal: Annotated[str | None, typer.Option("--thermal", help="Temperature-driven drift D = a T dT + b T^2 + c T + d dT^2 + e dT + f, as 'T*dT=a,T2=b,T=c,dT2=d,dT=e,1=f' (deg/h; dT in degC/s); needs --temperature-profile or --startup (default there: T*dT=0.4,T2=0.0015,T=-0.12,dT2=120,dT=25,1=2).")] = None,
+    flicker: Annotated[str, typer.Option("--flicker", help="Flicker (B) synthesis: markov (sum of Markov processes, chunked) or kasdin (Kasdin-Walter, in memory).")] = "markov",
+    seed: Annotated[int | None, typer.Option("--seed", help="Random seed (default: a fresh one, recorded in the sidecar JSON).")] = None,
+    units: Annotated[str, typer.Option("--units", help="Unit of the output rate: deg/h, deg/s, rad/s, arcsec/s (coefficients stay in deg/h-based units).")] = "deg/h",
+    decimals: Annotated[int | None, typer.Option("--decimals", help="Round the rate and temperature to this many decimals (smaller files).")] = None,
+    startup: Annotated[bool, typer.Option("--startup", help="Simulate a seed-004 cold start instead: warm-up temperature, thermal drift (--thermal), ARMA drift (--arma, default 'ar=0.9;sigma2=0.0025') and white noise; writes time,rate,temperature.", rich_help_panel="Cold start (--startup, seed 004)")] = False,
+    ambient_c: Annotated[float | None, typer.Option("--ambient-c", help="Ambient (switch-on) temperature in degC (default 20).", rich_help_panel="Cold start (--startup, seed 004)")] = None,
+    peak_heating_c_s: Annotated[float | None, typer.Option("--peak-heating-c-s", help="Peak warm-up rate dT/dt in degC/s (default 0.05, as in seed 004).", rich_help_panel="Cold start (--startup, seed 004)")] = None,
+    time_constants: Annotated[str | None, typer.Option("--time-constants", help="Slow and fast warm-up lags 'SLOW,FAST' (default '400s,40s').", rich_help_panel="Cold start (--startup, seed 004)")] = None,
+    white_deg_h: Annotated[float | None, typer.Option("--white-deg-h", help="1-sigma white rate noise per sample in deg/h (default 0.3; = 60 N sqrt(fs) with N in deg/sqrt(h)).", rich_help_panel="Cold start (--startup, seed 004)")] = None,
+    temperature_resolution_c: Annotated[float | None, typer.Option("--temperature-resolution-c", help="Temperature sensor resolution in degC, 0 = exact (default 0.01).", rich_help_panel="Cold start (--startup, seed 004)")] = None,
+    start_after: Annotated[str | None, typer.Option("--start-after", help="Time from switch-on to the first sample, e.g. 10min (default 0).", rich_help_panel="Cold start (--startup, seed 004)")] = None,
+    positions: Annotated[bool, typer.Option("--positions", help="Four-position north seeking during the cold start: writes time,position_deg,rate,temperature for 'fogts northfind'; needs --latitude and --azimuth.", rich_help_panel="Cold start (--startup, seed 004)")] = False,
+    latitude: Annotated[float | None, typer.Option("--latitude", help="Latitude in degrees (|L| <= 89) for --positions.", rich_help_panel="Cold start (--startup, seed 004)")] = None,
+    azimuth: Annotated[float | None, typer.Option("--azimuth", help="True azimuth of the input axis at position 0 in degrees, clockwise from north, for --positions.", rich_help_panel="Cold start (--startup, seed 004)")] = None,
+    position_time: Annotated[str | None, typer.Option("--position-time", help="Time measured at each position (default 60s).", rich_help_panel="Cold start (--startup, seed 004)")] = None,
+    turn_time: Annotated[str | None, typer.Option("--turn-time", help="Time spent turning between positions, left out of the file (default 10s).", rich_help_panel="Cold start (--startup, seed 004)")] = None,
+) -> None:
+    """Simulate a static gyro record from IEEE-952 noise coefficients (seed 000 Table 1),
+    or with --startup a seed-004 cold start (optionally a four-position north seeking).
+
+    Writes time, rate (rate_x, rate_y, rate_z with --axes 3) and temperature (with a
+    profile), and a sidecar JSON OUTPUT.json with the true parameters and the closed-form
+    Allan deviation (with --startup: the true thermal coefficients and warm-up parameters).
+    """
+    import dataclasses
+
+    import numpy as np
+
+    from fogts import __version__ as version
+    from fogts.errors import DataError
+    from fogts.io import write_frame_atomic, write_text_atomic
+    from fogts.report import json_dumps
+    from fogts.simulate import (
+        ArmaSpec,
+        NoiseSpec,
+        TemperatureProfile,
+        simulate_gyro,
+    )
+    from fogts.units import parse_duration
+
+    sidecar_path = output.with_name(output.name + ".json")
+    with _guard(_SIMULATE_OPTIONS, outputs={"--output": output,
+                                            "--output's sidecar": sidecar_path},
+                inputs={"--from-json": [noise_json] if noise_json else []}):
+        if not output.name.lower().endswith(_SIM_SUFFIXES):
+            raise DataError(f"--output must end in {', '.join(_SIM_SUFFIXES)}; got "
+                             f"{output.name!r}")
+        cold = {"--ambient-c": ambient_c, "--peak-heating-c-s": peak_heating_c_s,
+                "--time-constants": time_constants, "--white-deg-h": white_deg_h,
+                "--temperature-resolution-c": temperature_resolution_c,
+                "--start-after": start_after, "--positions": positions or None,
+                "--latitude": latitude, "--azimuth": azimuth,
+                "--position-time": position_time, "--turn-time": turn_time}
+        if startup:
+            noise_opts = {"--Q": q_term, "--N": n_term, "--B": b_term, "--K": k_term,
+                          "--R": r_term, "--markov": markov, "--sine": sine,
+                          "--from-json": noise_json, "--axes": None if axes == 1 else axes,
+                          "--temperature-profile": temperature_profile,
+                          "--flicker": None if flicker == "markov" else flicker}
+            _simulate_startup(output, fs=fs, duration=duration, seed=seed, units=units,
+                              decimals=decimals, bias=bias, arma=arma, thermal=thermal,
+                              cold=cold, noise_opts=noise_opts)
+            return
+        for name, value in cold.items():
+            if value is not None:
+                raise DataError(f"{name} needs --startup (it describes a cold start)")
+        fs = 100.0 if fs is None else fs
+        duration_s = parse_duration("1h" if duration is None else duration, "--duration")
+        values: dict[str, float] = {}
+        if noise_json is not None:
+            from fogts.io import read_json
+
+            loaded = read_json(noise_json, "--from-json file")
+            values.update(dataclasses.asdict(NoiseSpec.from_any(loaded)))
+        given = {"Q": q_term, "N": n_term, "B": b_term, "K": k_term, "R": r_term, "bias": bias}
+        values.update({k: v for k, v in given.items() if v != 0.0 or k not in values})
+        pm = _pair(markov, "--markov", "q_c,T_c")
+        if pm is not None:
+            values["q_c"], values["T_c"] = pm
+        ps = _pair(sine, "--sine", "amplitude,frequency")
+        if ps is not None:
+            values["Omega_0"], values["f_0"] = ps
+        spec = NoiseSpec(**values)
+        arma_spec = ArmaSpec.parse(arma) if arma is not None else None
+        profile = TemperatureProfile.parse(temperature_profile) \
+            if temperature_profile is not None else None
+        coefs = _coefficients(thermal, "--thermal")
+        if decimals is not None and not 0 <= decimals <= 15:
+            raise DataError(f"--decimals must be in 0..15, got {decimals}")
+        if seed is None:
+            seed = int(np.random.SeedSequence().generate_state(1, np.uint64)[0] >> np.uint64(1))
+        run = simulate_gyro(spec, fs_hz=fs, duration_s=duration_s, rng=seed, units=units,
+                            n_axes=axes, arma=arma_spec, temperature=profile,
+                            thermal_coefficients=coefs,
+                            flicker=flicker)  # type: ignore[arg-type]
+        frame = run.to_frame()
+        frame["time"] = np.round(frame["time"].to_numpy(), 9)
+        if decimals is not None:
+            for col in frame.columns[1:]:
+                frame[col] = np.round(frame[col].to_numpy(), decimals)
+        m = 2 ** np.arange(int(np.log2(max(run.n // 4, 1))) + 1)
+        sidecar = {
+            "generator": f"fogts {version} simulate", "output": output.name, "seed": seed,
+            "fs_hz": run.fs_hz, "duration_s": run.duration_s, "n": run.n, "units": run.units,
+            "columns": list(frame.columns), "axes": list(run.axes), "flicker": flicker,
+            "decimals": decimals, "noise": spec.to_dict(),
+            "arma": arma_spec.to_dict() if arma_spec is not None else None,
+            "temperature_profile": profile.to_dict() if profile is not None else None,
+            "thermal_coefficients": coefs,
+            "closed_form": {"kind": "oadev", "units": run.units, "tau": (m / run.fs_hz).tolist(),
+                            "dev": spec.adev(m / run.fs_hz, units=run.units).tolist(),
+                            "note": "IEEE 952 Table C.1 closed form of the noise terms "
+                                    "(without ARMA and thermal drift)"},
+        }
+        write_frame_atomic(output, frame)
+        side = output.with_name(output.name + ".json")
+        write_text_atomic(side, json_dumps(sidecar) + "\n")
+        console.print(f"wrote {output}: {run.n:,} samples x {run.n_axes} axis(es) at "
+                      f"{run.fs_hz:g} Hz ({run.duration_s:g} s), rate in {run.units}, seed "
+                      f"{seed}; true parameters in {side}", markup=False, soft_wrap=True)
+        console.print(spec.summary(), markup=False, soft_wrap=True)
+
+
+def _duration_or_zero(text: str | None, option: str, default: float) -> float:
+    """A duration option that may also be 0 (``"0"``, ``"0s"``)."""
+    from fogts.units import parse_duration
+
+    if text is None:
+        return default
+    if text.strip().rstrip("s").strip() in ("0", "0.0"):
+        return 0.0
+    return parse_duration(text, option)
+
+
+def _simulate_startup(output: Path, *, fs: float | None, duration: str | None,
+                      seed: int | None, units: str, decimals: int | None, bias: float,
+                      arma: str | None, thermal: str | None, cold: dict[str, Any],
+                      noise_opts: dict[str, Any]) -> None:
+    """``fogts simulate --startup``: a seed-004 cold start (or four-position record) to a file
+    that ``fogts compensate``, ``filter`` and ``northfind`` read directly."""
+    import math
+
+    import numpy as np
+
+    from fogts import __version__ as version
+    from fogts._validate import check_positive
+    from fogts.errors import DataError
+    from fogts.io import write_frame_atomic, write_text_atomic
+    from fogts.northfind import simulate_startup_positions
+    from fogts.report import json_dumps
+    from fogts.simulate import ArmaSpec
+    from fogts.simulate_startup import DEFAULT_STARTUP_COEFFICIENTS, simulate_startup
+    from fogts.units import convert_rate, parse_duration, parse_rate_unit
+
+    for name, value in noise_opts.items():
+        if value not in (None, 0.0):
+            raise DataError(f"{name} does not apply with --startup (the cold start's noise is "
+                            "set by --arma and --white-deg-h)")
+    if decimals is not None and not 0 <= decimals <= 15:
+        raise DataError(f"--decimals must be in 0..15, got {decimals}")
+    unit = parse_rate_unit(units, "--units")
+    kwargs: dict[str, Any] = {"ambient_degC": 20.0 if cold["--ambient-c"] is None
+                              else cold["--ambient-c"], "earth_rate_deg_h": bias}
+    for name, key, zero in (("--peak-heating-c-s", "peak_rate_degC_s", False),
+                            ("--white-deg-h", "white_sigma_deg_h", True),
+                            ("--temperature-resolution-c", "temperature_resolution_degC", True)):
+        if cold[name] is not None:
+            kwargs[key] = check_positive(name, cold[name], allow_zero=zero)
+    if cold["--time-constants"] is not None:
+        parts = cold["--time-constants"].split(",")
+        taus = tuple(parse_duration(p, "--time-constants") for p in parts)
+        if len(taus) != 2 or not taus[0] > taus[1]:
+            raise DataError("--time-constants must be two durations 'SLOW,FAST' with SLOW > "
+                            f"FAST, such as '400s,40s'; got {cold['--time-constants']!r}")
+        kwargs["tau_s"] = taus
+    kwargs["start_s"] = _duration_or_zero(cold["--start-after"], "--start-after", 0.0)
+    if arma is not None:
+        spec = ArmaSpec.parse(arma)
+        kwargs.update(ar=spec.ar, ma=spec.ma, arma_sigma_deg_h=math.sqrt(spec.sigma2),
+                      earth_rate_deg_h=bias + spec.const)
+    kwargs["coefficients"] = _coefficients(thermal, "--thermal") or DEFAULT_STARTUP_COEFFICIENTS
+    fs_hz = 1.0 if fs is None else fs
+    if seed is None:
+        seed = int(np.random.SeedSequence().generate_state(1, np.uint64)[0] >> np.uint64(1))
+    if cold["--positions"]:
+        if duration is not None:
+            raise DataError("--duration does not apply with --positions: the record lasts 4 x "
+                            "--position-time + 3 x --turn-time (+ --start-after before it)")
+        for name in ("--latitude", "--azimuth"):
+            if cold[name] is None:
+                raise DataError(f"--positions needs {name} (degrees)")
+        rec = simulate_startup_positions(
+            latitude_deg=cold["--latitude"], azimuth_deg=cold["--azimuth"],
+            position_s=parse_duration(cold["--position-time"] or "60s", "--position-time"),
+            turn_s=_duration_or_zero(cold["--turn-time"], "--turn-time", 10.0),
+            fs_hz=fs_hz, rng=seed, **kwargs)
+        frame, run, truth, summary = (rec.to_frame(), rec.run, rec.to_dict(), rec.summary())
+    else:
+        for name in ("--latitude", "--azimuth", "--position-time", "--turn-time"):
+            if cold[name] is not None:
+                raise DataError(f"{name} needs --positions (a four-position north-seeking "
+                                "record)")
+        sim = simulate_startup(duration_s=parse_duration(duration or "1h", "--duration"),
+                               fs_hz=fs_hz, rng=seed, **kwargs)
+        run, truth, summary = sim.run, sim.to_dict(), sim.summary()
+        frame = run.to_frame().rename(columns={"gyro": "rate"})
+    frame["time"] = np.round(frame["time"].to_numpy(), 9)
+    frame["rate"] = convert_rate(frame["rate"].to_numpy(), "deg/h", unit)
+    if decimals is not None:
+        frame["rate"] = np.round(frame["rate"].to_numpy(), decimals)
+    # a quantised temperature is written at its resolution (20.01, not 20.010000000000002)
+    res = truth["temperature_resolution_degC"]
+    digits = [d for d in range(16) if round(res, d) == res][:1] if res > 0 else []
+    if digits or decimals is not None:
+        nd = min(digits + ([] if decimals is None else [decimals]))
+        frame["temperature"] = np.round(frame["temperature"].to_numpy(), nd)
+    sidecar = {"generator": f"fogts {version} simulate --startup", "output": output.name,
+               "seed": seed, "mode": "startup-positions" if cold["--positions"] else "startup",
+               "n": len(frame), "units": unit, "columns": list(frame.columns),
+               "decimals": decimals, **truth,
+               "note": "drift D = a T dT + b T^2 + c T + d dT^2 + e dT + f in deg/h (T in degC, "
+                       "dT in degC/s), coefficients keyed by term; rate = drift + ARMA + white "
+                       "noise + earth_rate_deg_h (+ the Earth rate at each position)"}
+    write_frame_atomic(output, frame)
+    side = output.with_name(output.name + ".json")
+    write_text_atomic(side, json_dumps(sidecar) + "\n")
+    console.print(f"wrote {output}: {len(frame):,} samples at {run.fs_hz:g} Hz, rate in {unit}, "
+                  f"seed {seed}; true parameters in {side}", markup=False, soft_wrap=True)
+    console.print(summary, markup=False, soft_wrap=True)
