@@ -170,7 +170,7 @@ def test_multi_axis_real_imu(tmp_path: Path) -> None:
     (["--method", "lsq"], "method must be one of wls, gls, ols"),
     (["--confidence", "2"], r"confidence must be in \(0, 1\)"),
     (["--axis", "z"], "axis 'z' not found; axes are: rate"),
-    (["--axis", "3"], r"axis index must be in \[0, 0\], got 3"),
+    (["--axis", "3"], r"--axis must be an axis name or an index in -1..0, got 3; axes are: rate"),
     (["--plot", "fig.jpg"], "--plot must end in .png, .svg or .pdf"),
     (["--csv", "points.xlsx"], "--csv must end in .csv, .csv.gz, .tsv, .txt or .parquet"),
     (["--decimate", "1000000"], "decimate=1000000 leaves 0 samples"),

@@ -210,3 +210,25 @@ def test_units_from_a_fogts_sidecar(tmp_path: Path) -> None:
     (tmp_path / "sim.csv.json").write_text('{"generator": "other", "units": "rad/s"}')
     assert read_run(src).units_source == "assumed"
     assert read_run(src, units="rad/s").units_source == "given"
+
+
+def test_axis_minus_one_means_the_last_axis_everywhere(tmp_path: Path) -> None:
+    """One --axis parser: a name or an index, negative from the end, for every command."""
+    rng = np.random.default_rng(3)
+    t = np.arange(3000) / 10.0
+    src = tmp_path / "xyz.csv"
+    pd.DataFrame({"time": t, "rate_x_deg_h": rng.standard_normal(t.size),
+                  "rate_y_deg_h": rng.standard_normal(t.size),
+                  "rate_z_deg_h": rng.standard_normal(t.size)}).to_csv(src, index=False)
+    for args in (["allan"], ["select"], ["davar", "--window", "60s", "--step", "30s"]):
+        out = tmp_path / f"{args[0]}.json"
+        res = runner.invoke(app, [args[0], str(src), *args[1:], "--axis", "-1",
+                                  "--json", str(out)])
+        assert res.exit_code in (0, 1), res.stderr
+        doc = json.loads(out.read_text())
+        axis = doc["input"]["axis"] if args[0] == "select" else doc["axis"]
+        assert axis == "rate_z_deg_h"
+    res = runner.invoke(app, ["select", str(src), "--axis", "-4"])
+    assert res.exit_code == 2
+    assert "--axis must be an axis name or an index in -3..2, got -4; axes are: " \
+           "rate_x_deg_h, rate_y_deg_h, rate_z_deg_h" in res.stderr

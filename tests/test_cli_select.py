@@ -98,7 +98,8 @@ def test_select_explosive_exits_1_with_failed_rows(tmp_path: Path) -> None:
     (["--criterion", "aik"], "error: --criterion must be one of aic, bic, hqic, aicc; got 'aik'"),
     (["--plot", "fig.jpg"], "error: --plot must end in .png, .svg or .pdf"),
     (["--axis", "yaw"], "error: --axis 'yaw' not found; axes are: rate_deg_s"),
-    (["--axis", "3"], "error: --axis must be 0..0, got 3"),
+    (["--axis", "3"], "error: --axis must be an axis name or an index in -1..0, got 3; "
+                      "axes are: rate_deg_s"),
     (["--predict", "out.xlsx"],
      "error: --predict must end in .csv, .csv.gz, .tsv, .txt or .parquet; got 'out.xlsx'"),
 ])

@@ -247,3 +247,19 @@ def _load_thermal_model(path: Path) -> Any:
     return ThermalModel.from_dict(data)
 
 
+def _axis_index(run: Any, axis: str) -> int:
+    """``--axis`` as a position in ``run.axes``: an axis name, or an index (negative ones
+    count from the end, as in Python).  One parser for every command."""
+    from fogts.errors import DataError
+
+    text = axis.strip()
+    if re.fullmatch(r"[+-]?\d+", text):
+        i = int(text)
+        if not -run.n_axes <= i < run.n_axes:
+            raise DataError(f"--axis must be an axis name or an index in {-run.n_axes}.."
+                            f"{run.n_axes - 1}, got {i}; axes are: {', '.join(run.axes)}")
+        return i % run.n_axes
+    if text not in run.axes:
+        raise DataError(f"--axis {text!r} not found; axes are: {', '.join(run.axes)}")
+    return int(run.axes.index(text))
+

@@ -17,6 +17,7 @@ from fogts.cli._common import (
     TempColOpt,
     TimeColOpt,
     UnitsOpt,
+    _axis_index,
     _check_output_names,
     _emit_json,
     _guard,
@@ -334,13 +335,7 @@ def _outlier_effect(prepared: Any, model: Any, unscreened: Any, axis: int, fit: 
 
 
 def _axis_picks(run: Any, axis: str | None) -> list[int]:
-    if axis is None:
-        return list(range(run.n_axes))
-    if axis.lstrip("-").isdigit():
-        run.axis(int(axis))  # validates the index
-        return [int(axis) % run.n_axes]
-    run.axis(axis)  # validates the name
-    return [run.axes.index(axis)]
+    return list(range(run.n_axes)) if axis is None else [_axis_index(run, axis)]
 
 
 def _allan_csv(analyses: list[_AllanAnalysis], target: Path) -> None:

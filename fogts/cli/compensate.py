@@ -16,6 +16,7 @@ from fogts.cli._common import (
     TempColOpt,
     TimeColOpt,
     UnitsOpt,
+    _axis_index,
     _emit_json,
     _guard,
     _load_thermal_model,
@@ -57,7 +58,7 @@ def compensate_cmd(
                         "--calibration": calibration or []}):
         run, quality = _read(file, rate_column, time_column, temperature_column, fs, units,
                              nan=nan)
-        pick: int | str = int(axis) if axis.lstrip("-").isdigit() else axis
+        pick = _axis_index(run, axis)
         given = _load_thermal_model(model) if model is not None else None
         extra = [_read(c, rate_column, time_column, temperature_column, fs, units, nan=nan)[0]
                  for c in (calibration or [])]

@@ -17,6 +17,7 @@ from fogts.cli._common import (
     TempColOpt,
     TimeColOpt,
     UnitsOpt,
+    _axis_index,
     _emit_json,
     _guard,
     _read,
@@ -56,9 +57,9 @@ def davar_cmd(
         window_s = parse_duration(window, "--window")
         step_s = parse_duration(step, "--step")
         tau_spec = _tau_option(taus)
-        pick: int | str | None = int(axis) if axis is not None and axis.isdigit() else axis
         run, quality = _read(file, rate_column, time_column, temperature_column, fs, units,
                              nan=nan, gaps=gaps)
+        pick = None if axis is None else _axis_index(run, axis)
         result = dynamic_allan(run, window_s=window_s, step_s=step_s, kind=kind,  # type: ignore[arg-type]
                                taus=tau_spec, confidence=confidence, axis=pick)
         payload = {"input": str(file), **result.to_dict(), "data_quality": quality.to_dict()}

@@ -17,6 +17,7 @@ from fogts.cli._common import (
     TempColOpt,
     TimeColOpt,
     UnitsOpt,
+    _axis_index,
     _emit_json,
     _guard,
     _read,
@@ -63,7 +64,7 @@ def filter_cmd(
             noise = _parse_measurement_noise(measurement_noise)
         run, _ = _read(file, rate_column, time_column, temperature_column, fs, units, nan=nan,
                        gaps=gaps)
-        pick: int | str = int(axis) if axis.lstrip("-").isdigit() else axis
+        pick = _axis_index(run, axis)
         x = run.axis(pick)
         if method == "kalman":
             _kalman_filter(run, x, file, output, model, noise, json_out, plot, method)

@@ -18,6 +18,7 @@ from fogts.cli._common import (
     TempColOpt,
     TimeColOpt,
     UnitsOpt,
+    _axis_index,
     _check_output_names,
     _emit_json,
     _guard,
@@ -135,11 +136,7 @@ def select_cmd(
         _check_output_names(plot=plot, predict=predict)
         run, quality = _read(file, rate_column, time_column, temperature_column, fs, units,
                              nan=nan, gaps=gaps)
-        pick: int | str = 0 if axis is None else (int(axis) if axis.isdigit() else axis)
-        if isinstance(pick, str) and pick not in run.axes:
-            raise DataError(f"--axis {pick!r} not found; axes are: {', '.join(run.axes)}")
-        if isinstance(pick, int) and not 0 <= pick < run.n_axes:
-            raise DataError(f"--axis must be 0..{run.n_axes - 1}, got {pick}")
+        pick = 0 if axis is None else _axis_index(run, axis)
         prepared = prepare(run, axis=pick, outliers=outliers, detrend=detrend,
                            decimate=decimate)
         sel = select_arma(prepared, candidates=orders, criterion=criterion)  # type: ignore[arg-type]
