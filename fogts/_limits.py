@@ -25,7 +25,6 @@ import re
 import stat
 import zipfile
 from pathlib import Path
-from typing import BinaryIO
 
 from fogts.errors import DataError
 from fogts.paths import file_kind
@@ -116,41 +115,32 @@ def check_regular_file(path: Path, what: str = "") -> os.stat_result:
     return st
 
 
-class _LineGuard:
-    """Counts lines across chunks and fails on the first line over the limit."""
+def _first_long_line(chunk: bytes, carry: int) -> tuple[int, int]:
+    """Scan ``chunk`` for a line longer than :data:`MAX_LINE_BYTES`.
 
-    def __init__(self, source: str) -> None:
-        self.source = source
-        self.carry = 0      # bytes of the current, unfinished line
-        self.line = 1       # number of that line
+    ``carry`` is the length of the unfinished line before the chunk.  Returns the offset in
+    ``chunk`` where the offending line starts (0 when it started in an earlier chunk), or
+    -1, and the length of the unfinished line at the chunk's end.  Only one ``rfind`` per
+    MiB, so a normal file costs almost nothing to check."""
+    first = chunk.find(b"\n")
+    if first == -1:
+        carry += len(chunk)
+        return (0 if carry > MAX_LINE_BYTES else -1), carry
+    if carry + first > MAX_LINE_BYTES:
+        return 0, carry
+    pos = first + 1
+    while len(chunk) - pos > MAX_LINE_BYTES:
+        nl = chunk.rfind(b"\n", pos, pos + MAX_LINE_BYTES + 1)
+        if nl == -1:
+            return pos, 0
+        pos = nl + 1
+    return -1, len(chunk) - (chunk.rfind(b"\n") + 1)
 
-    def feed(self, chunk: bytes) -> None:
-        first = chunk.find(b"\n")
-        if first == -1:
-            self._grow(len(chunk))
-            return
-        self._grow(first)
-        pos = first + 1
-        self.line += 1
-        # interior lines: a window of MAX_LINE_BYTES + 1 bytes without a newline
-        while len(chunk) - pos > MAX_LINE_BYTES:
-            nl = chunk.rfind(b"\n", pos, pos + MAX_LINE_BYTES + 1)
-            if nl == -1:
-                self.carry = 0
-                self._grow(MAX_LINE_BYTES + 1)
-            self.line += chunk.count(b"\n", pos, nl + 1)
-            pos = nl + 1
-        self.line += chunk.count(b"\n", pos)
-        last = chunk.rfind(b"\n")
-        self.carry = 0
-        self._grow(len(chunk) - max(last + 1, pos))
 
-    def _grow(self, n: int) -> None:
-        self.carry += n
-        if self.carry > MAX_LINE_BYTES:
-            raise DataError(f"{self.source!r}: line {self.line} is longer than "
-                            f"{_human(MAX_LINE_BYTES)}; not a gyro record (a text line holds "
-                            "one sample)")
+def _long_line_error(source: str, earlier: list[bytes], chunk: bytes, at: int) -> DataError:
+    line = sum(c.count(b"\n") for c in earlier) + chunk.count(b"\n", 0, at) + 1
+    return DataError(f"{source!r}: line {line} is longer than {_human(MAX_LINE_BYTES)}; not a "
+                     "gyro record (a text line holds one sample)")
 
 
 def read_capped(path: Path, *, compressed: bool) -> bytes:
@@ -169,25 +159,31 @@ def read_capped(path: Path, *, compressed: bool) -> bytes:
     if st.st_size > limit:
         raise _too_big(source, f"the file has {_human(st.st_size)},", limit)
     try:
-        with open(path, "rb") as raw:
-            stream: BinaryIO = gzip.GzipFile(fileobj=raw) if compressed else raw  # type: ignore[assignment]
-            return _read_chunks(stream, source, limit, compressed)
+        if not compressed:
+            data = path.read_bytes()  # its size is within the limit (checked above)
+            bad, _ = _first_long_line(data, 0)
+            if bad >= 0:
+                raise _long_line_error(source, [], data, bad)
+            return data
+        with gzip.open(path, "rb") as stream:
+            return _read_chunks(stream, source, limit)
     except (OSError, EOFError, zipfile.BadZipFile) as exc:
         if compressed:
             raise DataError(f"{source!r} is not a valid gzip file ({exc})") from None
         raise DataError(f"cannot read {source!r}: {exc}") from None
 
 
-def _read_chunks(stream: BinaryIO, source: str, limit: int, compressed: bool) -> bytes:
-    guard = _LineGuard(source)
+def _read_chunks(stream: gzip.GzipFile, source: str, limit: int) -> bytes:
+    """Decompress in chunks, stopping at the input limit or at a line that is too long."""
     chunks: list[bytes] = []
-    total = 0
+    total = carry = 0
     while chunk := stream.read(CHUNK_BYTES):
         total += len(chunk)
         if total > limit:
-            what = "decompresses to" if compressed else "holds"
-            raise _too_big(source, f"the stream {what}", limit)
-        guard.feed(chunk)
+            raise _too_big(source, "the stream decompresses to", limit)
+        bad, carry = _first_long_line(chunk, carry)
+        if bad >= 0:
+            raise _long_line_error(source, chunks, chunk, bad)
         chunks.append(chunk)
     return b"".join(chunks)
 
