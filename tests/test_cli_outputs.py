@@ -146,3 +146,27 @@ def test_debug_and_version_after_the_command(recording: Path,
     assert exc.value.code == 0 and capsys.readouterr().out.startswith("fogts ")
     with pytest.raises(DataError, match="file not found"):  # --debug: the exception itself
         main(["info", str(recording.with_name("absent.csv")), "--debug"])
+
+
+@pytest.mark.parametrize("name", ["", "/"])
+def test_simulate_output_without_a_file_name(name: str) -> None:
+    res = runner.invoke(app, ["simulate", "-o", name, "--N", "0.1", "--duration", "10s"])
+    assert res.exit_code == 2
+    assert error_output(res.stderr).endswith("is a directory, not a regular file; outputs are "
+                                             "written to new or regular files only")
+    assert "Traceback" not in res.output + res.stderr
+
+
+def test_main_turns_any_escaped_exception_into_one_line(
+        monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]) -> None:
+    import fogts.cli
+
+    def broken(**_: object) -> None:
+        raise ValueError("a bug outside every guard")
+
+    monkeypatch.setattr(fogts.cli, "app", broken)
+    monkeypatch.setattr(fogts.cli, "_hoist_global_flags", lambda argv: argv)
+    with pytest.raises(SystemExit) as exc:
+        main(["info", "x.csv"])
+    assert exc.value.code == 2
+    assert capsys.readouterr().err == "error: a bug outside every guard\n"

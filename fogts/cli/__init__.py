@@ -11,7 +11,7 @@ import sys
 
 import typer
 
-from fogts.cli._common import ExitCode, app, console, err_console
+from fogts.cli._common import _STATE, ExitCode, app, console, err_console
 
 #: The commands, in the order ``fogts --help`` lists them; importing a command's module
 #: registers it on the app.
@@ -80,6 +80,13 @@ def main(argv: list[str] | None = None) -> None:
         raise SystemExit(exc.exit_code) from None
     except typer.Abort:
         err_console.print("error: aborted", markup=False)
+        raise SystemExit(ExitCode.ERROR) from None
+    except Exception as exc:  # anything a command raised outside its guard: still one line
+        if _STATE["debug"]:
+            raise
+        from fogts.report import error_message
+
+        err_console.print(f"error: {error_message(exc)}", markup=False, soft_wrap=True)
         raise SystemExit(ExitCode.ERROR) from None
     raise SystemExit(rv if isinstance(rv, int) else 0)
 

@@ -121,7 +121,7 @@ def simulate_cmd(
     )
     from fogts.units import parse_duration
 
-    sidecar_path = output.with_name(output.name + ".json")
+    sidecar_path = Path(f"{output}.json")  # never raises, whatever the user typed
     with _guard(_SIMULATE_OPTIONS, outputs={"--output": output,
                                             "--output's sidecar": sidecar_path},
                 inputs={"--from-json": [noise_json] if noise_json else []}):
