@@ -214,7 +214,7 @@ def _huge_metrics() -> list[Metric]:
                      f"allantools.oadev(y, rate={FS_HZ}, data_type='freq', "
                      f"taus=np.array({taus.tolist()!r}))")
         t_peer = _timed_child([sys.executable, "-c", peer_code, str(path)], env)
-        api_code = ("import sys; from fogts.io import read_run; "
+        api_code = ("import sys; from fogts.io.reader import read_run; "
                     "from fogts.allan import allan_deviation; "
                     f"r = read_run(sys.argv[1], fs_hz={FS_HZ}); "
                     "res = allan_deviation(r, kind='oadev', taus='octave')")

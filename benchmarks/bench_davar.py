@@ -60,7 +60,7 @@ def allantools_loop(y: np.ndarray, taus: np.ndarray) -> np.ndarray:
 
 def metrics(quick: bool = False) -> list[Metric]:
     from fogts.allan.dynamic import dynamic_allan
-    from fogts.simulate import simulate_gyro
+    from fogts.simulate.gyro import simulate_gyro
 
     duration = "20min" if quick else "3h"
     y = simulate_gyro({"N": 0.01, "B": 0.1, "K": 0.5}, fs_hz=FS_HZ, duration_s=duration,

@@ -50,7 +50,7 @@ def metrics(quick: bool) -> list[Metric]:
     out: list[Metric] = []
 
     # ---- EMD
-    from fogts.emd import emd, separate_trend
+    from fogts.startup.emd import emd, separate_trend
 
     rng = np.random.default_rng(4)
     t = np.arange(n_emd, dtype=float)
@@ -75,7 +75,7 @@ def metrics(quick: bool) -> list[Metric]:
     # ---- Kalman
     from statsmodels.tsa.statespace.sarimax import SARIMAX
 
-    from fogts.kalman import arma_kalman
+    from fogts.startup.kalman import arma_kalman
 
     ar, ma, s2, h = (1.2, -0.3), (0.4,), 0.04, 0.25
     drift = lfilter([1.0, ma[0]], [1.0, -ar[0], -ar[1]], rng.normal(0, np.sqrt(s2), n_kf))
@@ -101,8 +101,8 @@ def metrics(quick: bool) -> list[Metric]:
     # ---- thermal fit
     import statsmodels.api as sm
 
-    from fogts.simulate_startup import simulate_startup
-    from fogts.thermal import design_matrix, fit_thermal, temperature_rate
+    from fogts.startup.simulator import simulate_startup
+    from fogts.startup.thermal import design_matrix, fit_thermal, temperature_rate
 
     sim = simulate_startup(rng=4)
     temp = sim.run.temperature

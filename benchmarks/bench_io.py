@@ -87,7 +87,7 @@ def metrics(quick: bool) -> list[Metric]:
     import pyarrow as pa
     import pyarrow.csv as pacsv
 
-    from fogts.io import read_run
+    from fogts.io.reader import read_run
 
     target = QUICK_CSV_BYTES if quick else FULL_CSV_BYTES
     repeat = 3 if quick else 2

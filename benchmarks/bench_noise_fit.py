@@ -10,7 +10,7 @@ ratio measured in one run:
   the classic slope read-off (IEEE 952 Annex C / MATLAB ``allanvar``: -1/2 line at 1 s,
   +1/2 line at 3 s).  Reported as ratios read-off error / fit error (> 1: the fit wins),
   plus how often the 68.3 % intervals cover the truth (ideal 0.683).
-* **Sensor grades**: ``fogts.simulate.simulate_gyro`` records (flicker B as a Markov sum)
+* **Sensor grades**: ``fogts.simulate.gyro.simulate_gyro`` records (flicker B as a Markov sum)
   of a navigation FOG, a tactical FOG and a MEMS gyro, 100 Hz, 3 h; median errors of N,
   B, K for the WLS fit and the read-offs (B: minimum / 0.664).
 
@@ -105,7 +105,7 @@ def white_rw_study(seeds: int, hours: float) -> dict[str, dict[str, float]]:
 def grade_study(seeds: int, hours: float) -> dict[str, dict[str, dict[str, float]]]:
     """Per grade: median |relative error| of N, B, K for the WLS fit (default, and without
     term selection: ``"all"``) and the read-offs."""
-    from fogts.simulate import simulate_gyro
+    from fogts.simulate.gyro import simulate_gyro
 
     out: dict[str, dict[str, dict[str, float]]] = {}
     for grade, truth in GRADES.items():

@@ -82,7 +82,7 @@ def allantools_nbk(n: int, seed: int = 1) -> np.ndarray:
 
 
 def metrics(quick: bool = False) -> list[Metric]:
-    from fogts.simulate import simulate_gyro
+    from fogts.simulate.gyro import simulate_gyro
 
     big = 2 * 10**6 if quick else 10**8
     arma = {"ar": [0.5], "sigma2": 1e-4}

@@ -1,9 +1,9 @@
 """Thermal coefficient recovery: simulate cold starts with known coefficients, fit, compare.
 
-``fogts.simulate_startup.simulate_startup`` makes a 1 h, 1 Hz cold start (temperature rising
+``fogts.startup.simulator.simulate_startup`` makes a 1 h, 1 Hz cold start (temperature rising
 to steady state with its rate peaking near 0.05 degC/s, a drift following the seed-004 model
 D = a·T·ΔT + b·T² + c·T + d·ΔT² + e·ΔT + f with the default coefficients, AR(1) drift noise
-and white noise).  ``fogts.thermal.fit_thermal`` (GLS with AR(4) errors) fits the model back.
+and white noise).  ``fogts.startup.thermal.fit_thermal`` (GLS with AR(4) errors) fits the model back.
 Per coefficient, over the seeds:
 
 * the median |est - true| in units of the fit's standard error (about 0.67 for an honest
@@ -39,8 +39,8 @@ FIRST_SEED = 500
 
 def study(seeds: int) -> dict[str, dict[str, float]]:
     """Per coefficient: median |error|/SE and 2-SE coverage; drift-curve error; improvement."""
-    from fogts.simulate_startup import simulate_startup
-    from fogts.thermal import bias_stability, compensate, fit_thermal
+    from fogts.startup.simulator import simulate_startup
+    from fogts.startup.thermal import bias_stability, compensate, fit_thermal
 
     z: dict[str, list[float]] = {}
     curve: list[float] = []

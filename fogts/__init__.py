@@ -21,7 +21,7 @@ from __future__ import annotations
 import importlib
 from typing import TYPE_CHECKING, Any
 
-__version__ = "0.1.0"
+from fogts._version import __version__
 
 # public name -> defining module
 _EXPORTS: dict[str, str] = {
@@ -30,14 +30,14 @@ _EXPORTS: dict[str, str] = {
     "InsufficientDataError": "fogts.errors", "ModelFitError": "fogts.errors",
     "FogtsWarning": "fogts.errors",
     # reading and preparing
-    "Run": "fogts.run", "SamplingReport": "fogts.run",
-    "read_run": "fogts.io", "MissingReport": "fogts.run",
-    "assess_run": "fogts.hygiene", "DataQuality": "fogts.hygiene",
-    "detect_glitches": "fogts.hygiene", "GlitchReport": "fogts.hygiene",
-    "find_gaps": "fogts.hygiene", "GapReport": "fogts.hygiene",
+    "Run": "fogts.io.run", "SamplingReport": "fogts.io.run",
+    "read_run": "fogts.io.reader", "MissingReport": "fogts.io.run",
+    "assess_run": "fogts.preprocess.hygiene", "DataQuality": "fogts.preprocess.hygiene",
+    "detect_glitches": "fogts.preprocess.hygiene", "GlitchReport": "fogts.preprocess.hygiene",
+    "find_gaps": "fogts.preprocess.hygiene", "GapReport": "fogts.preprocess.hygiene",
     "check_plausibility": "fogts.allan.plausibility",
     "PlausibilityReport": "fogts.allan.plausibility",
-    "prepare": "fogts.preprocess", "Prepared": "fogts.preprocess",
+    "prepare": "fogts.preprocess.prepare", "Prepared": "fogts.preprocess.prepare",
     "convert_rate": "fogts.units", "earth_rate_component": "fogts.units",
     # Allan analysis
     "allan_deviation": "fogts.allan.api",
@@ -55,33 +55,35 @@ _EXPORTS: dict[str, str] = {
     "Candidate": "fogts.arma.select", "Prediction": "fogts.arma.predict",
     "correlogram": "fogts.arma.diagnostics",
     # models built on the results
-    "simulate_gyro": "fogts.simulate", "simulate_arma": "fogts.simulate",
-    "NoiseSpec": "fogts.simulate", "ArmaSpec": "fogts.simulate",
-    "simulate_startup": "fogts.simulate_startup",
-    "lowpass": "fogts.filters", "moving_average": "fogts.filters",
-    "FilterResult": "fogts.filters",
-    "separate_trend": "fogts.emd", "TrendSplit": "fogts.emd",
-    "arma_kalman": "fogts.kalman", "KalmanResult": "fogts.kalman",
-    "fit_thermal": "fogts.thermal", "ThermalModel": "fogts.thermal",
-    "compensate": "fogts.thermal", "bias_stability": "fogts.thermal",
-    "startup_compensation": "fogts.thermal",
-    "four_position": "fogts.northfind", "NorthFinding": "fogts.northfind",
-    "simulate_startup_positions": "fogts.northfind", "StartupPositions": "fogts.northfind",
+    "simulate_gyro": "fogts.simulate.gyro", "simulate_arma": "fogts.simulate.gyro",
+    "NoiseSpec": "fogts.simulate.gyro", "ArmaSpec": "fogts.simulate.gyro",
+    "simulate_startup": "fogts.startup.simulator",
+    "lowpass": "fogts.preprocess.filters", "moving_average": "fogts.preprocess.filters",
+    "FilterResult": "fogts.preprocess.filters",
+    "separate_trend": "fogts.startup.emd", "TrendSplit": "fogts.startup.emd",
+    "arma_kalman": "fogts.startup.kalman", "KalmanResult": "fogts.startup.kalman",
+    "fit_thermal": "fogts.startup.thermal", "ThermalModel": "fogts.startup.thermal",
+    "compensate": "fogts.startup.thermal", "bias_stability": "fogts.startup.thermal",
+    "startup_compensation": "fogts.startup.thermal",
+    "four_position": "fogts.startup.northfind", "NorthFinding": "fogts.startup.northfind",
+    "simulate_startup_positions": "fogts.startup.northfind", "StartupPositions": "fogts.startup.northfind",
     # tooling
-    "run_batch": "fogts.batch", "build_report": "fogts.report_html",
-    "write_report": "fogts.report_html",
+    "run_batch": "fogts.batch", "build_report": "fogts.report.html",
+    "write_report": "fogts.report.html",
 }
 
 __all__ = ["__version__", *sorted(_EXPORTS)]
 
 
 #: Submodules reachable as attributes (``fogts.plots.plot_allan``) without an import.
-_SUBMODULES = ("allan", "arma", "plots", "units", "io", "hygiene", "report", "simulate")
+_SUBMODULES = {name: f"fogts.{name}" for name in
+               ("allan", "arma", "io", "preprocess", "report", "simulate", "startup", "units")}
+_SUBMODULES.update(plots="fogts.report.plots", hygiene="fogts.preprocess.hygiene")
 
 
 def __getattr__(name: str) -> Any:
     if name in _SUBMODULES:
-        return importlib.import_module(f"fogts.{name}")
+        return importlib.import_module(_SUBMODULES[name])
     module = _EXPORTS.get(name)
     if module is None:
         raise AttributeError(f"module 'fogts' has no attribute {name!r}")
@@ -95,7 +97,7 @@ def __dir__() -> list[str]:
 
 
 if TYPE_CHECKING:  # static names for type checkers and IDEs
-    from fogts import allan, arma, hygiene, io, plots, report, simulate, units
+    from fogts import allan, arma, io, preprocess, report, simulate, startup, units
     from fogts.allan.api import allan_deviation
     from fogts.allan.compare import AllanComparison, compare_allan
     from fogts.allan.confidence import confidence_table, totdev_bias
@@ -110,7 +112,6 @@ if TYPE_CHECKING:  # static names for type checkers and IDEs
     from fogts.arma.predict import Prediction
     from fogts.arma.select import Candidate, Selection, select_arma
     from fogts.batch import run_batch
-    from fogts.emd import TrendSplit, separate_trend
     from fogts.errors import (
         DataError,
         FogtsError,
@@ -118,8 +119,11 @@ if TYPE_CHECKING:  # static names for type checkers and IDEs
         InsufficientDataError,
         ModelFitError,
     )
-    from fogts.filters import FilterResult, lowpass, moving_average
-    from fogts.hygiene import (
+    from fogts.io.reader import read_run
+    from fogts.io.run import MissingReport, Run, SamplingReport
+    from fogts.preprocess import hygiene
+    from fogts.preprocess.filters import FilterResult, lowpass, moving_average
+    from fogts.preprocess.hygiene import (
         DataQuality,
         GapReport,
         GlitchReport,
@@ -127,20 +131,20 @@ if TYPE_CHECKING:  # static names for type checkers and IDEs
         detect_glitches,
         find_gaps,
     )
-    from fogts.io import read_run
-    from fogts.kalman import KalmanResult, arma_kalman
-    from fogts.northfind import (
+    from fogts.preprocess.prepare import Prepared, prepare
+    from fogts.report import plots
+    from fogts.report.html import build_report, write_report
+    from fogts.simulate.gyro import ArmaSpec, NoiseSpec, simulate_arma, simulate_gyro
+    from fogts.startup.emd import TrendSplit, separate_trend
+    from fogts.startup.kalman import KalmanResult, arma_kalman
+    from fogts.startup.northfind import (
         NorthFinding,
         StartupPositions,
         four_position,
         simulate_startup_positions,
     )
-    from fogts.preprocess import Prepared, prepare
-    from fogts.report_html import build_report, write_report
-    from fogts.run import MissingReport, Run, SamplingReport
-    from fogts.simulate import ArmaSpec, NoiseSpec, simulate_arma, simulate_gyro
-    from fogts.simulate_startup import simulate_startup
-    from fogts.thermal import (
+    from fogts.startup.simulator import simulate_startup
+    from fogts.startup.thermal import (
         ThermalModel,
         bias_stability,
         compensate,

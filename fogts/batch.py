@@ -51,9 +51,9 @@ import pandas as pd
 
 from fogts._validate import check_choice, check_int
 from fogts.errors import DataError, DataQualityWarning
-from fogts.hygiene import GAP_POLICIES
-from fogts.io import NAN_POLICIES
-from fogts.report import error_message, warning_texts
+from fogts.io.reader import NAN_POLICIES
+from fogts.preprocess.hygiene import GAP_POLICIES
+from fogts.report.text import error_message, warning_texts
 
 __all__ = [
     "SUMMARY_COLUMNS",
@@ -94,7 +94,7 @@ class BatchOptions:
     Attributes
     ----------
     rate_column, time_column, temperature_column, fs_hz, units
-        Input options, as for :func:`fogts.io.read_run` (``rate_column`` may hold several
+        Input options, as for :func:`fogts.io.reader.read_run` (``rate_column`` may hold several
         comma-separated names).
     kind : str
         Allan estimator (``oadev`` by default).
@@ -110,10 +110,10 @@ class BatchOptions:
         Run the ARMA selection (``False`` gives info and Allan only).
     nan : str
         Empty/NaN/inf cells: ``error``, ``drop`` or ``interpolate`` (see
-        :func:`fogts.io.read_run`).
+        :func:`fogts.io.reader.read_run`).
     gaps : str
         Gaps in the time base: ``warn``, ``error``, ``split`` or ``ignore`` (see
-        :func:`fogts.hygiene.assess_run`).
+        :func:`fogts.preprocess.hygiene.assess_run`).
     """
 
     rate_column: str | None = None
@@ -330,7 +330,7 @@ def _error_outcome(file: str, message: str, *, persist: bool,
 
 def _document(file: str, status: str, error: str, info: dict[str, Any],
               axes: list[dict[str, Any]], warn: list[str]) -> dict[str, Any]:
-    from fogts import __version__
+    from fogts._version import __version__
 
     return {"version": RUN_JSON_VERSION, "fogts": __version__, "file": file, "status": status,
             "error": error, "info": info, "axes": axes, "warnings": warn, "rows": []}
@@ -367,7 +367,7 @@ def _analyze_axis(run: Any, axis: int, options: BatchOptions) -> tuple[dict[str,
             fields[f"{term.name}_stderr"] = _finite(term.stderr)
     if options.select:
         from fogts.arma import select_arma
-        from fogts.preprocess import prepare
+        from fogts.preprocess.prepare import prepare
 
         prepared = prepare(run, axis=axis, detrend=options.detrend, decimate=options.decimate,
                            stationarity=False)
@@ -393,9 +393,9 @@ def analyze_file(file: str, options: BatchOptions) -> RunOutcome:
     Never raises for a problem with the file: it returns an outcome with ``status="error"``
     and the message.  An axis that fails gives an error row for that axis only.
     """
-    from fogts.hygiene import assess_run
-    from fogts.io import read_run
-    from fogts.report import run_info, to_jsonable
+    from fogts.io.reader import read_run
+    from fogts.preprocess.hygiene import assess_run
+    from fogts.report.text import run_info, to_jsonable
 
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
@@ -473,7 +473,7 @@ def _process_pool(jobs: list[str], analysis: Callable[[str, BatchOptions], RunOu
     # forkserver: workers fork from a clean server that has the heavy imports preloaded
     # (fork from a process with threads, e.g. a progress bar, is unsafe).
     ctx = mp.get_context("forkserver")
-    ctx.set_forkserver_preload(["fogts.batch", "fogts.io", "fogts.preprocess", "fogts.allan",
+    ctx.set_forkserver_preload(["fogts.batch", "fogts.io.reader", "fogts.preprocess.prepare", "fogts.allan",
                                 "fogts.arma"])
     pool = ProcessPoolExecutor(max_workers=workers, mp_context=ctx)
     pending: dict[Future[RunOutcome], str] = {}
@@ -620,9 +620,9 @@ def run_batch(
     DataError
         No file matches, ``workers`` < 1, or the scheduler cannot be reached.
     """
-    from fogts.io import write_frame_atomic, write_text_atomic
-    from fogts.paths import check_outputs
-    from fogts.report import json_dumps
+    from fogts.io.paths import check_outputs
+    from fogts.io.reader import write_frame_atomic, write_text_atomic
+    from fogts.report.text import json_dumps
 
     t0 = time.perf_counter()
     options = options if options is not None else BatchOptions()

@@ -13,9 +13,9 @@ from fogts.allan.confidence import confidence_table
 from fogts.allan.estimators import ESTIMATORS
 from fogts.allan.taus import KINDS, DroppedTau, tau_grid
 from fogts.errors import DataError, InsufficientDataError
-from fogts.preprocess import prepare
-from fogts.report import json_dumps
-from fogts.run import Run
+from fogts.io.run import Run
+from fogts.preprocess.prepare import prepare
+from fogts.report.text import json_dumps
 
 FS = 10.0
 

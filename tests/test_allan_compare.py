@@ -14,7 +14,7 @@ from typer.testing import CliRunner
 from fogts.allan.compare import compare_allan
 from fogts.cli import app
 from fogts.errors import DataError
-from fogts.filters import lowpass
+from fogts.preprocess.filters import lowpass
 from tests.conftest import error_output
 
 FS = 100.0

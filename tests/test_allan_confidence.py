@@ -37,7 +37,7 @@ from fogts.allan.confidence import (
     totdev_bias,
 )
 from fogts.errors import DataError, InsufficientDataError
-from fogts.report import json_dumps
+from fogts.report.text import json_dumps
 from tests.conftest import shared_path
 
 CI_RTOL = 1e-3

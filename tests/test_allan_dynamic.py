@@ -22,9 +22,9 @@ from fogts.allan.dynamic import (
     dynamic_allan,
 )
 from fogts.errors import DataError, InsufficientDataError
-from fogts.plots import plot_dynamic_allan
-from fogts.report import json_dumps
-from fogts.simulate import simulate_gyro
+from fogts.report.plots import plot_dynamic_allan
+from fogts.report.text import json_dumps
+from fogts.simulate.gyro import simulate_gyro
 
 FS = 10.0
 

@@ -1,4 +1,4 @@
-"""Tests for fogts.allan.noise (IEEE-952 noise-term fit) and fogts.plots.plot_allan.
+"""Tests for fogts.allan.noise (IEEE-952 noise-term fit) and fogts.report.plots.plot_allan.
 
 Truth comes from: the seed paper's published coefficients (DESIGN.md), closed-form Allan
 variances of the five terms (IEEE Std 952-1997 Annex C), simulated white + random-walk
@@ -40,8 +40,8 @@ from fogts.errors import (
     InsufficientDataError,
     UnidentifiableTermWarning,
 )
-from fogts.plots import plot_allan
-from fogts.report import json_dumps
+from fogts.report.plots import plot_allan
+from fogts.report.text import json_dumps
 from tests.conftest import shared_path
 
 SEED_C = {-2: 1.1754e-5, -1: 1.0228e-2, 0: 3.835e-3, 1: 1.196e-3, 2: 1.827e-4}
@@ -349,7 +349,7 @@ def test_adev_and_totdev_covariance_match_monte_carlo(noise: str) -> None:
     larger m: at m = 1 totdev *is* oadev, and the EDF understates its variance 2x for
     white FM).  The 500-record study with flicker FM is in the report of issue 3."""
     from fogts.allan.confidence import edf_for
-    from fogts.simulate import simulate_gyro
+    from fogts.simulate.gyro import simulate_gyro
 
     n, reps = 1024, 800
     m = 2 ** np.arange(0, 8)
@@ -742,7 +742,7 @@ def test_plot_allan_single_curve(tmp_path: object) -> None:
 ])
 def test_value_pm_text_keeps_the_digits_the_error_supports(value: float, stderr: float,
                                                             text: str) -> None:
-    from fogts.plots import _value_pm_tex
+    from fogts.report.plots import _value_pm_tex
 
     assert _value_pm_tex(value, stderr) == text
 

@@ -75,7 +75,7 @@ def test_minimum_of_simulated_record_matches_theory(seed: int) -> None:
     import warnings
 
     from fogts.allan import allan_deviation
-    from fogts.simulate import NoiseSpec, simulate_gyro
+    from fogts.simulate.gyro import NoiseSpec, simulate_gyro
 
     spec = NoiseSpec.from_any({"N": 0.01, "B": 0.02, "K": 0.2})
     fine = np.logspace(-1, 4, 5001)

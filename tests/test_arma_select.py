@@ -25,7 +25,7 @@ from fogts.errors import (
     ModelFitError,
     NotWhiteWarning,
 )
-from fogts.report import json_dumps
+from fogts.report.text import json_dumps
 
 #: The five candidates of seed 000 with clearly identified coefficients.
 TRUE_MODELS = {
@@ -143,7 +143,7 @@ def test_frame_has_one_row_per_candidate(ar1_selection: select_mod.Selection) ->
 
 
 def test_prepared_input() -> None:
-    from fogts.preprocess import prepare
+    from fogts.preprocess.prepare import prepare
 
     x = _arma([0.6], [], 4000, 2) + 1e-3 * np.arange(4000)
     prep = prepare(x, fs_hz=10.0, detrend=1, stationarity=False)
@@ -251,7 +251,7 @@ def test_bad_candidates(spec: object, match: str) -> None:
 
 
 def test_bad_input() -> None:
-    from fogts.run import Run
+    from fogts.io.run import Run
 
     x = _arma([0.5], [], 500, 9)
     with pytest.raises(InsufficientDataError,
@@ -282,7 +282,7 @@ def test_bad_input() -> None:
 
 
 def test_quantised_raw_rate_is_noted() -> None:
-    from fogts.preprocess import prepare
+    from fogts.preprocess.prepare import prepare
 
     x = np.round(_arma([0.6], [], 3000, 1) * 2.0) / 2.0        # a 0.5 deg/h output step
     sel = select_arma(x)
@@ -319,8 +319,8 @@ def test_cancellation_verdict_follows_the_numbers() -> None:
     well (it did before), and must show the numbers it rests on."""
     import re
 
-    from fogts.io import read_run
-    from fogts.preprocess import prepare
+    from fogts.io.reader import read_run
+    from fogts.preprocess.prepare import prepare
     from tests.conftest import shared_path
 
     run = read_run(shared_path("imu", "adis_16405_imu1_gyro.npz"))

@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 from typer.testing import CliRunner
 
-from fogts import __version__
+from fogts._version import __version__
 from fogts.cli import app, main
 from tests.conftest import shared_path
 

@@ -11,7 +11,7 @@ import pytest
 from typer.testing import CliRunner
 
 from fogts.cli import app
-from fogts.simulate_startup import simulate_startup
+from fogts.startup.simulator import simulate_startup
 from tests.conftest import error_output, shared_path
 
 runner = CliRunner()

@@ -17,7 +17,7 @@ from typer.testing import CliRunner
 
 from fogts.cli import app
 from fogts.errors import DataQualityWarning
-from fogts.io import read_run
+from fogts.io.reader import read_run
 from tests.conftest import error_output, shared_path
 
 runner = CliRunner()

@@ -1,6 +1,6 @@
 """No output ever replaces an input (issue 13): every output option of every command is
 checked against the command's inputs before any analysis runs, through one shared check
-(:func:`fogts.paths.check_outputs`).  Each attempt exits 2 with one ``error:`` line naming
+(:func:`fogts.io.paths.check_outputs`).  Each attempt exits 2 with one ``error:`` line naming
 both the output option and the input, and leaves the input byte-identical (by hash)."""
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ from typer.testing import CliRunner
 
 from fogts.cli import _hoist_global_flags, app, main
 from fogts.errors import DataError
-from fogts.paths import check_outputs
+from fogts.io.paths import check_outputs
 from tests.conftest import error_output
 
 runner = CliRunner()

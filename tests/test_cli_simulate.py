@@ -11,8 +11,8 @@ import pytest
 from typer.testing import CliRunner
 
 from fogts.cli import app
-from fogts.io import read_run
-from fogts.simulate import NoiseSpec
+from fogts.io.reader import read_run
+from fogts.simulate.gyro import NoiseSpec
 
 runner = CliRunner()
 

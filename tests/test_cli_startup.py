@@ -23,9 +23,9 @@ from typer.testing import CliRunner
 
 from fogts.cli import app
 from fogts.errors import DataError, InsufficientDataError
-from fogts.io import read_run
-from fogts.northfind import angle_error_deg, four_position, simulate_startup_positions
-from fogts.simulate_startup import DEFAULT_STARTUP_COEFFICIENTS, simulate_startup
+from fogts.io.reader import read_run
+from fogts.startup.northfind import angle_error_deg, four_position, simulate_startup_positions
+from fogts.startup.simulator import DEFAULT_STARTUP_COEFFICIENTS, simulate_startup
 from tests.conftest import error_output
 
 runner = CliRunner()

@@ -7,8 +7,8 @@ import pandas as pd
 import pytest
 from scipy.signal import lfilter
 
-from fogts.emd import emd, energy_k, separate_trend
 from fogts.errors import DataError, InsufficientDataError
+from fogts.startup.emd import emd, energy_k, separate_trend
 
 
 def _trend_plus_arma(n: int = 3600, seed: int = 4) -> tuple[np.ndarray, np.ndarray]:

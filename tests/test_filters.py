@@ -1,4 +1,4 @@
-"""Tests for fogts.filters (zero-phase IIR low-pass and moving average)."""
+"""Tests for fogts.preprocess.filters (zero-phase IIR low-pass and moving average)."""
 
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ import pytest
 from scipy import signal
 
 from fogts.errors import DataError, InsufficientDataError
-from fogts.filters import lowpass, moving_average
+from fogts.preprocess.filters import lowpass, moving_average
 
 FS = 100.0
 

@@ -1,4 +1,4 @@
-"""fogts.hygiene: glitches, gaps and the DataQuality record (issue 13, item 4).
+"""fogts.preprocess.hygiene: glitches, gaps and the DataQuality record (issue 13, item 4).
 
 Known truth: white Gaussian noise with fixed seeds (nothing may be flagged), the same with
 injected spikes, bursts and steps (each found at its time), and the real ADIS16405 run 4
@@ -11,13 +11,13 @@ import pandas as pd
 import pytest
 
 from fogts.errors import DataError
-from fogts.hygiene import (
+from fogts.io.reader import read_run
+from fogts.preprocess.hygiene import (
     GLITCH_SIGMAS,
     assess_run,
     detect_glitches,
     find_gaps,
 )
-from fogts.io import read_run
 from tests.conftest import shared_path
 
 

@@ -1,4 +1,4 @@
-"""Tests for fogts.io: formats, column detection, time base, and the hostile-input corpus."""
+"""Tests for fogts.io.reader: formats, column detection, time base, and the hostile-input corpus."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ import pandas as pd
 import pytest
 
 from fogts.errors import DataError, DataQualityWarning, InsufficientDataError
-from fogts.io import atomic_path, read_run, write_frame_atomic, write_text_atomic
+from fogts.io.reader import atomic_path, read_run, write_frame_atomic, write_text_atomic
 from tests.conftest import shared_path
 
 
@@ -344,7 +344,7 @@ def test_bad_npy_signature(tmp_path: Path) -> None:
 
 
 def test_read_json_errors(tmp_path: Path) -> None:
-    from fogts.io import read_json
+    from fogts.io.reader import read_json
 
     with pytest.raises(DataError, match="thermal model not found: '.*m.json'"):
         read_json(tmp_path / "m.json", "thermal model")

@@ -18,10 +18,10 @@ import numpy as np
 import pytest
 from typer.testing import CliRunner
 
-from fogts._limits import MAX_LINE_BYTES, max_input_bytes
 from fogts.cli import app
 from fogts.errors import DataError
-from fogts.io import read_json, read_run
+from fogts.io.limits import MAX_LINE_BYTES, max_input_bytes
+from fogts.io.reader import read_json, read_run
 
 runner = CliRunner()
 
@@ -29,7 +29,7 @@ _READ = """
 import resource, sys, time
 t0 = time.perf_counter()
 from fogts.errors import DataError
-from fogts.io import read_run
+from fogts.io.reader import read_run
 try:
     read_run(sys.argv[1])
     print("READ")

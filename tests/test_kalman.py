@@ -9,7 +9,7 @@ from scipy.signal import lfilter
 from statsmodels.tsa.statespace.sarimax import SARIMAX
 
 from fogts.errors import DataError, InsufficientDataError
-from fogts.kalman import arma_kalman, arma_state_space
+from fogts.startup.kalman import arma_kalman, arma_state_space
 
 AR = (1.2, -0.3)
 MA = (0.4,)

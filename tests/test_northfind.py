@@ -9,14 +9,14 @@ import pandas as pd
 import pytest
 
 from fogts.errors import DataError, InsufficientDataError
-from fogts.northfind import (
+from fogts.startup.northfind import (
     angle_error_deg,
     four_position,
     positions_from_frame,
     simulate_north_seeking,
 )
-from fogts.simulate_startup import simulate_startup
-from fogts.thermal import fit_thermal
+from fogts.startup.simulator import simulate_startup
+from fogts.startup.thermal import fit_thermal
 from fogts.units import EARTH_RATE_RAD_S, earth_rate_component
 
 LAT = 32.05
@@ -127,7 +127,7 @@ def test_bad_input() -> None:
 
 
 def test_chamber_calibration_reproduces_seed004_improvement() -> None:
-    from fogts.northfind import simulated_calibration
+    from fogts.startup.northfind import simulated_calibration
 
     model = simulated_calibration((15.0, 20.0, 25.0), rng=1_000_007)
     study = simulate_north_seeking(50, model=model, rng=4)

@@ -1,4 +1,4 @@
-"""Tests for fogts.preprocess."""
+"""Tests for fogts.preprocess.prepare."""
 
 from __future__ import annotations
 
@@ -7,8 +7,8 @@ import pandas as pd
 import pytest
 
 from fogts.errors import DataError, InsufficientDataError
-from fogts.io import read_run
-from fogts.preprocess import MAD_TO_SIGMA, prepare
+from fogts.io.reader import read_run
+from fogts.preprocess.prepare import MAD_TO_SIGMA, prepare
 from tests.conftest import shared_path
 
 
@@ -122,7 +122,7 @@ def test_bad_data() -> None:
         prepare(_white(100))
     with pytest.raises(DataError, match=r"non-finite value \(nan\) at position 100"):
         prepare(np.r_[_white(100), np.nan], fs_hz=1.0)
-    with pytest.raises(DataError, match="for a DataFrame use fogts.io.read_run"):
+    with pytest.raises(DataError, match="for a DataFrame use fogts.io.reader.read_run"):
         prepare(pd.DataFrame({"a": _white(100)}), fs_hz=1.0)
     with pytest.raises(DataError, match="marks every sample as an outlier"):
         prepare(np.r_[np.zeros(50), np.ones(50)], fs_hz=1.0, outliers=1e-9)

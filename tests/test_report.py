@@ -18,9 +18,8 @@ from matplotlib.figure import Figure
 from typer.testing import CliRunner
 
 from fogts.errors import DataError, ModelFitError
-from fogts.io import read_run
-from fogts.report import info_text, json_dumps, run_info, to_jsonable
-from fogts.report_html import (
+from fogts.io.reader import read_run
+from fogts.report.html import (
     DAVAR_MIN_WINDOW_SAMPLES,
     DAVAR_MIN_WINDOWS,
     HtmlReport,
@@ -28,6 +27,7 @@ from fogts.report_html import (
     figure_block,
     write_report,
 )
+from fogts.report.text import info_text, json_dumps, run_info, to_jsonable
 from tests.conftest import shared_path
 
 runner = CliRunner()
@@ -132,8 +132,8 @@ def test_report_numbers_are_the_library_numbers(built: tuple[HtmlReport, str, Pa
     from fogts.allan import allan_deviation
     from fogts.allan.noise import fit_noise
     from fogts.arma import select_arma
-    from fogts.preprocess import prepare
-    from fogts.thermal import fit_thermal
+    from fogts.preprocess.prepare import prepare
+    from fogts.startup.thermal import fit_thermal
 
     rep, text, src = built
     run = read_run(src)
@@ -168,7 +168,7 @@ def test_short_record_without_temperature_omits_davar_and_thermal(tmp_path: Path
 
 def test_a_failing_part_becomes_an_error_section(tmp_path: Path,
                                                  monkeypatch: pytest.MonkeyPatch) -> None:
-    import fogts.report_html as rh
+    import fogts.report.html as rh
 
     def broken(self: object, i: int) -> object:
         raise ModelFitError(f"every candidate failed {EVIL}")

@@ -27,8 +27,8 @@ from typing import Any
 import numpy as np
 import pytest
 
-from fogts.io import read_run
-from fogts.report_html import build_report, write_report
+from fogts.io.reader import read_run
+from fogts.report.html import build_report, write_report
 
 CHROMIUM_FLAGS = ("--headless", "--no-sandbox", "--disable-gpu", "--no-first-run",
                   "--disable-background-networking", "--disable-component-update",

@@ -1,4 +1,4 @@
-"""Tests of fogts.simulate: every synthesis against its closed-form Allan variance.
+"""Tests of fogts.simulate.gyro: every synthesis against its closed-form Allan variance.
 
 Truth comes from the closed forms of IEEE Std 952-1997 Annex C / seed 000 Table 1
 (:meth:`NoiseSpec.avar`), and the Allan deviations are computed by allantools (an
@@ -20,7 +20,7 @@ import pytest
 import statsmodels.tsa.arima_process as sm_arima
 
 from fogts.errors import DataError, FogtsWarning, InsufficientDataError
-from fogts.simulate import (
+from fogts.simulate.gyro import (
     ArmaSpec,
     NoiseSpec,
     TemperatureProfile,

@@ -11,9 +11,9 @@ import pandas as pd
 import pytest
 
 from fogts.errors import DataError, InsufficientDataError, UnidentifiableTermWarning
-from fogts.run import Run
-from fogts.simulate_startup import simulate_startup, warmup_temperature
-from fogts.thermal import (
+from fogts.io.run import Run
+from fogts.startup.simulator import simulate_startup, warmup_temperature
+from fogts.startup.thermal import (
     ThermalModel,
     bias_stability,
     compensate,
@@ -172,7 +172,7 @@ def test_bad_input() -> None:
 
 
 def test_seed004_pipeline_emd_kalman_thermal_improves_bias_stability() -> None:
-    from fogts.thermal import startup_compensation
+    from fogts.startup.thermal import startup_compensation
 
     sim = simulate_startup(rng=4)
     res = startup_compensation(sim.run, emd=True, arma_model="AR(2)")
@@ -189,7 +189,7 @@ def test_seed004_pipeline_emd_kalman_thermal_improves_bias_stability() -> None:
 
 
 def test_pipeline_bad_calibration_runs() -> None:
-    from fogts.thermal import startup_compensation
+    from fogts.startup.thermal import startup_compensation
 
     sim = simulate_startup(duration_s=600, rng=1)
     other = simulate_startup(duration_s=600, fs_hz=2.0, rng=2).run
@@ -222,7 +222,7 @@ def test_sandwich_stderr_matches_a_dense_computation() -> None:
     from scipy.linalg import toeplitz
     from statsmodels.tsa.arima_process import arma_acovf
 
-    from fogts.thermal import _gls_sandwich_stderr, design_matrix
+    from fogts.startup.thermal import _gls_sandwich_stderr, design_matrix
 
     sim = simulate_startup(duration_s=600.0, rng=5)
     temp = np.asarray(sim.run.temperature)

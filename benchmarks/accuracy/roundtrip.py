@@ -55,7 +55,7 @@ def one_run(grade: str, seed: int, fs_hz: float, duration: str) -> dict[str, Any
     """Simulate one record, fit it (WLS and OLS) and read the slopes off."""
     from fogts.allan import allan_deviation
     from fogts.allan.noise import fit_noise
-    from fogts.simulate import simulate_gyro
+    from fogts.simulate.gyro import simulate_gyro
 
     truth = GRADES[grade]
     run = simulate_gyro(truth, fs_hz=fs_hz, duration_s=duration, rng=seed)

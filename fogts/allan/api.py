@@ -1,7 +1,7 @@
 """Public entry point of the Allan analysis: :func:`allan_deviation`.
 
 It takes a rate series in any of the forms fogts knows (ndarray, Series, DataFrame,
-:class:`~fogts.run.Run`, :class:`~fogts.preprocess.Prepared`), builds the tau grid
+:class:`~fogts.io.run.Run`, :class:`~fogts.preprocess.prepare.Prepared`), builds the tau grid
 (:mod:`fogts.allan.taus`), runs the phase-based estimator (:mod:`fogts.allan.estimators`)
 and attaches noise identification, EDF and chi-squared intervals
 (:mod:`fogts.allan.confidence`) to every point.
@@ -23,8 +23,8 @@ from fogts.allan.estimators import ESTIMATORS
 from fogts.allan.result import AllanResult, AllanResultSet
 from fogts.allan.taus import KINDS, Kind, tau_grid
 from fogts.errors import DataError
-from fogts.preprocess import Prepared
-from fogts.run import Run
+from fogts.io.run import Run
+from fogts.preprocess.prepare import Prepared
 from fogts.units import parse_rate_unit
 
 __all__ = ["allan_deviation"]
@@ -66,7 +66,7 @@ def allan_deviation(
     x : ndarray, Series, DataFrame, Run or Prepared
         Rate data.  A 2-D array ``(n, k)``, a DataFrame (every column an axis) or a
         multi-axis Run gives one curve per axis unless ``axis`` picks one.  A DataFrame is
-        read by :func:`fogts.io.read_run` (time, temperature and rate columns recognised
+        read by :func:`fogts.io.reader.read_run` (time, temperature and rate columns recognised
         by name; when no column is recognisably a rate, every column is an axis).
     fs_hz : float, optional
         Sample rate.  Required for ndarray input; a Series/DataFrame with a
@@ -204,7 +204,7 @@ def unpack_axes(x: Any, *, fs_hz: float | None, axis: int | str | None, units: s
         return ([AxisSeries(to_float_array(x.x, "x"), x.axis)], fs or x.fs_hz, units or x.units,
                 notes)
     if isinstance(x, pd.Series | pd.DataFrame):
-        from fogts.io import read_run  # io turns frames into Runs (fs from the index)
+        from fogts.io.reader import read_run  # io turns frames into Runs (fs from the index)
 
         if isinstance(x, pd.DataFrame):
             frame = x.set_axis([str(c) for c in x.columns], axis=1)

@@ -168,7 +168,7 @@ def compare_allan(
     Examples
     --------
     >>> import numpy as np, warnings
-    >>> from fogts.filters import lowpass
+    >>> from fogts.preprocess.filters import lowpass
     >>> rng = np.random.default_rng(1)
     >>> x = rng.normal(size=100_000) + np.cumsum(rng.normal(scale=1e-3, size=100_000))
     >>> with warnings.catch_warnings():

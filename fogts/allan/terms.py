@@ -11,7 +11,7 @@ each term is ``value = C_n / (seconds_factor * allan_root)``, which gives DESIGN
 N = C_-1/60, B = C_0/0.664, K = 60 sqrt(3) C_1, R = 3600 sqrt(2) C_2 and Q = C_-2/sqrt(3).
 B uses IEEE 952's rounded 0.664 rather than sqrt(2 ln 2/pi) = 0.66428 (0.04 % apart).
 
-Used by the fit (:mod:`fogts.allan.noise`), the simulator (:mod:`fogts.simulate`) and
+Used by the fit (:mod:`fogts.allan.noise`), the simulator (:mod:`fogts.simulate.gyro`) and
 the curve read-outs (:mod:`fogts.allan.readout`).
 """
 

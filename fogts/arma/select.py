@@ -500,8 +500,8 @@ class _Input:
 
 
 def _unpack(x: Any, fs_hz: float | None) -> _Input:
-    from fogts.preprocess import Prepared
-    from fogts.run import Run
+    from fogts.io.run import Run
+    from fogts.preprocess.prepare import Prepared
 
     if isinstance(x, Run):
         raise DataError("x is a Run; prepare one axis first: select_arma(prepare(run, "
@@ -704,7 +704,7 @@ def select_arma(
     Parameters
     ----------
     x : Prepared, ndarray or Series
-        The drift series.  A :class:`fogts.preprocess.Prepared` is used as is (trend and
+        The drift series.  A :class:`fogts.preprocess.prepare.Prepared` is used as is (trend and
         mean already removed, steps recorded); an ndarray or Series has its mean removed
         here (recorded in ``preprocessing``).
     candidates : str or sequence, default DEFAULT_FIVE

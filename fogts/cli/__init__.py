@@ -84,7 +84,7 @@ def main(argv: list[str] | None = None) -> None:
     except Exception as exc:  # anything a command raised outside its guard: still one line
         if _STATE["debug"]:
             raise
-        from fogts.report import error_message
+        from fogts.report.text import error_message
 
         err_console.print(f"error: {error_message(exc)}", markup=False, soft_wrap=True)
         raise SystemExit(ExitCode.ERROR) from None

@@ -4,7 +4,7 @@ guard and the input/output helpers.  Each command lives in its own module of thi
 
 * input options shared by every command (``--rate-column``, ``--time-column``,
   ``--temperature-column``, ``--fs``, ``--units``, ``--nan``) come from the ``*Opt``
-  aliases below and are turned into a :class:`fogts.run.Run` by :func:`_read`;
+  aliases below and are turned into a :class:`fogts.io.run.Run` by :func:`_read`;
 * the body runs inside :func:`_guard`, which checks the output names against the inputs
   and maps any exception to one line ``error: ...`` on stderr and exit code 2 (no
   traceback unless ``--debug``);
@@ -27,7 +27,7 @@ import typer
 from rich.console import Console
 from rich.table import Table
 
-from fogts import __version__
+from fogts._version import __version__
 
 app = typer.Typer(
     name="fogts",
@@ -87,12 +87,12 @@ def _guard(options: Mapping[str, str] | None = None, *,
     ``options`` maps library argument names (``latitude_deg``) to the command's option
     names (``--latitude``), so that an error raised by the library names what the user
     typed.  ``outputs`` (option -> path) and ``inputs`` (argument -> paths) are checked by
-    :func:`fogts.paths.check_outputs` before the body runs: no output replaces an input."""
+    :func:`fogts.io.paths.check_outputs` before the body runs: no output replaces an input."""
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("default")
         try:
             if outputs:
-                from fogts.paths import check_outputs
+                from fogts.io.paths import check_outputs
 
                 check_outputs(outputs, inputs or {})
             yield
@@ -101,13 +101,13 @@ def _guard(options: Mapping[str, str] | None = None, *,
         except Exception as exc:
             if _STATE["debug"]:
                 raise
-            from fogts.report import error_message
+            from fogts.report.text import error_message
 
             message = _option_names(error_message(exc), options or {})
             err_console.print(f"error: {message}", markup=False, soft_wrap=True)
             raise typer.Exit(ExitCode.ERROR) from None
         finally:
-            from fogts.report import warning_texts
+            from fogts.report.text import warning_texts
 
             for text in warning_texts(caught):
                 err_console.print(f"warning: {text}", markup=False, soft_wrap=True)
@@ -123,12 +123,12 @@ def _option_names(message: str, options: Mapping[str, str]) -> str:
 def _read(path: Path, rate_column: str | None, time_column: str | None,
           temperature_column: str | None, fs: float | None, units: str | None, *,
           nan: str = "error", gaps: str = "warn", glitches: bool = True) -> tuple[Any, Any]:
-    """Read one input and check its hygiene (:func:`fogts.hygiene.assess_run`): assumed
+    """Read one input and check its hygiene (:func:`fogts.preprocess.hygiene.assess_run`): assumed
     units, missing cells, gaps and glitches are printed at once as ``warning:`` lines
     naming the file, before any analysis output.  Returns the Run (restricted to the
     longest regular segment with ``--gaps split``) and its DataQuality."""
-    from fogts.hygiene import assess_run
-    from fogts.io import read_run
+    from fogts.io.reader import read_run
+    from fogts.preprocess.hygiene import assess_run
 
     rate_cols: str | list[str] | None = None
     if rate_column:
@@ -147,8 +147,8 @@ def _emit_json(payload: dict[str, Any], target: str | None) -> None:
     """Write ``payload`` as JSON to ``target`` ('-' = stdout); files are written atomically."""
     if target is None:
         return
-    from fogts.io import write_text_atomic
-    from fogts.report import json_dumps
+    from fogts.io.reader import write_text_atomic
+    from fogts.report.text import json_dumps
 
     text = json_dumps(payload)
     if target == "-":
@@ -200,7 +200,7 @@ def _check_output_names(**outputs: Path | None) -> None:
     """Reject output names the writers would refuse, before any analysis runs.
 
     ``plot`` must be a figure (.png, .svg, .pdf); every other keyword names a table option
-    (``csv=...`` is ``--csv``) written by :func:`fogts.io.write_frame_atomic`.
+    (``csv=...`` is ``--csv``) written by :func:`fogts.io.reader.write_frame_atomic`.
     """
     from fogts.errors import DataError
 
@@ -219,7 +219,7 @@ def _check_output_names(**outputs: Path | None) -> None:
 def _save_figure(fig: Any, path: str | Path) -> None:
     """Save a Figure atomically; the format follows the suffix (.png, .svg, .pdf)."""
     from fogts.errors import DataError
-    from fogts.io import atomic_path
+    from fogts.io.reader import atomic_path
 
     target = Path(path)
     fmt = target.suffix.lstrip(".").lower()
@@ -238,8 +238,8 @@ def _say(lines: list[str], json_out: str | None) -> None:
 
 
 def _load_thermal_model(path: Path) -> Any:
-    from fogts.io import read_json
-    from fogts.thermal import ThermalModel
+    from fogts.io.reader import read_json
+    from fogts.startup.thermal import ThermalModel
 
     data = read_json(path, "thermal model")
     if isinstance(data, dict) and "thermal" in data and "terms" not in data:

@@ -237,7 +237,7 @@ def _allan_file(file: Path, rate_column: str | None, time_column: str | None,
     from fogts.allan import AllanResult, allan_deviation
     from fogts.allan.noise import FITTABLE_KINDS, fit_noise
     from fogts.errors import FogtsWarning
-    from fogts.preprocess import prepare
+    from fogts.preprocess.prepare import prepare
 
     run, quality = _read(file, rate_column, time_column, temperature_column, fs, units,
                          nan=nan, gaps=gaps)
@@ -341,7 +341,7 @@ def _axis_picks(run: Any, axis: str | None) -> list[int]:
 def _allan_csv(analyses: list[_AllanAnalysis], target: Path) -> None:
     import pandas as pd
 
-    from fogts.io import write_frame_atomic
+    from fogts.io.reader import write_frame_atomic
 
     frames = []
     many_files = len(analyses) > 1
@@ -359,7 +359,7 @@ def _allan_csv(analyses: list[_AllanAnalysis], target: Path) -> None:
 
 def _allan_figure(analyses: list[_AllanAnalysis]) -> Any:
     from fogts.allan import AllanResultSet
-    from fogts.plots import plot_allan, plot_allan_overlay
+    from fogts.report.plots import plot_allan, plot_allan_overlay
 
     if len(analyses) == 1:
         a = analyses[0]

@@ -50,7 +50,7 @@ def compensate_cmd(
 ) -> None:
     """Fit the seed-004 temperature-drift model D = aT·dT + bT² + cT + d·dT² + e·dT + f and
     compensate; prints the model and the bias stability before and after."""
-    from fogts.thermal import startup_compensation
+    from fogts.startup.thermal import startup_compensation
 
     with _guard(outputs={"--output": output, "--save-model": save_model, "--json": json_out,
                          "--plot": plot},
@@ -70,12 +70,12 @@ def compensate_cmd(
                                       arma_model=arma_model, dT_smoothing_s=dt_smoothing,
                                       average_s=average, calibration=extra)
         if output is not None:
-            from fogts.io import write_frame_atomic
+            from fogts.io.reader import write_frame_atomic
 
             write_frame_atomic(output, result.to_frame())
         if save_model is not None:
-            from fogts.io import write_text_atomic
-            from fogts.report import json_dumps
+            from fogts.io.reader import write_text_atomic
+            from fogts.report.text import json_dumps
 
             write_text_atomic(save_model, json_dumps(result.model.to_dict()) + "\n")
         payload = {"input": str(file), **result.to_dict(), "data_quality": quality.to_dict()}
@@ -83,7 +83,7 @@ def compensate_cmd(
             payload["thermal"]["source"] = str(model)
         _emit_json(payload, json_out)
         if plot is not None:
-            from fogts.plots import plot_compensation
+            from fogts.report.plots import plot_compensation
 
             _save_figure(plot_compensation(result), plot)
         lines = [result.summary()]

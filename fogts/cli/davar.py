@@ -65,7 +65,7 @@ def davar_cmd(
         payload = {"input": str(file), **result.to_dict(), "data_quality": quality.to_dict()}
         _emit_json(payload, json_out)
         if plot is not None:
-            from fogts.plots import plot_dynamic_allan
+            from fogts.report.plots import plot_dynamic_allan
 
             _save_figure(plot_dynamic_allan(result), plot)
         target = err_console if json_out == "-" else console

@@ -90,8 +90,8 @@ def _kalman_filter(run: Any, x: Any, file: Path, output: Path, model: str, noise
     import numpy as np
     import pandas as pd
 
-    from fogts.io import write_frame_atomic
-    from fogts.kalman import arma_kalman, resolve_arma_model
+    from fogts.io.reader import write_frame_atomic
+    from fogts.startup.kalman import arma_kalman, resolve_arma_model
 
     fit = resolve_arma_model(x, model)
     result = arma_kalman(x, fit, measurement_noise=noise)
@@ -105,7 +105,7 @@ def _kalman_filter(run: Any, x: Any, file: Path, output: Path, model: str, noise
                 "model": fit_dict, "kalman": result.to_dict(), "output": str(output)},
                json_out)
     if plot is not None:
-        from fogts.plots import plot_kalman
+        from fogts.report.plots import plot_kalman
 
         _save_figure(plot_kalman(result, time_s=run.time, units=run.units), plot)
     equation = fit.equation() if hasattr(fit, "equation") else result.model
@@ -119,8 +119,8 @@ def _lowpass_filter(run: Any, x: Any, file: Path, output: Path, method: str,
     import pandas as pd
 
     from fogts.errors import DataError
-    from fogts.filters import lowpass, moving_average
-    from fogts.io import write_frame_atomic
+    from fogts.io.reader import write_frame_atomic
+    from fogts.preprocess.filters import lowpass, moving_average
 
     if method == "iir":
         if cutoff is None:
@@ -150,7 +150,7 @@ def _lowpass_filter(run: Any, x: Any, file: Path, output: Path, method: str,
         payload["compare_allan"] = comparison.to_dict()
     _emit_json(payload, json_out)
     if plot is not None and comparison is not None:
-        from fogts.plots import plot_allan_comparison
+        from fogts.report.plots import plot_allan_comparison
 
         _save_figure(plot_allan_comparison(comparison), plot)
     lines = [result.summary()]

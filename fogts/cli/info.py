@@ -22,7 +22,7 @@ from fogts.cli._common import (
 
 
 def _info_payload(run: Any) -> dict[str, Any]:
-    from fogts.report import run_info
+    from fogts.report.text import run_info
 
     return run_info(run)
 
@@ -46,6 +46,6 @@ def info_cmd(
         payload = {**_info_payload(run), "data_quality": quality.to_dict()}
         _emit_json(payload, json_out)
         if json_out != "-":
-            from fogts.report import info_text
+            from fogts.report.text import info_text
 
             console.print(info_text(payload), markup=False, soft_wrap=True)

@@ -51,7 +51,7 @@ def report_cmd(
 
     Exit code 1 if a section could not be computed (the report is still written and says why).
     """
-    from fogts.report_html import build_report, write_report
+    from fogts.report.html import build_report, write_report
 
     with _guard(outputs={"--output": output}, inputs={"FILE": [file]}):
         run, quality = _read(file, rate_column, time_column, temperature_column, fs, units,

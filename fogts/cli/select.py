@@ -126,7 +126,7 @@ def select_cmd(
 
     from fogts.arma.select import parse_candidates, select_arma
     from fogts.errors import DataError
-    from fogts.preprocess import prepare
+    from fogts.preprocess.prepare import prepare
 
     with _guard(outputs={"--json": json_out, "--plot": plot, "--predict": predict},
                 inputs={"FILE": [file]}):
@@ -146,12 +146,12 @@ def select_cmd(
         payload["data_quality"] = quality.to_dict()
         _emit_json(payload, json_out)
         if plot is not None:
-            from fogts.plots import plot_selection
+            from fogts.report.plots import plot_selection
 
             _save_figure(plot_selection(sel), plot)
         pred = None
         if predict is not None and sel.selected is not None:
-            from fogts.io import write_frame_atomic
+            from fogts.io.reader import write_frame_atomic
 
             pred = sel.selected.predict()
             frame = pred.to_frame().reset_index(drop=True)

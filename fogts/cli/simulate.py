@@ -109,11 +109,11 @@ def simulate_cmd(
 
     import numpy as np
 
-    from fogts import __version__ as version
+    from fogts._version import __version__ as version
     from fogts.errors import DataError
-    from fogts.io import write_frame_atomic, write_text_atomic
-    from fogts.report import json_dumps
-    from fogts.simulate import (
+    from fogts.io.reader import write_frame_atomic, write_text_atomic
+    from fogts.report.text import json_dumps
+    from fogts.simulate.gyro import (
         ArmaSpec,
         NoiseSpec,
         TemperatureProfile,
@@ -151,7 +151,7 @@ def simulate_cmd(
         duration_s = parse_duration("1h" if duration is None else duration, "--duration")
         values: dict[str, float] = {}
         if noise_json is not None:
-            from fogts.io import read_json
+            from fogts.io.reader import read_json
 
             loaded = read_json(noise_json, "--from-json file")
             values.update(dataclasses.asdict(NoiseSpec.from_any(loaded)))
@@ -225,14 +225,14 @@ def _simulate_startup(output: Path, *, fs: float | None, duration: str | None,
 
     import numpy as np
 
-    from fogts import __version__ as version
     from fogts._validate import check_positive
+    from fogts._version import __version__ as version
     from fogts.errors import DataError
-    from fogts.io import write_frame_atomic, write_text_atomic
-    from fogts.northfind import simulate_startup_positions
-    from fogts.report import json_dumps
-    from fogts.simulate import ArmaSpec
-    from fogts.simulate_startup import DEFAULT_STARTUP_COEFFICIENTS, simulate_startup
+    from fogts.io.reader import write_frame_atomic, write_text_atomic
+    from fogts.report.text import json_dumps
+    from fogts.simulate.gyro import ArmaSpec
+    from fogts.startup.northfind import simulate_startup_positions
+    from fogts.startup.simulator import DEFAULT_STARTUP_COEFFICIENTS, simulate_startup
     from fogts.units import convert_rate, parse_duration, parse_rate_unit
 
     for name, value in noise_opts.items():

@@ -2,12 +2,12 @@
 
 The report is built in two steps:
 
-1. :func:`build_report` runs the analyses on a :class:`~fogts.run.Run` and collects, per
-   section, figures (matplotlib figures from :mod:`fogts.plots`, embedded as SVG or PNG
+1. :func:`build_report` runs the analyses on a :class:`~fogts.io.run.Run` and collects, per
+   section, figures (matplotlib figures from :mod:`fogts.report.plots`, embedded as SVG or PNG
    ``data:`` URIs), tables and text.  Each section says in one sentence what it shows and how
    to read it.  A part that fails becomes a section with its error message (nothing fails
    silently, and one failed analysis does not cost the whole report).
-2. :meth:`HtmlReport.render` fills the jinja2 template ``fogts/templates/report.html.j2``
+2. :meth:`HtmlReport.render` fills the jinja2 template ``fogts/report/templates/report.html.j2``
    with autoescaping on, so file names, column names and comment lines from the input
    file - which are untrusted - are shown as text and never interpreted as HTML.
 
@@ -17,7 +17,7 @@ has no script, and its Content-Security-Policy forbids loading anything else.
 Examples
 --------
 >>> import numpy as np
->>> from fogts.io import read_run
+>>> from fogts.io.reader import read_run
 >>> rng = np.random.default_rng(0)
 >>> run = read_run(rng.normal(size=3000), fs_hz=10.0)
 >>> rep = build_report(run, title="bench unit 7", parts=("input", "timeseries"))
@@ -46,8 +46,8 @@ from typing import Any
 import numpy as np
 
 from fogts.errors import DataError
-from fogts.report import _duration_text, error_message, run_info, warning_texts
-from fogts.run import Run
+from fogts.io.run import Run
+from fogts.report.text import _duration_text, error_message, run_info, warning_texts
 
 __all__ = [
     "PARTS",
@@ -182,7 +182,7 @@ class HtmlReport:
         """The HTML document (one string, self-contained)."""
         from jinja2 import Environment, PackageLoader, StrictUndefined
 
-        env = Environment(loader=PackageLoader("fogts", "templates"), autoescape=True,
+        env = Environment(loader=PackageLoader("fogts.report", "templates"), autoescape=True,
                           undefined=StrictUndefined, trim_blocks=False, lstrip_blocks=False,
                           keep_trailing_newline=True)
         template = env.get_template("report.html.j2")
@@ -310,7 +310,7 @@ class _Context:
 
     run: Run
     options: dict[str, Any]
-    quality: Any = None  # fogts.hygiene.DataQuality
+    quality: Any = None  # fogts.preprocess.hygiene.DataQuality
     prepared: dict[int, Any] = field(default_factory=dict)
     allan: dict[int, Any] = field(default_factory=dict)
     noise: dict[int, Any] = field(default_factory=dict)
@@ -321,7 +321,7 @@ class _Context:
 
     def get_prepared(self, i: int) -> Any:
         if i not in self.prepared:
-            from fogts.preprocess import prepare
+            from fogts.preprocess.prepare import prepare
 
             o = self.options
             self.prepared[i] = prepare(self.run, axis=i, outliers=o["outliers"],
@@ -407,7 +407,7 @@ def _input_blocks(ctx: _Context, notes: list[str]) -> list[Block]:
 
 
 def _timeseries_blocks(ctx: _Context, notes: list[str]) -> list[Block]:
-    from fogts.plots import plot_timeseries
+    from fogts.report.plots import plot_timeseries
 
     fig = plot_timeseries(ctx.run)
     return [figure_block(fig, id="timeseries", alt="rate and temperature against time",
@@ -416,7 +416,7 @@ def _timeseries_blocks(ctx: _Context, notes: list[str]) -> list[Block]:
 
 
 def _allan_blocks(ctx: _Context, i: int, notes: list[str]) -> list[Block]:
-    from fogts.plots import plot_allan
+    from fogts.report.plots import plot_allan
 
     res = ctx.get_allan(i)
     with _collect_warnings(notes):
@@ -497,9 +497,9 @@ def _prediction_blocks(ctx: _Context, i: int, notes: list[str]) -> list[Block]:
     pred = best.predict()
     blocks: list[Block] = []
     try:
-        from fogts.plots import plot_selection
+        from fogts.report.plots import plot_selection
     except ImportError:  # the ARMA diagnostics figure is not available in this version
-        notes.append("the ARMA diagnostics figure (fogts.plots.plot_selection) is not "
+        notes.append("the ARMA diagnostics figure (fogts.report.plots.plot_selection) is not "
                      "available in this fogts version")
     else:
         blocks.append(figure_block(plot_selection(sel), id=f"prediction-{i}",
@@ -542,7 +542,7 @@ def _prediction_blocks(ctx: _Context, i: int, notes: list[str]) -> list[Block]:
 
 def _davar_blocks(ctx: _Context, i: int, notes: list[str]) -> list[Block]:
     from fogts.allan.dynamic import DynamicAllanResult, dynamic_allan
-    from fogts.plots import plot_dynamic_allan
+    from fogts.report.plots import plot_dynamic_allan
 
     window = float(ctx.options["davar_window_s"])
     step = max(window / 4.0, 1.0 / ctx.run.fs_hz)
@@ -564,8 +564,8 @@ _TERM_NAME = {"Q": "quantization", "N": "angle random walk", "B": "bias instabil
 
 
 def _thermal_blocks(ctx: _Context, i: int, notes: list[str]) -> list[Block]:
-    from fogts.plots import plot_compensation
-    from fogts.thermal import TERM_LETTERS, startup_compensation
+    from fogts.report.plots import plot_compensation
+    from fogts.startup.thermal import TERM_LETTERS, startup_compensation
 
     res = startup_compensation(ctx.run, axis=i, emd=False,
                                average_s=ctx.options["bias_average_s"])
@@ -662,9 +662,9 @@ def build_report(
     Parameters
     ----------
     run : Run
-        The recording (from :func:`fogts.io.read_run`).
+        The recording (from :func:`fogts.io.reader.read_run`).
     quality : DataQuality, optional
-        Its hygiene (:func:`fogts.hygiene.assess_run`); computed with the default gap
+        Its hygiene (:func:`fogts.preprocess.hygiene.assess_run`); computed with the default gap
         policy (warn) when not given.  Shown in the input section.
     title : str, optional
         Document title (default: "Gyro report: <file name>").
@@ -691,11 +691,11 @@ def build_report(
     DataError
         An unknown part, or ``run`` is not a Run.
     """
-    from fogts import __version__
     from fogts._validate import check_choice, check_positive
+    from fogts._version import __version__
 
     if not isinstance(run, Run):
-        raise DataError(f"run must be a fogts Run (see fogts.io.read_run), got "
+        raise DataError(f"run must be a fogts Run (see fogts.io.reader.read_run), got "
                         f"{type(run).__name__}")
     wanted = list(parts)
     for p in wanted:
@@ -707,7 +707,7 @@ def build_report(
     if davar_window_s is not None:
         davar_window_s = check_positive("davar_window_s", davar_window_s)
     if quality is None:
-        from fogts.hygiene import assess_run
+        from fogts.preprocess.hygiene import assess_run
 
         run, quality = assess_run(run)
     ctx = _Context(run=run, quality=quality, options={"outliers": outliers, "detrend": detrend,
@@ -769,7 +769,7 @@ def build_report(
 
 def write_report(path: str | os.PathLike[str], report: HtmlReport) -> Path:
     """Render ``report`` and write it atomically to ``path``."""
-    from fogts.io import write_text_atomic
+    from fogts.io.reader import write_text_atomic
 
     return write_text_atomic(path, report.render())
 

@@ -33,8 +33,8 @@ from scipy.signal import lfilter
 from fogts._typing import FloatArray, RngLike
 from fogts._validate import as_rng, check_positive
 from fogts.errors import DataError, InsufficientDataError
-from fogts.run import Run, SamplingReport
-from fogts.thermal import THERMAL_TERMS, design_matrix
+from fogts.io.run import Run, SamplingReport
+from fogts.startup.thermal import THERMAL_TERMS, design_matrix
 
 __all__ = ["DEFAULT_STARTUP_COEFFICIENTS", "StartupSimulation", "simulate_startup",
            "warmup_temperature"]

@@ -4,7 +4,7 @@ Every command runs :func:`assess_run` right after reading, so that what could ma
 answer wrong is printed before the answer, and recorded in the JSON:
 
 * the rate unit was assumed (no unit in the column names, no ``--units``);
-* empty/NaN cells were dropped or interpolated (:class:`fogts.run.MissingReport`);
+* empty/NaN cells were dropped or interpolated (:class:`fogts.io.run.MissingReport`);
 * the time base has gaps (:class:`GapReport`), handled by the gap policy: ``warn``
   (analyse as if regular and say so), ``error``, ``split`` (the longest regular
   segment) or ``ignore`` (no warning; still recorded);
@@ -26,7 +26,7 @@ import pandas as pd
 from fogts._typing import FloatArray, IntArray
 from fogts._validate import check_choice, check_positive
 from fogts.errors import DataError
-from fogts.run import MissingReport, Run, SamplingReport
+from fogts.io.run import MissingReport, Run, SamplingReport
 
 __all__ = [
     "GAP_POLICIES",
@@ -45,7 +45,7 @@ GapPolicy = Literal["warn", "error", "split", "ignore"]
 #: What a command may do with a time base that has gaps.
 GAP_POLICIES: tuple[str, ...] = ("warn", "error", "split", "ignore")
 #: A step longer than this multiple of the nominal step 1/fs is a gap (as in
-#: :func:`fogts.io.sampling_report`).
+#: :func:`fogts.io.reader.sampling_report`).
 GAP_FACTOR = 1.5
 #: Default glitch threshold in robust sigmas.  A white Gaussian sample is flagged only if
 #: it is beyond 7 sigma from the median *and* the step into or out of it is beyond 7 sigma
@@ -383,7 +383,7 @@ class GapReport:
 def find_gaps(time_s: Any, *, fs_hz: float, sampling: SamplingReport | None = None
               ) -> GapReport:
     """Every step longer than 1.5 x ``1/fs_hz`` in ``time_s`` and the regular segments
-    between them (same rule as :func:`fogts.io.sampling_report`).
+    between them (same rule as :func:`fogts.io.reader.sampling_report`).
 
     Examples
     --------
@@ -417,7 +417,7 @@ def find_gaps(time_s: Any, *, fs_hz: float, sampling: SamplingReport | None = No
 
 def _segment_run(run: Run, start: int, stop: int) -> Run:
     """``run`` restricted to rows ``[start, stop)``, its time rebased to zero."""
-    from fogts.io import sampling_report
+    from fogts.io.reader import sampling_report
 
     time = run.time[start:stop] - run.time[start]
     dt = np.diff(time) if stop - start > 1 else None
@@ -544,7 +544,7 @@ def assess_run(run: Run, *, gaps: GapPolicy = "warn", glitches: bool = True,
     Examples
     --------
     >>> import numpy as np
-    >>> from fogts.io import read_run
+    >>> from fogts.io.reader import read_run
     >>> run, q = assess_run(read_run(np.random.default_rng(0).standard_normal(1000),
     ...                              fs_hz=10.0))
     >>> q.warnings()

@@ -18,7 +18,7 @@ import pandas as pd
 from fogts._typing import FloatArray, IntArray
 from fogts._validate import check_int, check_positive, pandas_index, to_float_array
 from fogts.errors import DataError, InsufficientDataError
-from fogts.run import Run
+from fogts.io.run import Run
 from fogts.units import parse_rate_unit
 
 __all__ = ["OutlierReport", "Prepared", "StationarityReport", "prepare"]
@@ -304,7 +304,7 @@ def _unpack(data: Any, fs_hz: float | None, axis: int | str
     index = pandas_index(data)
     if isinstance(data, pd.DataFrame):
         raise DataError("data must be a Run, ndarray or Series; for a DataFrame use "
-                        "fogts.io.read_run(frame) first")
+                        "fogts.io.reader.read_run(frame) first")
     if fs_hz is None and isinstance(index, pd.DatetimeIndex | pd.TimedeltaIndex) and index.size > 1:
         steps = pd.TimedeltaIndex(index[1:] - index[:-1]).total_seconds()
         fs_hz = 1.0 / float(np.median(np.asarray(steps)))

@@ -1,8 +1,8 @@
 """The :class:`Run` record: one static gyro recording as read from a file or a frame.
 
-Kept apart from :mod:`fogts.io` (which reads files) so that analysis modules can accept a
-Run without importing the reader.  ``Run`` is produced by :func:`fogts.io.read_run`,
-:func:`fogts.simulate.simulate_gyro` and :func:`fogts.thermal.compensate`.
+Kept apart from :mod:`fogts.io.reader` (which reads files) so that analysis modules can accept a
+Run without importing the reader.  ``Run`` is produced by :func:`fogts.io.reader.read_run`,
+:func:`fogts.simulate.gyro.simulate_gyro` and :func:`fogts.startup.thermal.compensate`.
 """
 
 from __future__ import annotations

@@ -16,7 +16,7 @@ from typing import Any
 
 import numpy as np
 
-from fogts.run import Run
+from fogts.io.run import Run
 
 __all__ = ["error_message", "info_text", "json_dumps", "run_info", "to_jsonable",
            "warning_texts"]

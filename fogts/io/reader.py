@@ -1,4 +1,4 @@
-"""Read gyro recordings into a :class:`~fogts.run.Run`, and write outputs atomically.
+"""Read gyro recordings into a :class:`~fogts.io.run.Run`, and write outputs atomically.
 
 This is the only module that opens input files (DESIGN.md).  Supported inputs:
 
@@ -33,11 +33,11 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from fogts._limits import check_npy, check_npz, check_regular_file, max_input_bytes, read_capped
 from fogts._typing import FloatArray, IntArray
 from fogts._validate import check_positive
 from fogts.errors import DataError, DataQualityWarning, InsufficientDataError
-from fogts.run import MissingReport, Run, SamplingReport
+from fogts.io.limits import check_npy, check_npz, check_regular_file, max_input_bytes, read_capped
+from fogts.io.run import MissingReport, Run, SamplingReport
 from fogts.units import parse_rate_unit
 
 __all__ = [
@@ -308,7 +308,7 @@ def _array_table(arr: np.ndarray, source: str, fs_hz: float | None,
 
 def _file_table(path: Path) -> _Table:
     """Read a file by its suffix; only regular files, within the input limits
-    (:mod:`fogts._limits`)."""
+    (:mod:`fogts.io.limits`)."""
     st = check_regular_file(path)
     suffixes = [s.lower() for s in path.suffixes]
     last = suffixes[-1] if suffixes else ""
@@ -797,7 +797,7 @@ def _sidecar_unit(path: Path) -> str | None:
 
 def _rate_unit(given: str | None, rate_names: Sequence[str], file_key: str,
                sidecar: str | None = None) -> tuple[str, str]:
-    """The rate unit and where it came from (see :attr:`fogts.run.Run.units_source`)."""
+    """The rate unit and where it came from (see :attr:`fogts.io.run.Run.units_source`)."""
     if given is not None:
         return given, "given"
     if sidecar is not None:

@@ -1,6 +1,6 @@
 """Reading input files within bounded time and memory.
 
-:mod:`fogts.io` opens every input through these functions, so that no input can hang a
+:mod:`fogts.io.reader` opens every input through these functions, so that no input can hang a
 command or exhaust the machine:
 
 * only regular files are read: a character or block device (``/dev/zero``,
@@ -27,7 +27,7 @@ import zipfile
 from pathlib import Path
 
 from fogts.errors import DataError
-from fogts.paths import file_kind
+from fogts.io.paths import file_kind
 
 __all__ = ["MAX_LINE_BYTES", "check_regular_file", "max_input_bytes", "read_capped"]
 

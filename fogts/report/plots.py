@@ -47,7 +47,7 @@ def plot_timeseries(run: Any, *, max_points: int = 4000, width_in: float = 10.0)
 
     Parameters
     ----------
-    run : fogts.run.Run
+    run : fogts.io.run.Run
         The recording.
     max_points : int
         Largest number of samples drawn point by point.
@@ -61,7 +61,7 @@ def plot_timeseries(run: Any, *, max_points: int = 4000, width_in: float = 10.0)
     Examples
     --------
     >>> import numpy as np
-    >>> from fogts.io import read_run
+    >>> from fogts.io.reader import read_run
     >>> fig = plot_timeseries(read_run(np.random.default_rng(0).normal(size=50_000), fs_hz=10))
     >>> len(fig.axes)
     1
@@ -420,7 +420,7 @@ def plot_allan(result: Any, noise: Any = None, *, ax: Any = None) -> Figure:
 # ---- start-up compensation (issue 6: kalman, thermal, northfind) --------------------------
 def plot_kalman(result: Any, *, time_s: Any = None, units: str = "", max_points: int = 20000,
                 width_in: float = 10.0) -> Figure:
-    """Observed, Kalman-filtered and smoothed series of a :class:`fogts.kalman.KalmanResult`.
+    """Observed, Kalman-filtered and smoothed series of a :class:`fogts.startup.kalman.KalmanResult`.
 
     Long records are thinned to at most ``max_points`` points per line (every k-th sample).
     """
@@ -444,7 +444,7 @@ def plot_kalman(result: Any, *, time_s: Any = None, units: str = "", max_points:
 
 
 def plot_compensation(result: Any, *, max_points: int = 20000, width_in: float = 10.0) -> Figure:
-    """Start-up compensation (:class:`fogts.thermal.StartupCompensation`): raw rate, EMD trend
+    """Start-up compensation (:class:`fogts.startup.thermal.StartupCompensation`): raw rate, EMD trend
     and compensated rate on top, temperature below; bias stability before/after in the title."""
     frame = result.to_frame()
     t = frame["time"].to_numpy()
@@ -472,7 +472,7 @@ def plot_compensation(result: Any, *, max_points: int = 20000, width_in: float =
 
 
 def plot_north_seeking(study: Any, *, width_in: float = 8.0) -> Figure:
-    """Azimuth errors of a :class:`fogts.northfind.NorthSeekingStudy`, raw and compensated."""
+    """Azimuth errors of a :class:`fogts.startup.northfind.NorthSeekingStudy`, raw and compensated."""
     fig = Figure(figsize=(width_in, 4.0), layout="constrained")
     ax = fig.add_subplot()
     raw = np.asarray(study.raw_error_deg)

@@ -36,7 +36,7 @@ import pandas as pd
 from fogts._typing import FloatArray, RngLike
 from fogts._validate import as_rng, check_int, check_positive, to_float_array
 from fogts.errors import DataError, InsufficientDataError
-from fogts.run import Run
+from fogts.io.run import Run
 from fogts.units import earth_rate_component, parse_rate_unit, to_deg_per_hour_factor
 
 __all__ = [
@@ -365,7 +365,7 @@ class StartupPositions:
     ----------
     run : Run
         The whole record in °/h, turns included: the cold-start rate
-        (:func:`fogts.simulate_startup.simulate_startup`) plus, at each position, the
+        (:func:`fogts.startup.simulator.simulate_startup`) plus, at each position, the
         Earth-rate component Ω cos L cos(ψ + k·90°).  Turn samples carry no Earth rate (they
         are not used).  Compensate this run (continuous temperature), then cut it.
     slices : dict
@@ -439,7 +439,7 @@ def simulate_startup_positions(
 
     The gyro is switched on, waits ``start_delay_s``, then measures 0°, 90°, 180°, 270° in
     turn for ``position_s`` each, with ``turn_s`` between positions, while it warms up
-    (:func:`fogts.simulate_startup.simulate_startup`, which ``**startup`` is passed to).  At
+    (:func:`fogts.startup.simulator.simulate_startup`, which ``**startup`` is passed to).  At
     position k the rate gains Ω cos L cos(ψ + k·90°) (module convention).
 
     Parameters
@@ -452,7 +452,7 @@ def simulate_startup_positions(
     rng : Generator, int or None
     **startup
         ``ambient_degC``, ``coefficients``, ``ar``, ``white_sigma_deg_h``, ... of
-        :func:`~fogts.simulate_startup.simulate_startup`.
+        :func:`~fogts.startup.simulator.simulate_startup`.
 
     Returns
     -------
@@ -467,7 +467,7 @@ def simulate_startup_positions(
     >>> abs(float(angle_error_deg(res.azimuth_deg, 37.5))) < 3
     True
     """
-    from fogts.simulate_startup import simulate_startup
+    from fogts.startup.simulator import simulate_startup
 
     lat = _check_latitude(latitude_deg)
     psi = float(azimuth_deg)
@@ -599,10 +599,10 @@ def simulate_north_seeking(
     Each trial: switch on at an ambient temperature drawn uniformly from ``ambient_degC``,
     wait ``start_delay_s``, then measure 0°, 90°, 180°, 270° in turn for ``position_s`` each
     (``transition_s`` to turn between them) while the gyro warms up
-    (:func:`fogts.simulate_startup.simulate_startup`); the true azimuth is uniform in
+    (:func:`fogts.startup.simulator.simulate_startup`); the true azimuth is uniform in
     [0, 360).  The thermal drift changes between positions, which is the start-up error
     seed 004 removes.  With a ``model`` the recorded rates are also compensated
-    (:func:`fogts.thermal.compensate`) before north finding.
+    (:func:`fogts.startup.thermal.compensate`) before north finding.
 
     Parameters
     ----------
@@ -614,7 +614,7 @@ def simulate_north_seeking(
     ambient_degC : (low, high)
     rng : Generator, int or None
     **startup
-        Passed to :func:`~fogts.simulate_startup.simulate_startup` (coefficients, ar, noise).
+        Passed to :func:`~fogts.startup.simulator.simulate_startup` (coefficients, ar, noise).
 
     Returns
     -------
@@ -626,7 +626,7 @@ def simulate_north_seeking(
     >>> st.truth_deg.size
     3
     """
-    from fogts.thermal import ThermalModel, compensate
+    from fogts.startup.thermal import ThermalModel, compensate
 
     n = check_int("n_trials", n_trials, minimum=2)
     lat = _check_latitude(latitude_deg)
@@ -672,8 +672,8 @@ def simulated_calibration(ambient_degC: tuple[float, ...] = (15.0, 20.0, 25.0), 
     """Thermal model from simulated calibration cold starts, one per ambient temperature.
 
     Mirrors a temperature-chamber calibration: each run is a full warm-up
-    (:func:`fogts.simulate_startup.simulate_startup`), and the model is fitted to all of
-    them together (:func:`fogts.thermal.startup_compensation` with ``calibration``).
+    (:func:`fogts.startup.simulator.simulate_startup`), and the model is fitted to all of
+    them together (:func:`fogts.startup.thermal.startup_compensation` with ``calibration``).
 
     Examples
     --------
@@ -681,8 +681,8 @@ def simulated_calibration(ambient_degC: tuple[float, ...] = (15.0, 20.0, 25.0), 
     >>> sorted(m.terms)
     ['1', 'T', 'T*dT', 'T2', 'dT', 'dT2']
     """
-    from fogts.simulate_startup import simulate_startup
-    from fogts.thermal import startup_compensation
+    from fogts.startup.simulator import simulate_startup
+    from fogts.startup.thermal import startup_compensation
 
     if len(ambient_degC) < 1:
         raise DataError("ambient_degC needs at least one calibration temperature")

@@ -25,7 +25,7 @@ GLS estimator with a misspecified error covariance; Greene, *Econometric Analysi
 §9.2.2).  Drift noise that is AR(1) plus white noise is an
 ARMA(1,1) whose AR(inf) weights decay like 0.8^k for the simulated cold start, which four
 lags whiten only partly; GLSAR's own standard errors then come out 1.35x too small.
-Measured over 60 simulated cold starts (:mod:`fogts.simulate_startup`, seeds 500-559;
+Measured over 60 simulated cold starts (:mod:`fogts.startup.simulator`, seeds 500-559;
 fraction of the six coefficients' truths within 2 SE, ideal 95 %): GLSAR's own SEs 83-88 %,
 the sandwich 92-93 % (|error|/SE standard deviation 1.14; longer noise models change
 nothing, the rest is probably the noise of the measured temperature).  Whitening with
@@ -68,7 +68,7 @@ from fogts.errors import (
     ModelFitError,
     UnidentifiableTermWarning,
 )
-from fogts.run import Run
+from fogts.io.run import Run
 from fogts.units import parse_rate_unit, to_deg_per_hour_factor
 
 __all__ = [
@@ -615,7 +615,7 @@ def compensate(run: Run, model: ThermalModel, *, axis: int | str = 0,
     Examples
     --------
     >>> import numpy as np
-    >>> from fogts.run import Run
+    >>> from fogts.io.run import Run
     >>> t = np.arange(600.0)
     >>> temp = 20 + 0.02 * t
     >>> run = Run(rate=2.0 * temp, time=t, fs_hz=1.0, units="deg/h", axes=("gyro",),
@@ -848,8 +848,8 @@ class StartupCompensation:
 def _emd_kalman(x: FloatArray, fs: float, arma_model: str,
                 measurement_noise: Any) -> tuple[Any, Any, str, FloatArray]:
     """Seed 004 steps 1-4 on one series: EMD split, ARMA of the rest, Kalman of the rest."""
-    from fogts.emd import separate_trend
-    from fogts.kalman import arma_kalman, resolve_arma_model
+    from fogts.startup.emd import separate_trend
+    from fogts.startup.kalman import arma_kalman, resolve_arma_model
 
     split = separate_trend(x, fs_hz=fs)
     rest = np.asarray(split.rest, dtype=float)
@@ -894,7 +894,7 @@ def _prepare_fit_run(run: Run, axis: int | str, *, emd: bool, arma_model: str,
         try:
             tsplit, _, _, temp_used = _emd_kalman(temp, run.fs_hz, arma_model, measurement_noise)
         except (InsufficientDataError, ModelFitError) as exc:
-            from fogts.emd import separate_trend
+            from fogts.startup.emd import separate_trend
 
             tsplit = separate_trend(temp, fs_hz=run.fs_hz)
             temp_used = np.asarray(tsplit.trend, dtype=float)
@@ -921,9 +921,9 @@ def startup_compensation(
     """Seed 004's start-up drift compensation, steps 1-7, on one axis of a run.
 
     1. EMD of the gyro output; trend = IMFs from the first whose mean energy rises again
-       (:func:`fogts.emd.separate_trend`), rest = the faster IMFs;
+       (:func:`fogts.startup.emd.separate_trend`), rest = the faster IMFs;
     2. ARMA model of the rest (``arma_model``: ``"auto"`` runs the candidate selection);
-    3. Kalman filter of the rest in Harvey form (:func:`fogts.kalman.arma_kalman`);
+    3. Kalman filter of the rest in Harvey form (:func:`fogts.startup.kalman.arma_kalman`);
     4. filtered gyro = trend + filtered rest;
     5. the same for the temperature;
     6. least-squares fit of D = a·T·ΔT + b·T² + c·T + d·ΔT² + e·ΔT + f (:func:`fit_thermal`);
@@ -943,7 +943,7 @@ def startup_compensation(
 
     Examples
     --------
-    >>> from fogts.simulate_startup import simulate_startup
+    >>> from fogts.startup.simulator import simulate_startup
     >>> sim = simulate_startup(duration_s=1800, rng=4)
     >>> res = startup_compensation(sim.run, emd=False)
     >>> res.after.value < res.before.value

@@ -1,0 +1,17 @@
+"""Presenting results: JSON-safe dicts and messages (:mod:`~fogts.report.text`), figures
+(:mod:`~fogts.report.plots`, imported on first use: matplotlib is slow to load) and the
+self-contained HTML report (:mod:`~fogts.report.html`)."""
+
+from __future__ import annotations
+
+from fogts.report.text import (
+    error_message,
+    info_text,
+    json_dumps,
+    run_info,
+    to_jsonable,
+    warning_texts,
+)
+
+__all__ = ["error_message", "info_text", "json_dumps", "run_info", "to_jsonable",
+           "warning_texts"]
