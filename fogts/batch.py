@@ -44,7 +44,7 @@ import warnings
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
-from typing import Any, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 import pandas as pd
@@ -54,6 +54,11 @@ from fogts.errors import DataError, DataQualityWarning
 from fogts.io.reader import NAN_POLICIES
 from fogts.preprocess.hygiene import GAP_POLICIES
 from fogts.report.text import error_message, warning_texts
+
+if TYPE_CHECKING:
+    from fogts.io.run import Run
+    from fogts.pipeline import AxisAllan, AxisSelection
+    from fogts.preprocess.hygiene import DataQuality
 
 __all__ = [
     "SUMMARY_COLUMNS",
@@ -76,7 +81,7 @@ SUMMARY_COLUMNS: tuple[str, ...] = (
 )
 
 #: Version of the per-run JSON layout (bumped on incompatible changes).
-RUN_JSON_VERSION = 1
+RUN_JSON_VERSION = 2
 
 AllanKind = Literal["adev", "oadev", "mdev", "hdev", "ohdev", "totdev"]
 _KINDS = ("adev", "oadev", "mdev", "hdev", "ohdev", "totdev")
@@ -333,7 +338,8 @@ def _document(file: str, status: str, error: str, info: dict[str, Any],
     from fogts._version import __version__
 
     return {"version": RUN_JSON_VERSION, "fogts": __version__, "file": file, "status": status,
-            "error": error, "info": info, "axes": axes, "warnings": warn, "rows": []}
+            "error": error, "info": info, "allan": None, "select": [], "axes": axes,
+            "warnings": warn, "rows": []}
 
 
 def _finite(v: Any) -> float | None:
@@ -347,35 +353,33 @@ def _finite(v: Any) -> float | None:
 # --------------------------------------------------------------------------- the analysis
 
 
-def _analyze_axis(run: Any, axis: int, options: BatchOptions) -> tuple[dict[str, Any],
-                                                                        dict[str, Any]]:
-    """Allan deviation, noise fit and ARMA selection of one axis -> (row fields, JSON)."""
-    from fogts.allan import allan_deviation
-    from fogts.allan.noise import fit_noise
+def _analyze_axis(run: Run, quality: DataQuality, axis: int, options: BatchOptions
+                  ) -> tuple[dict[str, Any], AxisAllan, AxisSelection | None]:
+    """The pipeline's Allan analysis and ARMA selection of one axis -> (row fields, the
+    two results)."""
+    from fogts.pipeline import (
+        AllanSettings,
+        SelectSettings,
+        analyse_allan_axis,
+        analyse_selection,
+    )
 
     fields: dict[str, Any] = {}
-    doc: dict[str, Any] = {}
     # one thread per analysis: the parallelism is across files
-    allan = allan_deviation(run, axis=axis, kind=options.kind,  # type: ignore[arg-type]
-                            taus=options.taus, workers=1)
-    doc["allan"] = allan.to_dict()
-    noise = fit_noise(allan)
-    doc["noise"] = noise.to_dict()
-    for term in noise.terms:
-        if term.name in ("N", "B", "K"):
-            fields[term.name] = _finite(term.value)
-            fields[f"{term.name}_stderr"] = _finite(term.stderr)
+    allan = analyse_allan_axis(run, axis, AllanSettings(kind=options.kind, taus=options.taus,
+                                                        workers=1))
+    if allan.model is not None:
+        for term in allan.model.terms:
+            if term.name in ("N", "B", "K"):
+                fields[term.name] = _finite(term.value)
+                fields[f"{term.name}_stderr"] = _finite(term.stderr)
+    selection = None
     if options.select:
-        from fogts.arma import select_arma
-        from fogts.preprocess.prepare import prepare
-
-        prepared = prepare(run, axis=axis, detrend=options.detrend, decimate=options.decimate,
-                           stationarity=False)
-        doc["preprocessing"] = prepared.to_dict()
-        sel = select_arma(prepared, criterion=options.criterion)  # type: ignore[arg-type]
-        doc["select"] = sel.to_dict()
-        fields.update(_selection_fields(sel))
-    return fields, doc
+        selection = analyse_selection(run, quality, axis, SelectSettings(
+            detrend=options.detrend, decimate=options.decimate, criterion=options.criterion,
+            stationarity=False), file=run.source)
+        fields.update(_selection_fields(selection.selection))
+    return fields, allan, selection
 
 
 def _selection_fields(sel: Any) -> dict[str, Any]:
@@ -393,21 +397,16 @@ def analyze_file(file: str, options: BatchOptions) -> RunOutcome:
     Never raises for a problem with the file: it returns an outcome with ``status="error"``
     and the message.  An axis that fails gives an error row for that axis only.
     """
-    from fogts.io.reader import read_run
-    from fogts.preprocess.hygiene import assess_run
+    from fogts.pipeline import AllanAnalysis, ReadSettings, load
     from fogts.report.text import run_info, to_jsonable
 
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         try:
-            rate_cols: str | list[str] | None = None
-            if options.rate_column:
-                parts = [c.strip() for c in options.rate_column.split(",") if c.strip()]
-                rate_cols = parts if len(parts) > 1 else parts[0]
-            run = read_run(file, rate_column=rate_cols, time_column=options.time_column,
-                           temperature_column=options.temperature_column,
-                           fs_hz=options.fs_hz, units=options.units, nan=options.nan)
-            run, quality = assess_run(run, gaps=options.gaps)  # type: ignore[arg-type]
+            run, quality = load(file, ReadSettings(
+                rate_column=options.rate_column, time_column=options.time_column,
+                temperature_column=options.temperature_column, fs_hz=options.fs_hz,
+                units=options.units, nan=options.nan, gaps=options.gaps))
             for line in quality.warnings():  # named after the file by warning_texts' caller
                 warnings.warn(f"{Path(file).name}: {line}", DataQualityWarning, stacklevel=1)
             info = {**run_info(run), "data_quality": quality.to_dict()}
@@ -419,6 +418,8 @@ def analyze_file(file: str, options: BatchOptions) -> RunOutcome:
 
         rows: list[dict[str, Any]] = []
         axes_doc: list[dict[str, Any]] = []
+        allan_axes: list[AxisAllan] = []
+        selections: list[dict[str, Any]] = []
         for i, name in enumerate(run.axes):
             row = _blank_row(file, name)
             row.update(n=run.n, fs_hz=run.fs_hz, units=run.units,
@@ -427,9 +428,11 @@ def analyze_file(file: str, options: BatchOptions) -> RunOutcome:
                        n_glitches=quality.glitch_count(name))
             axis_doc: dict[str, Any] = {"axis": name, "status": "ok", "error": ""}
             try:
-                fields, adoc = _analyze_axis(run, i, options)
+                fields, allan, selection = _analyze_axis(run, quality, i, options)
                 row.update(fields)
-                axis_doc.update(adoc)
+                allan_axes.append(allan)
+                if selection is not None:
+                    selections.append(selection.to_dict())
             except Exception as exc:
                 msg = error_message(exc)
                 row.update(status="error", error=msg)
@@ -440,6 +443,9 @@ def analyze_file(file: str, options: BatchOptions) -> RunOutcome:
     status = "error" if errors else "ok"
     doc = _document(file, status, errors[0] if errors else "", info, axes_doc,
                     warning_texts(caught))
+    if allan_axes:
+        doc["allan"] = AllanAnalysis(run=run, quality=quality, axes=tuple(allan_axes)).to_dict()
+    doc["select"] = selections
     doc["options"] = options.to_dict()
     doc["rows"] = rows
     doc = to_jsonable(doc)

@@ -23,6 +23,7 @@ import pytest
 from typer.testing import CliRunner
 
 from fogts.batch import (
+    RUN_JSON_VERSION,
     SUMMARY_COLUMNS,
     BatchOptions,
     BatchProgress,
@@ -132,7 +133,38 @@ def test_row_equals_single_file_analysis(pool_run: tuple[Path, object], files: P
         assert (a is None and pd.isna(b)) or a == pytest.approx(float(b), rel=1e-12), col
     assert single.rows[0]["selected"] == row["selected"]
     doc = json.loads((out / "json" / run_key(str(target))).read_text())
-    assert doc["info"]["n"] == N_SAMPLES and doc["axes"][0]["select"]["candidates"]
+    assert doc["info"]["n"] == N_SAMPLES and doc["select"][0]["candidates"]
+
+
+def test_run_json_has_the_shape_of_the_allan_and_select_json(pool_run: tuple[Path, object],
+                                                             files: Path) -> None:
+    """The per-run JSON holds, under "allan" and "select", documents of the same shape as
+    ``fogts allan --json`` and ``fogts select --json`` on that file."""
+    from typer.testing import CliRunner
+
+    from fogts.cli import app
+
+    out, _ = pool_run
+    target = files / "run_03.csv"
+    doc = json.loads((out / "json" / run_key(str(target))).read_text())
+    cli = {}
+    for command in ("allan", "select"):
+        path = out / f"{command}.json"
+        res = CliRunner().invoke(app, [command, str(target), "--json", str(path)])
+        assert res.exit_code in (0, 1), res.stderr
+        cli[command] = json.loads(path.read_text())
+
+    def shape(d: object) -> object:
+        if isinstance(d, dict):
+            return {k: shape(v) for k, v in d.items() if k not in ("stationarity",)}
+        if isinstance(d, list):
+            return [shape(v) for v in d[:1]]
+        return type(d).__name__ if d is not None else None
+
+    assert shape(doc["allan"]) == shape(cli["allan"])
+    # the batch skips the stationarity tests (None): the rest of the preparation is alike
+    assert set(doc["select"][0]) == set(cli["select"])
+    assert doc["select"][0]["candidates"] == cli["select"]["candidates"]
 
 
 def test_dask_local_cluster(files: Path, tmp_path: Path) -> None:
@@ -201,7 +233,7 @@ def _fake_analysis(file: str, options: BatchOptions) -> RunOutcome:
     row = dict.fromkeys(SUMMARY_COLUMNS)
     row.update(file=file, axis="rate", n=1, status="ok", error="")
     return RunOutcome(file=file, status="ok", error="", rows=(row,),
-                      document={"version": 1, "rows": [row]})
+                      document={"version": RUN_JSON_VERSION, "rows": [row]})
 
 
 def test_pluggable_analysis_serial_and_progress(files: Path, tmp_path: Path) -> None:

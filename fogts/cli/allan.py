@@ -2,9 +2,8 @@
 
 from __future__ import annotations
 
-import warnings
 from pathlib import Path
-from typing import Annotated, Any
+from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 
@@ -31,57 +30,8 @@ from fogts.cli._common import (
     err_console,
 )
 
-
-def _allantools_check(y: Any, res: Any) -> dict[str, Any]:
-    """Run allantools on the same data and taus; the largest relative difference."""
-    import allantools
-    import numpy as np
-
-    funcs = {"adev": allantools.adev, "oadev": allantools.oadev, "mdev": allantools.mdev,
-             "hdev": allantools.hdev, "ohdev": allantools.ohdev, "totdev": allantools.totdev}
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        taus, dev, _, n = funcs[res.kind](np.asarray(y, dtype=np.float64), rate=res.fs_hz,
-                                          data_type="freq", taus=np.asarray(res.tau_s))
-    m_peer = np.rint(np.asarray(taus) * res.fs_hz).astype(np.int64)
-    common, mine, theirs = np.intersect1d(res.m, m_peer, return_indices=True)
-    peer = np.asarray(dev, dtype=np.float64)[theirs]
-    label = f"allantools {allantools.__version__} {res.kind}(data_type='freq')"
-    if res.bias_corrected:  # allantools' totdev is uncorrected: apply fogts' bias to it
-        from fogts.allan.confidence import totdev_bias
-
-        peer = peer / np.sqrt(totdev_bias(res.alpha[mine], res.m[mine], res.n_samples + 1))
-        label += " / sqrt(fogts' totdev_bias)"
-    rel = np.abs(res.dev[mine] - peer) / np.abs(peer)
-    worst = int(np.argmax(rel)) if rel.size else -1
-    return {"peer": label,
-            "n_compared": int(common.size),
-            "max_rel_diff": float(rel[worst]) if rel.size else None,
-            "tau_at_max": float(res.tau_s[mine][worst]) if rel.size else None,
-            "n_terms_equal": bool(np.array_equal(res.n[mine], np.asarray(n)[theirs]))}
-
-
-def _allan_axis_payload(res: Any, model: Any, prepared: Any, check: Any) -> dict[str, Any]:
-    import numpy as np
-
-    points = res.to_dict()["points"]
-    fit = model.curve(res.tau_s) if model is not None else np.full(len(points), np.nan)
-    for p, f in zip(points, fit, strict=True):
-        p["fit"] = float(f)
-    out: dict[str, Any] = {
-        "axis": res.axis, "kind": res.kind, "units": res.units,
-        "confidence": res.confidence, "bias_corrected": res.bias_corrected, "points": points,
-        "noise": model.noise_dict() if model is not None else {},
-        "noise_fit": ({k: v for k, v in model.to_dict().items() if k != "terms"}
-                      if model is not None else
-                      {"skipped": f"IEEE-952 terms are fitted to adev, oadev or totdev curves "
-                                  f"only, not {res.kind}"}),
-        "dropped": [d.to_dict() for d in res.dropped], "notes": list(res.notes),
-        "preprocessing": prepared.to_dict() if prepared is not None else None,
-    }
-    if check is not None:
-        out["allantools_check"] = check
-    return out
+if TYPE_CHECKING:
+    from fogts.pipeline import AllanAnalysis
 
 
 def _allan_tables(res: Any, model: Any, check: Any, quiet_json: str | None) -> None:
@@ -164,181 +114,49 @@ def allan_cmd(
     files give {"inputs": [one such object per file]}.
     """
     from fogts.allan.noise import parse_terms
+    from fogts.pipeline import AllanSettings, analyse_allan
 
     with _guard(outputs={"--json": json_out, "--csv": csv_out, "--plot": plot},
                 inputs={"FILES": files}):
         tau_spec = _tau_option(taus)
         term_names = parse_terms(terms)
         _check_output_names(plot=plot, csv=csv_out)
-        analyses = [_allan_file(f, rate_column, time_column, temperature_column, fs, units,
-                                kind=kind, taus=tau_spec, confidence=confidence,
-                                terms=term_names, method=method,
-                                keep_all_terms=keep_all_terms, axis=axis, outliers=outliers,
-                                detrend=detrend, decimate=decimate,
-                                check_allantools=check_allantools,
-                                bias_correction=bias_correction, nan=nan, gaps=gaps)
-                    for f in files]
-        payload = (analyses[0].payload if len(analyses) == 1
-                   else {"inputs": [a.payload for a in analyses]})
+        settings = AllanSettings(kind=kind, taus=tau_spec, confidence=confidence,
+                                 terms=term_names, method=method,
+                                 significance=None if keep_all_terms else 0.05,
+                                 bias_correction=bias_correction, outliers=outliers,
+                                 detrend=detrend, decimate=decimate,
+                                 check_allantools=check_allantools)
+        analyses = []
+        for f in files:
+            run, quality = _read(f, rate_column, time_column, temperature_column, fs, units,
+                                 nan=nan, gaps=gaps)
+            picks = None if axis is None else [_axis_index(run, axis)]
+            analysis = analyse_allan(run, quality, settings, axes=picks)
+            for ax in analysis.axes:
+                warning = ax.plausibility_warning(run)
+                if warning is not None:
+                    err_console.print(f"warning: {warning}", markup=False, soft_wrap=True)
+            analyses.append(analysis)
+        payload = (analyses[0].to_dict() if len(analyses) == 1
+                   else {"inputs": [a.to_dict() for a in analyses]})
         _emit_json(payload, json_out)
         if csv_out is not None:
             _allan_csv(analyses, csv_out)
         if plot is not None:
             _save_figure(_allan_figure(analyses), plot)
-        for a in analyses:
-            run = a.run
+        for done in analyses:
+            run = done.run
             _say([f"{run.source}: {run.n} samples at {run.fs_hz:.6g} Hz "
                   f"({run.duration_s:.6g} s), rate in {run.units}"], json_out)
-            for res, model, readout, check, lines in zip(a.results, a.models, a.readouts,
-                                                         a.checks, a.lines, strict=True):
-                if lines:
-                    _say([f"{res.axis}: {line}" for line in lines], json_out)
-                _allan_tables(res, model, check, json_out)
-                _curve_table(res, readout, json_out)
+            for ax in done.axes:
+                if ax.notes:
+                    _say([f"{ax.result.axis}: {line}" for line in ax.notes], json_out)
+                _allan_tables(ax.result, ax.model, ax.check, json_out)
+                _curve_table(ax.result, ax.readout, json_out)
 
 
-class _AllanAnalysis:
-    """Everything `fogts allan` computed for one input file."""
-
-    def __init__(self, run: Any, quality: Any) -> None:
-        self.run = run
-        self.quality = quality
-        self.results: list[Any] = []
-        self.models: list[Any] = []
-        self.readouts: list[Any] = []
-        self.checks: list[Any] = []
-        self.blocks: list[dict[str, Any]] = []
-        self.lines: list[list[str]] = []  # preprocessing and data notes, one list per axis
-
-    @property
-    def payload(self) -> dict[str, Any]:
-        run, first = self.run, self.blocks[0]
-        out: dict[str, Any] = {
-            "input": {"source": run.source, "n": run.n, "fs_hz": run.fs_hz,
-                      "duration_s": run.duration_s, "units": run.units,
-                      "units_source": run.units_source,
-                      "axis": first["axis"], "axes": [b["axis"] for b in self.blocks],
-                      "columns": list(run.columns)},
-            **first,
-            "data_quality": self.quality.to_dict(),
-        }
-        if len(self.blocks) > 1:
-            out["axes"] = self.blocks
-        return out
-
-
-def _allan_file(file: Path, rate_column: str | None, time_column: str | None,
-                temperature_column: str | None, fs: float | None, units: str | None, *,
-                kind: str, taus: Any, confidence: float, terms: tuple[str, ...], method: str,
-                keep_all_terms: bool, axis: str | None, outliers: float | None, detrend: int | None,
-                decimate: int | None, check_allantools: bool,
-                bias_correction: bool = False, nan: str = "error",
-                gaps: str = "warn") -> _AllanAnalysis:
-    from fogts.allan import AllanResult, allan_deviation
-    from fogts.allan.noise import FITTABLE_KINDS, fit_noise
-    from fogts.errors import FogtsWarning
-    from fogts.preprocess.prepare import prepare
-
-    run, quality = _read(file, rate_column, time_column, temperature_column, fs, units,
-                         nan=nan, gaps=gaps)
-    analysis = _AllanAnalysis(run, quality)
-    for i in _axis_picks(run, axis):
-        prepared = None
-        source: Any = run
-        y = run.axis(i)
-        if outliers is not None or detrend is not None or decimate is not None:
-            prepared = prepare(run, axis=i, outliers=outliers, detrend=detrend,
-                               decimate=decimate, stationarity=False)
-            source, y = prepared, prepared.x
-        res = allan_deviation(source, kind=kind, taus=taus,  # type: ignore[arg-type]
-                              confidence=confidence, axis=None if prepared else i,
-                              bias_correction=bias_correction)
-        assert isinstance(res, AllanResult)
-        model = (fit_noise(res, terms=terms, method=method,  # type: ignore[arg-type]
-                           confidence=confidence,
-                           significance=None if keep_all_terms else 0.05)
-                 if res.kind in FITTABLE_KINDS else None)
-        if model is None:
-            warnings.warn(f"noise terms are fitted to adev, oadev or totdev curves only; "
-                          f"not fitted to {res.kind}", FogtsWarning, stacklevel=1)
-        readout = res.readout(model)
-        check = _allantools_check(y, res) if check_allantools else None
-        block = _allan_axis_payload(res, model, prepared, check)
-        block["curve"] = readout.to_dict()
-        lines = list(prepared.steps) if prepared is not None else []
-        if prepared is not None and prepared.outliers is not None:
-            unscreened = (prepare(run, axis=i, outliers=None, detrend=detrend,
-                                  decimate=decimate, stationarity=False)
-                          if detrend is not None or decimate is not None else run)
-            effect = _outlier_effect(prepared, model, unscreened, i, lambda r: fit_noise(
-                r, terms=terms, method=method, confidence=confidence,  # type: ignore[arg-type]
-                significance=None if keep_all_terms else 0.05), kind=kind, taus=taus,
-                confidence=confidence, bias_correction=bias_correction)
-            block["outliers_effect"] = effect
-            lines.append(effect["text"])
-        if model is not None:
-            plausibility = _plausibility(model, run.units)
-            block["plausibility"] = plausibility.to_dict()
-            if plausibility.verdict == "implausible" or (run.units_assumed
-                                                          and plausibility.ambiguous):
-                err_console.print(f"warning: {Path(run.source).name}: {res.axis}: "
-                                  f"{plausibility.message}", markup=False, soft_wrap=True)
-        analysis.lines.append(lines)
-        analysis.results.append(res)
-        analysis.models.append(model)
-        analysis.readouts.append(readout)
-        analysis.checks.append(check)
-        analysis.blocks.append(block)
-    return analysis
-
-
-def _plausibility(model: Any, units: str) -> Any:
-    """N and B against the range real gyros span (:mod:`fogts.allan.plausibility`)."""
-    from fogts.allan.plausibility import check_plausibility
-
-    def value(name: str) -> float | None:
-        return model[name].value if name in model.names else None
-
-    return check_plausibility(value("N"), value("B"), units=units)
-
-
-def _outlier_effect(prepared: Any, model: Any, unscreened: Any, axis: int, fit: Any, *,
-                    kind: str, taus: Any, confidence: float,
-                    bias_correction: bool) -> dict[str, Any]:
-    """How many samples ``--outliers`` replaced and what that did to N (the same analysis
-    on the data without the replacement)."""
-    from fogts.allan import allan_deviation
-
-    report = prepared.outliers
-    share = report.count / max(prepared.n_input, 1)
-    out: dict[str, Any] = {"replaced": report.count, "share": share,
-                           "sigma_factor": report.sigma_factor}
-    text = (f"--outliers {report.sigma_factor:g}: replaced {report.count:,} of "
-            f"{prepared.n_input:,} samples ({100 * share:.3g} %)")
-    if model is None or "N" not in model.names:
-        out["text"] = text
-        return out
-    raw = allan_deviation(unscreened, kind=kind, taus=taus,  # type: ignore[arg-type]
-                          confidence=confidence,
-                          axis=None if unscreened is not prepared and hasattr(unscreened, "x")
-                          else axis, bias_correction=bias_correction)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")  # the unscreened fit's own warnings are not news
-        raw_model = fit(raw)
-    n_clean = model["N"].value
-    n_raw = raw_model["N"].value if "N" in raw_model.names else float("nan")
-    change = n_clean / n_raw - 1.0 if n_raw > 0 else float("nan")
-    out.update({"N": n_clean, "N_unscreened": n_raw, "N_change": change})
-    out["text"] = (f"{text}; N = {n_clean:.4g} {model['N'].unit} against {n_raw:.4g} without "
-                   f"the replacement ({100 * change:+.1f} %)")
-    return out
-
-
-def _axis_picks(run: Any, axis: str | None) -> list[int]:
-    return list(range(run.n_axes)) if axis is None else [_axis_index(run, axis)]
-
-
-def _allan_csv(analyses: list[_AllanAnalysis], target: Path) -> None:
+def _allan_csv(analyses: list[AllanAnalysis], target: Path) -> None:
     import pandas as pd
 
     from fogts.io.reader import write_frame_atomic
@@ -346,10 +164,11 @@ def _allan_csv(analyses: list[_AllanAnalysis], target: Path) -> None:
     frames = []
     many_files = len(analyses) > 1
     for a in analyses:
-        for res, model in zip(a.results, a.models, strict=True):
+        for ax in a.axes:
+            res, model = ax.result, ax.model
             frame = res.to_frame()
             frame["fit"] = model.curve(res.tau_s) if model is not None else float("nan")
-            if len(a.results) > 1 or many_files:
+            if len(a.axes) > 1 or many_files:
                 frame.insert(0, "axis", res.axis)
             if many_files:
                 frame.insert(0, "source", a.run.source)
@@ -357,25 +176,25 @@ def _allan_csv(analyses: list[_AllanAnalysis], target: Path) -> None:
     write_frame_atomic(target, pd.concat(frames, ignore_index=True))
 
 
-def _allan_figure(analyses: list[_AllanAnalysis]) -> Any:
+def _allan_figure(analyses: list[AllanAnalysis]) -> Any:
     from fogts.allan import AllanResultSet
     from fogts.report.plots import plot_allan, plot_allan_overlay
 
     if len(analyses) == 1:
-        a = analyses[0]
-        if len(a.results) == 1:
-            return plot_allan(a.results[0], a.models[0])
-        complete = all(m is not None for m in a.models)
-        return plot_allan(AllanResultSet(curves=tuple(a.results)),
-                          a.models if complete else None)
-    curves, models, labels = [], [], []
+        axes = analyses[0].axes
+        if len(axes) == 1:
+            return plot_allan(axes[0].result, axes[0].model)
+        models = [ax.model for ax in axes]
+        return plot_allan(AllanResultSet(curves=tuple(ax.result for ax in axes)),
+                          models if all(m is not None for m in models) else None)
+    curves, fits, labels = [], [], []
     for a in analyses:
-        for res, model in zip(a.results, a.models, strict=True):
-            curves.append(res)
-            models.append(model)
+        for ax in a.axes:
+            curves.append(ax.result)
+            fits.append(ax.model)
             name = Path(a.run.source).name
-            labels.append(name if len(a.results) == 1 else f"{name}: {res.axis}")
-    return plot_allan_overlay(curves, labels, models)
+            labels.append(name if len(a.axes) == 1 else f"{name}: {ax.result.axis}")
+    return plot_allan_overlay(curves, labels, fits)
 
 
 def _curve_table(res: Any, readout: Any, quiet_json: str | None) -> None:

@@ -124,9 +124,9 @@ def select_cmd(
     """
     from rich.text import Text
 
-    from fogts.arma.select import parse_candidates, select_arma
+    from fogts.arma.select import parse_candidates
     from fogts.errors import DataError
-    from fogts.preprocess.prepare import prepare
+    from fogts.pipeline import SelectSettings, analyse_selection
 
     with _guard(outputs={"--json": json_out, "--plot": plot, "--predict": predict},
                 inputs={"FILE": [file]}):
@@ -137,13 +137,11 @@ def select_cmd(
         run, quality = _read(file, rate_column, time_column, temperature_column, fs, units,
                              nan=nan, gaps=gaps)
         pick = 0 if axis is None else _axis_index(run, axis)
-        prepared = prepare(run, axis=pick, outliers=outliers, detrend=detrend,
-                           decimate=decimate)
-        sel = select_arma(prepared, candidates=orders, criterion=criterion)  # type: ignore[arg-type]
-        payload = sel.to_dict()
-        payload["input"] = {**payload["input"], "file": str(file),
-                            "units_source": run.units_source}
-        payload["data_quality"] = quality.to_dict()
+        analysis = analyse_selection(run, quality, pick, SelectSettings(
+            outliers=outliers, detrend=detrend, decimate=decimate, candidates=orders,
+            criterion=criterion), file=str(file))
+        prepared, sel = analysis.prepared, analysis.selection
+        payload = analysis.to_dict()
         _emit_json(payload, json_out)
         if plot is not None:
             from fogts.report.plots import plot_selection

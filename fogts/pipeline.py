@@ -1,0 +1,369 @@
+"""The one analysis chain behind ``fogts allan``, ``fogts select``, ``fogts batch`` and the
+HTML report: read and check a recording, then per axis prepare -> Allan deviation ->
+noise fit -> read-outs, and prepare -> ARMA selection.
+
+The results' ``to_dict()`` is the JSON contract (DESIGN.md, "Contracts"): what
+``fogts allan --json`` and ``fogts select --json`` write, and what ``fogts batch`` stores
+per run under ``"allan"`` and ``"select"``.  Nothing here prints; the callers present.
+"""
+
+from __future__ import annotations
+
+import warnings
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from fogts.errors import FogtsWarning
+
+if TYPE_CHECKING:
+    import os
+
+    from fogts.allan.api import TauSpec
+    from fogts.allan.noise import NoiseModel
+    from fogts.allan.plausibility import PlausibilityReport
+    from fogts.allan.readout import CurveReadout
+    from fogts.allan.result import AllanResult
+    from fogts.arma.select import Selection
+    from fogts.io.run import Run
+    from fogts.preprocess.hygiene import DataQuality
+    from fogts.preprocess.prepare import Prepared
+
+__all__ = ["AllanAnalysis", "AllanSettings", "AxisAllan", "AxisSelection", "ReadSettings",
+           "SelectSettings", "analyse_allan", "analyse_allan_axis", "analyse_selection",
+           "load"]
+
+_ALL_TERMS = ("Q", "N", "B", "K", "R")
+_DEFAULT_CANDIDATES = ((1, 0), (2, 0), (3, 0), (1, 1), (2, 1))
+
+
+# --------------------------------------------------------------------------- reading
+
+
+@dataclass(frozen=True)
+class ReadSettings:
+    """How to read a recording: the column choices, sample rate and unit (None: detect),
+    the missing-value and gap policies (:func:`fogts.io.read_run`,
+    :func:`fogts.preprocess.assess_run`).  ``rate_column`` may name several columns
+    separated by commas."""
+
+    rate_column: str | None = None
+    time_column: str | None = None
+    temperature_column: str | None = None
+    fs_hz: float | None = None
+    units: str | None = None
+    nan: str = "error"
+    gaps: str = "warn"
+    glitches: bool = True
+
+    @property
+    def rate_columns(self) -> str | list[str] | None:
+        """``rate_column`` split at commas (one name stays a string)."""
+        if not self.rate_column:
+            return None
+        parts = [c.strip() for c in self.rate_column.split(",") if c.strip()]
+        return parts if len(parts) > 1 else parts[0]
+
+
+def load(path: str | os.PathLike[str], settings: ReadSettings | None = None
+         ) -> tuple[Run, DataQuality]:
+    """Read ``path`` and check its hygiene; returns the Run (the longest regular segment
+    with ``gaps="split"``) and its :class:`~fogts.preprocess.DataQuality`."""
+    from fogts.io.reader import read_run
+    from fogts.preprocess.hygiene import assess_run
+
+    s = settings or ReadSettings()
+    run = read_run(path, rate_column=s.rate_columns, time_column=s.time_column,
+                   temperature_column=s.temperature_column, fs_hz=s.fs_hz, units=s.units,
+                   nan=s.nan)  # type: ignore[arg-type]
+    return assess_run(run, gaps=s.gaps, glitches=s.glitches)  # type: ignore[arg-type]
+
+
+# --------------------------------------------------------------------------- Allan
+
+
+@dataclass(frozen=True)
+class AllanSettings:
+    """The Allan analysis of one axis: estimator, tau grid and confidence
+    (:func:`fogts.allan_deviation`), the noise fit (:func:`fogts.fit_noise`; ``significance``
+    None keeps every term), optional preparation (:func:`fogts.prepare`: the data are
+    analysed raw unless ``outliers``, ``detrend`` or ``decimate`` is given), the allantools
+    cross-check and the thread count."""
+
+    kind: str = "oadev"
+    taus: TauSpec = "octave"
+    confidence: float = 0.683
+    terms: tuple[str, ...] = _ALL_TERMS
+    method: str = "wls"
+    significance: float | None = 0.05
+    bias_correction: bool = False
+    outliers: float | None = None
+    detrend: int | None = None
+    decimate: int | None = None
+    check_allantools: bool = False
+    workers: int | None = None
+
+    @property
+    def prepares(self) -> bool:
+        """Whether the data are prepared before the analysis."""
+        return any(v is not None for v in (self.outliers, self.detrend, self.decimate))
+
+
+@dataclass(frozen=True)
+class AxisAllan:
+    """The Allan analysis of one axis.
+
+    Attributes
+    ----------
+    result : AllanResult
+        The deviations with their confidence intervals.
+    model : NoiseModel or None
+        The IEEE-952 fit (None for estimators the terms are not defined for).
+    readout : CurveReadout
+        Minimum, regions, dominant terms and slope read-offs.
+    prepared : Prepared or None
+        The preparation, when one was asked for.
+    check : dict or None
+        The allantools cross-check (:func:`fogts.allan.peer.allantools_check`).
+    plausibility : PlausibilityReport or None
+        N and B against the range of real gyros.
+    outliers_effect : dict or None
+        With ``outliers``: how many samples were replaced and the change in N.
+    """
+
+    result: AllanResult
+    model: NoiseModel | None
+    readout: CurveReadout
+    prepared: Prepared | None = None
+    check: dict[str, Any] | None = None
+    plausibility: PlausibilityReport | None = None
+    outliers_effect: dict[str, Any] | None = None
+
+    @property
+    def notes(self) -> list[str]:
+        """The preparation steps and the outlier effect, as sentences."""
+        lines = list(self.prepared.steps) if self.prepared is not None else []
+        if self.outliers_effect is not None:
+            lines.append(self.outliers_effect["text"])
+        return lines
+
+    def plausibility_warning(self, run: Run) -> str | None:
+        """The warning to show when N and B are implausible, or could be in another unit
+        than the assumed one; None otherwise."""
+        p = self.plausibility
+        if p is None or not (p.verdict == "implausible" or (run.units_assumed and p.ambiguous)):
+            return None
+        return f"{Path(run.source).name}: {self.result.axis}: {p.message}"
+
+    def to_dict(self) -> dict[str, Any]:
+        """One axis of the ``fogts allan`` JSON."""
+        res, model = self.result, self.model
+        points = res.to_dict()["points"]
+        fit = model.curve(res.tau_s) if model is not None else np.full(len(points), np.nan)
+        for p, f in zip(points, fit, strict=True):
+            p["fit"] = float(f)
+        out: dict[str, Any] = {
+            "axis": res.axis, "kind": res.kind, "units": res.units,
+            "confidence": res.confidence, "bias_corrected": res.bias_corrected,
+            "points": points,
+            "noise": model.noise_dict() if model is not None else {},
+            "noise_fit": ({k: v for k, v in model.to_dict().items() if k != "terms"}
+                          if model is not None else
+                          {"skipped": f"IEEE-952 terms are fitted to adev, oadev or totdev "
+                                      f"curves only, not {res.kind}"}),
+            "dropped": [d.to_dict() for d in res.dropped], "notes": list(res.notes),
+            "preprocessing": self.prepared.to_dict() if self.prepared is not None else None,
+        }
+        if self.check is not None:
+            out["allantools_check"] = self.check
+        out["curve"] = self.readout.to_dict()
+        if self.outliers_effect is not None:
+            out["outliers_effect"] = self.outliers_effect
+        if self.plausibility is not None:
+            out["plausibility"] = self.plausibility.to_dict()
+        return out
+
+
+@dataclass(frozen=True)
+class AllanAnalysis:
+    """The Allan analysis of the chosen axes of one recording."""
+
+    run: Run
+    quality: DataQuality
+    axes: tuple[AxisAllan, ...] = field(default_factory=tuple)
+
+    def to_dict(self) -> dict[str, Any]:
+        """The ``fogts allan`` JSON of one file: the input, the first axis at the top level
+        and, for several axes, ``"axes"`` (one block per axis)."""
+        run = self.run
+        blocks = [a.to_dict() for a in self.axes]
+        first = blocks[0]
+        out: dict[str, Any] = {
+            "input": {"source": run.source, "n": run.n, "fs_hz": run.fs_hz,
+                      "duration_s": run.duration_s, "units": run.units,
+                      "units_source": run.units_source,
+                      "axis": first["axis"], "axes": [b["axis"] for b in blocks],
+                      "columns": list(run.columns)},
+            **first,
+            "data_quality": self.quality.to_dict(),
+        }
+        if len(blocks) > 1:
+            out["axes"] = blocks
+        return out
+
+
+def _fit(result: AllanResult, s: AllanSettings) -> NoiseModel | None:
+    from fogts.allan.noise import FITTABLE_KINDS, fit_noise
+
+    if result.kind not in FITTABLE_KINDS:
+        warnings.warn(f"noise terms are fitted to adev, oadev or totdev curves only; "
+                      f"not fitted to {result.kind}", FogtsWarning, stacklevel=1)
+        return None
+    return fit_noise(result, terms=s.terms, method=s.method,  # type: ignore[arg-type]
+                     confidence=s.confidence, significance=s.significance)
+
+
+def _allan(source: Any, s: AllanSettings, axis: int | None) -> AllanResult:
+    from fogts.allan.api import allan_deviation
+    from fogts.allan.result import AllanResult
+
+    res = allan_deviation(source, kind=s.kind, taus=s.taus,  # type: ignore[arg-type]
+                          confidence=s.confidence, axis=axis, workers=s.workers,
+                          bias_correction=s.bias_correction)
+    assert isinstance(res, AllanResult)
+    return res
+
+
+def _plausibility(model: NoiseModel, units: str) -> PlausibilityReport:
+    from fogts.allan.plausibility import check_plausibility
+
+    def value(name: str) -> float | None:
+        return model[name].value if name in model.names else None
+
+    return check_plausibility(value("N"), value("B"), units=units)
+
+
+def analyse_allan_axis(run: Run, axis: int, settings: AllanSettings | None = None
+                       ) -> AxisAllan:
+    """Prepare (if asked), compute the deviations, fit the noise terms, read the curve and
+    check the terms' plausibility for axis ``axis`` of ``run``."""
+    from fogts.preprocess.prepare import prepare
+
+    s = settings or AllanSettings()
+    prepared = None
+    if s.prepares:
+        prepared = prepare(run, axis=axis, outliers=s.outliers, detrend=s.detrend,
+                           decimate=s.decimate, stationarity=False)
+        res = _allan(prepared, s, None)
+    else:
+        res = _allan(run, s, axis)
+    model = _fit(res, s)
+    check = None
+    if s.check_allantools:
+        from fogts.allan.peer import allantools_check
+
+        check = allantools_check(prepared.x if prepared is not None else run.axis(axis), res)
+    effect = None
+    if prepared is not None and prepared.outliers is not None:
+        effect = _outlier_effect(run, axis, prepared, model, s)
+    return AxisAllan(result=res, model=model, readout=res.readout(model), prepared=prepared,
+                     check=check, outliers_effect=effect,
+                     plausibility=_plausibility(model, run.units) if model is not None
+                     else None)
+
+
+def _outlier_effect(run: Run, axis: int, prepared: Prepared, model: NoiseModel | None,
+                    s: AllanSettings) -> dict[str, Any]:
+    """How many samples ``outliers`` replaced and what that did to N (the same analysis of
+    the data without the replacement)."""
+    from fogts.preprocess.prepare import prepare
+
+    report = prepared.outliers
+    assert report is not None
+    share = report.count / max(prepared.n_input, 1)
+    out: dict[str, Any] = {"replaced": report.count, "share": share,
+                           "sigma_factor": report.sigma_factor}
+    text = (f"--outliers {report.sigma_factor:g}: replaced {report.count:,} of "
+            f"{prepared.n_input:,} samples ({100 * share:.3g} %)")
+    if model is None or "N" not in model.names:
+        out["text"] = text
+        return out
+    if s.detrend is not None or s.decimate is not None:
+        raw = _allan(prepare(run, axis=axis, outliers=None, detrend=s.detrend,
+                             decimate=s.decimate, stationarity=False), s, None)
+    else:
+        raw = _allan(run, s, axis)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the unscreened fit's own warnings are not news
+        raw_model = _fit(raw, s)
+    assert raw_model is not None
+    n_clean = model["N"].value
+    n_raw = raw_model["N"].value if "N" in raw_model.names else float("nan")
+    change = n_clean / n_raw - 1.0 if n_raw > 0 else float("nan")
+    out.update({"N": n_clean, "N_unscreened": n_raw, "N_change": change})
+    out["text"] = (f"{text}; N = {n_clean:.4g} {model['N'].unit} against {n_raw:.4g} without "
+                   f"the replacement ({100 * change:+.1f} %)")
+    return out
+
+
+def analyse_allan(run: Run, quality: DataQuality, settings: AllanSettings | None = None, *,
+                  axes: Sequence[int] | None = None) -> AllanAnalysis:
+    """:func:`analyse_allan_axis` for each of ``axes`` (default: every axis)."""
+    picks = range(run.n_axes) if axes is None else axes
+    return AllanAnalysis(run=run, quality=quality,
+                         axes=tuple(analyse_allan_axis(run, i, settings) for i in picks))
+
+
+# --------------------------------------------------------------------------- ARMA
+
+
+@dataclass(frozen=True)
+class SelectSettings:
+    """The ARMA analysis of one axis: preparation (:func:`fogts.prepare`; the mean is
+    always removed), the candidates and the ranking criterion (:func:`fogts.select_arma`)."""
+
+    outliers: float | None = None
+    detrend: int | None = None
+    decimate: int | None = None
+    candidates: tuple[tuple[int, int], ...] = _DEFAULT_CANDIDATES
+    criterion: str = "aic"
+    stationarity: bool = True
+
+
+@dataclass(frozen=True)
+class AxisSelection:
+    """The ARMA analysis of one axis: its preparation and the ranked candidates."""
+
+    run: Run
+    quality: DataQuality
+    prepared: Prepared
+    selection: Selection
+    file: str
+
+    def to_dict(self) -> dict[str, Any]:
+        """The ``fogts select`` JSON."""
+        payload = self.selection.to_dict()
+        payload["input"] = {**payload["input"], "file": self.file,
+                            "units_source": self.run.units_source}
+        payload["data_quality"] = self.quality.to_dict()
+        return payload
+
+
+def analyse_selection(run: Run, quality: DataQuality, axis: int,
+                      settings: SelectSettings | None = None, *, file: str | None = None
+                      ) -> AxisSelection:
+    """Prepare axis ``axis`` of ``run`` and select its ARMA model; ``file`` is the name the
+    JSON gives the input (default: the run's source)."""
+    from fogts.arma.select import select_arma
+    from fogts.preprocess.prepare import prepare
+
+    s = settings or SelectSettings()
+    prepared = prepare(run, axis=axis, outliers=s.outliers, detrend=s.detrend,
+                       decimate=s.decimate, stationarity=s.stationarity)
+    sel = select_arma(prepared, candidates=s.candidates,
+                      criterion=s.criterion)  # type: ignore[arg-type]
+    return AxisSelection(run=run, quality=quality, prepared=prepared, selection=sel,
+                         file=file if file is not None else run.source)
