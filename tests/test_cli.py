@@ -136,14 +136,15 @@ def _hostile_cases() -> list[tuple[str, str | bytes, dict[str, object]]]:
 @pytest.mark.parametrize(("name", "content", "kwargs"), _hostile_cases(),
                          ids=[c[0] for c in _hostile_cases()])
 def test_hostile_corpus_through_cli(tmp_path: Path, name: str, content: str | bytes,
-                                    kwargs: dict[str, object]) -> None:
+                                    kwargs: dict[str, object],
+                                    capsys: pytest.CaptureFixture[str]) -> None:
     f = tmp_path / name
     if isinstance(content, bytes):
         f.write_bytes(content)
     else:
         f.write_text(content)
-    res = runner.invoke(app, ["info", str(f), *_cli_args(kwargs)])
-    assert res.exit_code == 2, res.output
-    lines = res.stderr.strip().splitlines()
-    assert len(lines) == 1 and lines[0].startswith("error: "), res.stderr
-    assert "Traceback" not in res.output
+    code, out, err = _run_main(["info", str(f), *_cli_args(kwargs)], capsys)
+    assert code == 2, out + err
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("error: "), err
+    assert "Traceback" not in out + err

@@ -95,7 +95,8 @@ def test_select_explosive_exits_1_with_failed_rows(tmp_path: Path) -> None:
 
 @pytest.mark.parametrize(("args", "message"), [
     (["--candidates", "ARMA(1)"], "error: candidates: 'ARMA(1)' needs two orders"),
-    (["--criterion", "aik"], "error: --criterion must be one of aic, bic, hqic, aicc; got 'aik'"),
+    (["--criterion", "aik"], "error: Invalid value for '--criterion': 'aik' is not one of "
+                             "'aic', 'bic', 'hqic', 'aicc'."),
     (["--plot", "fig.jpg"], "error: --plot must end in .png, .svg or .pdf"),
     (["--axis", "yaw"], "error: --axis 'yaw' not found; axes are: rate_deg_s"),
     (["--axis", "3"], "error: --axis must be an axis name or an index in -1..0, got 3; "

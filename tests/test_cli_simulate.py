@@ -174,7 +174,7 @@ def test_davar_multi_axis(tmp_path: Path) -> None:
     (["--step", "-5s"], "--step must look like"),
     (["--window", "1d"], "longer than the record"),
     (["--taus", "x,y"], "--taus must be octave, decade, dense, all or taus in seconds"),
-    (["--kind", "theo1"], "kind must be one of"),
+    (["--kind", "theo1"], "Invalid value for '--kind': 'theo1' is not one of 'adev'"),
     (["--plot", "out.gif"], "--plot must end in .png, .svg or .pdf"),
     (["--axis", "q"], "axis 'q' not found"),
 ])

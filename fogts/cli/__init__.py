@@ -11,7 +11,7 @@ import sys
 
 import typer
 
-from fogts.cli._common import _STATE, ExitCode, app, console, err_console
+from fogts.cli._common import _STATE, ExitCode, app, err_console
 
 #: The commands, in the order ``fogts --help`` lists them; importing a command's module
 #: registers it on the app.
@@ -19,11 +19,6 @@ COMMANDS = ("info", "allan", "batch", "report", "simulate", "davar", "filter", "
             "northfind", "select")
 for _name in COMMANDS:
     importlib.import_module(f"fogts.cli.{_name}")
-
-try:  # typer >= 0.16 vendors click as typer._click
-    from typer._click import exceptions as _click_exc
-except ImportError:  # pragma: no cover - older typer uses click itself
-    from click import exceptions as _click_exc  # type: ignore[no-redef]
 
 __all__ = ["app", "main"]
 
@@ -62,25 +57,12 @@ def _hoist_global_flags(argv: list[str]) -> list[str]:
 
 
 def main(argv: list[str] | None = None) -> None:
-    """Console-script entry point: usage errors become one line ``error: ...``, exit 2."""
+    """Console-script entry point.  Usage errors become one line ``error: ...`` with exit
+    code 2 (:class:`fogts.cli._common._OneLineErrors`); so does any exception that escapes a
+    command's guard."""
     argv = _hoist_global_flags(list(sys.argv[1:] if argv is None else argv))
     try:
-        rv = app(args=argv, prog_name="fogts", standalone_mode=False)
-    except _click_exc.NoArgsIsHelpError as exc:
-        console.print(exc.format_message(), markup=False, soft_wrap=True)
-        raise SystemExit(ExitCode.OK) from None
-    except _click_exc.ClickException as exc:
-        ctx = getattr(exc, "ctx", None)
-        name = ctx.command.name if ctx is not None and ctx.command is not None else None
-        hint = f" (see 'fogts {name} --help')" if name and name != "fogts" else \
-            " (see 'fogts --help')"
-        err_console.print(f"error: {exc.format_message()}{hint}", markup=False, soft_wrap=True)
-        raise SystemExit(ExitCode.ERROR) from None
-    except typer.Exit as exc:
-        raise SystemExit(exc.exit_code) from None
-    except typer.Abort:
-        err_console.print("error: aborted", markup=False)
-        raise SystemExit(ExitCode.ERROR) from None
+        app(args=argv, prog_name="fogts")
     except Exception as exc:  # anything a command raised outside its guard: still one line
         if _STATE["debug"]:
             raise
@@ -88,5 +70,3 @@ def main(argv: list[str] | None = None) -> None:
 
         err_console.print(f"error: {error_message(exc)}", markup=False, soft_wrap=True)
         raise SystemExit(ExitCode.ERROR) from None
-    raise SystemExit(rv if isinstance(rv, int) else 0)
-

@@ -18,19 +18,59 @@ from __future__ import annotations
 import re
 import sys
 import warnings
-from collections.abc import Iterable, Iterator, Mapping
+from collections.abc import Iterable, Iterator, Mapping, Sequence
 from contextlib import contextmanager
+from enum import StrEnum
 from pathlib import Path
-from typing import Annotated, Any
+from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 from rich.console import Console
 from rich.table import Table
+from typer.core import TyperGroup
 
 from fogts._version import __version__
 
+try:  # typer >= 0.16 vendors click as typer._click
+    from typer._click import exceptions as _click_exc
+except ImportError:  # pragma: no cover - older typer uses click itself
+    from click import exceptions as _click_exc  # type: ignore[no-redef]
+
+
+class _OneLineErrors(TyperGroup):
+    """The ``fogts`` group: a usage error (a bad choice, a missing argument) is one line
+    ``error: ...`` on stderr with exit code 2, as every other error, whether the app runs
+    as the console script or under a test runner."""
+
+    def main(self, args: Sequence[str] | None = None, prog_name: str | None = None,
+             complete_var: str | None = None, standalone_mode: bool = True,
+             windows_expand_args: bool = True, **extra: Any) -> Any:
+        try:
+            rv = super().main(args, prog_name, complete_var, standalone_mode=False,
+                              windows_expand_args=windows_expand_args, **extra)
+        except _click_exc.NoArgsIsHelpError as exc:
+            console.print(exc.format_message(), markup=False, soft_wrap=True)
+            rv = ExitCode.OK
+        except _click_exc.ClickException as exc:
+            ctx = getattr(exc, "ctx", None)
+            name = ctx.command.name if ctx is not None and ctx.command is not None else None
+            hint = f" (see 'fogts {name} --help')" if name and name != "fogts" else \
+                " (see 'fogts --help')"
+            # typer's choice check prefixes its reason with "Value error, ": drop it
+            message = exc.format_message().replace(": Value error, ", ": ")
+            err_console.print(f"error: {message}{hint}", markup=False, soft_wrap=True)
+            rv = ExitCode.ERROR
+        except typer.Abort:
+            err_console.print("error: aborted", markup=False)
+            rv = ExitCode.ERROR
+        if not standalone_mode:
+            return rv
+        sys.exit(rv if isinstance(rv, int) else ExitCode.OK)
+
+
 app = typer.Typer(
     name="fogts",
+    cls=_OneLineErrors,
     help="Fibre-optic-gyro drift analysis: Allan variance, IEEE-952 noise terms, ARMA models.",
     no_args_is_help=True,
     add_completion=False,
@@ -51,11 +91,83 @@ TempColOpt = Annotated[str | None, typer.Option("--temperature-column", help="Te
 FsOpt = Annotated[float | None, typer.Option("--fs", help="Sample rate in Hz (overrides the time column).")]
 UnitsOpt = Annotated[str | None, typer.Option("--units", help="Rate unit of the input: deg/h, deg/s, rad/s, arcsec/s (default: from a unit in the column name such as gyro_x_deg_s, else deg/h).")]
 JsonOpt = Annotated[str | None, typer.Option("--json", help="Write JSON to PATH, or '-' for stdout.")]
-NanOpt = Annotated[str, typer.Option("--nan", help="Empty, NaN or inf cells: error (name the first one), drop (the rows become gaps) or interpolate (linearly in time).")]
-GapsOpt = Annotated[str, typer.Option("--gaps", help="Gaps in the time base: warn (analyse as if regular, and say so), error, split (analyse the longest regular segment) or ignore (no warning; still in the JSON).")]
+
+
+# ---------------------------------------------------------------- choices
+# typer validates an Enum option and lists its values in --help; the values are the
+# library's own (tests/test_cli_choices.py checks them against the library's tuples).
+
+
+class _Choice(StrEnum):
+    """A choice option's value; its repr is the value's, so that a library message quoting
+    it (``got kind='oadev'``) reads as the user typed it."""
+
+    def __repr__(self) -> str:
+        return repr(self.value)
+
+
+class Estimator(_Choice):
+    """Allan-family estimators (:data:`fogts.allan.KINDS`)."""
+
+    adev = "adev"
+    oadev = "oadev"
+    mdev = "mdev"
+    hdev = "hdev"
+    ohdev = "ohdev"
+    totdev = "totdev"
+
+
+class Criterion(_Choice):
+    """ARMA ranking criteria (:func:`fogts.select_arma`)."""
+
+    aic = "aic"
+    bic = "bic"
+    hqic = "hqic"
+    aicc = "aicc"
+
+
+class NanPolicy(_Choice):
+    """Empty, NaN or inf cells (:data:`fogts.io.reader.NAN_POLICIES`)."""
+
+    error = "error"
+    drop = "drop"
+    interpolate = "interpolate"
+
+
+class GapPolicy(_Choice):
+    """Gaps in the time base (:data:`fogts.preprocess.hygiene.GAP_POLICIES`)."""
+
+    warn = "warn"
+    error = "error"
+    longest_segment = "split"  # (a member named split would hide str.split)
+    ignore = "ignore"
+
+
+class NoiseFitMethod(_Choice):
+    """Fits of the IEEE-952 terms to the Allan curve (:func:`fogts.fit_noise`)."""
+
+    wls = "wls"
+    gls = "gls"
+    ols = "ols"
+
+
+NanOpt = Annotated[NanPolicy, typer.Option("--nan", help="Empty, NaN or inf cells: error (name the first one), drop (the rows become gaps) or interpolate (linearly in time).")]
+GapsOpt = Annotated[GapPolicy, typer.Option("--gaps", help="Gaps in the time base: warn (analyse as if regular, and say so), error, split (analyse the longest regular segment) or ignore (no warning; still in the JSON).")]
+KindOpt = Annotated[Estimator, typer.Option("--kind", help="Allan estimator (noise terms are fitted to adev, oadev and totdev).")]
+CriterionOpt = Annotated[Criterion, typer.Option("--criterion", help="ARMA ranking criterion.")]
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+    from fogts.io.run import Run
+    from fogts.preprocess.hygiene import DataQuality
+    from fogts.startup.thermal import ThermalModel
+
 
 
 class ExitCode:
+    """Exit codes (DESIGN.md): success, a negative verdict, bad usage/input/internal error."""
+
     OK = 0
     NEGATIVE = 1
     ERROR = 2
@@ -122,7 +234,8 @@ def _option_names(message: str, options: Mapping[str, str]) -> str:
 
 def _read(path: Path, rate_column: str | None, time_column: str | None,
           temperature_column: str | None, fs: float | None, units: str | None, *,
-          nan: str = "error", gaps: str = "warn", glitches: bool = True) -> tuple[Any, Any]:
+          nan: str = "error", gaps: str = "warn", glitches: bool = True
+          ) -> tuple[Run, DataQuality]:
     """Read one input and check its hygiene (:func:`fogts.preprocess.hygiene.assess_run`): assumed
     units, missing cells, gaps and glitches are printed at once as ``warning:`` lines
     naming the file, before any analysis output.  Returns the Run (restricted to the
@@ -176,7 +289,7 @@ def _print(*objects: Any, quiet_json: str | None = None) -> None:
 _TAU_GRIDS = ("octave", "decade", "dense", "all")
 
 
-def _tau_option(text: str, option: str = "--taus") -> Any:
+def _tau_option(text: str, option: str = "--taus") -> str | list[float]:
     """``octave``, ``decade``, ``dense``, ``all``, or taus in seconds separated by commas."""
     from fogts.errors import DataError
 
@@ -216,7 +329,7 @@ def _check_output_names(**outputs: Path | None) -> None:
 
 
 
-def _save_figure(fig: Any, path: str | Path) -> None:
+def _save_figure(fig: Figure, path: str | Path) -> None:
     """Save a Figure atomically; the format follows the suffix (.png, .svg, .pdf)."""
     from fogts.errors import DataError
     from fogts.io.reader import atomic_path
@@ -237,7 +350,7 @@ def _say(lines: list[str], json_out: str | None) -> None:
 
 
 
-def _load_thermal_model(path: Path) -> Any:
+def _load_thermal_model(path: Path) -> ThermalModel:
     from fogts.io.reader import read_json
     from fogts.startup.thermal import ThermalModel
 
@@ -247,7 +360,7 @@ def _load_thermal_model(path: Path) -> Any:
     return ThermalModel.from_dict(data)
 
 
-def _axis_index(run: Any, axis: str) -> int:
+def _axis_index(run: Run, axis: str) -> int:
     """``--axis`` as a position in ``run.axes``: an axis name, or an index (negative ones
     count from the end, as in Python).  One parser for every command."""
     from fogts.errors import DataError

@@ -8,10 +8,15 @@ from typing import TYPE_CHECKING, Annotated, Any
 import typer
 
 from fogts.cli._common import (
+    Estimator,
     FsOpt,
+    GapPolicy,
     GapsOpt,
     JsonOpt,
+    KindOpt,
     NanOpt,
+    NanPolicy,
+    NoiseFitMethod,
     RateColOpt,
     TempColOpt,
     TimeColOpt,
@@ -31,10 +36,16 @@ from fogts.cli._common import (
 )
 
 if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+    from fogts.allan.noise import NoiseModel
+    from fogts.allan.readout import CurveReadout
+    from fogts.allan.result import AllanResult
     from fogts.pipeline import AllanAnalysis
 
 
-def _allan_tables(res: Any, model: Any, check: Any, quiet_json: str | None) -> None:
+def _allan_tables(res: AllanResult, model: NoiseModel | None, check: dict[str, Any] | None,
+                  quiet_json: str | None) -> None:
     import math
 
     def g(v: float, digits: int = 5) -> str:
@@ -87,11 +98,11 @@ def allan_cmd(
     temperature_column: TempColOpt = None,
     fs: FsOpt = None,
     units: UnitsOpt = None,
-    kind: Annotated[str, typer.Option("--kind", help="Estimator: oadev, adev, mdev, hdev, ohdev, totdev (noise terms are fitted to adev, oadev and totdev).")] = "oadev",
+    kind: KindOpt = Estimator.oadev,
     taus: Annotated[str, typer.Option("--taus", help="Tau grid: octave, decade, dense, all, or taus in s separated by commas.")] = "octave",
     confidence: Annotated[float, typer.Option("--confidence", help="Confidence level of the deviation and coefficient intervals.")] = 0.683,
     terms: Annotated[str, typer.Option("--terms", help="Noise terms to fit, from Q,N,B,K,R.")] = "Q,N,B,K,R",
-    method: Annotated[str, typer.Option("--method", help="Noise fit: wls (EDF weights), gls (full covariance), ols (unweighted, comparison only).")] = "wls",
+    method: Annotated[NoiseFitMethod, typer.Option("--method", help="Noise fit: wls (EDF weights), gls (full covariance), ols (unweighted, comparison only).")] = NoiseFitMethod.wls,
     keep_all_terms: Annotated[bool, typer.Option("--keep-all-terms", help="Keep every --terms term in the fit even when the data do not support it (default: drop terms that are not significant at 5 % and visible at fewer than two taus).")] = False,
     axis: Annotated[str | None, typer.Option("--axis", help="Analyse one axis (name or index) (default: every axis).")] = None,
     outliers: Annotated[float | None, typer.Option("--outliers", help="Replace samples beyond this many robust sigmas first (default: raw data).")] = None,
@@ -102,8 +113,8 @@ def allan_cmd(
     plot: Annotated[Path | None, typer.Option("--plot", help="Log-log figure with CIs, the fit and its term lines (several inputs: an overlay): .png, .svg or .pdf.")] = None,
     check_allantools: Annotated[bool, typer.Option("--check-allantools", help="Recompute with allantools on the same data and taus; print the largest relative difference.")] = False,
     bias_correction: Annotated[bool, typer.Option("--bias-correction", help="--kind totdev: divide TOTVAR by its bias at flicker- and random-walk-FM taus (Howe 1999), as Stable32 does.")] = False,
-    nan: NanOpt = "error",
-    gaps: GapsOpt = "warn",
+    nan: NanOpt = NanPolicy.error,
+    gaps: GapsOpt = GapPolicy.warn,
 ) -> None:
     """Allan deviation with confidence intervals, the IEEE-952 noise terms (Q, N, B, K, R)
     with standard errors, and the curve read-outs (minimum, regions, slopes).
@@ -176,7 +187,7 @@ def _allan_csv(analyses: list[AllanAnalysis], target: Path) -> None:
     write_frame_atomic(target, pd.concat(frames, ignore_index=True))
 
 
-def _allan_figure(analyses: list[AllanAnalysis]) -> Any:
+def _allan_figure(analyses: list[AllanAnalysis]) -> Figure:
     from fogts.allan import AllanResultSet
     from fogts.report.plots import plot_allan, plot_allan_overlay
 
@@ -197,7 +208,7 @@ def _allan_figure(analyses: list[AllanAnalysis]) -> Any:
     return plot_allan_overlay(curves, labels, fits)
 
 
-def _curve_table(res: Any, readout: Any, quiet_json: str | None) -> None:
+def _curve_table(res: AllanResult, readout: CurveReadout, quiet_json: str | None) -> None:
     from rich.markup import escape
 
     lo, hi = readout.dev_min_ci

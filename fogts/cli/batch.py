@@ -10,10 +10,16 @@ import typer
 from rich.table import Table
 
 from fogts.cli._common import (
+    Criterion,
+    CriterionOpt,
+    Estimator,
     ExitCode,
     FsOpt,
+    GapPolicy,
     GapsOpt,
+    KindOpt,
     NanOpt,
+    NanPolicy,
     RateColOpt,
     TempColOpt,
     TimeColOpt,
@@ -38,14 +44,14 @@ def batch_cmd(
     temperature_column: TempColOpt = None,
     fs: FsOpt = None,
     units: UnitsOpt = None,
-    kind: Annotated[str, typer.Option("--kind", help="Allan estimator: adev, oadev, mdev, hdev, ohdev, totdev.")] = "oadev",
+    kind: KindOpt = Estimator.oadev,
     taus: Annotated[str, typer.Option("--taus", help="Tau grid: octave, decade, dense, all.")] = "octave",
     detrend: Annotated[int | None, typer.Option("--detrend", help="Polynomial order removed before the ARMA selection.")] = None,
     decimate: Annotated[int | None, typer.Option("--decimate", help="Block-average K samples before the ARMA selection.")] = None,
-    criterion: Annotated[str, typer.Option("--criterion", help="ARMA ranking criterion: aic, bic, hqic, aicc.")] = "aic",
+    criterion: CriterionOpt = Criterion.aic,
     no_select: Annotated[bool, typer.Option("--no-select", help="Skip the ARMA selection (info and Allan only).")] = False,
-    nan: NanOpt = "error",
-    gaps: GapsOpt = "warn",
+    nan: NanOpt = NanPolicy.error,
+    gaps: GapsOpt = GapPolicy.warn,
 ) -> None:
     """Run info, allan and select on many files; write one summary row per run and axis.
 

@@ -12,6 +12,7 @@ from fogts.cli._common import (
     FsOpt,
     JsonOpt,
     NanOpt,
+    NanPolicy,
     RateColOpt,
     TempColOpt,
     TimeColOpt,
@@ -46,7 +47,7 @@ def compensate_cmd(
     units: UnitsOpt = None,
     json_out: JsonOpt = None,
     plot: Annotated[Path | None, typer.Option("--plot", help="Raw rate, trend, compensated rate and temperature: .png, .svg or .pdf.")] = None,
-    nan: NanOpt = "error",
+    nan: NanOpt = NanPolicy.error,
 ) -> None:
     """Fit the seed-004 temperature-drift model D = aT·dT + bT² + cT + d·dT² + e·dT + f and
     compensate; prints the model and the bias stability before and after."""

@@ -8,11 +8,14 @@ from typing import Annotated
 import typer
 
 from fogts.cli._common import (
+    Estimator,
     FileArg,
     FsOpt,
+    GapPolicy,
     GapsOpt,
     JsonOpt,
     NanOpt,
+    NanPolicy,
     RateColOpt,
     TempColOpt,
     TimeColOpt,
@@ -34,7 +37,7 @@ def davar_cmd(
     file: FileArg,
     window: Annotated[str, typer.Option("--window", help="Window length: 200s, 5min, ... (the seed paper uses 201 s).")] = "200s",
     step: Annotated[str, typer.Option("--step", help="Step between windows: 20s, 1min, ...")] = "20s",
-    kind: Annotated[str, typer.Option("--kind", help="Estimator per window: oadev, mdev, ohdev (fast), adev, hdev, totdev.")] = "oadev",
+    kind: Annotated[Estimator, typer.Option("--kind", help="Estimator per window (oadev, mdev and ohdev are the fast ones).")] = Estimator.oadev,
     taus: Annotated[str, typer.Option("--taus", help="Tau grid within the window: octave, decade, dense, all, or taus in s separated by commas.")] = "octave",
     axis: Annotated[str | None, typer.Option("--axis", help="Analyse one axis (name or index) (default: every axis).")] = None,
     confidence: Annotated[float, typer.Option("--confidence", help="Confidence level of each window's interval.")] = 0.683,
@@ -45,8 +48,8 @@ def davar_cmd(
     units: UnitsOpt = None,
     json_out: JsonOpt = None,
     plot: Annotated[Path | None, typer.Option("--plot", help="Heat map of log deviation over (time, tau): .png, .svg or .pdf.")] = None,
-    nan: NanOpt = "error",
-    gaps: GapsOpt = "warn",
+    nan: NanOpt = NanPolicy.error,
+    gaps: GapsOpt = GapPolicy.warn,
 ) -> None:
     """Dynamic Allan deviation (DAVAR, Galleani & Tavella 2009): the deviation in a
     window sliding along the record, and a non-stationarity score."""

@@ -3,16 +3,18 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated, Any
+from typing import TYPE_CHECKING, Annotated, Any, Literal
 
 import typer
 
 from fogts.cli._common import (
     FileArg,
     FsOpt,
+    GapPolicy,
     GapsOpt,
     JsonOpt,
     NanOpt,
+    NanPolicy,
     RateColOpt,
     TempColOpt,
     TimeColOpt,
@@ -27,6 +29,11 @@ from fogts.cli._common import (
 )
 
 FILTER_METHODS = ("kalman", "iir", "moving-average")
+
+if TYPE_CHECKING:
+    from fogts._typing import FloatArray
+    from fogts.io.run import Run
+
 
 
 @app.command("filter")
@@ -49,8 +56,8 @@ def filter_cmd(
     units: UnitsOpt = None,
     json_out: JsonOpt = None,
     plot: Annotated[Path | None, typer.Option("--plot", help="Figure (.png, .svg, .pdf): observed/filtered/smoothed for kalman; the before/after Allan overlay with --compare-allan.")] = None,
-    nan: NanOpt = "error",
-    gaps: GapsOpt = "warn",
+    nan: NanOpt = NanPolicy.error,
+    gaps: GapsOpt = GapPolicy.warn,
 ) -> None:
     """Filter a gyro record: Kalman filter with an ARMA drift model (seed 004), or a
     zero-phase IIR / moving-average low-pass with a before/after Allan comparison (seed 001).
@@ -73,11 +80,11 @@ def filter_cmd(
                             compare_allan, json_out, plot)
 
 
-def _parse_measurement_noise(text: str) -> Any:
+def _parse_measurement_noise(text: str) -> Literal["estimate"] | float:
     from fogts.errors import DataError
 
     if text == "estimate":
-        return text
+        return "estimate"
     try:
         return float(text)
     except ValueError:
@@ -85,7 +92,8 @@ def _parse_measurement_noise(text: str) -> Any:
                         f"(rate unit)^2; got {text!r}") from None
 
 
-def _kalman_filter(run: Any, x: Any, file: Path, output: Path, model: str, noise: Any,
+def _kalman_filter(run: Run, x: FloatArray, file: Path, output: Path, model: str,
+                   noise: Literal["estimate"] | float,
                    json_out: str | None, plot: Path | None, method: str) -> None:
     import numpy as np
     import pandas as pd
@@ -113,7 +121,7 @@ def _kalman_filter(run: Any, x: Any, file: Path, output: Path, model: str, noise
           result.summary(), f"wrote {output} ({run.n} rows)"], json_out)
 
 
-def _lowpass_filter(run: Any, x: Any, file: Path, output: Path, method: str,
+def _lowpass_filter(run: Run, x: FloatArray, file: Path, output: Path, method: str,
                     cutoff: float | None, order: int, design: str, window: float | None,
                     compare: bool, json_out: str | None, plot: Path | None) -> None:
     import pandas as pd

@@ -2,13 +2,14 @@
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from fogts.cli._common import (
     FileArg,
     FsOpt,
     JsonOpt,
     NanOpt,
+    NanPolicy,
     RateColOpt,
     TempColOpt,
     TimeColOpt,
@@ -20,8 +21,12 @@ from fogts.cli._common import (
     console,
 )
 
+if TYPE_CHECKING:
+    from fogts.io.run import Run
 
-def _info_payload(run: Any) -> dict[str, Any]:
+
+
+def _info_payload(run: Run) -> dict[str, Any]:
     from fogts.report.text import run_info
 
     return run_info(run)
@@ -35,7 +40,7 @@ def info_cmd(
     temperature_column: TempColOpt = None,
     fs: FsOpt = None,
     units: UnitsOpt = None,
-    nan: NanOpt = "error",
+    nan: NanOpt = NanPolicy.error,
     json_out: JsonOpt = None,
 ) -> None:
     """Show what was read: columns, sample rate, duration, gaps, jitter, glitches and

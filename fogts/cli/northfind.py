@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated, Any
+from typing import TYPE_CHECKING, Annotated
 
 import typer
 
@@ -27,10 +27,16 @@ from fogts.cli._common import (
 _NORTHFIND_OPTIONS = {"latitude_deg": "--latitude", "transition_s": "--transition",
                       "bias_sigma_deg_h": "--bias-sigma", "n_trials": "--simulate"}
 
+if TYPE_CHECKING:
+    from fogts._typing import FloatArray
+    from fogts.startup.thermal import ThermalModel
+
+
 
 def _position_rates(files: list[Path], *, position_column: str, rate_column: str | None,
                     time_column: str | None, temperature_column: str | None, fs: float | None,
-                    units: str | None, thermal: Any) -> tuple[dict[int, Any], dict[int, float] | None, float, str]:
+                    units: str | None, thermal: ThermalModel | None
+                    ) -> tuple[dict[int, FloatArray], dict[int, float] | None, float, str]:
     import numpy as np
 
     from fogts.errors import DataError

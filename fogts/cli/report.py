@@ -8,11 +8,17 @@ from typing import Annotated
 import typer
 
 from fogts.cli._common import (
+    Criterion,
+    CriterionOpt,
+    Estimator,
     ExitCode,
     FileArg,
     FsOpt,
+    GapPolicy,
     GapsOpt,
+    KindOpt,
     NanOpt,
+    NanPolicy,
     RateColOpt,
     TempColOpt,
     TimeColOpt,
@@ -38,12 +44,12 @@ def report_cmd(
     outliers: Annotated[float | None, typer.Option("--outliers", help="Replace samples beyond this many robust sigmas before the ARMA analysis.")] = None,
     detrend: Annotated[int | None, typer.Option("--detrend", help="Polynomial order removed before the ARMA analysis.")] = None,
     decimate: Annotated[int | None, typer.Option("--decimate", help="Block-average K samples before the ARMA analysis.")] = None,
-    kind: Annotated[str, typer.Option("--kind", help="Allan estimator: adev, oadev, mdev, hdev, ohdev, totdev.")] = "oadev",
+    kind: KindOpt = Estimator.oadev,
     taus: Annotated[str, typer.Option("--taus", help="Tau grid: octave, decade, dense, all.")] = "octave",
-    criterion: Annotated[str, typer.Option("--criterion", help="ARMA ranking criterion: aic, bic, hqic, aicc.")] = "aic",
+    criterion: CriterionOpt = Criterion.aic,
     davar_window: Annotated[float | None, typer.Option("--davar-window", help="Dynamic Allan window in seconds (default: a tenth of the record).")] = None,
-    nan: NanOpt = "error",
-    gaps: GapsOpt = "warn",
+    nan: NanOpt = NanPolicy.error,
+    gaps: GapsOpt = GapPolicy.warn,
 ) -> None:
     """Write one self-contained HTML report of a recording.
 

@@ -3,17 +3,21 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated, Any
+from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 from rich.table import Table
 
 from fogts.cli._common import (
+    Criterion,
+    CriterionOpt,
     FileArg,
     FsOpt,
+    GapPolicy,
     GapsOpt,
     JsonOpt,
     NanOpt,
+    NanPolicy,
     RateColOpt,
     TempColOpt,
     TimeColOpt,
@@ -29,6 +33,10 @@ from fogts.cli._common import (
     err_console,
 )
 
+if TYPE_CHECKING:
+    from fogts.arma.select import Candidate, Selection
+
+
 
 def _fmt(v: Any, spec: str = ".4g") -> str:
     import math
@@ -37,7 +45,7 @@ def _fmt(v: Any, spec: str = ".4g") -> str:
         format(v, spec)
 
 
-def _select_notes(c: Any) -> str:
+def _select_notes(c: Candidate) -> str:
     """Short notes for one candidate row: why not white, redundancy, convergence."""
     if not c.ok:
         return f"fit failed: {c.reason}"
@@ -52,7 +60,7 @@ def _select_notes(c: Any) -> str:
     return "; ".join(notes)
 
 
-def _select_table(sel: Any) -> Table:
+def _select_table(sel: Selection) -> Table:
     from rich.text import Text
 
     crit = sel.criterion.upper()
@@ -71,6 +79,7 @@ def _select_table(sel: Any) -> Table:
             table.add_row("–", c.model, *["–"] * (4 + len(sel.lags)), Text("failed", "red"))
             continue
         d = c.diagnostics
+        assert d is not None  # a fitted candidate has its residual checks
 
         def chk(value: float, ok: bool | None) -> Text:
             return Text(_fmt(value, "+.4f"), "" if ok in (True, None) else "red")
@@ -87,7 +96,7 @@ def _select_table(sel: Any) -> Table:
     return table
 
 
-def _select_params(c: Any, units: str | None) -> list[str]:
+def _select_params(c: Candidate, units: str | None) -> list[str]:
     lines = []
     for k, v in c.params.items():
         se = c.bse.get(k)
@@ -111,12 +120,12 @@ def select_cmd(
     detrend: Annotated[int | None, typer.Option("--detrend", help="Remove a polynomial trend of this order; 0 removes the mean only (default: remove the mean).")] = None,
     decimate: Annotated[int | None, typer.Option("--decimate", help="Block-average K samples first (e.g. 100 Hz -> 1 Hz with K=100).")] = None,
     candidates: Annotated[str | None, typer.Option("--candidates", help="Models to compare, e.g. 'AR(1),AR(2),ARMA(1,1)' (default: AR(1),AR(2),AR(3),ARMA(1,1),ARMA(2,1)).")] = None,
-    criterion: Annotated[str, typer.Option("--criterion", help="Ranking criterion: aic, bic, hqic, aicc.")] = "aic",
+    criterion: CriterionOpt = Criterion.aic,
     json_out: JsonOpt = None,
     plot: Annotated[Path | None, typer.Option("--plot", help="Diagnostics figure (data ACF/PACF, residual ACF, Q-Q, prediction): .png, .svg or .pdf.")] = None,
     predict: Annotated[Path | None, typer.Option("--predict", help="Write the one-step prediction as CSV (time, observed, predicted, residual); .csv, .csv.gz, .tsv or .parquet.")] = None,
-    nan: NanOpt = "error",
-    gaps: GapsOpt = "warn",
+    nan: NanOpt = NanPolicy.error,
+    gaps: GapsOpt = GapPolicy.warn,
 ) -> None:
     """Select the ARMA model of the drift (seed 000): fit AR(1), AR(2), AR(3), ARMA(1,1) and ARMA(2,1), check that their residuals are white, rank them and predict one step ahead.
 
@@ -125,13 +134,10 @@ def select_cmd(
     from rich.text import Text
 
     from fogts.arma.select import parse_candidates
-    from fogts.errors import DataError
     from fogts.pipeline import SelectSettings, analyse_selection
 
     with _guard(outputs={"--json": json_out, "--plot": plot, "--predict": predict},
                 inputs={"FILE": [file]}):
-        if criterion not in ("aic", "bic", "hqic", "aicc"):
-            raise DataError(f"--criterion must be one of aic, bic, hqic, aicc; got {criterion!r}")
         orders = parse_candidates(candidates)
         _check_output_names(plot=plot, predict=predict)
         run, quality = _read(file, rate_column, time_column, temperature_column, fs, units,
