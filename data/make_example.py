@@ -32,7 +32,7 @@ HERE = Path(__file__).resolve().parent
 OUTPUT = HERE / "example_fog_10hz_3h.csv"
 
 ARGS = [
-    "simulate",
+    "simulate", "noise",
     "--fs", "10", "--duration", "3h",
     "--N", "0.002", "--B", "0.01", "--K", "0.05",
     "--bias", "8.5",

@@ -2,7 +2,7 @@
 --startup`` (issue 6).
 
 No public FOG start-up record with temperature exists, so the files are simulated
-(:func:`fogts.simulate_startup.simulate_startup`, through the command line below):
+(:func:`fogts.startup.simulator.simulate_startup`, through the command line below):
 
 * ``startup_cold_1hz.csv`` — one hour after switch-on at 1 Hz (3600 rows), columns
   ``time,rate,temperature`` (rate in deg/h, temperature in degC, 0.01 degC resolution).
@@ -23,10 +23,10 @@ The true parameters are written beside each file (``.json``).  Run from the repo
 
 which runs these commands (rates rounded to 5 decimals)::
 
-    fogts simulate --startup --seed 4004 --decimals 5 -o data/startup_cold_1hz.csv
-    fogts simulate --startup --ambient-c 15 --seed 4014 --decimals 5 -o data/startup_cold_15c_1hz.csv
-    fogts simulate --startup --ambient-c 25 --seed 4024 --decimals 5 -o data/startup_cold_25c_1hz.csv
-    fogts simulate --startup --positions --latitude 32.05 --azimuth 37.5 --ambient-c 18 \
+    fogts simulate startup --seed 4004 --decimals 5 -o data/startup_cold_1hz.csv
+    fogts simulate startup --ambient-c 15 --seed 4014 --decimals 5 -o data/startup_cold_15c_1hz.csv
+    fogts simulate startup --ambient-c 25 --seed 4024 --decimals 5 -o data/startup_cold_25c_1hz.csv
+    fogts simulate startup --positions --latitude 32.05 --azimuth 37.5 --ambient-c 18 \
         --seed 4005 --decimals 5 -o data/startup_northfind_1hz.csv
 
 and try::
@@ -61,7 +61,7 @@ RUNS: list[tuple[str, list[str], int]] = [
 
 def arguments(directory: Path = HERE) -> list[list[str]]:
     """The ``fogts`` command lines that write the bundled files into ``directory``."""
-    return [["simulate", "--startup", *extra, "--seed", str(seed), "--decimals", "5",
+    return [["simulate", "startup", *extra, "--seed", str(seed), "--decimals", "5",
              "-o", str(directory / name)] for name, extra, seed in RUNS]
 
 

@@ -203,7 +203,7 @@ def test_batch_names_the_files_with_gaps(gappy_csv: Path, tmp_path: Path) -> Non
 
 def test_units_from_a_fogts_sidecar(tmp_path: Path) -> None:
     src = tmp_path / "sim.csv"
-    res = runner.invoke(app, ["simulate", "-o", str(src), "--N", "0.01", "--duration", "60s",
+    res = runner.invoke(app, ["simulate", "noise", "-o", str(src), "--N", "0.01", "--duration", "60s",
                               "--units", "deg/s", "--seed", "3"])
     assert res.exit_code == 0
     run = read_run(src)

@@ -97,11 +97,11 @@ def test_other_commands_protect_their_inputs(recording: Path, tmp_path: Path) ->
 
 def test_simulate_sidecar_never_replaces_its_from_json_input(tmp_path: Path) -> None:
     out = tmp_path / "Y.csv"
-    assert runner.invoke(app, ["simulate", "-o", str(out), "--N", "0.1",
+    assert runner.invoke(app, ["simulate", "noise", "-o", str(out), "--N", "0.1",
                                "--duration", "10s"]).exit_code == 0
     sidecar = tmp_path / "Y.csv.json"
     before = _digest(sidecar)
-    res = runner.invoke(app, ["simulate", "-o", str(out), "--from-json", str(sidecar),
+    res = runner.invoke(app, ["simulate", "noise", "-o", str(out), "--from-json", str(sidecar),
                               "--duration", "10s"])
     assert res.exit_code == 2
     assert "--output's sidecar" in res.stderr and "is the input --from-json" in res.stderr
@@ -150,7 +150,7 @@ def test_debug_and_version_after_the_command(recording: Path,
 
 @pytest.mark.parametrize("name", ["", "/"])
 def test_simulate_output_without_a_file_name(name: str) -> None:
-    res = runner.invoke(app, ["simulate", "-o", name, "--N", "0.1", "--duration", "10s"])
+    res = runner.invoke(app, ["simulate", "noise", "-o", name, "--N", "0.1", "--duration", "10s"])
     assert res.exit_code == 2
     assert error_output(res.stderr).endswith("is a directory, not a regular file; outputs are "
                                              "written to new or regular files only")

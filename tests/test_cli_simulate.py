@@ -19,7 +19,7 @@ runner = CliRunner()
 
 def _simulate(tmp_path: Path, *args: str, name: str = "sim.csv") -> Path:
     out = tmp_path / name
-    res = runner.invoke(app, ["simulate", *args, "-o", str(out)])
+    res = runner.invoke(app, ["simulate", "noise", *args, "-o", str(out)])
     assert res.exit_code == 0, res.output
     return out
 
@@ -75,7 +75,7 @@ def test_simulate_from_json_and_random_seed(tmp_path: Path) -> None:
     assert side["noise"]["N"]["value"] == 0.002 and side["noise"]["B"]["value"] == 0.01
     assert side["noise"]["K"]["value"] == 0.3
     assert isinstance(side["seed"], int) and side["seed"] >= 0  # a fresh seed is recorded
-    res = runner.invoke(app, ["simulate", "--duration", "60s", "--from-json", str(noise),
+    res = runner.invoke(app, ["simulate", "noise", "--duration", "60s", "--from-json", str(noise),
                               "--K", "0.3", "--seed", str(side["seed"]), "-o",
                               str(tmp_path / "replay.csv")])
     assert res.exit_code == 0
@@ -98,7 +98,7 @@ def test_simulate_from_json_and_random_seed(tmp_path: Path) -> None:
     (["--duration", "10s", "--sine", "1,80"], "below the Nyquist frequency"),
 ])
 def test_simulate_bad_input(tmp_path: Path, args: list[str], message: str) -> None:
-    res = runner.invoke(app, ["simulate", *args, "-o", str(tmp_path / "x.csv")])
+    res = runner.invoke(app, ["simulate", "noise", *args, "-o", str(tmp_path / "x.csv")])
     assert res.exit_code == 2
     assert message in res.output + res.stderr
     assert "Traceback" not in res.output + res.stderr
@@ -106,14 +106,14 @@ def test_simulate_bad_input(tmp_path: Path, args: list[str], message: str) -> No
 
 
 def test_simulate_bad_output_and_json(tmp_path: Path) -> None:
-    res = runner.invoke(app, ["simulate", "--duration", "10s", "-o", str(tmp_path / "x.xlsx")])
+    res = runner.invoke(app, ["simulate", "noise", "--duration", "10s", "-o", str(tmp_path / "x.xlsx")])
     assert res.exit_code == 2 and "--output must end in .csv" in res.stderr
-    res = runner.invoke(app, ["simulate", "--duration", "10s", "-o",
+    res = runner.invoke(app, ["simulate", "noise", "--duration", "10s", "-o",
                               str(tmp_path / "missing" / "x.csv")])
     assert res.exit_code == 2 and "missing' does not exist; create it first" in res.stderr
     bad = tmp_path / "bad.json"
     bad.write_text("{not json")
-    res = runner.invoke(app, ["simulate", "--duration", "10s", "--from-json", str(bad), "-o",
+    res = runner.invoke(app, ["simulate", "noise", "--duration", "10s", "--from-json", str(bad), "-o",
                               str(tmp_path / "x.csv")])
     assert res.exit_code == 2 and "is not valid JSON" in res.stderr
 

@@ -1,4 +1,4 @@
-"""``fogts simulate --startup`` and the seed-004 workflow end to end on the bundled example.
+"""``fogts simulate startup`` and the seed-004 workflow end to end on the bundled example.
 
 The bundled cold starts (``data/startup_*.csv``) are regenerated with the commands of
 ``data/make_startup_example.py`` into a temporary folder (byte-identical to the bundled files),
@@ -58,7 +58,7 @@ def example(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return folder
 
 
-# --------------------------------------------------------------------------- simulate --startup
+# --------------------------------------------------------------------------- simulate startup
 def test_make_script_reproduces_the_bundled_files(example: Path) -> None:
     for name in BUNDLED:
         assert (example / name).read_bytes() == (DATA / name).read_bytes(), name
@@ -100,7 +100,7 @@ def test_simulated_files_columns_length_and_truth(example: Path) -> None:
 
 
 def test_startup_options_units_parquet_and_sidecar(tmp_path: Path) -> None:
-    common = ["simulate", "--startup", "--fs", "10", "--duration", "10min", "--seed", "1",
+    common = ["simulate", "startup", "--fs", "10", "--duration", "10min", "--seed", "1",
               "--arma", "ar=0.5,0.2;ma=0.3;sigma2=0.01", "--thermal", "T=0.1,dT=20",
               "--time-constants", "20min,1min", "--start-after", "5min", "--ambient-c", "30",
               "--peak-heating-c-s", "0.02", "--white-deg-h", "0.1",
@@ -121,7 +121,7 @@ def test_startup_options_units_parquet_and_sidecar(tmp_path: Path) -> None:
     assert side["start_s"] == 300.0 and side["ambient_degC"] == 30.0
     assert side["temperature_resolution_degC"] == 0.25 and side["white_sigma_deg_h"] == 0.1
     # the same seed gives the same file; default fs is 1 Hz in start-up mode
-    _ok("simulate", "--startup", "--duration", "60s", "--seed", "9", "-o", str(tmp_path / "c.csv"))
+    _ok("simulate", "startup", "--duration", "60s", "--seed", "9", "-o", str(tmp_path / "c.csv"))
     assert len(pd.read_csv(tmp_path / "c.csv")) == 60
 
 
@@ -130,7 +130,7 @@ def test_noiseless_positions_record_gives_the_true_azimuth(tmp_path: Path) -> No
     returns ψ to rounding, across the 0/360 wrap, with zero-length turns."""
     for psi in (300.0, 359.9, 90.0):
         out = tmp_path / f"p{psi:g}.csv"
-        _ok("simulate", "--startup", "--positions", "--latitude", "-45", "--azimuth", str(psi),
+        _ok("simulate", "startup", "--positions", "--latitude", "-45", "--azimuth", str(psi),
             "--thermal", "1=0", "--white-deg-h", "0", "--arma", "ar=0.5;sigma2=1e-300",
             "--position-time", "30s", "--turn-time", "0", "--seed", "2", "-o", str(out))
         frame = pd.read_csv(out)
@@ -222,37 +222,37 @@ def test_simulate_startup_positions_bad_input() -> None:
 
 # --------------------------------------------------------------------------- bad input
 @pytest.mark.parametrize("args, message", [
-    (["--ambient-c", "15"], "--ambient-c needs --startup"),
-    (["--positions"], "--positions needs --startup"),
-    (["--latitude", "32"], "--latitude needs --startup"),
-    (["--startup", "--N", "0.1"], "--N does not apply with --startup"),
-    (["--startup", "--axes", "3"], "--axes does not apply with --startup"),
-    (["--startup", "--flicker", "kasdin"], "--flicker does not apply with --startup"),
-    (["--startup", "--temperature-profile", "constant:20"], "--temperature-profile does not"),
-    (["--startup", "--from-json", "noise.json"], "--from-json does not apply"),
-    (["--startup", "--positions", "--latitude", "32"], "--positions needs --azimuth"),
-    (["--startup", "--positions", "--azimuth", "3"], "--positions needs --latitude"),
-    (["--startup", "--latitude", "32"], "--latitude needs --positions"),
-    (["--startup", "--turn-time", "5s"], "--turn-time needs --positions"),
-    (["--startup", "--positions", "--latitude", "32", "--azimuth", "1", "--duration", "1h"],
+    (["noise", "--ambient-c", "15"], "No such option: --ambient-c"),
+    (["noise", "--positions"], "No such option: --positions"),
+    (["noise", "--latitude", "32"], "No such option: --latitude"),
+    (["startup", "--N", "0.1"], "No such option: --N"),
+    (["startup", "--axes", "3"], "No such option: --axes"),
+    (["startup", "--flicker", "kasdin"], "No such option: --flicker"),
+    (["startup", "--temperature-profile", "constant:20"], "No such option: --temperature-profile"),
+    (["startup", "--from-json", "noise.json"], "No such option: --from-json"),
+    (["startup", "--positions", "--latitude", "32"], "--positions needs --azimuth"),
+    (["startup", "--positions", "--azimuth", "3"], "--positions needs --latitude"),
+    (["startup", "--latitude", "32"], "--latitude needs --positions"),
+    (["startup", "--turn-time", "5s"], "--turn-time needs --positions"),
+    (["startup", "--positions", "--latitude", "32", "--azimuth", "1", "--duration", "1h"],
      "--duration does not apply with --positions"),
-    (["--startup", "--time-constants", "40s"], "--time-constants must be two durations"),
-    (["--startup", "--time-constants", "40s,400s"], "with SLOW > FAST"),
-    (["--startup", "--peak-heating-c-s", "-1"], "--peak-heating-c-s must be a finite number > 0"),
-    (["--startup", "--white-deg-h", "-1"], "--white-deg-h must be a finite number >= 0"),
-    (["--startup", "--temperature-resolution-c", "-0.1"], "--temperature-resolution-c must be"),
-    (["--startup", "--decimals", "20"], "--decimals must be in 0..15"),
-    (["--startup", "--units", "mph"], "--units must be one of"),
-    (["--startup", "--start-after", "2parsecs"], "--start-after has an unknown unit"),
-    (["--startup", "--positions", "--latitude", "89.5", "--azimuth", "0"], "of the pole"),
-    (["--startup", "--positions", "--latitude", "30", "--azimuth", "nan"],
+    (["startup", "--time-constants", "40s"], "--time-constants must be two durations"),
+    (["startup", "--time-constants", "40s,400s"], "with SLOW > FAST"),
+    (["startup", "--peak-heating-c-s", "-1"], "--peak-heating-c-s must be a finite number > 0"),
+    (["startup", "--white-deg-h", "-1"], "--white-deg-h must be a finite number >= 0"),
+    (["startup", "--temperature-resolution-c", "-0.1"], "--temperature-resolution-c must be"),
+    (["startup", "--decimals", "20"], "--decimals must be in 0..15"),
+    (["startup", "--units", "mph"], "--units must be one of"),
+    (["startup", "--start-after", "2parsecs"], "--start-after has an unknown unit"),
+    (["startup", "--positions", "--latitude", "89.5", "--azimuth", "0"], "of the pole"),
+    (["startup", "--positions", "--latitude", "30", "--azimuth", "nan"],
      "--azimuth must be a finite number"),
-    (["--startup", "--positions", "--latitude", "30", "--azimuth", "0", "--position-time", "2s"],
+    (["startup", "--positions", "--latitude", "30", "--azimuth", "0", "--position-time", "2s"],
      "gives 2 samples per position"),
-    (["--startup", "--duration", "5s"], "--duration * --fs gives 5 samples; at least 10"),
-    (["--startup", "--thermal", "T3=1"], "unknown thermal term 'T3'"),
-    (["--startup", "--thermal", "T:1"], "--thermal must look like"),
-    (["--startup", "--arma", "ar=1.2;sigma2=1"], "AR part is not stationary"),
+    (["startup", "--duration", "5s"], "--duration * --fs gives 5 samples; at least 10"),
+    (["startup", "--thermal", "T3=1"], "unknown thermal term 'T3'"),
+    (["startup", "--thermal", "T:1"], "--thermal must look like"),
+    (["startup", "--arma", "ar=1.2;sigma2=1"], "AR part is not stationary"),
 ])
 def test_simulate_startup_bad_input(tmp_path: Path, args: list[str], message: str) -> None:
     out = tmp_path / "x.csv"

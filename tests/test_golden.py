@@ -90,7 +90,7 @@ CASES: dict[str, tuple[list[str], list[str]]] = {
                     "--json", "{tmp}/out.json"], ["out.json", "c.csv"]),
     "northfind": (["northfind", "data/startup_northfind_1hz.csv", "--latitude", "40",
                    "--json", "{tmp}/out.json"], ["out.json"]),
-    "simulate": (["simulate", "-o", "{tmp}/sim.csv", "--N", "0.01", "--B", "0.02",
+    "simulate": (["simulate", "noise", "-o", "{tmp}/sim.csv", "--N", "0.01", "--B", "0.02",
                   "--K", "0.05", "--duration", "10min", "--fs", "10", "--seed", "11"],
                  ["sim.csv", "sim.csv.json"]),
 }

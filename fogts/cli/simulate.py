@@ -1,4 +1,5 @@
-"""`fogts simulate`: gyro noise from IEEE-952 coefficients, or a cold start."""
+"""`fogts simulate noise` (gyro noise from IEEE-952 coefficients) and `fogts simulate startup`
+(a cold start with thermal drift, optionally a four-position north seeking)."""
 
 from __future__ import annotations
 
@@ -63,47 +64,50 @@ def _coefficients(text: str | None, option: str) -> dict[str, float] | None:
     return out
 
 
-@app.command("simulate")
-def simulate_cmd(
-    output: Annotated[Path, typer.Option("--output", "-o", help="Output file: .csv, .csv.gz, .tsv, .txt or .parquet. The true parameters go to OUTPUT.json beside it.")],
-    fs: Annotated[float | None, typer.Option("--fs", help="Sample rate in Hz (default 100; 1 with --startup, as in seed 004).")] = None,
-    duration: Annotated[str | None, typer.Option("--duration", help="Record length: 3h, 90min, 600s, 1d, 1h30min or seconds (default 1h).")] = None,
-    q_term: Annotated[float, typer.Option("--Q", help="Angle quantisation Q in arcsec.")] = 0.0,
+simulate_app = typer.Typer(
+    help="Simulate a static gyro record: 'noise' from IEEE-952 coefficients, 'startup' a cold "
+         "start with thermal drift (optionally a four-position north seeking).",
+    no_args_is_help=True)
+app.add_typer(simulate_app, name="simulate")
+
+OutputOpt = Annotated[Path, typer.Option("--output", "-o", help="Output file: .csv, .csv.gz, .tsv, .txt or .parquet. The true parameters go to OUTPUT.json beside it.")]
+DurationOpt = Annotated[str | None, typer.Option("--duration", help="Record length: 3h, 90min, 600s, 1d, 1h30min or seconds (default 1h).")]
+BiasOpt = Annotated[float, typer.Option("--bias", help="Constant rate offset in deg/h.")]
+ThermalOpt = Annotated[str | None, typer.Option("--thermal", help="Temperature-driven drift D = a T dT + b T^2 + c T + d dT^2 + e dT + f, as 'T*dT=a,T2=b,T=c,dT2=d,dT=e,1=f' (deg/h; dT in degC/s); with 'noise' it needs --temperature-profile; 'startup' default: T*dT=0.4,T2=0.0015,T=-0.12,dT2=120,dT=25,1=2.")]
+SeedOpt = Annotated[int | None, typer.Option("--seed", help="Random seed (default: a fresh one, recorded in the sidecar JSON).")]
+OutUnitsOpt = Annotated[str, typer.Option("--units", help="Unit of the output rate: deg/h, deg/s, rad/s, arcsec/s (coefficients stay in deg/h-based units).")]
+DecimalsOpt = Annotated[int | None, typer.Option("--decimals", help="Round the rate and temperature to this many decimals (smaller files).")]
+
+
+@simulate_app.command("noise")
+def simulate_noise_cmd(
+    output: OutputOpt,
+    fs: Annotated[float, typer.Option("--fs", help="Sample rate in Hz.")] = 100.0,
+    duration: DurationOpt = None,
+    q_term: Annotated[float, typer.Option("--Q", help="Angle quantization Q in arcsec.")] = 0.0,
     n_term: Annotated[float, typer.Option("--N", help="Angle random walk N in deg/sqrt(h).")] = 0.0,
     b_term: Annotated[float, typer.Option("--B", help="Bias instability B in deg/h (Allan plateau 0.664 B).")] = 0.0,
     k_term: Annotated[float, typer.Option("--K", help="Rate random walk K in deg/h^1.5.")] = 0.0,
     r_term: Annotated[float, typer.Option("--R", help="Rate ramp R in deg/h^2.")] = 0.0,
     markov: Annotated[str | None, typer.Option("--markov", help="First-order Markov term 'q_c,T_c': q_c in deg/h/sqrt(s), T_c in s.")] = None,
     sine: Annotated[str | None, typer.Option("--sine", help="Sinusoid 'amplitude,frequency': deg/h and Hz.")] = None,
-    bias: Annotated[float, typer.Option("--bias", help="Constant rate offset in deg/h.")] = 0.0,
+    bias: BiasOpt = 0.0,
     arma: Annotated[str | None, typer.Option("--arma", help="ARMA drift added to the rate, e.g. 'ar=0.9,-0.2;ma=0.3;sigma2=1e-4' (statsmodels signs; deg/h).")] = None,
     noise_json: Annotated[Path | None, typer.Option("--from-json", help="Take the noise terms from a JSON file: 'fogts allan --json' output, a NoiseModel dict or a simulate sidecar; --Q/--N/... override single terms.")] = None,
     axes: Annotated[int, typer.Option("--axes", help="Number of independent axes (rate_x, rate_y, rate_z).")] = 1,
     temperature_profile: Annotated[str | None, typer.Option("--temperature-profile", help="Temperature column: 'constant:T', 'warmup:START,END,TAU' (degC; TAU like 20min) or 'ramp:START,END'.")] = None,
-    thermal: Annotated[str | None, typer.Option("--thermal", help="Temperature-driven drift D = a T dT + b T^2 + c T + d dT^2 + e dT + f, as 'T*dT=a,T2=b,T=c,dT2=d,dT=e,1=f' (deg/h; dT in degC/s); needs --temperature-profile or --startup (default there: T*dT=0.4,T2=0.0015,T=-0.12,dT2=120,dT=25,1=2).")] = None,
+    thermal: ThermalOpt = None,
     flicker: Annotated[str, typer.Option("--flicker", help="Flicker (B) synthesis: markov (sum of Markov processes, chunked) or kasdin (Kasdin-Walter, in memory).")] = "markov",
-    seed: Annotated[int | None, typer.Option("--seed", help="Random seed (default: a fresh one, recorded in the sidecar JSON).")] = None,
-    units: Annotated[str, typer.Option("--units", help="Unit of the output rate: deg/h, deg/s, rad/s, arcsec/s (coefficients stay in deg/h-based units).")] = "deg/h",
-    decimals: Annotated[int | None, typer.Option("--decimals", help="Round the rate and temperature to this many decimals (smaller files).")] = None,
-    startup: Annotated[bool, typer.Option("--startup", help="Simulate a seed-004 cold start instead: warm-up temperature, thermal drift (--thermal), ARMA drift (--arma, default 'ar=0.9;sigma2=0.0025') and white noise; writes time,rate,temperature.", rich_help_panel="Cold start (--startup, seed 004)")] = False,
-    ambient_c: Annotated[float | None, typer.Option("--ambient-c", help="Ambient (switch-on) temperature in degC (default 20).", rich_help_panel="Cold start (--startup, seed 004)")] = None,
-    peak_heating_c_s: Annotated[float | None, typer.Option("--peak-heating-c-s", help="Peak warm-up rate dT/dt in degC/s (default 0.05, as in seed 004).", rich_help_panel="Cold start (--startup, seed 004)")] = None,
-    time_constants: Annotated[str | None, typer.Option("--time-constants", help="Slow and fast warm-up lags 'SLOW,FAST' (default '400s,40s').", rich_help_panel="Cold start (--startup, seed 004)")] = None,
-    white_deg_h: Annotated[float | None, typer.Option("--white-deg-h", help="1-sigma white rate noise per sample in deg/h (default 0.3; = 60 N sqrt(fs) with N in deg/sqrt(h)).", rich_help_panel="Cold start (--startup, seed 004)")] = None,
-    temperature_resolution_c: Annotated[float | None, typer.Option("--temperature-resolution-c", help="Temperature sensor resolution in degC, 0 = exact (default 0.01).", rich_help_panel="Cold start (--startup, seed 004)")] = None,
-    start_after: Annotated[str | None, typer.Option("--start-after", help="Time from switch-on to the first sample, e.g. 10min (default 0).", rich_help_panel="Cold start (--startup, seed 004)")] = None,
-    positions: Annotated[bool, typer.Option("--positions", help="Four-position north seeking during the cold start: writes time,position_deg,rate,temperature for 'fogts northfind'; needs --latitude and --azimuth.", rich_help_panel="Cold start (--startup, seed 004)")] = False,
-    latitude: Annotated[float | None, typer.Option("--latitude", help="Latitude in degrees (|L| <= 89) for --positions.", rich_help_panel="Cold start (--startup, seed 004)")] = None,
-    azimuth: Annotated[float | None, typer.Option("--azimuth", help="True azimuth of the input axis at position 0 in degrees, clockwise from north, for --positions.", rich_help_panel="Cold start (--startup, seed 004)")] = None,
-    position_time: Annotated[str | None, typer.Option("--position-time", help="Time measured at each position (default 60s).", rich_help_panel="Cold start (--startup, seed 004)")] = None,
-    turn_time: Annotated[str | None, typer.Option("--turn-time", help="Time spent turning between positions, left out of the file (default 10s).", rich_help_panel="Cold start (--startup, seed 004)")] = None,
+    seed: SeedOpt = None,
+    units: OutUnitsOpt = "deg/h",
+    decimals: DecimalsOpt = None,
 ) -> None:
-    """Simulate a static gyro record from IEEE-952 noise coefficients (seed 000 Table 1),
-    or with --startup a seed-004 cold start (optionally a four-position north seeking).
+    """Simulate a static gyro record from IEEE-952 noise coefficients (IEEE Std 952-1997,
+    Annex C; Wang et al. 2016, Table 1).
 
     Writes time, rate (rate_x, rate_y, rate_z with --axes 3) and temperature (with a
     profile), and a sidecar JSON OUTPUT.json with the true parameters and the closed-form
-    Allan deviation (with --startup: the true thermal coefficients and warm-up parameters).
+    Allan deviation.
     """
     import dataclasses
 
@@ -125,29 +129,7 @@ def simulate_cmd(
     with _guard(_SIMULATE_OPTIONS, outputs={"--output": output,
                                             "--output's sidecar": sidecar_path},
                 inputs={"--from-json": [noise_json] if noise_json else []}):
-        if not output.name.lower().endswith(_SIM_SUFFIXES):
-            raise DataError(f"--output must end in {', '.join(_SIM_SUFFIXES)}; got "
-                             f"{output.name!r}")
-        cold = {"--ambient-c": ambient_c, "--peak-heating-c-s": peak_heating_c_s,
-                "--time-constants": time_constants, "--white-deg-h": white_deg_h,
-                "--temperature-resolution-c": temperature_resolution_c,
-                "--start-after": start_after, "--positions": positions or None,
-                "--latitude": latitude, "--azimuth": azimuth,
-                "--position-time": position_time, "--turn-time": turn_time}
-        if startup:
-            noise_opts = {"--Q": q_term, "--N": n_term, "--B": b_term, "--K": k_term,
-                          "--R": r_term, "--markov": markov, "--sine": sine,
-                          "--from-json": noise_json, "--axes": None if axes == 1 else axes,
-                          "--temperature-profile": temperature_profile,
-                          "--flicker": None if flicker == "markov" else flicker}
-            _simulate_startup(output, fs=fs, duration=duration, seed=seed, units=units,
-                              decimals=decimals, bias=bias, arma=arma, thermal=thermal,
-                              cold=cold, noise_opts=noise_opts)
-            return
-        for name, value in cold.items():
-            if value is not None:
-                raise DataError(f"{name} needs --startup (it describes a cold start)")
-        fs = 100.0 if fs is None else fs
+        _check_simulation_output(output)
         duration_s = parse_duration("1h" if duration is None else duration, "--duration")
         values: dict[str, float] = {}
         if noise_json is not None:
@@ -183,7 +165,7 @@ def simulate_cmd(
                 frame[col] = np.round(frame[col].to_numpy(), decimals)
         m = 2 ** np.arange(int(np.log2(max(run.n // 4, 1))) + 1)
         sidecar = {
-            "generator": f"fogts {version} simulate", "output": output.name, "seed": seed,
+            "generator": f"fogts {version} simulate noise", "output": output.name, "seed": seed,
             "fs_hz": run.fs_hz, "duration_s": run.duration_s, "n": run.n, "units": run.units,
             "columns": list(frame.columns), "axes": list(run.axes), "flicker": flicker,
             "decimals": decimals, "noise": spec.to_dict(),
@@ -215,12 +197,63 @@ def _duration_or_zero(text: str | None, option: str, default: float) -> float:
     return parse_duration(text, option)
 
 
-def _simulate_startup(output: Path, *, fs: float | None, duration: str | None,
+@simulate_app.command("startup")
+def simulate_startup_cmd(
+    output: OutputOpt,
+    fs: Annotated[float, typer.Option("--fs", help="Sample rate in Hz.")] = 1.0,
+    duration: DurationOpt = None,
+    bias: BiasOpt = 0.0,
+    arma: Annotated[str | None, typer.Option("--arma", help="ARMA drift of the rate (statsmodels signs; deg/h) (default 'ar=0.9;sigma2=0.0025').")] = None,
+    thermal: ThermalOpt = None,
+    seed: SeedOpt = None,
+    units: OutUnitsOpt = "deg/h",
+    decimals: DecimalsOpt = None,
+    ambient_c: Annotated[float, typer.Option("--ambient-c", help="Ambient (switch-on) temperature in degC.")] = 20.0,
+    peak_heating_c_s: Annotated[float | None, typer.Option("--peak-heating-c-s", help="Peak warm-up rate dT/dt in degC/s (default 0.05, as in Wang et al. 2018).")] = None,
+    time_constants: Annotated[str | None, typer.Option("--time-constants", help="Slow and fast warm-up lags 'SLOW,FAST' (default '400s,40s').")] = None,
+    white_deg_h: Annotated[float | None, typer.Option("--white-deg-h", help="1-sigma white rate noise per sample in deg/h (default 0.3; = 60 N sqrt(fs) with N in deg/sqrt(h)).")] = None,
+    temperature_resolution_c: Annotated[float | None, typer.Option("--temperature-resolution-c", help="Temperature sensor resolution in degC, 0 = exact (default 0.01).")] = None,
+    start_after: Annotated[str | None, typer.Option("--start-after", help="Time from switch-on to the first sample, e.g. 10min (default 0).")] = None,
+    positions: Annotated[bool, typer.Option("--positions", help="Four-position north seeking during the cold start: writes time,position_deg,rate,temperature for 'fogts northfind'; needs --latitude and --azimuth.", rich_help_panel="Four-position north seeking")] = False,
+    latitude: Annotated[float | None, typer.Option("--latitude", help="Latitude in degrees (|L| <= 89) for --positions.", rich_help_panel="Four-position north seeking")] = None,
+    azimuth: Annotated[float | None, typer.Option("--azimuth", help="True azimuth of the input axis at position 0 in degrees, clockwise from north, for --positions.", rich_help_panel="Four-position north seeking")] = None,
+    position_time: Annotated[str | None, typer.Option("--position-time", help="Time measured at each position (default 60s).", rich_help_panel="Four-position north seeking")] = None,
+    turn_time: Annotated[str | None, typer.Option("--turn-time", help="Time spent turning between positions, left out of the file (default 10s).", rich_help_panel="Four-position north seeking")] = None,
+) -> None:
+    """Simulate a cold start (Wang et al. 2018): warm-up temperature, thermal drift
+    (--thermal), ARMA drift and white noise; writes time, rate, temperature for
+    'fogts compensate', 'filter' and (with --positions) 'northfind'.
+
+    The sidecar JSON OUTPUT.json holds the true thermal coefficients and warm-up
+    parameters.
+    """
+    sidecar_path = Path(f"{output}.json")  # never raises, whatever the user typed
+    with _guard(_SIMULATE_OPTIONS, outputs={"--output": output,
+                                            "--output's sidecar": sidecar_path}):
+        _check_simulation_output(output)
+        cold = {"--ambient-c": ambient_c, "--peak-heating-c-s": peak_heating_c_s,
+                "--time-constants": time_constants, "--white-deg-h": white_deg_h,
+                "--temperature-resolution-c": temperature_resolution_c,
+                "--start-after": start_after, "--positions": positions or None,
+                "--latitude": latitude, "--azimuth": azimuth,
+                "--position-time": position_time, "--turn-time": turn_time}
+        _simulate_startup(output, fs=fs, duration=duration, seed=seed, units=units,
+                          decimals=decimals, bias=bias, arma=arma, thermal=thermal, cold=cold)
+
+
+def _check_simulation_output(output: Path) -> None:
+    from fogts.errors import DataError
+
+    if not output.name.lower().endswith(_SIM_SUFFIXES):
+        raise DataError(f"--output must end in {', '.join(_SIM_SUFFIXES)}; got "
+                        f"{output.name!r}")
+
+
+def _simulate_startup(output: Path, *, fs: float, duration: str | None,
                       seed: int | None, units: str, decimals: int | None, bias: float,
-                      arma: str | None, thermal: str | None, cold: dict[str, Any],
-                      noise_opts: dict[str, Any]) -> None:
-    """``fogts simulate --startup``: a seed-004 cold start (or four-position record) to a file
-    that ``fogts compensate``, ``filter`` and ``northfind`` read directly."""
+                      arma: str | None, thermal: str | None, cold: dict[str, Any]) -> None:
+    """A cold start (or four-position record) to a file that ``fogts compensate``,
+    ``filter`` and ``northfind`` read directly."""
     import math
 
     import numpy as np
@@ -235,15 +268,10 @@ def _simulate_startup(output: Path, *, fs: float | None, duration: str | None,
     from fogts.startup.simulator import DEFAULT_STARTUP_COEFFICIENTS, simulate_startup
     from fogts.units import convert_rate, parse_duration, parse_rate_unit
 
-    for name, value in noise_opts.items():
-        if value not in (None, 0.0):
-            raise DataError(f"{name} does not apply with --startup (the cold start's noise is "
-                            "set by --arma and --white-deg-h)")
     if decimals is not None and not 0 <= decimals <= 15:
         raise DataError(f"--decimals must be in 0..15, got {decimals}")
     unit = parse_rate_unit(units, "--units")
-    kwargs: dict[str, Any] = {"ambient_degC": 20.0 if cold["--ambient-c"] is None
-                              else cold["--ambient-c"], "earth_rate_deg_h": bias}
+    kwargs: dict[str, Any] = {"ambient_degC": cold["--ambient-c"], "earth_rate_deg_h": bias}
     for name, key, zero in (("--peak-heating-c-s", "peak_rate_degC_s", False),
                             ("--white-deg-h", "white_sigma_deg_h", True),
                             ("--temperature-resolution-c", "temperature_resolution_degC", True)):
@@ -262,7 +290,7 @@ def _simulate_startup(output: Path, *, fs: float | None, duration: str | None,
         kwargs.update(ar=spec.ar, ma=spec.ma, arma_sigma_deg_h=math.sqrt(spec.sigma2),
                       earth_rate_deg_h=bias + spec.const)
     kwargs["coefficients"] = _coefficients(thermal, "--thermal") or DEFAULT_STARTUP_COEFFICIENTS
-    fs_hz = 1.0 if fs is None else fs
+    fs_hz = fs
     if seed is None:
         seed = int(np.random.SeedSequence().generate_state(1, np.uint64)[0] >> np.uint64(1))
     if cold["--positions"]:
@@ -297,7 +325,7 @@ def _simulate_startup(output: Path, *, fs: float | None, duration: str | None,
     if digits or decimals is not None:
         nd = min(digits + ([] if decimals is None else [decimals]))
         frame["temperature"] = np.round(frame["temperature"].to_numpy(), nd)
-    sidecar = {"generator": f"fogts {version} simulate --startup", "output": output.name,
+    sidecar = {"generator": f"fogts {version} simulate startup", "output": output.name,
                "seed": seed, "mode": "startup-positions" if cold["--positions"] else "startup",
                "n": len(frame), "units": unit, "columns": list(frame.columns),
                "decimals": decimals, **truth,
