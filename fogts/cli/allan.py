@@ -74,7 +74,7 @@ def _allan_tables(res: AllanResult, model: NoiseModel | None, check: dict[str, A
                              f"fit)"),
                       ["term", "value", "± stderr", f"{pct} interval", "unit", "note"],
                       trows), quiet_json=quiet_json)
-        _say(["seed-paper coefficients C_n (rate in deg/h, tau in s): "
+        _say(["power-law coefficients C_n of sigma^2(tau) = sum C_n tau^n (rate in deg/h, tau in s): "
               + ", ".join(f"C{t.power:+d} = {t.c_coeff:.4g}" for t in model.terms)], quiet_json)
         r = model.readoff
         _say([f"slope read-offs (comparison only, not the fit): N = {r.N:.4g} deg/sqrt(h) "

@@ -32,7 +32,7 @@ from fogts.cli._common import (
 def compensate_cmd(
     file: FileArg,
     output: Annotated[Path | None, typer.Option("-o", "--output", help="Output table (.csv or .parquet): time, raw, trend, used, compensated, temperature.")] = None,
-    emd: Annotated[bool, typer.Option("--emd/--no-emd", help="Separate the trend by EMD and Kalman-filter the rest before fitting (seed 004).")] = True,
+    emd: Annotated[bool, typer.Option("--emd/--no-emd", help="Separate the trend by EMD and Kalman-filter the rest before fitting.")] = True,
     save_model: Annotated[Path | None, typer.Option("--save-model", help="Save the fitted thermal model as JSON.")] = None,
     model: Annotated[Path | None, typer.Option("--model", help="Apply a saved thermal model (JSON) instead of fitting one.")] = None,
     calibration: Annotated[list[Path] | None, typer.Option("--calibration", help="Further calibration run(s) fitted together with FILE (repeat the option), e.g. cold starts at other ambient temperatures.")] = None,
@@ -49,7 +49,7 @@ def compensate_cmd(
     plot: Annotated[Path | None, typer.Option("--plot", help="Raw rate, trend, compensated rate and temperature: .png, .svg or .pdf.")] = None,
     nan: NanOpt = NanPolicy.error,
 ) -> None:
-    """Fit the seed-004 temperature-drift model D = aT·dT + bT² + cT + d·dT² + e·dT + f and
+    """Fit the start-up temperature-drift model D = aT·dT + bT² + cT + d·dT² + e·dT + f and
     compensate; prints the model and the bias stability before and after."""
     from fogts.startup.thermal import startup_compensation
 

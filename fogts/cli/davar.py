@@ -35,7 +35,7 @@ from fogts.cli._common import (
 @app.command("davar")
 def davar_cmd(
     file: FileArg,
-    window: Annotated[str, typer.Option("--window", help="Window length: 200s, 5min, ... (the seed paper uses 201 s).")] = "200s",
+    window: Annotated[str, typer.Option("--window", help="Window length: 200s, 5min, ....")] = "200s",
     step: Annotated[str, typer.Option("--step", help="Step between windows: 20s, 1min, ...")] = "20s",
     kind: Annotated[Estimator, typer.Option("--kind", help="Estimator per window (oadev, mdev and ohdev are the fast ones).")] = Estimator.oadev,
     taus: Annotated[str, typer.Option("--taus", help="Tau grid within the window: octave, decade, dense, all, or taus in s separated by commas.")] = "octave",

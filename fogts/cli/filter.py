@@ -59,8 +59,8 @@ def filter_cmd(
     nan: NanOpt = NanPolicy.error,
     gaps: GapsOpt = GapPolicy.warn,
 ) -> None:
-    """Filter a gyro record: Kalman filter with an ARMA drift model (seed 004), or a
-    zero-phase IIR / moving-average low-pass with a before/after Allan comparison (seed 001).
+    """Filter a gyro record: Kalman filter with an ARMA drift model, or a
+    zero-phase IIR / moving-average low-pass with a before/after Allan comparison.
     """
     from fogts._validate import check_choice
 

@@ -89,7 +89,7 @@ def northfind_cmd(
     json_out: JsonOpt = None,
     plot: Annotated[Path | None, typer.Option("--plot", help="Simulation mode: azimuth error per trial (.png, .svg, .pdf).")] = None,
 ) -> None:
-    """Four-position north seeking (seed 004): azimuth of the input axis at position 0,
+    """Four-position north seeking: azimuth of the input axis at position 0,
     clockwise from true north, with its error budget; or, with --simulate N, the cold-start
     error with and without thermal compensation."""
     from fogts.errors import DataError

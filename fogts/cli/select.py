@@ -90,7 +90,7 @@ def _select_table(sel: Selection) -> Table:
                       _fmt(c.criterion_value - best, "+.2f"), _fmt(c.sigma2, ".3g"),
                       chk(d.rho_a2.value, d.rho_a2.passed), chk(d.rho_ax3.value, d.rho_ax3.passed),
                       *lbs, Text("yes", "green") if c.white else Text("no", "red"))
-    table.caption = (f"white: |ρ_a,2|, |ρ_ax,3| ≤ 1.96/√n = {band:.3g} (seed eqs. 11, 12) and "
+    table.caption = (f"white: |ρ_a,2|, |ρ_ax,3| ≤ 1.96/√n = {band:.3g} and "
                      f"Ljung–Box p ≥ 0.05 at each lag (model_df = p+q); red: check fails")
     table.caption_justify = "left"
     return table
@@ -127,7 +127,7 @@ def select_cmd(
     nan: NanOpt = NanPolicy.error,
     gaps: GapsOpt = GapPolicy.warn,
 ) -> None:
-    """Select the ARMA model of the drift (seed 000): fit AR(1), AR(2), AR(3), ARMA(1,1) and ARMA(2,1), check that their residuals are white, rank them and predict one step ahead.
+    """Select the ARMA model of the drift: fit AR(1), AR(2), AR(3), ARMA(1,1) and ARMA(2,1), check that their residuals are white, rank them and predict one step ahead.
 
     Exit code 0 if the selected model leaves white residuals, 1 if no candidate does (the best one is still reported), 2 on bad input.
     """
