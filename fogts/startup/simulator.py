@@ -1,7 +1,8 @@
 """Cold-start simulation of a gyro: temperature warm-up, thermal drift and ARMA noise.
 
-No public FOG start-up record with temperature exists, so the thermal-compensation and
-north-seeking code of seed 004 is tested and demonstrated on this physically shaped model:
+No public FOG start-up record with temperature exists, so the thermal compensation and the
+north seeking of :mod:`fogts.startup` are tested and demonstrated on this physically shaped
+model:
 
 * **Temperature** rises from ``ambient_degC`` towards a steady state through two first-order
   lags in series (time constants τ₁ > τ₂: the heat source and the sensor-coil housing):
@@ -10,8 +11,8 @@ north-seeking code of seed 004 is tested and demonstrated on this physically sha
 
   whose rate dT/dt = A (e^{-t/τ₁} - e^{-t/τ₂}) / (τ₁ - τ₂) is zero at switch-on and peaks at
   t* = τ₁τ₂ ln(τ₁/τ₂) / (τ₁ - τ₂).  A is chosen so the peak rate is ``peak_rate_degC_s``
-  (0.05 °C/s in seed 004's start-up record).
-* **Drift** follows the seed-004 model D = a·T·ΔT + b·T² + c·T + d·ΔT² + e·ΔT + f with the
+  (0.05 °C/s by default, as in a published FOG cold start).
+* **Drift** follows the thermal model D = a·T·ΔT + b·T² + c·T + d·ΔT² + e·ΔT + f with the
   given coefficients (T in °C, ΔT in °C/s, D in °/h).
 * **Noise**: an ARMA(p, q) drift (statsmodels sign convention) plus white rate noise.
 * **Earth rate**: a constant ``earth_rate_deg_h`` (the component the axis senses).
@@ -34,13 +35,13 @@ from fogts._typing import FloatArray, RngLike
 from fogts._validate import as_rng, check_positive
 from fogts.errors import DataError, InsufficientDataError
 from fogts.io.run import Run, SamplingReport
-from fogts.startup.thermal import THERMAL_TERMS, design_matrix
+from fogts.startup.thermal_model import THERMAL_TERMS, design_matrix
 
 __all__ = ["DEFAULT_STARTUP_COEFFICIENTS", "StartupSimulation", "simulate_startup",
            "warmup_temperature"]
 
 #: Default thermal-drift coefficients (°/h per term unit), chosen so that the start-up drift
-#: dominates the noise for the first ~20 min, as in seed 004's cold-start record.
+#: dominates the noise for the first ~20 min, as in a published FOG cold-start record.
 DEFAULT_STARTUP_COEFFICIENTS: dict[str, float] = {
     "T*dT": 0.4, "T2": 0.0015, "T": -0.12, "dT2": 120.0, "dT": 25.0, "1": 2.0}
 
