@@ -101,8 +101,8 @@ def metrics(quick: bool) -> list[Metric]:
     # ---- thermal fit
     import statsmodels.api as sm
 
+    from fogts.startup import design_matrix, fit_thermal, temperature_rate
     from fogts.startup.simulator import simulate_startup
-    from fogts.startup.thermal import design_matrix, fit_thermal, temperature_rate
 
     sim = simulate_startup(rng=4)
     temp = sim.run.temperature

@@ -39,8 +39,8 @@ FIRST_SEED = 500
 
 def study(seeds: int) -> dict[str, dict[str, float]]:
     """Per coefficient: median |error|/SE and 2-SE coverage; drift-curve error; improvement."""
+    from fogts.startup import bias_stability, compensate, fit_thermal
     from fogts.startup.simulator import simulate_startup
-    from fogts.startup.thermal import bias_stability, compensate, fit_thermal
 
     z: dict[str, list[float]] = {}
     curve: list[float] = []

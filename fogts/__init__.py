@@ -62,11 +62,11 @@ _EXPORTS: dict[str, str] = {
     "FilterResult": "fogts.preprocess.filters",
     "separate_trend": "fogts.startup.emd", "TrendSplit": "fogts.startup.emd",
     "arma_kalman": "fogts.startup.kalman", "KalmanResult": "fogts.startup.kalman",
-    "fit_thermal": "fogts.startup.thermal", "ThermalModel": "fogts.startup.thermal",
-    "compensate": "fogts.startup.thermal", "bias_stability": "fogts.startup.thermal",
-    "startup_compensation": "fogts.startup.thermal",
+    "fit_thermal": "fogts.startup.thermal_fit", "ThermalModel": "fogts.startup.thermal_model",
+    "compensate": "fogts.startup.compensation", "bias_stability": "fogts.startup.compensation",
+    "startup_compensation": "fogts.startup.startup_workflow",
     "four_position": "fogts.startup.northfind", "NorthFinding": "fogts.startup.northfind",
-    "simulate_startup_positions": "fogts.startup.northfind", "StartupPositions": "fogts.startup.northfind",
+    "simulate_startup_positions": "fogts.startup.northfind_simulation", "StartupPositions": "fogts.startup.northfind_simulation",
     # tooling
     "run_batch": "fogts.batch", "build_report": "fogts.report.html",
     "write_report": "fogts.report.html",
@@ -135,20 +135,13 @@ if TYPE_CHECKING:  # static names for type checkers and IDEs
     from fogts.report import plots
     from fogts.report.html import build_report, write_report
     from fogts.simulate.gyro import ArmaSpec, NoiseSpec, simulate_arma, simulate_gyro
+    from fogts.startup.compensation import bias_stability, compensate
     from fogts.startup.emd import TrendSplit, separate_trend
     from fogts.startup.kalman import KalmanResult, arma_kalman
-    from fogts.startup.northfind import (
-        NorthFinding,
-        StartupPositions,
-        four_position,
-        simulate_startup_positions,
-    )
+    from fogts.startup.northfind import NorthFinding, four_position
+    from fogts.startup.northfind_simulation import StartupPositions, simulate_startup_positions
     from fogts.startup.simulator import simulate_startup
-    from fogts.startup.thermal import (
-        ThermalModel,
-        bias_stability,
-        compensate,
-        fit_thermal,
-        startup_compensation,
-    )
+    from fogts.startup.startup_workflow import startup_compensation
+    from fogts.startup.thermal_fit import fit_thermal
+    from fogts.startup.thermal_model import ThermalModel
     from fogts.units import convert_rate, earth_rate_component

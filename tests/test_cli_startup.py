@@ -1,4 +1,4 @@
-"""``fogts simulate startup`` and the seed-004 workflow end to end on the bundled example.
+"""``fogts simulate startup`` and the start-up workflow end to end on the bundled example.
 
 The bundled cold starts (``data/startup_*.csv``) are regenerated with the commands of
 ``data/make_startup_example.py`` into a temporary folder (byte-identical to the bundled files),
@@ -24,7 +24,7 @@ from typer.testing import CliRunner
 from fogts.cli import app
 from fogts.errors import DataError, InsufficientDataError
 from fogts.io.reader import read_run
-from fogts.startup.northfind import angle_error_deg, four_position, simulate_startup_positions
+from fogts.startup import angle_error_deg, four_position, simulate_startup_positions
 from fogts.startup.simulator import DEFAULT_STARTUP_COEFFICIENTS, simulate_startup
 from tests.conftest import error_output
 
@@ -78,7 +78,7 @@ def test_simulated_files_columns_length_and_truth(example: Path) -> None:
     np.testing.assert_allclose(cold["rate"], sim.run.rate, rtol=0, atol=5e-6)
     np.testing.assert_allclose(cold["temperature"], sim.temperature_true, rtol=0, atol=0.005)
     assert cold["temperature"].iloc[0] == 20.0 and 45.5 < cold["temperature"].iloc[-1] < 46.0
-    # peak dT/dt 0.05 degC/s (seed 004) at t* = 400*40*ln(10)/360 = 102 s: a 60 s line fit
+    # peak dT/dt 0.05 degC/s (the simulator's default) at t* = 400*40*ln(10)/360 = 102 s: a 60 s line fit
     # around t* on the written (quantised) temperature gives 0.0497
     slope = np.polyfit(np.arange(61.0), cold["temperature"].iloc[72:133], 1)[0]
     assert slope == pytest.approx(0.05, rel=0.02)

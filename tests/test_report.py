@@ -133,7 +133,7 @@ def test_report_numbers_are_the_library_numbers(built: tuple[HtmlReport, str, Pa
     from fogts.allan.noise import fit_noise
     from fogts.arma import select_arma
     from fogts.preprocess.prepare import prepare
-    from fogts.startup.thermal import fit_thermal
+    from fogts.startup.thermal_fit import fit_thermal
 
     rep, text, src = built
     run = read_run(src)

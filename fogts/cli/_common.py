@@ -352,7 +352,7 @@ def _say(lines: list[str], json_out: str | None) -> None:
 
 def _load_thermal_model(path: Path) -> ThermalModel:
     from fogts.io.reader import read_json
-    from fogts.startup.thermal import ThermalModel
+    from fogts.startup.thermal_model import ThermalModel
 
     data = read_json(path, "thermal model")
     if isinstance(data, dict) and "thermal" in data and "terms" not in data:

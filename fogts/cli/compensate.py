@@ -51,7 +51,7 @@ def compensate_cmd(
 ) -> None:
     """Fit the start-up temperature-drift model D = aT·dT + bT² + cT + d·dT² + e·dT + f and
     compensate; prints the model and the bias stability before and after."""
-    from fogts.startup.thermal import startup_compensation
+    from fogts.startup.startup_workflow import startup_compensation
 
     with _guard(outputs={"--output": output, "--save-model": save_model, "--json": json_out,
                          "--plot": plot},

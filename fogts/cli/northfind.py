@@ -40,8 +40,8 @@ def _position_rates(files: list[Path], *, position_column: str, rate_column: str
     import numpy as np
 
     from fogts.errors import DataError
+    from fogts.startup.compensation import compensate
     from fogts.startup.northfind import POSITIONS_DEG, positions_from_frame
-    from fogts.startup.thermal import compensate
 
     if len(files) == 1:
         run, _ = _read(files[0], f"{rate_column or 'rate'},{position_column}", time_column,
@@ -93,7 +93,7 @@ def northfind_cmd(
     clockwise from true north, with its error budget; or, with --simulate N, the cold-start
     error with and without thermal compensation."""
     from fogts.errors import DataError
-    from fogts.startup.northfind import four_position, simulate_north_seeking
+    from fogts.startup import four_position, simulate_north_seeking
 
     with _guard(_NORTHFIND_OPTIONS, outputs={"--json": json_out, "--plot": plot},
                 inputs={"FILES": files or [],
@@ -104,7 +104,7 @@ def northfind_cmd(
                 raise DataError("--simulate takes no input files")
             notes = []
             if thermal is None:
-                from fogts.startup.northfind import simulated_calibration
+                from fogts.startup.northfind_simulation import simulated_calibration
 
                 thermal = simulated_calibration((15.0, 20.0, 25.0), rng=seed + 1_000_003)
                 notes.append("thermal model fitted on three separate simulated calibration cold "

@@ -264,7 +264,7 @@ def _simulate_startup(output: Path, *, fs: float, duration: str | None,
     from fogts.io.reader import write_frame_atomic, write_text_atomic
     from fogts.report.text import json_dumps
     from fogts.simulate.gyro import ArmaSpec
-    from fogts.startup.northfind import simulate_startup_positions
+    from fogts.startup.northfind_simulation import simulate_startup_positions
     from fogts.startup.simulator import DEFAULT_STARTUP_COEFFICIENTS, simulate_startup
     from fogts.units import convert_rate, parse_duration, parse_rate_unit
 

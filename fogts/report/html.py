@@ -565,7 +565,7 @@ _TERM_NAME = {"Q": "quantization", "N": "angle random walk", "B": "bias instabil
 
 def _thermal_blocks(ctx: _Context, i: int, notes: list[str]) -> list[Block]:
     from fogts.report.plots import plot_compensation
-    from fogts.startup.thermal import TERM_LETTERS, startup_compensation
+    from fogts.startup import TERM_LETTERS, startup_compensation
 
     res = startup_compensation(ctx.run, axis=i, emd=False,
                                average_s=ctx.options["bias_average_s"])

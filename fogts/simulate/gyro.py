@@ -68,7 +68,7 @@ from fogts._validate import as_rng, check_choice, check_int, check_positive
 from fogts.allan.terms import TERM_DESCRIPTION, TERM_UNIT, TO_SECONDS
 from fogts.errors import DataError, FogtsWarning
 from fogts.io.run import Run, SamplingReport
-from fogts.startup.thermal import THERMAL_TERMS, design_matrix, temperature_rate
+from fogts.startup.thermal_model import THERMAL_TERMS, design_matrix, temperature_rate
 from fogts.units import parse_duration, parse_rate_unit, to_deg_per_hour_factor
 
 __all__ = [

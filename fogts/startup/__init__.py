@@ -1,45 +1,64 @@
 """The start-up drift domain: a FOG's output in its first minutes to hours after switch-on,
 when the temperature settles.
 
-EMD trend separation (:mod:`~fogts.startup.emd`), the Kalman filter built from a selected
-ARMA model (:mod:`~fogts.startup.kalman`), the temperature-drift model and its compensation
-(:mod:`~fogts.startup.thermal`), four-position north seeking
-(:mod:`~fogts.startup.northfind`) and the start-up simulator
-(:mod:`~fogts.startup.simulator`).
+* :mod:`~fogts.startup.emd`: EMD trend separation;
+* :mod:`~fogts.startup.kalman`: the Kalman filter built from a selected ARMA model;
+* :mod:`~fogts.startup.thermal_model`: the temperature-drift model and the temperature rate;
+* :mod:`~fogts.startup.thermal_fit`: its least-squares fit and standard errors;
+* :mod:`~fogts.startup.compensation`: thermal compensation of a run and bias stability;
+* :mod:`~fogts.startup.startup_workflow`: EMD, Kalman, fit and compensation on one run;
+* :mod:`~fogts.startup.northfind`: four-position north seeking;
+* :mod:`~fogts.startup.northfind_simulation`: north seeking during simulated cold starts;
+* :mod:`~fogts.startup.simulator`: the cold-start simulator.
 """
 
 from __future__ import annotations
 
+from fogts.startup.compensation import BiasStability, bias_stability, compensate
 from fogts.startup.emd import TrendSplit, separate_trend
 from fogts.startup.kalman import KalmanResult, arma_kalman
-from fogts.startup.northfind import (
-    NorthFinding,
+from fogts.startup.northfind import NorthFinding, angle_error_deg, four_position
+from fogts.startup.northfind_simulation import (
+    NorthSeekingStudy,
     StartupPositions,
-    four_position,
+    simulate_north_seeking,
     simulate_startup_positions,
+    simulated_calibration,
 )
 from fogts.startup.simulator import simulate_startup
-from fogts.startup.thermal import (
+from fogts.startup.startup_workflow import StartupCompensation, startup_compensation
+from fogts.startup.thermal_fit import fit_thermal
+from fogts.startup.thermal_model import (
+    TERM_LETTERS,
+    THERMAL_TERMS,
     ThermalModel,
-    bias_stability,
-    compensate,
-    fit_thermal,
-    startup_compensation,
+    design_matrix,
+    temperature_rate,
 )
 
 __all__ = [
+    "TERM_LETTERS",
+    "THERMAL_TERMS",
+    "BiasStability",
     "KalmanResult",
     "NorthFinding",
+    "NorthSeekingStudy",
+    "StartupCompensation",
     "StartupPositions",
     "ThermalModel",
     "TrendSplit",
+    "angle_error_deg",
     "arma_kalman",
     "bias_stability",
     "compensate",
+    "design_matrix",
     "fit_thermal",
     "four_position",
     "separate_trend",
+    "simulate_north_seeking",
     "simulate_startup",
     "simulate_startup_positions",
+    "simulated_calibration",
     "startup_compensation",
+    "temperature_rate",
 ]

@@ -1,14 +1,14 @@
 """Empirical mode decomposition (EMD) and trend separation by the IMF mean-energy rule.
 
-Seed 004 (FOG north seeking at cold start) splits the gyro output into intrinsic mode
-functions (IMFs) and separates the slow, temperature-driven trend from the fast noise with the
-*mean-energy* criterion:
+The start-up workflow (:mod:`~fogts.startup.startup_workflow`, step 1) splits the gyro
+output into intrinsic mode functions (IMFs) and separates the slow, temperature-driven trend
+from the fast noise with the *mean-energy* criterion:
 
-    E_i = (1/T) * sum_t imf_i(t)^2                                   (seed 004, step 1)
+    E_i = (1/T) * sum_t imf_i(t)^2
 
 The energies of the noise IMFs fall with the IMF number (each IMF holds about half the
 bandwidth of the previous one); the first IMF whose energy *rises again* after falling marks
-the start of the trend.  With that IMF numbered k (1-based, as in the paper):
+the start of the trend.  With that IMF numbered k (1-based):
 
     trend = sum_{i >= k} IMF_i + residue,        rest = sum_{i < k} IMF_i.
 
@@ -96,7 +96,7 @@ class EmdResult:
 
 @dataclass(frozen=True)
 class TrendSplit:
-    """EMD trend separation of one series (seed 004, step 1).
+    """EMD trend separation of one series.
 
     Attributes
     ----------
@@ -356,7 +356,7 @@ def energy_k(energy: FloatArray) -> int:
 def separate_trend(x: Any, *, fs_hz: float, criterion: EmdCriterion = "energy",
                    k: int | None = None, max_imfs: int | None = None,
                    max_sift: int = 50) -> TrendSplit:
-    """Split a series into a slow trend and a fast rest with EMD (seed 004, step 1).
+    """Split a series into a slow trend and a fast rest with EMD.
 
     Parameters
     ----------
@@ -366,7 +366,7 @@ def separate_trend(x: Any, *, fs_hz: float, criterion: EmdCriterion = "energy",
         Sample rate in Hz (used for the IMF mean periods).
     criterion : {"energy"}
         ``"energy"``: k is the first IMF whose mean energy ``E_i = (1/T) sum imf_i^2``
-        starts to rise after falling (seed 004).
+        starts to rise after falling.
     k : int, optional
         Force the first trend IMF (1-based) instead of applying the criterion.
     max_imfs, max_sift : int

@@ -1,4 +1,4 @@
-"""Four-position north seeking with a single level gyro (seed 004, step 8).
+"""Four-position north seeking with a single level gyro: the azimuth estimator and its result.
 
 Convention (stated once, used everywhere):
 
@@ -19,8 +19,8 @@ budget: with σ_m the standard error of each position's mean rate, the azimuth e
 linearly at r (°/h per s) between positions measured at times t_k adds the deterministic
 error  δψ = [-sin ψ · r (t₀ - t₂) + cos ψ · r (t₃ - t₁)] / (2 Ω_h).
 
-Seed 004 measures 60 s per position at 1 Hz.  Near the poles Ω_h → 0 and the azimuth is
-undefined: latitudes beyond ±89° are refused.
+Near the poles Ω_h → 0 and the azimuth is undefined: latitudes beyond ±89° are refused.
+Simulated cold-start north seeking is in :mod:`~fogts.startup.northfind_simulation`.
 """
 
 from __future__ import annotations
@@ -33,22 +33,17 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from fogts._typing import FloatArray, RngLike
-from fogts._validate import as_rng, check_int, check_positive, to_float_array
-from fogts.errors import DataError, InsufficientDataError
-from fogts.io.run import Run
+from fogts._typing import FloatArray
+from fogts._validate import check_positive, to_float_array
+from fogts.errors import DataError
 from fogts.units import earth_rate_component, parse_rate_unit, to_deg_per_hour_factor
 
 __all__ = [
     "POSITIONS_DEG",
     "NorthFinding",
-    "NorthSeekingStudy",
-    "StartupPositions",
+    "angle_error_deg",
     "four_position",
     "positions_from_frame",
-    "simulate_north_seeking",
-    "simulate_startup_positions",
-    "simulated_calibration",
 ]
 
 #: The four positions, in measuring order.
@@ -161,7 +156,7 @@ class NorthFinding:
         return "\n".join(lines)
 
 
-def _check_latitude(latitude_deg: float) -> float:
+def check_latitude(latitude_deg: float) -> float:
     try:
         lat = float(latitude_deg)
     except (TypeError, ValueError):
@@ -226,6 +221,7 @@ def positions_from_frame(frame: pd.DataFrame, *, position_column: str = "positio
     return _normalise_positions(out)
 
 
+
 def four_position(
     rates_by_position: Mapping[Any, Any] | pd.DataFrame,
     *,
@@ -236,7 +232,7 @@ def four_position(
     transition_s: float = 0.0,
     bias_sigma_deg_h: float = 0.0,
 ) -> NorthFinding:
-    """Azimuth from the mean rates at four positions (seed 004; convention in the module doc).
+    """Azimuth from the mean rates at four positions (convention in the module docstring).
 
     Parameters
     ----------
@@ -278,7 +274,7 @@ def four_position(
     >>> round(four_position(rates, latitude_deg=32.05).azimuth_deg, 9)
     30.0
     """
-    lat = _check_latitude(latitude_deg)
+    lat = check_latitude(latitude_deg)
     fs = check_positive("fs_hz", fs_hz)
     factor = to_deg_per_hour_factor(parse_rate_unit(units))
     check_positive("transition_s", transition_s, allow_zero=True)
@@ -289,15 +285,33 @@ def four_position(
     means = {p: float(np.mean(data[p])) for p in POSITIONS_DEG}
     stds = {p: float(np.std(data[p], ddof=1)) for p in POSITIONS_DEG}
     counts = {p: int(data[p].size) for p in POSITIONS_DEG}
+    psi, dx, dy = _azimuth_deg(means)
+    slope, sigma_mean = _within_position_fit(data, counts, fs)
+    times = _position_times(counts, fs, position_time_s, transition_s)
+    budget, drift_err = _error_budget(psi, slope, times, sigma_mean, sig_b, omega_h)
+    sigma = math.sqrt(sum(v * v for v in budget.values()))
+    return NorthFinding(azimuth_deg=psi, sigma_deg=sigma, budget_deg=budget, latitude_deg=lat,
+                        earth_rate_h_deg_h=omega_h, mean_rates=means, std_rates=stds,
+                        n_samples=counts, bias_deg_h=float(np.mean(list(means.values()))),
+                        amplitude_deg_h=0.5 * math.hypot(dx, dy),
+                        drift_rate_deg_h_per_s=slope, drift_error_deg=drift_err,
+                        sigma_mean_deg_h=sigma_mean, position_time_s=times)
+
+
+def _azimuth_deg(means: Mapping[int, float]) -> tuple[float, float, float]:
+    """ψ in [0, 360) from the four mean rates, with ω₀ - ω₁₈₀ and ω₂₇₀ - ω₉₀."""
     dx = means[0] - means[180]
     dy = means[270] - means[90]
     psi = math.degrees(math.atan2(dy, dx)) % 360.0
     if psi >= 360.0:  # atan2 of -0.0 rounding
         psi = 0.0
-    bias = float(np.mean(list(means.values())))
-    amplitude = 0.5 * math.hypot(dx, dy)
+    return psi, dx, dy
 
-    # within-position linear fits: pooled slope (bias drift) and residual scatter (white)
+
+def _within_position_fit(data: Mapping[int, FloatArray], counts: Mapping[int, int],
+                         fs: float) -> tuple[float, float]:
+    """Pooled within-position linear fit: the slope (bias drift, °/h per s) and the standard
+    error of one position mean from the residual (white) scatter."""
     sxx = syy = sxy = 0.0
     dof = 0
     for p in POSITIONS_DEG:
@@ -312,34 +326,38 @@ def four_position(
     slope = sxy / sxx if sxx > 0 else 0.0
     resid_var = max(syy - slope * sxy, 0.0) / max(dof, 1)
     n_eff = float(np.mean(list(counts.values())))
-    sigma_mean = math.sqrt(resid_var / n_eff)
+    return slope, math.sqrt(resid_var / n_eff)
 
+
+def _position_times(counts: Mapping[int, int], fs: float,
+                    position_time_s: Mapping[int, float] | None,
+                    transition_s: float) -> dict[int, float]:
+    """Centre time of each position: as given, or back to back with ``transition_s`` turns."""
+    times: dict[int, float] = {}
     if position_time_s is None:
-        times: dict[int, float] = {}
         start = 0.0
         for p in POSITIONS_DEG:
             dur = counts[p] / fs
             times[p] = start + 0.5 * dur
             start += dur + float(transition_s)
-    else:
-        times = {}
-        for p in POSITIONS_DEG:
-            if p not in position_time_s:
-                raise DataError(f"position_time_s lacks position {p}; give all of 0, 90, 180, 270")
-            times[p] = float(position_time_s[p])
+        return times
+    for p in POSITIONS_DEG:
+        if p not in position_time_s:
+            raise DataError(f"position_time_s lacks position {p}; give all of 0, 90, 180, 270")
+        times[p] = float(position_time_s[p])
+    return times
+
+
+def _error_budget(psi: float, slope: float, times: Mapping[int, float], sigma_mean: float,
+                  sig_b: float, omega_h: float) -> tuple[dict[str, float], float]:
+    """The 1σ budget (ARW, bias, drift; degrees) and the signed drift error (module doc)."""
     rad = math.radians(psi)
     ex = slope * (times[0] - times[180]) / 2.0
     ey = slope * (times[270] - times[90]) / 2.0
     drift_err = math.degrees((-math.sin(rad) * ex + math.cos(rad) * ey) / omega_h)
     arw_deg = math.degrees(sigma_mean / (math.sqrt(2.0) * omega_h))
     bias_deg = math.degrees(sig_b / (math.sqrt(2.0) * omega_h))
-    budget = {"arw": arw_deg, "bias": bias_deg, "drift": abs(drift_err)}
-    sigma = math.sqrt(sum(v * v for v in budget.values()))
-    return NorthFinding(azimuth_deg=psi, sigma_deg=sigma, budget_deg=budget, latitude_deg=lat,
-                        earth_rate_h_deg_h=omega_h, mean_rates=means, std_rates=stds,
-                        n_samples=counts, bias_deg_h=bias, amplitude_deg_h=amplitude,
-                        drift_rate_deg_h_per_s=slope, drift_error_deg=drift_err,
-                        sigma_mean_deg_h=sigma_mean, position_time_s=times)
+    return {"arw": arw_deg, "bias": bias_deg, "drift": abs(drift_err)}, drift_err
 
 
 def angle_error_deg(estimate_deg: Any, truth_deg: Any) -> FloatArray:
@@ -352,341 +370,3 @@ def angle_error_deg(estimate_deg: Any, truth_deg: Any) -> FloatArray:
     """
     d = (np.asarray(estimate_deg, dtype=float) - np.asarray(truth_deg, dtype=float) + 180.0) % 360.0
     return d - 180.0
-
-
-# --------------------------------------------------------------------------- simulation study
-
-
-@dataclass(frozen=True)
-class StartupPositions:
-    """A four-position north-seeking record taken while a simulated gyro warms up.
-
-    Attributes
-    ----------
-    run : Run
-        The whole record in °/h, turns included: the cold-start rate
-        (:func:`fogts.startup.simulator.simulate_startup`) plus, at each position, the
-        Earth-rate component Ω cos L cos(ψ + k·90°).  Turn samples carry no Earth rate (they
-        are not used).  Compensate this run (continuous temperature), then cut it.
-    slices : dict
-        Samples of ``run`` measured at each position (0, 90, 180, 270).
-    latitude_deg, azimuth_deg : float
-        Latitude and true azimuth ψ of the input axis at position 0 (module convention).
-    earth_rate_h_deg_h : float
-        Ω cos L in °/h.
-    position_s, turn_s, start_delay_s : float
-        Seconds measured per position, spent turning between positions, and waited after
-        the start of the record before position 0.
-    simulation : StartupSimulation
-        The underlying cold start (drift, noise and temperature truth, without Earth rate).
-    """
-
-    run: Run
-    slices: dict[int, slice]
-    latitude_deg: float
-    azimuth_deg: float
-    earth_rate_h_deg_h: float
-    position_s: float
-    turn_s: float
-    start_delay_s: float
-    simulation: Any = field(repr=False)
-
-    def rates_by_position(self) -> dict[int, FloatArray]:
-        """Rate samples at each position, for :func:`four_position`."""
-        return {p: self.run.rate[sl] for p, sl in self.slices.items()}
-
-    @property
-    def position_time_s(self) -> dict[int, float]:
-        """Centre time of each position (s from the start of the record)."""
-        return {p: (sl.start + 0.5 * (sl.stop - sl.start)) / self.run.fs_hz
-                for p, sl in self.slices.items()}
-
-    def to_frame(self) -> pd.DataFrame:
-        """The measured samples as ``time, position_deg, rate, temperature`` (turns left out),
-        the table ``fogts northfind`` reads."""
-        temp = self.run.temperature
-        parts = [pd.DataFrame({"time": self.run.time[sl], "position_deg": p,
-                               "rate": self.run.rate[sl],
-                               "temperature": np.nan if temp is None else temp[sl]})
-                 for p, sl in self.slices.items()]
-        return pd.concat(parts, ignore_index=True)
-
-    def to_dict(self) -> dict[str, Any]:
-        return {"latitude_deg": self.latitude_deg, "azimuth_deg": self.azimuth_deg,
-                "position_s": self.position_s, "turn_s": self.turn_s,
-                "start_delay_s": self.start_delay_s,
-                "earth_rate_h_deg_h": self.earth_rate_h_deg_h, **self.simulation.to_dict()}
-
-    def summary(self) -> str:
-        return (f"{self.simulation.summary()}\nfour positions (0, 90, 180, 270°) of "
-                f"{self.position_s:g} s with {self.turn_s:g} s turns at latitude "
-                f"{self.latitude_deg:g}° (Ω cos L = {self.earth_rate_h_deg_h:.4f} °/h); true "
-                f"azimuth {self.azimuth_deg:g}°")
-
-
-def simulate_startup_positions(
-    *,
-    latitude_deg: float,
-    azimuth_deg: float,
-    position_s: float = 60.0,
-    turn_s: float = 10.0,
-    start_delay_s: float = 0.0,
-    fs_hz: float = 1.0,
-    rng: RngLike = None,
-    **startup: Any,
-) -> StartupPositions:
-    """Simulate four-position north seeking during a cold start (seed 004's experiment).
-
-    The gyro is switched on, waits ``start_delay_s``, then measures 0°, 90°, 180°, 270° in
-    turn for ``position_s`` each, with ``turn_s`` between positions, while it warms up
-    (:func:`fogts.startup.simulator.simulate_startup`, which ``**startup`` is passed to).  At
-    position k the rate gains Ω cos L cos(ψ + k·90°) (module convention).
-
-    Parameters
-    ----------
-    latitude_deg : float
-        |L| <= 89°.
-    azimuth_deg : float
-        True ψ in degrees.
-    position_s, turn_s, start_delay_s, fs_hz : float
-    rng : Generator, int or None
-    **startup
-        ``ambient_degC``, ``coefficients``, ``ar``, ``white_sigma_deg_h``, ... of
-        :func:`~fogts.startup.simulator.simulate_startup`.
-
-    Returns
-    -------
-    StartupPositions
-
-    Examples
-    --------
-    >>> rec = simulate_startup_positions(latitude_deg=32.05, azimuth_deg=37.5, rng=4005)
-    >>> rec.to_frame().shape
-    (240, 4)
-    >>> res = four_position(rec.rates_by_position(), latitude_deg=32.05)
-    >>> abs(float(angle_error_deg(res.azimuth_deg, 37.5))) < 3
-    True
-    """
-    from fogts.startup.simulator import simulate_startup
-
-    lat = _check_latitude(latitude_deg)
-    psi = float(azimuth_deg)
-    if not math.isfinite(psi):
-        raise DataError(f"azimuth_deg must be a finite number of degrees, got {azimuth_deg!r}")
-    fs = check_positive("fs_hz", fs_hz)
-    pos_s = check_positive("position_s", position_s)
-    trans = check_positive("turn_s", turn_s, allow_zero=True)
-    delay = check_positive("start_delay_s", start_delay_s, allow_zero=True)
-    m = round(pos_s * fs)
-    if m < MIN_POSITION_SAMPLES:
-        raise InsufficientDataError(f"position_s * fs_hz gives {m} samples per position; at "
-                                    f"least {MIN_POSITION_SAMPLES} needed")
-    gap = round(trans * fs)
-    sim = simulate_startup(duration_s=delay + 4 * pos_s + 3 * trans, fs_hz=fs, rng=rng,
-                           **startup)
-    run = sim.run
-    omega_h = earth_rate_component(lat, unit="deg/h", axis="north")
-    start = round(delay * fs)
-    earth = np.zeros(run.n)
-    slices: dict[int, slice] = {}
-    for k, p in enumerate(POSITIONS_DEG):
-        sl = slice(start + k * (m + gap), start + k * (m + gap) + m)
-        slices[p] = sl
-        earth[sl] = omega_h * math.cos(math.radians(psi + p))
-    run_e = Run(rate=run.rate + earth, time=run.time, fs_hz=fs, units=run.units,
-                axes=run.axes, temperature=run.temperature, source=run.source)
-    return StartupPositions(run=run_e, slices=slices, latitude_deg=lat, azimuth_deg=psi,
-                            earth_rate_h_deg_h=omega_h, position_s=m / fs, turn_s=gap / fs,
-                            start_delay_s=start / fs, simulation=sim)
-
-
-@dataclass(frozen=True)
-class NorthSeekingStudy:
-    """Repeated cold-start north finding, raw and thermally compensated.
-
-    Attributes
-    ----------
-    truth_deg : ndarray
-        True azimuth of each trial.
-    raw_deg, compensated_deg : ndarray
-        Azimuths found without and with the thermal compensation.
-    latitude_deg : float
-    position_s : float
-        Seconds measured at each position.
-    fs_hz : float
-    params : dict
-        Simulation settings.
-    """
-
-    truth_deg: FloatArray
-    raw_deg: FloatArray
-    compensated_deg: FloatArray | None
-    latitude_deg: float
-    position_s: float
-    fs_hz: float
-    params: dict[str, Any]
-
-    @staticmethod
-    def _stats(err: FloatArray) -> dict[str, float]:
-        return {"mean_deg": float(np.mean(err)), "std_deg": float(np.std(err, ddof=1)),
-                "rms_deg": float(np.sqrt(np.mean(err ** 2))),
-                "max_abs_deg": float(np.max(np.abs(err)))}
-
-    @property
-    def raw_error_deg(self) -> FloatArray:
-        return angle_error_deg(self.raw_deg, self.truth_deg)
-
-    @property
-    def compensated_error_deg(self) -> FloatArray | None:
-        if self.compensated_deg is None:
-            return None
-        return angle_error_deg(self.compensated_deg, self.truth_deg)
-
-    @property
-    def improvement(self) -> float:
-        """RMS error raw / RMS error compensated."""
-        comp = self.compensated_error_deg
-        if comp is None:
-            return math.nan
-        return self._stats(self.raw_error_deg)["rms_deg"] / self._stats(comp)["rms_deg"]
-
-    def to_dict(self) -> dict[str, Any]:
-        comp = self.compensated_error_deg
-        return {"n_trials": int(self.truth_deg.size), "latitude_deg": self.latitude_deg,
-                "position_s": self.position_s, "fs_hz": self.fs_hz,
-                "raw": self._stats(self.raw_error_deg),
-                "compensated": None if comp is None else self._stats(comp),
-                "improvement_rms": self.improvement, "params": self.params}
-
-    def to_frame(self) -> pd.DataFrame:
-        data: dict[str, Any] = {"truth_deg": self.truth_deg, "raw_deg": self.raw_deg,
-                                "raw_error_deg": self.raw_error_deg}
-        if self.compensated_deg is not None:
-            data["compensated_deg"] = self.compensated_deg
-            data["compensated_error_deg"] = self.compensated_error_deg
-        return pd.DataFrame(data)
-
-    def summary(self) -> str:
-        d = self.to_dict()
-        lines = [f"Cold-start north seeking, {d['n_trials']} trials at latitude "
-                 f"{self.latitude_deg:g}°, {self.position_s:g} s per position at {self.fs_hz:g} Hz",
-                 "  case           mean [°]   std [°]   RMS [°]   max |err| [°]"]
-        for name in ("raw", "compensated"):
-            s = d[name]
-            if s is not None:
-                lines.append(f"  {name:<12s} {s['mean_deg']:9.4f} {s['std_deg']:9.4f} "
-                             f"{s['rms_deg']:9.4f} {s['max_abs_deg']:12.4f}")
-        if d["compensated"] is not None:
-            lines.append(f"  RMS error reduced {self.improvement:.2f}x by the thermal compensation")
-        return "\n".join(lines)
-
-
-def simulate_north_seeking(
-    n_trials: int = 50,
-    *,
-    latitude_deg: float = 32.05,
-    model: Any = None,
-    position_s: float = 60.0,
-    fs_hz: float = 1.0,
-    transition_s: float = 10.0,
-    start_delay_s: float = 0.0,
-    ambient_degC: tuple[float, float] = (15.0, 25.0),
-    rng: RngLike = None,
-    **startup: Any,
-) -> NorthSeekingStudy:
-    """Repeat four-position north seeking from a cold start, with and without compensation.
-
-    Each trial: switch on at an ambient temperature drawn uniformly from ``ambient_degC``,
-    wait ``start_delay_s``, then measure 0°, 90°, 180°, 270° in turn for ``position_s`` each
-    (``transition_s`` to turn between them) while the gyro warms up
-    (:func:`fogts.startup.simulator.simulate_startup`); the true azimuth is uniform in
-    [0, 360).  The thermal drift changes between positions, which is the start-up error
-    seed 004 removes.  With a ``model`` the recorded rates are also compensated
-    (:func:`fogts.startup.thermal.compensate`) before north finding.
-
-    Parameters
-    ----------
-    n_trials : int
-    latitude_deg : float
-    model : ThermalModel, optional
-        Thermal model fitted on a separate calibration run.
-    position_s, fs_hz, transition_s, start_delay_s : float
-    ambient_degC : (low, high)
-    rng : Generator, int or None
-    **startup
-        Passed to :func:`~fogts.startup.simulator.simulate_startup` (coefficients, ar, noise).
-
-    Returns
-    -------
-    NorthSeekingStudy
-
-    Examples
-    --------
-    >>> st = simulate_north_seeking(3, rng=4)
-    >>> st.truth_deg.size
-    3
-    """
-    from fogts.startup.thermal import ThermalModel, compensate
-
-    n = check_int("n_trials", n_trials, minimum=2)
-    lat = _check_latitude(latitude_deg)
-    fs = check_positive("fs_hz", fs_hz)
-    pos_s = check_positive("position_s", position_s)
-    trans = check_positive("transition_s", transition_s, allow_zero=True)
-    delay = check_positive("start_delay_s", start_delay_s, allow_zero=True)
-    if model is not None and not isinstance(model, ThermalModel):
-        raise DataError(f"model must be a ThermalModel or None, got {type(model).__name__}")
-    lo, hi = (float(ambient_degC[0]), float(ambient_degC[1]))
-    if not hi >= lo:
-        raise DataError(f"ambient_degC must be (low, high) with high >= low, got {ambient_degC!r}")
-    gen = as_rng(rng)
-    m = round(pos_s * fs)
-    if m < MIN_POSITION_SAMPLES:
-        raise InsufficientDataError(f"position_s * fs_hz gives {m} samples per position; at "
-                                    f"least {MIN_POSITION_SAMPLES} needed")
-    truth = gen.uniform(0.0, 360.0, n)
-    raw = np.empty(n)
-    comp = np.empty(n) if model is not None else None
-    for i in range(n):
-        rec = simulate_startup_positions(
-            latitude_deg=lat, azimuth_deg=float(truth[i]), position_s=pos_s, turn_s=trans,
-            start_delay_s=delay, fs_hz=fs, ambient_degC=float(gen.uniform(lo, hi)), rng=gen,
-            **startup)
-        times = rec.position_time_s
-        raw[i] = four_position(rec.rates_by_position(), latitude_deg=lat, fs_hz=fs,
-                               position_time_s=times).azimuth_deg
-        if comp is not None and model is not None:
-            cr = compensate(rec.run, model)
-            comp[i] = four_position({p: cr.rate[sl] for p, sl in rec.slices.items()},
-                                    latitude_deg=lat, fs_hz=fs,
-                                    position_time_s=times).azimuth_deg
-    params = {"transition_s": trans, "start_delay_s": delay, "ambient_degC": [lo, hi],
-              **{k: v for k, v in startup.items() if isinstance(v, int | float | str)}}
-    return NorthSeekingStudy(truth_deg=truth, raw_deg=raw, compensated_deg=comp,
-                             latitude_deg=lat, position_s=m / fs, fs_hz=fs, params=params)
-
-
-def simulated_calibration(ambient_degC: tuple[float, ...] = (15.0, 20.0, 25.0), *,
-                          duration_s: float = 3600.0, fs_hz: float = 1.0, emd: bool = False,
-                          rng: RngLike = None, **startup: Any) -> Any:
-    """Thermal model from simulated calibration cold starts, one per ambient temperature.
-
-    Mirrors a temperature-chamber calibration: each run is a full warm-up
-    (:func:`fogts.startup.simulator.simulate_startup`), and the model is fitted to all of
-    them together (:func:`fogts.startup.thermal.startup_compensation` with ``calibration``).
-
-    Examples
-    --------
-    >>> m = simulated_calibration(rng=4)
-    >>> sorted(m.terms)
-    ['1', 'T', 'T*dT', 'T2', 'dT', 'dT2']
-    """
-    from fogts.startup.simulator import simulate_startup
-    from fogts.startup.thermal import startup_compensation
-
-    if len(ambient_degC) < 1:
-        raise DataError("ambient_degC needs at least one calibration temperature")
-    gen = as_rng(rng)
-    runs = [simulate_startup(duration_s=duration_s, fs_hz=fs_hz, ambient_degC=float(a), rng=gen,
-                             **startup).run for a in ambient_degC]
-    return startup_compensation(runs[0], emd=emd, calibration=runs[1:]).model

@@ -1,7 +1,8 @@
 """Cold-start simulation of a gyro: temperature warm-up, thermal drift and ARMA noise.
 
-No public FOG start-up record with temperature exists, so the thermal-compensation and
-north-seeking code of seed 004 is tested and demonstrated on this physically shaped model:
+No public FOG start-up record with temperature exists, so the thermal compensation and the
+north seeking of :mod:`fogts.startup` are tested and demonstrated on this physically shaped
+model:
 
 * **Temperature** rises from ``ambient_degC`` towards a steady state through two first-order
   lags in series (time constants τ₁ > τ₂: the heat source and the sensor-coil housing):
@@ -10,8 +11,8 @@ north-seeking code of seed 004 is tested and demonstrated on this physically sha
 
   whose rate dT/dt = A (e^{-t/τ₁} - e^{-t/τ₂}) / (τ₁ - τ₂) is zero at switch-on and peaks at
   t* = τ₁τ₂ ln(τ₁/τ₂) / (τ₁ - τ₂).  A is chosen so the peak rate is ``peak_rate_degC_s``
-  (0.05 °C/s in seed 004's start-up record).
-* **Drift** follows the seed-004 model D = a·T·ΔT + b·T² + c·T + d·ΔT² + e·ΔT + f with the
+  (0.05 °C/s by default, as in a published FOG cold start).
+* **Drift** follows the thermal model D = a·T·ΔT + b·T² + c·T + d·ΔT² + e·ΔT + f with the
   given coefficients (T in °C, ΔT in °C/s, D in °/h).
 * **Noise**: an ARMA(p, q) drift (statsmodels sign convention) plus white rate noise.
 * **Earth rate**: a constant ``earth_rate_deg_h`` (the component the axis senses).
@@ -34,16 +35,15 @@ from fogts._typing import FloatArray, RngLike
 from fogts._validate import as_rng, check_positive
 from fogts.errors import DataError, InsufficientDataError
 from fogts.io.run import Run, SamplingReport
-from fogts.startup.thermal import THERMAL_TERMS, design_matrix
+from fogts.startup.thermal_model import THERMAL_TERMS, design_matrix
 
 __all__ = ["DEFAULT_STARTUP_COEFFICIENTS", "StartupSimulation", "simulate_startup",
            "warmup_temperature"]
 
 #: Default thermal-drift coefficients (°/h per term unit), chosen so that the start-up drift
-#: dominates the noise for the first ~20 min, as in seed 004's cold-start record.
+#: dominates the noise for the first ~20 min, as in a published FOG cold-start record.
 DEFAULT_STARTUP_COEFFICIENTS: dict[str, float] = {
     "T*dT": 0.4, "T2": 0.0015, "T": -0.12, "dT2": 120.0, "dT": 25.0, "1": 2.0}
-
 
 
 def warmup_temperature(time_s: FloatArray, *, ambient_degC: float = 20.0,
@@ -118,6 +118,7 @@ class StartupSimulation:
                 f" drift {self.drift.min():.3g}..{self.drift.max():.3g} °/h")
 
 
+# Long by its signature and docstring (14 options); noise and sampling are helpers below.
 def simulate_startup(
     *,
     duration_s: float = 3600.0,
@@ -176,11 +177,7 @@ def simulate_startup(
     n = round(dur * fs)
     if n < 10:
         raise InsufficientDataError(f"duration_s * fs_hz gives {n} samples; at least 10 needed")
-    coefs = dict(DEFAULT_STARTUP_COEFFICIENTS if coefficients is None else coefficients)
-    for k in coefs:
-        if k not in THERMAL_TERMS:
-            raise DataError(f"unknown thermal term {k!r} in coefficients; allowed: "
-                            f"{', '.join(THERMAL_TERMS)}")
+    coefs = _checked_coefficients(coefficients)
     ar_a = np.asarray(ar, dtype=float)
     ma_a = np.asarray(ma, dtype=float)
     if ar_a.size and np.any(np.abs(np.roots(np.r_[1.0, -ar_a])) >= 1.0):
@@ -197,22 +194,13 @@ def simulate_startup(
                                      peak_rate_degC_s=peak_rate_degC_s, tau_s=tau_s)
     names = list(coefs)
     drift = design_matrix(temp, dtemp, names) @ np.array([float(coefs[k]) for k in names])
-    # ARMA drift with a burn-in so that it starts in its stationary distribution
-    burn = 10 * max(1, math.ceil(-1.0 / math.log(max(np.max(np.abs(np.roots(
-        np.r_[1.0, -ar_a]))), 1e-3)))) if ar_a.size else 0
-    a = gen.standard_normal(n + burn) * arma_sigma_deg_h
-    arma = lfilter(np.r_[1.0, ma_a], np.r_[1.0, -ar_a], a)[burn:]
-    white = gen.standard_normal(n) * white_sigma_deg_h
-    noise = arma + white
+    noise = (_arma_noise(gen, n, ar_a, ma_a, arma_sigma_deg_h)
+             + gen.standard_normal(n) * white_sigma_deg_h)
     rate = drift + noise + float(earth_rate_deg_h)
     temp_q = np.round(temp / res) * res if res > 0 else temp.copy()
     run = Run(rate=rate, time=time, fs_hz=fs, units="deg/h", axes=("gyro",),
               temperature=temp_q, columns=("time", "gyro", "temperature"),
-              source="<simulate_startup>",
-              sampling=SamplingReport(median_dt_s=1.0 / fs, n_gaps=0, max_gap_s=1.0 / fs,
-                                      gap_rows=(), jitter_s=0.0, jitter_rel=0.0, regular=True,
-                                      from_time_column=False, mean_dt_s=1.0 / fs,
-                                      fs_source="given"))
+              source="<simulate_startup>", sampling=_regular_sampling(fs))
     params = {"duration_s": dur, "fs_hz": fs, "ambient_degC": float(ambient_degC),
               "peak_rate_degC_s": float(peak_rate_degC_s), "tau_s": [float(v) for v in tau_s],
               "ar": ar_a.tolist(), "ma": ma_a.tolist(),
@@ -222,3 +210,30 @@ def simulate_startup(
               "temperature_resolution_degC": res, "start_s": float(start_s)}
     return StartupSimulation(run=run, drift=drift, noise=noise, temperature_true=temp,
                              temperature_rate=dtemp, coefficients=coefs, params=params)
+
+
+def _checked_coefficients(coefficients: Mapping[str, float] | None) -> dict[str, float]:
+    """The drift coefficients (default :data:`DEFAULT_STARTUP_COEFFICIENTS`), known terms only."""
+    coefs = dict(DEFAULT_STARTUP_COEFFICIENTS if coefficients is None else coefficients)
+    for k in coefs:
+        if k not in THERMAL_TERMS:
+            raise DataError(f"unknown thermal term {k!r} in coefficients; allowed: "
+                            f"{', '.join(THERMAL_TERMS)}")
+    return coefs
+
+
+def _arma_noise(gen: np.random.Generator, n: int, ar: FloatArray, ma: FloatArray,
+                sigma: float) -> FloatArray:
+    """``n`` samples of the ARMA drift, after a burn-in so that it starts in its stationary
+    distribution."""
+    burn = 10 * max(1, math.ceil(-1.0 / math.log(max(np.max(np.abs(np.roots(
+        np.r_[1.0, -ar]))), 1e-3)))) if ar.size else 0
+    a = gen.standard_normal(n + burn) * sigma
+    return np.asarray(lfilter(np.r_[1.0, ma], np.r_[1.0, -ar], a)[burn:], dtype=np.float64)
+
+
+def _regular_sampling(fs: float) -> SamplingReport:
+    """The sampling report of a gap-free record at ``fs`` Hz."""
+    return SamplingReport(median_dt_s=1.0 / fs, n_gaps=0, max_gap_s=1.0 / fs, gap_rows=(),
+                          jitter_s=0.0, jitter_rel=0.0, regular=True, from_time_column=False,
+                          mean_dt_s=1.0 / fs, fs_source="given")

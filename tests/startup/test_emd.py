@@ -1,4 +1,4 @@
-"""EMD trend separation (seed 004, step 1): own sifting checked on signals with known parts."""
+"""EMD trend separation: own sifting checked on signals with known parts."""
 
 from __future__ import annotations
 
@@ -46,7 +46,7 @@ def test_trend_recovered_within_10_percent(as_series: bool) -> None:
     s = separate_trend(data, fs_hz=1.0)
     got = np.asarray(s.trend)
     rel = np.sqrt(np.mean((got - trend) ** 2)) / np.sqrt(np.mean((trend - trend.mean()) ** 2))
-    assert rel <= 0.10          # issue 6: relative RMS error <= 10 % (measured ~7 %)
+    assert rel <= 0.10          # relative RMS error <= 10 % (measured ~7 %)
     np.testing.assert_allclose(got + np.asarray(s.rest), x, atol=1e-10)
     if as_series:
         assert isinstance(s.trend, pd.Series) and s.trend.index.equals(data.index)

@@ -1,0 +1,312 @@
+"""The start-up drift compensation workflow on one axis of a run.
+
+1. EMD of the gyro output (:func:`~fogts.startup.emd.separate_trend`): trend = the IMFs from
+   the first whose mean energy rises again, rest = the faster IMFs;
+2. ARMA model of the rest (:func:`~fogts.startup.kalman.resolve_arma_model`);
+3. Kalman filter of the rest (:func:`~fogts.startup.kalman.arma_kalman`);
+4. filtered gyro = trend + filtered rest;
+5. the same for the temperature;
+6. fit of D = a·T·ΔT + b·T² + c·T + d·ΔT² + e·ΔT + f
+   (:func:`~fogts.startup.thermal_fit.fit_thermal`);
+7. compensation (:func:`~fogts.startup.compensation.compensate`) and bias stability before
+   and after.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field, replace
+from functools import partial
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from fogts._typing import FloatArray
+from fogts.errors import DataError, InsufficientDataError, ModelFitError
+from fogts.io.run import Run
+from fogts.startup.compensation import (
+    BiasStability,
+    bias_stability,
+    compensate,
+    require_temperature,
+)
+from fogts.startup.thermal_fit import fit_thermal
+from fogts.startup.thermal_model import (
+    DEFAULT_DT_SMOOTHING_S,
+    ErrorModel,
+    ThermalModel,
+    temperature_rate,
+)
+
+__all__ = ["StartupCompensation", "startup_compensation"]
+
+#: Appended to the missing-temperature error of the workflow (its input comes from a file).
+_COLUMN_HINT = "; name it with --temperature-column"
+
+
+@dataclass(frozen=True)
+class StartupCompensation:
+    """The start-up compensation workflow and its outcome.
+
+    Attributes
+    ----------
+    run : Run
+        The compensated recording (raw temperature kept).
+    model : ThermalModel
+        The thermal model fitted (or the one given).
+    gyro_split, temperature_split : TrendSplit or None
+        EMD trend separations (None without EMD).
+    kalman : KalmanResult or None
+        Kalman filter of the gyro's EMD rest.
+    arma_model : str
+        Name of the ARMA model of the rest ("" without EMD).
+    gyro_used, temperature_used : ndarray
+        The series the thermal model was fitted to (trend + filtered rest, or raw).
+    raw_rate : ndarray
+        The input rate of the compensated axis.
+    before, after : BiasStability
+        Bias stability of the raw and of the compensated rate.
+    axis : str
+    notes : tuple of str
+    """
+
+    run: Run
+    model: ThermalModel
+    gyro_split: Any
+    temperature_split: Any
+    kalman: Any
+    arma_model: str
+    gyro_used: FloatArray = field(repr=False)
+    temperature_used: FloatArray = field(repr=False)
+    raw_rate: FloatArray = field(repr=False)
+    before: BiasStability
+    after: BiasStability
+    axis: str = ""
+    notes: tuple[str, ...] = ()
+
+    @property
+    def improvement(self) -> float:
+        """Bias stability before / after."""
+        return self.before.value / self.after.value if self.after.value > 0 else math.inf
+
+    def to_dict(self) -> dict[str, Any]:
+        emd = None
+        if self.gyro_split is not None:
+            emd = {"k": int(self.gyro_split.k),
+                   "imf_energy": [float(v) for v in self.gyro_split.imf_energy],
+                   "n_imfs": self.gyro_split.n_imfs,
+                   "temperature_k": (None if self.temperature_split is None
+                                     else int(self.temperature_split.k))}
+        model = self.model.to_dict()
+        return {
+            "axis": self.axis,
+            "emd": emd,
+            "arma_model": self.arma_model or None,
+            "kalman": None if self.kalman is None else self.kalman.to_dict(),
+            "thermal": {"terms": {t: {"value": v["value"], "stderr": v["stderr"]}
+                                  for t, v in model["terms"].items()},
+                        "r2": model["r2"], "dropped": model["dropped"],
+                        "equation": self.model.equation(), "model": model},
+            "bias_stability": {"average_s": self.before.average_s, "before": self.before.value,
+                               "after": self.after.value, "unit": self.before.unit,
+                               "improvement": self.improvement},
+            "notes": list(self.notes),
+        }
+
+    def to_frame(self) -> pd.DataFrame:
+        """Columns time, raw, trend (EMD, NaN without), used (fit input), compensated,
+        temperature."""
+        trend = (np.asarray(self.gyro_split.trend, dtype=float) if self.gyro_split is not None
+                 else np.full(self.raw_rate.size, np.nan))
+        return pd.DataFrame({"time": self.run.time, "raw": self.raw_rate, "trend": trend,
+                             "used": self.gyro_used,
+                             "compensated": self.run.axis(self.axis or 0),
+                             "temperature": self.run.temperature})
+
+    def summary(self) -> str:
+        lines = []
+        if self.gyro_split is not None:
+            lines.append(f"EMD: {self.gyro_split.n_imfs} IMFs, trend from IMF {self.gyro_split.k} "
+                         f"(mean-energy rule); rest modelled as {self.arma_model}")
+        if self.kalman is not None:
+            lines.append(f"Kalman: H = {self.kalman.measurement_noise:.4g} "
+                         f"({self.kalman.measurement_noise_source}), {self.kalman.method}")
+        lines.append(self.model.summary())
+        lines.append(f"bias stability ({self.before.average_s:g} s average, 1σ): "
+                     f"before {self.before.value:.4g} {self.before.unit}, after "
+                     f"{self.after.value:.4g} {self.after.unit} ({self.improvement:.2f}x)")
+        lines += [f"note: {n}" for n in self.notes]
+        return "\n".join(lines)
+
+
+def startup_compensation(
+    run: Run,
+    *,
+    axis: int | str = 0,
+    emd: bool = True,
+    model: ThermalModel | None = None,
+    arma_model: str = "auto",
+    measurement_noise: Any = "estimate",
+    terms: Sequence[str] = ("T*dT", "T2", "T", "dT2", "dT", "1"),
+    dT_smoothing_s: float | None = DEFAULT_DT_SMOOTHING_S,
+    errors: ErrorModel = "ar",
+    average_s: float = 10.0,
+    calibration: Sequence[Run] = (),
+) -> StartupCompensation:
+    """Start-up drift compensation, steps 1-7 of the module docstring, on one axis of a run.
+
+    With ``emd=False`` steps 1-5 are skipped and the model is fitted to the raw series.
+    With ``model`` given, nothing is fitted: the saved model is applied.  ``calibration``
+    adds further runs (same sample rate and units; for example cold starts at other ambient
+    temperatures) to the fit: one warm-up determines only the combinations of the six
+    coefficients along its own (T, ΔT) path, and several ambients make the model hold
+    between them.
+
+    Raises
+    ------
+    DataError
+        The run has no temperature, or a bad option.
+
+    Examples
+    --------
+    >>> from fogts.startup.simulator import simulate_startup
+    >>> sim = simulate_startup(duration_s=1800, rng=4)
+    >>> res = startup_compensation(sim.run, emd=False)
+    >>> res.after.value < res.before.value
+    True
+    """
+    if not isinstance(run, Run):
+        raise DataError(f"run must be a fogts Run, got {type(run).__name__}")
+    require_temperature(run, hint=_COLUMN_HINT)
+    gyro = run.axis(axis)
+    name = axis if isinstance(axis, str) else run.axes[int(axis)]
+    fs = run.fs_hz
+    notes: list[str] = []
+    if model is None:
+        prepare = partial(_prepare_fit_run, axis=axis, emd=emd, arma_model=arma_model,
+                          measurement_noise=measurement_noise)
+        prep = prepare(run)
+        model, fit_notes = _fit_on_runs(run, prep, calibration, prepare, terms=terms,
+                                        dT_smoothing_s=dT_smoothing_s, errors=errors)
+        notes = [*prep.notes, *fit_notes]
+    elif not isinstance(model, ThermalModel):
+        raise DataError(f"model must be a ThermalModel or None, got {type(model).__name__}")
+    else:
+        prep = _FitInput(gyro, np.asarray(run.temperature, dtype=float), None, None, None, "", [])
+    comp = compensate(replace(run, temperature=prep.temp), model, axis=axis)
+    comp = replace(comp, temperature=run.temperature)
+    comp_rate = comp.axis(axis)
+    before = bias_stability(gyro, fs_hz=fs, average_s=average_s, units=run.units)
+    after = bias_stability(comp_rate, fs_hz=fs, average_s=average_s, units=run.units)
+    return StartupCompensation(run=comp, model=model, gyro_split=prep.gyro_split,
+                               temperature_split=prep.temp_split, kalman=prep.kalman,
+                               arma_model=prep.arma, gyro_used=np.asarray(prep.gyro),
+                               temperature_used=np.asarray(prep.temp), raw_rate=gyro,
+                               before=before, after=after, axis=name, notes=tuple(notes))
+
+
+# --------------------------------------------------------------------------- steps 1-5
+
+
+@dataclass
+class _FitInput:
+    """The gyro and temperature series of one run to fit, and how they were obtained."""
+
+    gyro: FloatArray
+    temp: FloatArray
+    gyro_split: Any
+    temp_split: Any
+    kalman: Any
+    arma: str
+    notes: list[str]
+
+
+def _emd_kalman(x: FloatArray, fs: float, arma_model: str,
+                measurement_noise: Any) -> tuple[Any, Any, str, FloatArray]:
+    """Steps 1-4 on one series: EMD split, ARMA of the rest, Kalman of the rest."""
+    from fogts.startup.emd import separate_trend
+    from fogts.startup.kalman import arma_kalman, resolve_arma_model
+
+    split = separate_trend(x, fs_hz=fs)
+    rest = np.asarray(split.rest, dtype=float)
+    if split.k == 1 or float(np.ptp(rest)) == 0.0:
+        return split, None, "", np.asarray(split.trend, dtype=float)
+    fit = resolve_arma_model(rest, arma_model)
+    kal = arma_kalman(rest, fit, measurement_noise=measurement_noise)
+    name = str(getattr(fit, "name", kal.model))
+    return split, kal, name, np.asarray(split.trend, dtype=float) + np.asarray(kal.filtered)
+
+
+def _prepare_fit_run(run: Run, axis: int | str, *, emd: bool, arma_model: str,
+                     measurement_noise: Any) -> _FitInput:
+    """Steps 1-5 on one run: the gyro and temperature series to fit."""
+    require_temperature(run, hint=_COLUMN_HINT)
+    gyro = run.axis(axis)
+    temp = np.asarray(run.temperature, dtype=float)
+    if not emd:
+        return _FitInput(gyro, temp, None, None, None, "", [])
+    notes: list[str] = []
+    gsplit, kal, arma_name, gyro_used = _emd_kalman(gyro, run.fs_hz, arma_model,
+                                                    measurement_noise)
+    if kal is not None:
+        notes.extend(kal.notes)
+    tsplit = None
+    temp_used = temp
+    if float(np.ptp(temp)) > 0:
+        try:
+            tsplit, _, _, temp_used = _emd_kalman(temp, run.fs_hz, arma_model, measurement_noise)
+        except (InsufficientDataError, ModelFitError) as exc:
+            from fogts.startup.emd import separate_trend
+
+            tsplit = separate_trend(temp, fs_hz=run.fs_hz)
+            temp_used = np.asarray(tsplit.trend, dtype=float)
+            notes.append(f"temperature rest not Kalman-filtered ({exc}); used its EMD trend")
+    else:
+        notes.append("the temperature is constant: no EMD of the temperature")
+    return _FitInput(gyro_used, temp_used, gsplit, tsplit, kal, arma_name, notes)
+
+
+# --------------------------------------------------------------------------- step 6
+
+
+def _check_calibration_run(i: int, extra: Any, run: Run) -> None:
+    """A calibration run must be a Run with a temperature, at the run's rate and units."""
+    fs = run.fs_hz
+    if not isinstance(extra, Run):
+        raise DataError(f"calibration[{i}] must be a fogts Run, got "
+                        f"{type(extra).__name__}")
+    if extra.temperature is None:
+        raise DataError(f"calibration run {extra.source!r} has no temperature column")
+    if abs(extra.fs_hz - fs) > 1e-6 * fs:
+        raise DataError(f"calibration run {extra.source!r} is sampled at "
+                        f"{extra.fs_hz:g} Hz, the run at {fs:g} Hz; they must match")
+    if extra.units != run.units:
+        raise DataError(f"calibration run {extra.source!r} is in {extra.units}, the run "
+                        f"in {run.units}; they must match")
+
+
+def _fit_on_runs(run: Run, prep: _FitInput, calibration: Sequence[Run],
+                 prepare: Callable[[Run], _FitInput], *, terms: Sequence[str],
+                 dT_smoothing_s: float | None, errors: ErrorModel
+                 ) -> tuple[ThermalModel, list[str]]:
+    """Fit the thermal model to the prepared run and the calibration runs (each prepared with
+    ``prepare``; ΔT computed run by run), with the reference temperature of the run."""
+    fs = run.fs_hz
+    gyros, temps, rates = [prep.gyro], [prep.temp], [
+        temperature_rate(prep.temp, fs_hz=fs, smoothing_s=dT_smoothing_s)]
+    for i, extra in enumerate(calibration):
+        _check_calibration_run(i, extra, run)
+        more = prepare(extra)
+        gyros.append(more.gyro)
+        temps.append(more.temp)
+        rates.append(temperature_rate(more.temp, fs_hz=fs, smoothing_s=dT_smoothing_s))
+    notes = ([f"thermal model fitted on {1 + len(calibration)} runs (ΔT computed run by run)"]
+             if calibration else [])
+    tail = max(1, prep.gyro.size // 20)
+    model = fit_thermal(np.concatenate(gyros), np.concatenate(temps), fs_hz=fs, terms=terms,
+                        dT_smoothing_s=dT_smoothing_s, units=run.units, errors=errors,
+                        temperature_rate_degC_s=np.concatenate(rates),
+                        t_ref_degC=float(np.mean(prep.temp[-tail:])))
+    return model, notes

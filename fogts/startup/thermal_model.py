@@ -1,0 +1,272 @@
+"""The temperature-drift model of a gyro: its terms, the temperature rate, and the fitted model.
+
+The start-up drift of the gyro bias is a linear function of six regressors built from the
+temperature T (°C) and its rate of change ΔT (°C/s):
+
+    D = a·T·ΔT + b·T² + c·T + d·ΔT² + e·ΔT + f
+
+The temperature rate is the first derivative of a Savitzky–Golay fit (quadratic, window
+``dT_smoothing_s``) of the temperature: temperature sensors are quantised, and a raw
+difference is mostly noise.  :func:`~fogts.startup.thermal_fit.fit_thermal` estimates the
+coefficients; :class:`ThermalModel` holds them and evaluates, prints and saves the model.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Any, Literal, get_args
+
+import numpy as np
+import pandas as pd
+from scipy.signal import savgol_filter
+
+from fogts._typing import FloatArray
+from fogts._validate import check_positive, to_float_array
+from fogts.errors import DataError
+from fogts.units import parse_rate_unit
+
+__all__ = [
+    "DEFAULT_DT_SMOOTHING_S",
+    "ERROR_MODELS",
+    "TERM_LETTERS",
+    "THERMAL_TERMS",
+    "ThermalModel",
+    "design_matrix",
+    "temperature_rate",
+]
+
+ThermalTerm = Literal["T*dT", "T2", "T", "dT2", "dT", "1"]
+THERMAL_TERMS: tuple[str, ...] = get_args(ThermalTerm)
+#: Error models of the fit: GLS with AR errors, OLS with HAC standard errors, plain OLS.
+ErrorModel = Literal["ar", "hac", "ols"]
+ERROR_MODELS: tuple[str, ...] = get_args(ErrorModel)
+#: Letter of each term in D = a·T·ΔT + b·T² + c·T + d·ΔT² + e·ΔT + f.
+TERM_LETTERS: dict[str, str] = {"T*dT": "a", "T2": "b", "T": "c", "dT2": "d", "dT": "e", "1": "f"}
+#: Default Savitzky-Golay window for the temperature rate.
+DEFAULT_DT_SMOOTHING_S = 60.0
+
+_ERROR_TEXT = {"ar": "GLS with AR errors", "hac": "OLS, HAC standard errors", "ols": "OLS"}
+
+
+def temperature_rate(temperature: Any, *, fs_hz: float,
+                     smoothing_s: float | None = DEFAULT_DT_SMOOTHING_S) -> FloatArray:
+    """Rate of change of the temperature in °C/s.
+
+    The first derivative of a local quadratic (Savitzky–Golay) fit over ``smoothing_s``
+    seconds (an odd number of samples, at least 5, at most the record); ``None`` uses
+    ``numpy.gradient`` of the raw samples.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> t = np.arange(600.0)
+    >>> r = temperature_rate(20 + 0.01 * t, fs_hz=1.0)
+    >>> bool(np.allclose(r, 0.01))
+    True
+    """
+    fs = check_positive("fs_hz", fs_hz)
+    temp = to_float_array(temperature, "temperature", min_length=5)
+    if smoothing_s is None:
+        rate = np.gradient(temp) * fs
+    else:
+        window = round(check_positive("dT_smoothing_s", smoothing_s) * fs)
+        window = max(5, window | 1)
+        if window > temp.size:
+            window = temp.size if temp.size % 2 else temp.size - 1
+        rate = np.asarray(savgol_filter(temp, window, 2, deriv=1, delta=1.0 / fs, mode="interp"),
+                          dtype=np.float64)
+    # rounding residue of a constant temperature is not a rate (keeps the rank test honest)
+    rate[np.abs(rate) <= 1e-12 * fs * max(1.0, float(np.max(np.abs(temp))))] = 0.0
+    return rate
+
+
+def design_matrix(temp: FloatArray, dtemp: FloatArray, terms: Sequence[str]) -> FloatArray:
+    """Regressor columns of the drift model, one per term, for T (°C) and ΔT (°C/s).
+
+    Examples
+    --------
+    >>> design_matrix(np.array([20.0]), np.array([0.1]), ["T*dT", "T2", "1"]).tolist()
+    [[2.0, 400.0, 1.0]]
+    """
+    cols = {"T*dT": temp * dtemp, "T2": temp * temp, "T": temp, "dT2": dtemp * dtemp,
+            "dT": dtemp, "1": np.ones_like(temp)}
+    return np.column_stack([cols[t] for t in terms]) if terms else np.empty((temp.size, 0))
+
+
+@dataclass(frozen=True)
+class ThermalModel:
+    """A fitted temperature-drift model ``D = sum_j coef_j * term_j(T, ΔT)``.
+
+    Attributes
+    ----------
+    terms : tuple of str
+        The fitted terms, from ``"T*dT", "T2", "T", "dT2", "dT", "1"``.
+    coefficients, stderr : dict
+        Estimate and standard error of each fitted term, in ``units`` per term unit
+        (T in °C, ΔT in °C/s).
+    dropped : dict
+        Requested terms left out, with the reason.
+    r2, r2_adj : float
+        Coefficient of determination (R² of the fit; centred when the intercept is fitted).
+    residual_std : float
+        Standard deviation of the fit residual, in ``units``.
+    residual : ndarray or pandas.Series
+        ``gyro - fitted`` (empty when the model was loaded with :meth:`from_dict`).
+    units : str
+        Rate unit of the gyro data the model was fitted to.
+    fs_hz : float
+        Sample rate of the fit data.
+    dT_smoothing_s : float or None
+        Savitzky–Golay window used for ΔT (None: raw gradient).
+    t_ref_degC : float
+        Reference temperature: :func:`~fogts.startup.compensation.compensate` removes
+        ``D(T, ΔT) - D(t_ref, 0)``.
+    temperature_range_degC : tuple of float
+        Min and max temperature in the fit data (the model's domain).
+    errors : str
+        Error model of the fit: ``"ar"`` (GLSAR), ``"hac"`` or ``"ols"``.
+    error_params : dict
+        ``{"ar": [...]}`` (the fitted AR coefficients of the error) for ``"ar"``,
+        ``{"maxlags": L}`` for ``"hac"``, ``{}`` for ``"ols"``.
+    n : int
+        Samples fitted.
+    """
+
+    terms: tuple[str, ...]
+    coefficients: dict[str, float]
+    stderr: dict[str, float]
+    dropped: dict[str, str]
+    r2: float
+    r2_adj: float
+    residual_std: float
+    units: str
+    fs_hz: float
+    dT_smoothing_s: float | None
+    t_ref_degC: float
+    temperature_range_degC: tuple[float, float]
+    errors: str
+    error_params: dict[str, Any]
+    n: int
+    residual: Any = field(default=None, repr=False)
+
+    # ---- evaluation
+    def predict(self, temperature: Any, *, fs_hz: float | None = None,
+                temperature_rate_degC_s: Any = None) -> FloatArray:
+        """Drift ``D(T, ΔT)`` in ``units`` for a temperature record.
+
+        ΔT is computed as in the fit (same smoothing) unless given.
+        """
+        temp = to_float_array(temperature, "temperature", min_length=1)
+        if temperature_rate_degC_s is None:
+            fs = self.fs_hz if fs_hz is None else check_positive("fs_hz", fs_hz)
+            dtemp = temperature_rate(temp, fs_hz=fs, smoothing_s=self.dT_smoothing_s)
+        else:
+            dtemp = to_float_array(temperature_rate_degC_s, "temperature_rate_degC_s",
+                                   min_length=1)
+            if dtemp.size != temp.size:
+                raise DataError(f"temperature_rate_degC_s has {dtemp.size} samples, "
+                                f"temperature has {temp.size}; they must match")
+        beta = np.array([self.coefficients[t] for t in self.terms])
+        return design_matrix(temp, dtemp, self.terms) @ beta if self.terms else np.zeros_like(temp)
+
+    def reference_drift(self) -> float:
+        """``D(t_ref, 0)``: the steady-state drift at the reference temperature."""
+        t = np.array([self.t_ref_degC])
+        beta = np.array([self.coefficients[k] for k in self.terms])
+        return float((design_matrix(t, np.zeros(1), self.terms) @ beta)[0]) if self.terms else 0.0
+
+    def equation(self, digits: int = 6) -> str:
+        """The model written out, e.g. ``D = 0.2·T·ΔT + 0.001·T² + ...``."""
+        sym = {"T*dT": "T·ΔT", "T2": "T²", "T": "T", "dT2": "ΔT²", "dT": "ΔT", "1": ""}
+        out = "D ="
+        for i, t in enumerate(self.terms):
+            c = self.coefficients[t]
+            sign = "-" if c < 0 else ("+" if i else "")
+            body = f"{abs(c):.{digits}g}" + (f"·{sym[t]}" if sym[t] else "")
+            out += f" {sign} {body}" if sign else f" {body}"
+        return out + f"   [{self.units}; T in °C, ΔT in °C/s]"
+
+    # ---- serialisation
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-safe dictionary; :meth:`from_dict` restores the model (without the residual)."""
+        return {
+            "model": "seed004-thermal",
+            "terms": {t: {"value": float(self.coefficients[t]), "stderr": float(self.stderr[t]),
+                          "letter": TERM_LETTERS[t]} for t in self.terms},
+            "dropped": dict(self.dropped),
+            "r2": float(self.r2),
+            "r2_adj": float(self.r2_adj),
+            "residual_std": float(self.residual_std),
+            "units": self.units,
+            "fs_hz": float(self.fs_hz),
+            "dT_smoothing_s": None if self.dT_smoothing_s is None else float(self.dT_smoothing_s),
+            "t_ref_degC": float(self.t_ref_degC),
+            "temperature_range_degC": [float(v) for v in self.temperature_range_degC],
+            "errors": self.errors,
+            "error_params": dict(self.error_params),
+            "n": int(self.n),
+        }
+
+    @classmethod
+    def from_dict(cls, data: Mapping[str, Any]) -> ThermalModel:
+        """Rebuild a model saved with :meth:`to_dict` (for example from JSON)."""
+        if not isinstance(data, Mapping) or "terms" not in data or "units" not in data:
+            raise DataError("a thermal model needs the keys 'terms' and 'units' (as written by "
+                            f"ThermalModel.to_dict); got {sorted(data) if isinstance(data, Mapping) else type(data).__name__}")
+        terms_d = data["terms"]
+        if not isinstance(terms_d, Mapping):
+            raise DataError(f"thermal model 'terms' must map a term to {{value, stderr}}, got "
+                            f"{terms_d!r}")
+        for t in terms_d:
+            if t not in THERMAL_TERMS:
+                raise DataError(f"unknown thermal term {t!r}; allowed: {', '.join(THERMAL_TERMS)}")
+        rng = data.get("temperature_range_degC") or [math.nan, math.nan]
+        smoothing = data.get("dT_smoothing_s", DEFAULT_DT_SMOOTHING_S)
+        try:
+            return cls(
+                terms=tuple(terms_d),
+                coefficients={t: float(v["value"]) for t, v in terms_d.items()},
+                stderr={t: _nan_float(v.get("stderr")) for t, v in terms_d.items()},
+                dropped=dict(data.get("dropped", {})),
+                r2=_nan_float(data.get("r2")),
+                r2_adj=_nan_float(data.get("r2_adj")),
+                residual_std=_nan_float(data.get("residual_std")),
+                units=parse_rate_unit(str(data["units"]), "units"),
+                fs_hz=check_positive("fs_hz", data.get("fs_hz", 1.0)),
+                dT_smoothing_s=None if smoothing is None else float(smoothing),
+                t_ref_degC=float(data.get("t_ref_degC", 0.0)),
+                temperature_range_degC=(_nan_float(rng[0]), _nan_float(rng[1])),
+                errors=str(data.get("errors", "ar")),
+                error_params=dict(data.get("error_params", {})),
+                n=int(data.get("n", 0)),
+            )
+        except (KeyError, TypeError, AttributeError) as exc:
+            raise DataError(f"malformed thermal model: {exc!r}") from None
+
+    def to_frame(self) -> pd.DataFrame:
+        """One row per fitted term: letter, value, stderr."""
+        return pd.DataFrame({"term": list(self.terms),
+                             "letter": [TERM_LETTERS[t] for t in self.terms],
+                             "value": [self.coefficients[t] for t in self.terms],
+                             "stderr": [self.stderr[t] for t in self.terms]}).set_index("term")
+
+    def summary(self) -> str:
+        lines = [f"Thermal drift model (seed 004), n = {self.n}, fs = {self.fs_hz:g} Hz",
+                 "  " + self.equation(),
+                 "  term     letter          value         stderr"]
+        for t in self.terms:
+            lines.append(f"  {t:<8s} {TERM_LETTERS[t]:>6s}  {self.coefficients[t]:13.6g}  "
+                         f"{self.stderr[t]:13.4g}")
+        for t, why in self.dropped.items():
+            lines.append(f"  {t:<8s} dropped: {why}")
+        lo, hi = self.temperature_range_degC
+        lines.append(f"  R² = {self.r2:.4f}  residual std = {self.residual_std:.6g} {self.units}"
+                     f"  (errors: {_ERROR_TEXT.get(self.errors, self.errors)})")
+        lines.append(f"  fitted over T = {lo:.3g}..{hi:.3g} °C; reference T = {self.t_ref_degC:.4g} °C")
+        return "\n".join(lines)
+
+
+def _nan_float(v: Any) -> float:
+    return math.nan if v is None else float(v)
