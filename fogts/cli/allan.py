@@ -341,7 +341,7 @@ def _axis_picks(run: Any, axis: str | None) -> list[int]:
 def _allan_csv(analyses: list[_AllanAnalysis], target: Path) -> None:
     import pandas as pd
 
-    from fogts.io.reader import write_frame_atomic
+    from fogts.io.writer import write_frame_atomic
 
     frames = []
     many_files = len(analyses) > 1

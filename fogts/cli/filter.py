@@ -90,7 +90,7 @@ def _kalman_filter(run: Any, x: Any, file: Path, output: Path, model: str, noise
     import numpy as np
     import pandas as pd
 
-    from fogts.io.reader import write_frame_atomic
+    from fogts.io.writer import write_frame_atomic
     from fogts.startup.kalman import arma_kalman, resolve_arma_model
 
     fit = resolve_arma_model(x, model)
@@ -119,7 +119,7 @@ def _lowpass_filter(run: Any, x: Any, file: Path, output: Path, method: str,
     import pandas as pd
 
     from fogts.errors import DataError
-    from fogts.io.reader import write_frame_atomic
+    from fogts.io.writer import write_frame_atomic
     from fogts.preprocess.filters import lowpass, moving_average
 
     if method == "iir":

@@ -1,4 +1,4 @@
-"""Inputs are regular files, read within bounded time and memory (issue 13, item 2).
+"""Inputs are regular files, read within bounded time and memory.
 
 Each hostile input runs in a subprocess with a timeout, so that a regression fails the
 test instead of hanging the suite; the decompression bomb's peak memory is measured
