@@ -1,6 +1,6 @@
 """Read gyro recordings into a :class:`~fogts.io.run.Run`.
 
-This is the only module that opens input files (with the format families it dispatches to).
+Input files are opened only here and in the format families this module dispatches to.
 Supported inputs:
 
 * delimited text, optionally gzip-compressed (:mod:`fogts.io.text`);

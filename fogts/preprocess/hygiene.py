@@ -17,7 +17,7 @@ Nothing here changes the data except ``gaps="split"``, which is recorded.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any, Literal
+from typing import Any, Literal, get_args
 
 import pandas as pd
 
@@ -42,7 +42,7 @@ __all__ = [
 
 GapPolicy = Literal["warn", "error", "split", "ignore"]
 #: What a command may do with a time base that has gaps.
-GAP_POLICIES: tuple[str, ...] = ("warn", "error", "split", "ignore")
+GAP_POLICIES: tuple[str, ...] = get_args(GapPolicy)
 
 
 @dataclass(frozen=True)

@@ -177,6 +177,7 @@ class Prepared:
         return "\n".join(lines)
 
 
+# Long by its docstring (every step and option); the body is one step after another.
 def prepare(
     data: Run | FloatArray | pd.Series | Any,
     *,
