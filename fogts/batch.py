@@ -51,7 +51,7 @@ import pandas as pd
 
 from fogts._validate import check_choice, check_int
 from fogts.errors import DataError, DataQualityWarning
-from fogts.io.reader import NAN_POLICIES
+from fogts.io.missing import NAN_POLICIES
 from fogts.preprocess.hygiene import GAP_POLICIES
 from fogts.report.text import error_message, warning_texts
 
@@ -627,7 +627,7 @@ def run_batch(
         No file matches, ``workers`` < 1, or the scheduler cannot be reached.
     """
     from fogts.io.paths import check_outputs
-    from fogts.io.reader import write_frame_atomic, write_text_atomic
+    from fogts.io.writer import write_frame_atomic, write_text_atomic
     from fogts.report.text import json_dumps
 
     t0 = time.perf_counter()

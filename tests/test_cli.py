@@ -128,7 +128,7 @@ def _cli_args(kwargs: dict[str, object]) -> list[str]:
 
 
 def _hostile_cases() -> list[tuple[str, str | bytes, dict[str, object]]]:
-    from tests.test_io import HOSTILE
+    from tests.io.test_reader import HOSTILE
 
     return [(name, content, kwargs) for name, content, kwargs, _, _ in HOSTILE]
 

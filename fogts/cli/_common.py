@@ -260,7 +260,7 @@ def _emit_json(payload: dict[str, Any], target: str | None) -> None:
     """Write ``payload`` as JSON to ``target`` ('-' = stdout); files are written atomically."""
     if target is None:
         return
-    from fogts.io.reader import write_text_atomic
+    from fogts.io.writer import write_text_atomic
     from fogts.report.text import json_dumps
 
     text = json_dumps(payload)
@@ -332,7 +332,7 @@ def _check_output_names(**outputs: Path | None) -> None:
 def _save_figure(fig: Figure, path: str | Path) -> None:
     """Save a Figure atomically; the format follows the suffix (.png, .svg, .pdf)."""
     from fogts.errors import DataError
-    from fogts.io.reader import atomic_path
+    from fogts.io.writer import atomic_path
 
     target = Path(path)
     fmt = target.suffix.lstrip(".").lower()

@@ -170,7 +170,7 @@ def allan_cmd(
 def _allan_csv(analyses: list[AllanAnalysis], target: Path) -> None:
     import pandas as pd
 
-    from fogts.io.reader import write_frame_atomic
+    from fogts.io.writer import write_frame_atomic
 
     frames = []
     many_files = len(analyses) > 1

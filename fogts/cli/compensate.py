@@ -71,11 +71,11 @@ def compensate_cmd(
                                       arma_model=arma_model, dT_smoothing_s=dt_smoothing,
                                       average_s=average, calibration=extra)
         if output is not None:
-            from fogts.io.reader import write_frame_atomic
+            from fogts.io.writer import write_frame_atomic
 
             write_frame_atomic(output, result.to_frame())
         if save_model is not None:
-            from fogts.io.reader import write_text_atomic
+            from fogts.io.writer import write_text_atomic
             from fogts.report.text import json_dumps
 
             write_text_atomic(save_model, json_dumps(result.model.to_dict()) + "\n")

@@ -98,7 +98,7 @@ def _kalman_filter(run: Run, x: FloatArray, file: Path, output: Path, model: str
     import numpy as np
     import pandas as pd
 
-    from fogts.io.reader import write_frame_atomic
+    from fogts.io.writer import write_frame_atomic
     from fogts.startup.kalman import arma_kalman, resolve_arma_model
 
     fit = resolve_arma_model(x, model)
@@ -127,7 +127,7 @@ def _lowpass_filter(run: Run, x: FloatArray, file: Path, output: Path, method: s
     import pandas as pd
 
     from fogts.errors import DataError
-    from fogts.io.reader import write_frame_atomic
+    from fogts.io.writer import write_frame_atomic
     from fogts.preprocess.filters import lowpass, moving_average
 
     if method == "iir":

@@ -155,7 +155,7 @@ def select_cmd(
             _save_figure(plot_selection(sel), plot)
         pred = None
         if predict is not None and sel.selected is not None:
-            from fogts.io.reader import write_frame_atomic
+            from fogts.io.writer import write_frame_atomic
 
             pred = sel.selected.predict()
             frame = pred.to_frame().reset_index(drop=True)

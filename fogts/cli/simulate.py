@@ -115,7 +115,7 @@ def simulate_noise_cmd(
 
     from fogts._version import __version__ as version
     from fogts.errors import DataError
-    from fogts.io.reader import write_frame_atomic, write_text_atomic
+    from fogts.io.writer import write_frame_atomic, write_text_atomic
     from fogts.report.text import json_dumps
     from fogts.simulate.gyro import (
         ArmaSpec,
@@ -261,7 +261,7 @@ def _simulate_startup(output: Path, *, fs: float, duration: str | None,
     from fogts._validate import check_positive
     from fogts._version import __version__ as version
     from fogts.errors import DataError
-    from fogts.io.reader import write_frame_atomic, write_text_atomic
+    from fogts.io.writer import write_frame_atomic, write_text_atomic
     from fogts.report.text import json_dumps
     from fogts.simulate.gyro import ArmaSpec
     from fogts.startup.northfind_simulation import simulate_startup_positions

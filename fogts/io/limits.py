@@ -1,15 +1,15 @@
 """Reading input files within bounded time and memory.
 
-:mod:`fogts.io.reader` opens every input through these functions, so that no input can hang a
-command or exhaust the machine:
+The readers (:mod:`fogts.io.reader` and the format families it dispatches to) open every
+input through these functions, so that no input can hang a command or exhaust the machine:
 
 * only regular files are read: a character or block device (``/dev/zero``,
   ``/dev/urandom``), a FIFO, a socket or a directory is refused from :func:`os.stat`,
   before anything is opened (opening a FIFO would block);
-* text is read, and ``.gz`` decompressed, in chunks; the bytes read may not exceed
-  :func:`max_input_bytes` and no line may be longer than :data:`MAX_LINE_BYTES`, checked
-  chunk by chunk, so a decompression bomb (a small ``.gz`` that expands to gigabytes of
-  one line) stops after about one chunk;
+* the bytes read may not exceed :func:`max_input_bytes` and no text line may be longer than
+  :data:`MAX_LINE_BYTES`.  A plain file's size is checked before it is read whole; a ``.gz``
+  stream is decompressed in chunks and checked chunk by chunk, so a decompression bomb (a
+  small ``.gz`` that expands to gigabytes of one line) stops after about one chunk;
 * ``.npy`` headers and ``.npz`` member sizes are checked against the same limit before
   any array is loaded.
 

@@ -6,7 +6,7 @@ its output names against its inputs *before* any analysis runs, with one shared 
 device and inode: that sees through symbolic links, ``..`` and hard links.
 
 An output that already exists must be a regular file (it is replaced atomically by
-:func:`fogts.io.reader.atomic_path`); a device, FIFO, socket or directory is refused, so that
+:func:`fogts.io.writer.atomic_path`); a device, FIFO, socket or directory is refused, so that
 ``--json /dev/sda`` can never be replaced by a text file.
 """
 

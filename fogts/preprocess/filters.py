@@ -1,11 +1,11 @@
 """Zero-phase denoising filters: IIR low-pass (Butterworth, Chebyshev I, elliptic) and a
 centred moving average.
 
-Seed 001 denoises a laser-gyro signal with an IIR low-pass filter and compares the Allan
-analysis before and after.  Filtering is done forward and backward (``scipy.signal.
-sosfiltfilt``), so it adds no phase lag; the price is that the magnitude response is
-squared.  For the Butterworth design fogts pre-warps the single-pass cutoff so that the
-*zero-phase* response is exactly -3 dB at ``cutoff_hz``:
+A gyro signal is denoised with an IIR low-pass filter, and its Allan analysis compared
+before and after.  Filtering is done forward and backward (``scipy.signal.sosfiltfilt``),
+so it adds no phase lag; the price is that the magnitude response is squared.  For the
+Butterworth design fogts pre-warps the single-pass cutoff so that the *zero-phase* response
+is exactly -3 dB at ``cutoff_hz``:
 
     |H_ff(f)|^2 = |H(f)|^4 = (1 + (w/w_d)^(2n))^-2 = 1/2  at f = f_c,  w = tan(pi f/fs)
     =>  w_d = w_c / (sqrt(2) - 1)^(1/(2n))   (bilinear-transform frequency warping)
@@ -42,7 +42,6 @@ __all__ = ["FILTER_DESIGNS", "FilterResult", "lowpass", "moving_average"]
 FilterDesign = Literal["butter", "cheby1", "ellip"]
 FILTER_DESIGNS: tuple[str, ...] = get_args(FilterDesign)
 
-#: Fewest samples sosfiltfilt needs is 3 * (2 * sections + 1); checked per call.
 _CAVEAT = ("filtering changes the noise seen at tau shorter than about 1/cutoff; noise "
            "coefficients from filtered data describe the filtered signal, not the sensor")
 

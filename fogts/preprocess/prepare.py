@@ -1,9 +1,9 @@
 """Prepare one gyro axis for modelling: outliers, trend, mean, decimation, stationarity.
 
-Seed 000 removes the trend by polynomial fitting ("多项式拟合去除其趋势项") and the mean
-before time-series modelling; Stable32 removes outliers with a MAD-based sigma factor.
-Every step taken is listed on the :class:`Prepared` result, and nothing is dropped without
-being recorded.
+Before time-series (ARMA) modelling of the drift, the trend is removed by a least-squares
+polynomial and the mean is subtracted; outliers are replaced with a MAD-based sigma factor,
+as Stable32 does.  Every step taken is listed on the :class:`Prepared` result, and nothing
+is dropped without being recorded.
 """
 
 from __future__ import annotations
@@ -19,17 +19,15 @@ from fogts._typing import FloatArray, IntArray
 from fogts._validate import check_int, check_positive, pandas_index, to_float_array
 from fogts.errors import DataError, InsufficientDataError
 from fogts.io.run import Run
+from fogts.preprocess.glitches import MAD_TO_SIGMA
 from fogts.units import parse_rate_unit
 
 __all__ = ["OutlierReport", "Prepared", "StationarityReport", "prepare"]
 
-#: MAD -> sigma for Gaussian data: 1 / Phi^{-1}(3/4).
-MAD_TO_SIGMA = 1.482602218505602
-#: Stationarity tests run on block means of at most this many points (ADF regressions on
-#: millions of rows cost seconds and the low-frequency structure they probe survives).
+#: Stationarity tests run on block means of at most this many points (the low-frequency
+#: structure ADF and KPSS probe survives block averaging).
 STATIONARITY_MAX_POINTS = 20_000
-#: Cap on the ADF lag search (Schwert's 12 (n/100)^(1/4) would be 45 at 20,000 points;
-#: statsmodels' default search over that many lags costs ~17 s at 1e5 points).
+#: Cap on the ADF lag search (Schwert's 12 (n/100)^(1/4) would be 45 at 20,000 points).
 ADF_MAX_LAG = 24
 #: Fewest samples :func:`prepare` accepts.
 MIN_PREPARE_SAMPLES = 10
@@ -179,6 +177,7 @@ class Prepared:
         return "\n".join(lines)
 
 
+# Long by its docstring (every step and option); the body is one step after another.
 def prepare(
     data: Run | FloatArray | pd.Series | Any,
     *,
@@ -200,7 +199,8 @@ def prepare(
        (replaced, not dropped, so the time base stays regular);
     2. decimation by block averaging over ``decimate`` samples (a partial last block is
        dropped and recorded);
-    3. polynomial trend removal of order ``detrend`` (seed 000); order 0 is mean removal;
+    3. polynomial trend removal of order ``detrend`` (least squares in time); order 0 is
+       mean removal;
     4. mean removal if ``demean`` and no trend was removed;
     5. ADF and KPSS stationarity tests (statsmodels) on the result.
 

@@ -769,7 +769,7 @@ def build_report(
 
 def write_report(path: str | os.PathLike[str], report: HtmlReport) -> Path:
     """Render ``report`` and write it atomically to ``path``."""
-    from fogts.io.reader import write_text_atomic
+    from fogts.io.writer import write_text_atomic
 
     return write_text_atomic(path, report.render())
 

@@ -1,4 +1,4 @@
-"""fogts.preprocess.hygiene: glitches, gaps and the DataQuality record (issue 13, item 4).
+"""fogts.preprocess.glitches.
 
 Known truth: white Gaussian noise with fixed seeds (nothing may be flagged), the same with
 injected spikes, bursts and steps (each found at its time), and the real ADIS16405 run 4
@@ -7,17 +7,10 @@ glitch near t = 4046 s (README of ../shared/data)."""
 from __future__ import annotations
 
 import numpy as np
-import pandas as pd
 import pytest
 
 from fogts.errors import DataError
-from fogts.io.reader import read_run
-from fogts.preprocess.hygiene import (
-    GLITCH_SIGMAS,
-    assess_run,
-    detect_glitches,
-    find_gaps,
-)
+from fogts.preprocess.glitches import GLITCH_SIGMAS, detect_glitches
 from tests.conftest import shared_path
 
 
@@ -94,57 +87,6 @@ def test_detect_glitches_errors() -> None:
     x[10] = 100.0
     with pytest.raises(DataError, match="needs time_s or fs_hz"):
         detect_glitches(x)
-
-
-def test_find_gaps_lists_gaps_and_segments() -> None:
-    t = np.r_[np.arange(100), np.arange(150, 200), np.arange(205, 400)] / 10.0
-    rep = find_gaps(t, fs_hz=10.0)
-    assert rep.n_gaps == 2
-    assert [(g.row, g.time_s) for g in rep.gaps] == [(99, 9.9), (149, 19.9)]
-    assert rep.gaps[0].length_s == pytest.approx(5.1)
-    assert rep.missing_s == pytest.approx(5.0 + 0.5)  # 51 - 1 and 6 - 1 steps of 0.1 s
-    assert rep.segments == ((0, 100), (100, 150), (150, 345))
-    assert rep.longest_segment() == (150, 345)
-    assert "2 gap(s) in the time base (5.5 s missing; first at t = 9.9 s" in rep.summary()
-
-
-def _gappy_frame() -> pd.DataFrame:
-    t = np.r_[np.arange(3000), np.arange(3100, 9000)] / 100.0
-    rate = np.random.default_rng(11).standard_normal(t.size)
-    return pd.DataFrame({"time": t, "rate_deg_h": rate})
-
-
-def test_assess_run_gap_policies() -> None:
-    run = read_run(_gappy_frame())
-    kept, q = assess_run(run)
-    assert kept is run and q.gaps.n_gaps == 1
-    assert any("analysed as if the samples were regular" in w for w in q.warnings())
-    split, q = assess_run(run, gaps="split")
-    assert split.n == 5900 and q.segment == (3000, 8900)
-    assert split.time[0] == 0.0 and split.sampling is not None and split.sampling.n_gaps == 0
-    assert "--gaps split: analysing the longest regular segment, rows 3000..8899" in \
-        q.warnings()[0]
-    _, q = assess_run(run, gaps="ignore")
-    assert q.warnings() == [] and q.to_dict()["gaps"]["n_gaps"] == 1
-    with pytest.raises(DataError, match=r"1 gap\(s\) in the time base .*gaps='error' "
-                                        r"\(CLI --gaps error\) refuses it"):
-        assess_run(run, gaps="error")
-    with pytest.raises(DataError, match="gaps must be one of warn, error, split, ignore"):
-        assess_run(run, gaps="skip")  # type: ignore[arg-type]
-
-
-def test_assess_run_units_and_dict() -> None:
-    run = read_run(np.random.default_rng(0).standard_normal(500), fs_hz=10.0)
-    _, q = assess_run(run)
-    assert q.units_source == "assumed"
-    assert q.warnings()[0].startswith("no unit in the rate column(s) 'rate'; assuming deg/h")
-    d = q.to_dict()
-    assert d["units_source"] == "assumed" and d["glitches"][0]["n_events"] == 0
-    assert q.glitch_count("rate") == 0 and q.glitch_count("absent") == 0
-    run = read_run(np.random.default_rng(0).standard_normal(500), fs_hz=10.0, units="deg/s")
-    _, q = assess_run(run)
-    assert q.warnings() == [] and q.summary() == "no data-quality issue found"
-    assert q.to_frame().empty
 
 
 def test_default_threshold_is_documented_value() -> None:

@@ -24,7 +24,7 @@ def test_butterworth_zero_phase_is_minus_3db_at_cutoff(order: int, cutoff: float
     # the forward-backward amplitude is |H|^2 of the stored single-pass filter (scipy)
     _, h = signal.sosfreqz(r.sos, worN=[cutoff], fs=FS)
     gain_db = 20 * np.log10(abs(h[0]) ** 2)
-    assert gain_db == pytest.approx(-3.0103, abs=0.1)  # issue 8: -3 dB +- 0.1 dB
+    assert gain_db == pytest.approx(-3.0103, abs=0.1)  # -3 dB +- 0.1 dB
     assert r.frequency_response(np.array([cutoff]))[0] == pytest.approx(abs(h[0]) ** 2)
 
 

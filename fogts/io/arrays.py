@@ -1,0 +1,122 @@
+"""Array sources: Parquet, NumPy ``.npy``/``.npz`` files and in-memory frames and arrays.
+
+``.npy`` holds a 1-D rate, or a 2-D array with one column per axis; ``.npz`` holds named
+arrays (an ``fs_hz`` key gives the sample rate, a ``columns`` key the axis names).  Both are
+loaded with ``allow_pickle=False``: reading never executes anything from the input.  A
+pandas DataFrame or Series keeps a DatetimeIndex or TimedeltaIndex as its time base.
+"""
+
+from __future__ import annotations
+
+import zipfile
+from collections.abc import Sequence
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from fogts.errors import DataError
+from fogts.io.limits import check_npy, check_npz, max_input_bytes
+from fogts.io.table import Table
+
+__all__ = ["array_table", "frame_table", "npy_table", "npz_table", "parquet_table"]
+
+
+def frame_table(frame: pd.DataFrame, source: str) -> Table:
+    """A DataFrame as a Table; a DatetimeIndex or TimedeltaIndex becomes the time base."""
+    if frame.shape[1] == 0:
+        raise DataError(f"{source} has no columns")
+    index = frame.index if isinstance(frame.index, pd.DatetimeIndex | pd.TimedeltaIndex) else None
+    out = frame.reset_index(drop=True)
+    out.columns = [str(c) for c in out.columns]
+    return Table(out, source, None, (), None, index, header=True)
+
+
+def array_table(arr: np.ndarray, source: str, fs_hz: float | None,
+                names: Sequence[str] | None = None) -> Table:
+    """A 1-D (rate) or 2-D (samples x axes) numeric array as a Table."""
+    if arr.dtype == object:
+        raise DataError(f"{source}: object arrays are not supported (pickled data is never "
+                        "loaded); save the rate as a numeric array")
+    if arr.ndim == 1:
+        arr = arr[:, None]
+    if arr.ndim != 2:
+        raise DataError(f"{source}: array must be 1-D (rate) or 2-D (samples x axes), "
+                        f"got shape {arr.shape}")
+    if names is None or len(names) != arr.shape[1]:
+        names = ["rate"] if arr.shape[1] == 1 else [f"rate_{i}" for i in range(arr.shape[1])]
+    frame = pd.DataFrame({str(n): arr[:, i] for i, n in enumerate(names)})
+    return Table(frame, source, None, (), fs_hz, None, header=True)
+
+
+def parquet_table(path: Path) -> Table:
+    """A Parquet file no larger than :func:`fogts.io.limits.max_input_bytes`."""
+    if path.stat().st_size > max_input_bytes():
+        raise DataError(f"{str(path)!r} is larger than the input limit; oversized "
+                        "input is refused (set FOGTS_MAX_INPUT_BYTES to raise it)")
+    try:
+        frame = pd.read_parquet(path)
+    except Exception as exc:  # pyarrow raises several unrelated types
+        raise DataError(f"cannot read Parquet file {str(path)!r}: {exc}") from None
+    table = frame_table(frame, str(path))
+    return Table(table.frame, str(path), None, (), None, table.from_index, True)
+
+
+def _check_signature(path: Path, magic: bytes, kind: str) -> None:
+    with path.open("rb") as fh:
+        head = fh.read(len(magic))
+    if head != magic:
+        raise DataError(f"{str(path)!r} is not a valid {kind} file (wrong signature)")
+
+
+def npy_table(path: Path) -> Table:
+    """An ``.npy`` file, its signature and declared size checked before it is loaded."""
+    _check_signature(path, b"\x93NUMPY", ".npy")
+    check_npy(path)
+    try:
+        arr = np.load(path, allow_pickle=False)
+    except ValueError as exc:
+        raise DataError(f"cannot read {str(path)!r}: {exc} (pickled object arrays are never "
+                        "loaded)") from None
+    except OSError as exc:
+        raise DataError(f"{str(path)!r} is not a valid .npy file ({exc})") from None
+    return array_table(np.asarray(arr), str(path), fs_hz=None)
+
+
+def npz_table(path: Path) -> Table:
+    """An ``.npz`` file: every numeric 1-D or 2-D array becomes columns (a 2-D array's
+    columns are named by a ``columns`` key when it is the only one); ``fs_hz`` is the
+    sample rate; the first array's key is a unit hint (``gyro_deg_s``)."""
+    _check_signature(path, b"PK\x03\x04", ".npz")
+    check_npz(path)
+    try:
+        with np.load(path, allow_pickle=False) as npz:
+            arrays = {k: npz[k] for k in npz.files}
+    except ValueError as exc:
+        raise DataError(f"cannot read {str(path)!r}: {exc} (pickled object arrays are never "
+                        "loaded)") from None
+    except (OSError, zipfile.BadZipFile) as exc:
+        raise DataError(f"{str(path)!r} is not a valid .npz file ({exc})") from None
+    fs = arrays.pop("fs_hz", None)
+    fs_hz = float(fs) if fs is not None and np.ndim(fs) == 0 else None
+    names_arr = arrays.pop("columns", None)
+    numeric = {k: v for k, v in arrays.items() if v.dtype.kind in "fiu" and v.ndim in (1, 2)}
+    if not numeric:
+        raise DataError(f"{str(path)!r} holds no numeric 1-D or 2-D array; keys are: "
+                        f"{', '.join(arrays) or '(none)'}")
+    frame_cols: dict[str, np.ndarray] = {}
+    length = {v.shape[0] for v in numeric.values()}
+    if len(length) > 1:
+        raise DataError(f"{str(path)!r}: arrays have different lengths "
+                        f"{ {k: v.shape[0] for k, v in numeric.items()} }")
+    for key, arr in numeric.items():
+        if arr.ndim == 1:
+            frame_cols[key] = arr
+        else:
+            labels = ([str(c) for c in names_arr] if names_arr is not None
+                      and len(numeric) == 1 and len(names_arr) == arr.shape[1]
+                      else [f"{key}_{i}" for i in range(arr.shape[1])])
+            for i, label in enumerate(labels):
+                frame_cols[label] = arr[:, i]
+    frame = pd.DataFrame(frame_cols)
+    return Table(frame, str(path), None, (), fs_hz, None, True, unit_hint=next(iter(numeric)))

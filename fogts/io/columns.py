@@ -1,0 +1,159 @@
+"""Column roles and the rate unit: which column is time, rate or temperature, by name or
+as given, and the unit from the argument, a ``<file>.json`` sidecar, a unit hint in a column
+name (``gyro_x_deg_s``, ``rate[dph]``) or an ``.npz`` key.
+"""
+
+from __future__ import annotations
+
+import json
+import re
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+from fogts.errors import DataError
+from fogts.io.table import Table
+from fogts.units import parse_rate_unit
+
+__all__ = ["Roles", "assign_roles", "rate_unit", "sidecar_unit"]
+
+_TIME_NAMES = {"time", "t", "timestamp", "time_s", "times", "time_sec", "sec", "seconds",
+               "datetime", "date_time", "elapsed", "elapsed_s", "timestamps", "ts"}
+_TEMP_NAMES = {"temp", "temperature", "tmp", "temp_c", "temperature_c", "temp_degc",
+               "temperature_degc", "t_degc"}
+_RATE_NAMES = {"rate", "gyro", "fog", "omega", "w", "wx", "wy", "wz", "gx", "gy", "gz",
+               "angular_rate", "rate_x", "rate_y", "rate_z", "gyr", "gyro_rate"}
+_RATE_PREFIXES = ("gyro", "gyr_", "fog", "rate", "omega", "angular_rate", "w_", "gx_", "gy_",
+                  "gz_")
+
+# Unit hints in column names, e.g. ``gyro_x_deg_s`` or ``rate[dph]``.
+_UNIT_HINTS: tuple[tuple[str, str], ...] = (
+    ("deg_s", "deg/s"), ("deg/s", "deg/s"), ("dps", "deg/s"),
+    ("deg_h", "deg/h"), ("deg/h", "deg/h"), ("dph", "deg/h"),
+    ("rad_s", "rad/s"), ("rad/s", "rad/s"),
+    ("arcsec_s", "arcsec/s"), ("arcsec/s", "arcsec/s"),
+)
+
+#: Largest sidecar JSON read for its unit.
+_SIDECAR_MAX_BYTES = 1 << 20
+
+
+def _norm(name: str) -> str:
+    return re.sub(r"[\s.\-()\[\]/]+", "_", name.strip().lower()).strip("_")
+
+
+def _is_time_name(name: str) -> bool:
+    n = _norm(name)
+    return (name != "T" and n in _TIME_NAMES) or n.startswith("time")
+
+
+def _is_temp_name(name: str) -> bool:
+    n = _norm(name)
+    return name == "T" or n in _TEMP_NAMES or n.startswith(("temp", "temperature"))
+
+
+def _is_rate_name(name: str) -> bool:
+    n = _norm(name)
+    if n in ("sample_rate", "rate_hz", "fs", "fs_hz"):
+        return False
+    return n in _RATE_NAMES or n.startswith(_RATE_PREFIXES)
+
+
+def _resolve(columns: list[str], name: str, role: str) -> str:
+    if name in columns:
+        return name
+    lowered = {c.lower(): c for c in columns}
+    if name.lower() in lowered:
+        return lowered[name.lower()]
+    if re.fullmatch(r"\d+", name) and int(name) < len(columns):
+        return columns[int(name)]
+    raise DataError(f"{role} column {name!r} not found; columns are: {', '.join(columns)}")
+
+
+@dataclass(frozen=True)
+class Roles:
+    """The time column (None: no time base in the columns), the rate columns (one per
+    axis) and the temperature column (None: none)."""
+
+    time: str | None
+    rate: tuple[str, ...]
+    temperature: str | None
+
+
+def assign_roles(table: Table, rate_column: str | Sequence[str] | None,
+                 time_column: str | None, temperature_column: str | None) -> Roles:
+    """Given columns (by name, case-insensitive name or position) first, then detection by
+    name; a column cannot be both a rate and the time or temperature."""
+    cols = list(table.frame.columns)
+    time = _resolve(cols, time_column, "time") if time_column else None
+    temp = _resolve(cols, temperature_column, "temperature") if temperature_column else None
+    if time is None and table.from_index is None and table.header:
+        time = next((c for c in cols if _is_time_name(c)), None)
+    if temp is None:
+        temp = next((c for c in cols if _is_temp_name(c) and c != time), None)
+    if rate_column is not None:
+        names = [rate_column] if isinstance(rate_column, str) else list(rate_column)
+        rate = tuple(_resolve(cols, n, "rate") for n in names)
+    else:
+        rate = _detect_rate(table, cols, time, temp)
+    clash = {time, temp} & set(rate)
+    if clash - {None}:
+        raise DataError(f"column {sorted(c for c in clash if c)[0]!r} cannot be both a rate "
+                        "and a time/temperature column")
+    return Roles(time, rate, temp)
+
+
+def _detect_rate(table: Table, cols: list[str], time: str | None,
+                 temp: str | None) -> tuple[str, ...]:
+    named = tuple(c for c in cols if c not in (time, temp) and _is_rate_name(c))
+    if named:
+        return named
+    rest = [c for c in cols if c not in (time, temp)]
+    if not table.header:
+        # Headerless text: first column is time if it increases, the next is the rate.
+        return (rest[0],) if len(rest) == 1 or time is not None else (rest[1],)
+    if len(rest) == 1:
+        return (rest[0],)
+    raise DataError("cannot tell which column is the rate; columns are: "
+                    f"{', '.join(cols)}; pass rate_column= (CLI --rate-column)")
+
+
+def _unit_from_names(names: Sequence[str]) -> str | None:
+    for name in names:
+        n = _norm(name)
+        for hint, unit in _UNIT_HINTS:
+            if n.endswith(hint.replace("/", "_")) or f"_{hint.replace('/', '_')}_" in n:
+                return unit
+    return None
+
+
+def sidecar_unit(path: Path) -> str | None:
+    """The rate unit recorded in ``<path>.json`` when fogts wrote it (``fogts simulate``
+    records the unit of the file it writes there), else None.  Never raises: a sidecar
+    that is absent, large, unreadable or not fogts' own is ignored."""
+    side = path.with_name(path.name + ".json")
+    try:
+        if not side.is_file() or side.stat().st_size > _SIDECAR_MAX_BYTES:
+            return None
+        doc = json.loads(side.read_text(encoding="utf-8"))
+        if not (isinstance(doc, dict) and str(doc.get("generator", "")).startswith("fogts")):
+            return None
+        return parse_rate_unit(str(doc["units"]))
+    except (OSError, ValueError, KeyError, DataError):
+        return None
+
+
+def rate_unit(given: str | None, rate_names: Sequence[str], file_key: str,
+              sidecar: str | None = None) -> tuple[str, str]:
+    """The rate unit and where it came from (see :attr:`fogts.io.run.Run.units_source`)."""
+    if given is not None:
+        return given, "given"
+    if sidecar is not None:
+        return sidecar, "file metadata"
+    from_columns = _unit_from_names(rate_names)
+    if from_columns is not None:
+        return from_columns, "column name"
+    from_key = _unit_from_names([file_key]) if file_key else None
+    if from_key is not None:
+        return from_key, "file key"
+    return "deg/h", "assumed"

@@ -1,0 +1,63 @@
+"""fogts.io.arrays: Parquet, .npy/.npz, DataFrames, Series and arrays."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from fogts.errors import DataError
+from fogts.io.reader import read_run
+from tests.io.files import write_file
+
+
+def test_parquet_npy_npz(tmp_path: Path) -> None:
+    x = np.random.default_rng(0).normal(size=100)
+    df = pd.DataFrame({"time": np.arange(100) / 20.0, "gyro": x})
+    df.to_parquet(tmp_path / "a.parquet")
+    np.save(tmp_path / "a.npy", x)
+    np.savez(tmp_path / "a.npz", rate=x, fs_hz=np.float64(20.0))
+    for name, kwargs in [("a.parquet", {}), ("a.npy", {"fs_hz": 20.0}), ("a.npz", {})]:
+        run = read_run(tmp_path / name, **kwargs)
+        np.testing.assert_array_equal(run.rate, x)
+        assert run.fs_hz == pytest.approx(20.0)
+
+
+def test_dataframe_with_datetime_index() -> None:
+    idx = pd.date_range("2026-01-01", periods=40, freq="100ms")
+    df = pd.DataFrame({"rate": np.arange(40.0) % 7, "temperature": 20.0 + np.arange(40)}, index=idx)
+    run = read_run(df)
+    assert run.fs_hz == pytest.approx(10.0)
+    assert run.start_time == "2026-01-01T00:00:00"
+    assert run.time[-1] == pytest.approx(3.9)
+
+
+def test_series_with_timedelta_index() -> None:
+    s = pd.Series(np.arange(30.0) % 5, index=pd.timedelta_range(0, periods=30, freq="20ms"),
+                  name="omega")
+    run = read_run(s)
+    assert run.axes == ("omega",) and run.fs_hz == pytest.approx(50.0)
+
+
+def test_pickled_object_array_is_refused(tmp_path: Path) -> None:
+    np.save(tmp_path / "obj.npy", np.array([{"a": 1}, 2], dtype=object), allow_pickle=True)
+    with pytest.raises(DataError, match="pickled object arrays are never loaded"):
+        read_run(tmp_path / "obj.npy", fs_hz=1.0)
+
+
+def test_npz_without_numeric_arrays(tmp_path: Path) -> None:
+    np.savez(tmp_path / "s.npz", names=np.array(["a", "b"]))
+    with pytest.raises(DataError, match="holds no numeric 1-D or 2-D array; keys are: names"):
+        read_run(tmp_path / "s.npz", fs_hz=1.0)
+
+
+def test_3d_array_refused() -> None:
+    with pytest.raises(DataError, match=r"array must be 1-D \(rate\) or 2-D"):
+        read_run(np.zeros((3, 3, 3)), fs_hz=1.0)
+
+
+def test_bad_npy_signature(tmp_path: Path) -> None:
+    with pytest.raises(DataError, match=r"not a valid .npy file \(wrong signature\)"):
+        read_run(write_file(tmp_path, "x.npy", b"garbage"), fs_hz=1.0)

@@ -1,0 +1,50 @@
+"""fogts.preprocess.hygiene: the gap policies and the DataQuality record of assess_run."""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from fogts.errors import DataError
+from fogts.io.reader import read_run
+from fogts.preprocess.hygiene import assess_run
+
+
+def _gappy_frame() -> pd.DataFrame:
+    t = np.r_[np.arange(3000), np.arange(3100, 9000)] / 100.0
+    rate = np.random.default_rng(11).standard_normal(t.size)
+    return pd.DataFrame({"time": t, "rate_deg_h": rate})
+
+
+def test_assess_run_gap_policies() -> None:
+    run = read_run(_gappy_frame())
+    kept, q = assess_run(run)
+    assert kept is run and q.gaps.n_gaps == 1
+    assert any("analysed as if the samples were regular" in w for w in q.warnings())
+    split, q = assess_run(run, gaps="split")
+    assert split.n == 5900 and q.segment == (3000, 8900)
+    assert split.time[0] == 0.0 and split.sampling is not None and split.sampling.n_gaps == 0
+    assert "--gaps split: analysing the longest regular segment, rows 3000..8899" in \
+        q.warnings()[0]
+    _, q = assess_run(run, gaps="ignore")
+    assert q.warnings() == [] and q.to_dict()["gaps"]["n_gaps"] == 1
+    with pytest.raises(DataError, match=r"1 gap\(s\) in the time base .*gaps='error' "
+                                        r"\(CLI --gaps error\) refuses it"):
+        assess_run(run, gaps="error")
+    with pytest.raises(DataError, match="gaps must be one of warn, error, split, ignore"):
+        assess_run(run, gaps="skip")  # type: ignore[arg-type]
+
+
+def test_assess_run_units_and_dict() -> None:
+    run = read_run(np.random.default_rng(0).standard_normal(500), fs_hz=10.0)
+    _, q = assess_run(run)
+    assert q.units_source == "assumed"
+    assert q.warnings()[0].startswith("no unit in the rate column(s) 'rate'; assuming deg/h")
+    d = q.to_dict()
+    assert d["units_source"] == "assumed" and d["glitches"][0]["n_events"] == 0
+    assert q.glitch_count("rate") == 0 and q.glitch_count("absent") == 0
+    run = read_run(np.random.default_rng(0).standard_normal(500), fs_hz=10.0, units="deg/s")
+    _, q = assess_run(run)
+    assert q.warnings() == [] and q.summary() == "no data-quality issue found"
+    assert q.to_frame().empty
