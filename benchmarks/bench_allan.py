@@ -16,9 +16,9 @@ Figures (ratio = allantools seconds / fogts seconds, > 1 means fogts is faster):
   on the same octave taus; each side runs in a fresh interpreter.
 
 The machine is shared, so the contenders are timed in rotating rounds and the best wall and
-CPU time of each is kept (``benchmarks._runner.measure``); the load average is printed with
-the table.  The default-thread oadev is a ``parallel`` figure (see the runner's comparison
-rule); its single-threaded sibling is the 1-thread oadev.
+CPU time of each is kept (:func:`benchmarks.timing.measure`); the load average is printed
+with the table.  The default-thread oadev is a ``parallel`` figure (see
+:mod:`benchmarks.compare`); its single-threaded sibling is the 1-thread oadev.
 
 Run: ``python -m benchmarks.bench_allan [--quick] [--huge]``; the table is written to
 ``benchmarks/results/allan.md``.
