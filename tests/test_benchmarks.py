@@ -20,7 +20,7 @@ from benchmarks.cli import main
 from benchmarks.compare import compare, merge_best
 from benchmarks.metric import accuracy_metric, speed_metric
 from benchmarks.render import render_comparison, render_markdown
-from benchmarks.suites import merge_results
+from benchmarks.suites import SUITES, merge_results, suite_named
 from benchmarks.timing import Timing, measure, speed_from
 
 
@@ -234,3 +234,19 @@ def test_render_shows_both_ratios_and_the_basis() -> None:
 def test_merge_results_refuses_quick_with_full() -> None:
     with pytest.raises(ValueError, match="cannot merge a quick run with a full run"):
         merge_results(_doc(quick=True), _doc(quick=False))
+
+
+def test_every_suite_loads_as_a_module_of_the_package() -> None:
+    for suite in SUITES:
+        assert suite.module_path().is_file(), suite.name
+        assert callable(suite.load()), suite.name
+        assert suite_named(suite.name) is suite
+    with pytest.raises(KeyError):
+        suite_named("nope")
+
+
+def test_cli_render_writes_the_tables(tmp_path: Any) -> None:
+    doc, md = tmp_path / "d.json", tmp_path / "out" / "d.md"
+    doc.write_text(json.dumps(_doc(_speed(2.5, 3.0))))
+    assert main(["--render", str(doc), "--md", str(md)]) == 0
+    assert md.read_text() == render_markdown(_doc(_speed(2.5, 3.0)))
