@@ -1,5 +1,5 @@
-"""``python -m benchmarks``: run every benchmark suite (see :mod:`benchmarks._runner`)."""
+"""``python -m benchmarks``: run every benchmark suite (see :mod:`benchmarks.cli`)."""
 
-from benchmarks._runner import main
+from benchmarks.cli import main
 
 raise SystemExit(main())

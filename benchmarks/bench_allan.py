@@ -16,11 +16,11 @@ Figures (ratio = allantools seconds / fogts seconds, > 1 means fogts is faster):
   on the same octave taus; each side runs in a fresh interpreter.
 
 The machine is shared, so the contenders are timed in rotating rounds and the best wall and
-CPU time of each is kept (``benchmarks._runner.measure``); the load average is printed with
-the table.  The default-thread oadev is a ``parallel`` figure (see the runner's comparison
-rule); its single-threaded sibling is the 1-thread oadev.
+CPU time of each is kept (:func:`benchmarks.timing.measure`); the load average is printed
+with the table.  The default-thread oadev is a ``parallel`` figure (see
+:mod:`benchmarks.compare`); its single-threaded sibling is the 1-thread oadev.
 
-Run: ``python benchmarks/bench_allan.py [--quick] [--huge]``; the table is written to
+Run: ``python -m benchmarks.bench_allan [--quick] [--huge]``; the table is written to
 ``benchmarks/results/allan.md``.
 """
 
@@ -43,13 +43,9 @@ from typing import Any
 
 import numpy as np
 
-try:
-    from benchmarks import _runner as runner
-except ImportError:  # run as a script: python benchmarks/bench_allan.py
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-    from benchmarks import _runner as runner
-
-Metric = runner.Metric
+from benchmarks.metric import Metric, accuracy_metric, speed_metric
+from benchmarks.render import measured_markdown, write_table
+from benchmarks.timing import measure, speed_from
 
 RESULTS = Path(__file__).resolve().parent / "results" / "allan.md"
 FS_HZ = 100.0
@@ -114,7 +110,7 @@ def _oadev_metrics(quick: bool) -> list[Metric]:
     def peer_call() -> Any:
         return allantools.oadev(y, rate=FS_HZ, data_type="freq", taus=taus)
 
-    timing = runner.measure({"fogts": lambda: oadev(y, fs_hz=FS_HZ, m=m),
+    timing = measure({"fogts": lambda: oadev(y, fs_hz=FS_HZ, m=m),
                              "fogts 1 thread": lambda: oadev(y, fs_hz=FS_HZ, m=m, workers=1),
                              "peer": peer_call}, repeat=3, min_total_s=3.0 if quick else 0.0)
     mem_ours = peak_extra_bytes(lambda: oadev(y, fs_hz=FS_HZ, m=m))
@@ -122,7 +118,7 @@ def _oadev_metrics(quick: bool) -> list[Metric]:
     mem_at = peak_extra_bytes(peer_call)
     threads = os.cpu_count() or 1
     size = f"{n:.0e}".replace("+0", "").replace("+", "")
-    speed, acc = runner.speed_from, runner.accuracy_metric
+    speed, acc = speed_from, accuracy_metric
     title = f"oadev, {size} samples, {m.size} taus"
     return [
         speed(timing, f"speed.oadev.{tag}", f"{title}, {threads} threads", peer="allantools",
@@ -157,12 +153,12 @@ def _all_kinds_metrics(quick: bool) -> list[Metric]:
         ref = peer(y, rate=FS_HZ, data_type="freq", taus=grid.tau_s)
         rel = float(np.max(np.abs(res.dev / ref[1] - 1.0)))
         # one thread, like allantools (the thread pool is measured by speed.oadev.n=1e7)
-        timing = runner.measure(
+        timing = measure(
             {"fogts": functools.partial(fn, y, fs_hz=FS_HZ, m=grid.m, workers=1),
              "peer": functools.partial(peer, y, rate=FS_HZ, data_type="freq",
                                        taus=grid.tau_s)},
             repeat=5, min_total_s=0.5 if quick else 2.0)
-        out.append(runner.speed_from(
+        out.append(speed_from(
             timing, f"speed.{kind}.octave.n={n}", f"{kind}, {n:,} samples, {grid.m.size} "
             f"octave taus, 1 thread (max rel. diff {rel:.1e})", peer="allantools",
             details={"max_rel_diff": rel}))
@@ -220,7 +216,7 @@ def _huge_metrics() -> list[Metric]:
                     "res = allan_deviation(r, kind='oadev', taus='octave')")
         t_api = _timed_child([sys.executable, "-c", api_code, str(path)], env)
         peer = "np.load+allantools.oadev"
-        out.append(runner.speed_metric(
+        out.append(speed_metric(
             "speed.allan_deviation_end_to_end.n=1e8", f"1e8-sample .npy (800 MB), "
             f"{taus.size} octave taus: read_run + allan_deviation (oadev with noise id, EDF "
             "and CIs)", fogts_s=t_api, peer_s=t_peer, peer=peer))
@@ -228,7 +224,7 @@ def _huge_metrics() -> list[Metric]:
             cmd = [sys.executable, "-m", "fogts", "allan", str(path), "--fs", str(FS_HZ),
                    "--json", str(folder / "out.json")]
             t_cli = _timed_child(cmd, env)
-            out.append(runner.speed_metric(
+            out.append(speed_metric(
                 "speed.allan_cli_end_to_end.n=1e8", "1e8-sample .npy: the whole `fogts allan` "
                 "command (read, oadev, CIs, noise fit, JSON)", fogts_s=t_cli, peer_s=t_peer,
                 peer=peer))
@@ -257,10 +253,10 @@ def main(argv: list[str] | None = None) -> int:
     if importlib.util.find_spec("allantools") is None:
         print("error: allantools is not installed", file=sys.stderr)
         return 2
-    text = runner.measured_markdown(lambda: metrics(args.quick, huge=args.huge),
+    text = measured_markdown(lambda: metrics(args.quick, huge=args.huge),
                                     quick=args.quick)
     print(text)
-    runner.write_table(text, args.out if args.out is not None
+    write_table(text, args.out if args.out is not None
                        else (None if args.quick else RESULTS))
     return 0
 

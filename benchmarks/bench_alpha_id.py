@@ -12,33 +12,16 @@ FM, random-walk FM; fixed seeds) at a given number of averaged points, fogts vs
 ``allantools.autocorr_noise_id`` on the same series.  These Monte-Carlo studies are too slow
 for the test suite, which checks fixed seeds only.
 
-Run: ``python benchmarks/bench_alpha_id.py [--quick]``.
+Run: ``python -m benchmarks.bench_alpha_id [--quick]``.
 """
 
 from __future__ import annotations
 
-import sys
-from pathlib import Path
-
 import numpy as np
 
-try:
-    from benchmarks._runner import (
-        Metric,
-        accuracy_metric,
-        measure,
-        script_main,
-        speed_from,
-    )
-except ImportError:  # run as a script: python benchmarks/bench_alpha_id.py
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-    from benchmarks._runner import (
-        Metric,
-        accuracy_metric,
-        measure,
-        script_main,
-        speed_from,
-    )
+from benchmarks.cli import script_main
+from benchmarks.metric import Metric, accuracy_metric
+from benchmarks.timing import measure, speed_from
 
 ALPHAS = (2, 1, 0, -1, -2)
 

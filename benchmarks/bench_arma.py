@@ -4,7 +4,7 @@ Data, demeaned and divided by its standard deviation (the "standardised series" 
 contender gets); the five candidates are AR(1), AR(2), AR(3), ARMA(1,1) and ARMA(2,1):
 
 * ``identified``: x_t = 1.2 x_{t-1} - 0.5 x_{t-2} + a_t + 0.4 a_{t-1} (seed 2024);
-* ``nearly white`` (full run only): the seed paper's fitted drift model
+* ``nearly white`` (full run only): a FOG drift model fitted to a 10 Hz, 3 h record,
   x_t = -0.2699 x_{t-1} - 0.002968 x_{t-2} + a_t + 0.277 a_{t-1}, whose AR root nearly
   cancels the MA root - the hard case: ARMA(1,1) and ARMA(2,1) are nearly redundant and their
   likelihoods have several maxima (fogts then tries extra starts).
@@ -22,7 +22,7 @@ Speed figures (ratio = peer seconds / fogts seconds, > 1 means fogts is faster):
   and user + system for the CPU-time ratio);
 * at n = 1e7 (full run only): the time of ``select_arma`` and its peak extra memory
   (tracemalloc, numpy arrays included) as a multiple of the input; there is no peer (the
-  statsmodels loop would take about half an hour).
+  statsmodels loop is too slow at that size).
 
 Accuracy figures, from the same fits: the largest |parameter difference| to statsmodels
 (acceptance: 1e-4, compared where both reach the same optimum), the largest AIC excess of
@@ -37,7 +37,7 @@ The statsmodels loop takes minutes, so it runs once; fogts runs before and after
 best wall and CPU time are kept (the machine is shared; the load average is printed with
 the table).
 
-Run: ``python benchmarks/bench_arma.py [--quick]``; a full run writes
+Run: ``python -m benchmarks.bench_arma [--quick]``; a full run writes
 ``benchmarks/results/arma.md``.
 """
 
@@ -51,16 +51,15 @@ import sys
 import tempfile
 import tracemalloc
 import warnings
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-try:
-    from benchmarks import _runner as runner
-except ImportError:  # run as a script: python benchmarks/bench_arma.py
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-    from benchmarks import _runner as runner
+from benchmarks.metric import Metric, accuracy_metric, speed_metric
+from benchmarks.render import measured_markdown, write_table
+from benchmarks.timing import LoadProbe, timed_once
 
 RESULTS = Path(__file__).resolve().parent / "results" / "arma.md"
 R_SCRIPT = Path(__file__).resolve().parent / "r_arima.R"
@@ -69,6 +68,7 @@ NAMES = ["AR(1)", "AR(2)", "AR(3)", "ARMA(1,1)", "ARMA(2,1)"]
 SEED = 2024
 QUICK_N = 20_000
 NOTES: list[str] = []   # per-candidate AIC differences, printed under the table
+WHAT = "5 candidates + diagnostics (select_arma)"
 
 
 DATASETS = {
@@ -90,11 +90,9 @@ def series(n: int, seed: int = SEED, kind: str = "identified") -> np.ndarray:
 
 
 def _select(x: np.ndarray) -> Any:
-    """fogts' whole selection if engineer S's select_arma exists, else None."""
-    try:
-        from fogts.arma.select import select_arma
-    except ImportError:
-        return None
+    """fogts' whole selection: five exact-ML fits and every diagnostic."""
+    from fogts.arma.select import select_arma
+
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         return select_arma(x)
@@ -122,7 +120,7 @@ def _statsmodels_fits(x: np.ndarray) -> list[Any]:
 def _timed(fn: Any, *args: Any) -> tuple[float, float, Any]:
     """``(wall, cpu, result)`` of one call (after a garbage collection)."""
     gc.collect()
-    return runner.timed_once(lambda: fn(*args))
+    return timed_once(lambda: fn(*args))
 
 
 def _run_r(x: np.ndarray, auto: bool) -> dict[str, Any] | None:
@@ -163,50 +161,73 @@ def _label(n: int) -> str:
     return f"n=1e{round(np.log10(n))}" if n == 10 ** round(np.log10(n)) else f"n={n}"
 
 
-def _comparison_metrics(n: int, kind: str = "identified",
-                        with_r: bool = True) -> list[runner.Metric]:
-    x = series(n, kind=kind)
-    lab = _label(n) + ("" if kind == "identified" else ", " + kind)
-    key = _label(n) + ("" if kind == "identified" else "." + kind.replace(" ", "_"))
-    has_select = _select(x[:5000]) is not None          # also warms imports and caches
+@dataclass
+class _Run:
+    """fogts (timed before and after the peer, best kept) against the statsmodels loop."""
+
+    select_s: float
+    select_cpu_s: float
+    fits_s: float
+    fits_cpu_s: float
+    statsmodels_s: float
+    statsmodels_cpu_s: float
+    other_load: float | None
+    selection: Any
+    fits: list[Any]
+    statsmodels: list[Any]
+
+    @property
+    def timing(self) -> dict[str, Any]:
+        """The :func:`speed_metric` keywords every figure of this run shares."""
+        return {"other_load": self.other_load, "noise": {"rounds": 1}}
+
+
+def _run_against_statsmodels(x: np.ndarray, lab: str) -> _Run:
+    """Time ``select_arma``, the five fits and the statsmodels loop (once: it takes minutes)."""
+    _select(x[:5000])                                    # warms imports and caches
     _fogts_fits(x[:5000])
-    nan3 = (float("nan"), float("nan"), None)
-    probe = runner.LoadProbe()
-    t_sel1, c_sel1, sel = _timed(_select, x) if has_select else nan3
+    probe = LoadProbe()
+    t_sel1, c_sel1, sel = _timed(_select, x)
     t_fit1, c_fit1, fits = _timed(_fogts_fits, x)
     print(f"  fogts at {lab}: select {t_sel1:.2f} s, five fits {t_fit1:.2f} s; "
           "statsmodels loop running ...", file=sys.stderr)
     t_sm, c_sm, sm = _timed(_statsmodels_fits, x)
-    t_sel2, c_sel2, _ = _timed(_select, x) if has_select else nan3
+    t_sel2, c_sel2, _ = _timed(_select, x)
     t_fit2, c_fit2, _ = _timed(_fogts_fits, x)
-    load = probe.other_load()
-    t_sel, t_fit = min(t_sel1, t_sel2), min(t_fit1, t_fit2)
-    c_sel, c_fit = min(c_sel1, c_sel2), min(c_fit1, c_fit2)
-    timing: dict[str, Any] = {"other_load": load, "noise": {"rounds": 1}}
+    return _Run(select_s=min(t_sel1, t_sel2), select_cpu_s=min(c_sel1, c_sel2),
+                fits_s=min(t_fit1, t_fit2), fits_cpu_s=min(c_fit1, c_fit2),
+                statsmodels_s=t_sm, statsmodels_cpu_s=c_sm, other_load=probe.other_load(),
+                selection=sel, fits=fits, statsmodels=sm)
+
+
+def _speed_vs_statsmodels(run: _Run, lab: str, key: str) -> list[Metric]:
     per_candidate = {name: round(float(r.mle_retvals.get("iterations", -1)), 0)
-                     for name, r in zip(NAMES, sm, strict=True)}
-    out: list[runner.Metric] = []
-    what = "5 candidates + diagnostics (select_arma)"
-    if has_select:
-        out.append(runner.speed_metric(
+                     for name, r in zip(NAMES, run.statsmodels, strict=True)}
+    return [
+        speed_metric(
             f"speed.arma.select_vs_statsmodels.{key}",
-            f"ARMA selection, {lab}: {what} vs the ARIMA(...).fit() loop",
-            fogts_s=t_sel, peer_s=t_sm, peer="statsmodels", fogts_cpu_s=c_sel,
-            peer_cpu_s=c_sm, **timing))
-    out.append(runner.speed_metric(
-        f"speed.arma.fits_vs_statsmodels.{key}",
-        f"ARMA exact ML, {lab}: 5 fit_arma fits vs the ARIMA(...).fit() loop",
-        fogts_s=t_fit, peer_s=t_sm, peer="statsmodels", fogts_cpu_s=c_fit, peer_cpu_s=c_sm,
-        details={"statsmodels_iterations": per_candidate}, **timing))
-    # accuracy against statsmodels (AIC on the standardised series: fogts' scale is ~1)
+            f"ARMA selection, {lab}: {WHAT} vs the ARIMA(...).fit() loop",
+            fogts_s=run.select_s, peer_s=run.statsmodels_s, peer="statsmodels",
+            fogts_cpu_s=run.select_cpu_s, peer_cpu_s=run.statsmodels_cpu_s, **run.timing),
+        speed_metric(
+            f"speed.arma.fits_vs_statsmodels.{key}",
+            f"ARMA exact ML, {lab}: 5 fit_arma fits vs the ARIMA(...).fit() loop",
+            fogts_s=run.fits_s, peer_s=run.statsmodels_s, peer="statsmodels",
+            fogts_cpu_s=run.fits_cpu_s, peer_cpu_s=run.statsmodels_cpu_s,
+            details={"statsmodels_iterations": per_candidate}, **run.timing),
+    ]
+
+
+def _accuracy_vs_statsmodels(run: _Run, n: int, lab: str, key: str) -> list[Metric]:
+    """Parameter and AIC differences, and the rankings (AIC on the standardised series)."""
     dpar, excess = 0.0, -np.inf
-    for f, r in zip(fits, sm, strict=True):
+    for f, r in zip(run.fits, run.statsmodels, strict=True):
         aic_f = f.aic - 2 * n * np.log(f.scale)
         excess = max(excess, aic_f - r.aic)
         if abs(aic_f - r.aic) < 2e-3:                    # the same optimum
             dpar = max(dpar, float(np.max(np.abs(np.r_[f.ar, f.ma] - r.params[:-1]))))
-    aic_f = [f.aic - 2 * n * np.log(f.scale) for f in fits]
-    aic_s = [float(r.aic) for r in sm]
+    aic_f = [f.aic - 2 * n * np.log(f.scale) for f in run.fits]
+    aic_s = [float(r.aic) for r in run.statsmodels]
     rank_f = [NAMES[i] for i in np.argsort(aic_f)]
     rank_s = [NAMES[i] for i in np.argsort(aic_s)]
     rank_best = [NAMES[i] for i in np.argsort(np.minimum(aic_f, aic_s))]
@@ -214,66 +235,77 @@ def _comparison_metrics(n: int, kind: str = "identified",
                  + ", ".join(f"{nm} {a - b:+.3g}" for nm, a, b in
                              zip(NAMES, aic_f, aic_s, strict=True))
                  + f"; ranking fogts {' < '.join(rank_f)}; statsmodels {' < '.join(rank_s)}.")
-    out.append(runner.accuracy_metric(
-        f"accuracy.arma.param_diff_vs_statsmodels.{key}",
-        f"ARMA {lab}: largest |parameter difference| to statsmodels (acceptance 1e-4)",
-        value=dpar, better="lower", abs_tolerance=1e-5))
-    out.append(runner.accuracy_metric(
-        f"accuracy.arma.aic_excess_vs_statsmodels.{key}",
-        f"ARMA {lab}: largest AIC excess of fogts over statsmodels (acceptance <= 0.05)",
-        value=float(excess), better="lower", abs_tolerance=0.01))
-    out.append(runner.accuracy_metric(
-        f"accuracy.arma.same_ranking_as_statsmodels.{key}",
-        f"ARMA {lab}: same AIC ranking as statsmodels (1 = yes)",
-        value=float(rank_f == rank_s), better="higher",
-        details={"fogts": rank_f, "statsmodels": rank_s}))
-    out.append(runner.accuracy_metric(
-        f"accuracy.arma.ranking_by_best_llf.{key}",
-        f"ARMA {lab}: fogts' ranking equals the ranking by the best likelihood either tool "
-        "found (1 = yes)",
-        value=float(rank_f == rank_best), better="higher", details={"best": rank_best}))
-    # R, if installed
-    if not with_r:
-        return out
+    return [
+        accuracy_metric(
+            f"accuracy.arma.param_diff_vs_statsmodels.{key}",
+            f"ARMA {lab}: largest |parameter difference| to statsmodels (acceptance 1e-4)",
+            value=dpar, better="lower", abs_tolerance=1e-5),
+        accuracy_metric(
+            f"accuracy.arma.aic_excess_vs_statsmodels.{key}",
+            f"ARMA {lab}: largest AIC excess of fogts over statsmodels (acceptance <= 0.05)",
+            value=float(excess), better="lower", abs_tolerance=0.01),
+        accuracy_metric(
+            f"accuracy.arma.same_ranking_as_statsmodels.{key}",
+            f"ARMA {lab}: same AIC ranking as statsmodels (1 = yes)",
+            value=float(rank_f == rank_s), better="higher",
+            details={"fogts": rank_f, "statsmodels": rank_s}),
+        accuracy_metric(
+            f"accuracy.arma.ranking_by_best_llf.{key}",
+            f"ARMA {lab}: fogts' ranking equals the ranking by the best likelihood either tool "
+            "found (1 = yes)",
+            value=float(rank_f == rank_best), better="higher", details={"best": rank_best}),
+    ]
+
+
+def _against_r(x: np.ndarray, run: _Run, n: int, lab: str, key: str) -> list[Metric]:
+    """Speed against R's arima loop and auto.arima, and the AIC and parameter differences."""
     r = _run_r(x, auto=True)
     if r is None:
         print("  R not found (Rscript): R figures skipped", file=sys.stderr)
-        return out
-    peer_s = r["arima_seconds"]
-    ours_s, ours_cpu = (t_sel, c_sel) if has_select else (t_fit, c_fit)
-    out.append(runner.speed_metric(
+        return []
+    out = [speed_metric(
         f"speed.arma.select_vs_r_arima.{key}",
-        f"ARMA selection, {lab}: {what} vs R arima(method=\"ML\") over the 5 candidates",
-        fogts_s=ours_s, peer_s=peer_s, peer="R arima", fogts_cpu_s=ours_cpu,
-        peer_cpu_s=r.get("arima_cpu_seconds"), **timing))
+        f"ARMA selection, {lab}: {WHAT} vs R arima(method=\"ML\") over the 5 candidates",
+        fogts_s=run.select_s, peer_s=r["arima_seconds"], peer="R arima",
+        fogts_cpu_s=run.select_cpu_s, peer_cpu_s=r.get("arima_cpu_seconds"), **run.timing)]
     if "auto" in r:
         auto = r["auto"]
-        out.append(runner.speed_metric(
+        out.append(speed_metric(
             f"speed.arma.select_vs_auto_arima.{key}",
-            f"ARMA selection, {lab}: {what} vs forecast::auto.arima(max.p=3, max.q=1, "
+            f"ARMA selection, {lab}: {WHAT} vs forecast::auto.arima(max.p=3, max.q=1, "
             "stepwise=FALSE, approximation=FALSE)",
-            fogts_s=ours_s, peer_s=auto["seconds"], peer="auto.arima", fogts_cpu_s=ours_cpu,
-            peer_cpu_s=r.get("auto_cpu_seconds"),
-            details={"auto_arima_choice": f"ARMA({auto['p']},{auto['q']})"}, **timing))
+            fogts_s=run.select_s, peer_s=auto["seconds"], peer="auto.arima",
+            fogts_cpu_s=run.select_cpu_s, peer_cpu_s=r.get("auto_cpu_seconds"),
+            details={"auto_arima_choice": f"ARMA({auto['p']},{auto['q']})"}, **run.timing))
     excess_r = max(f.aic - 2 * n * np.log(f.scale) - r["fits"][(f.p, f.q)]["aic"]
-                   for f in fits)
+                   for f in run.fits)
     dpar_r = max(float(np.max(np.abs(np.r_[f.ar, f.ma] - r["fits"][(f.p, f.q)]["coef"])))
-                 for f in fits)
-    out.append(runner.accuracy_metric(
+                 for f in run.fits)
+    out.append(accuracy_metric(
         f"accuracy.arma.aic_excess_vs_r.{key}",
         f"ARMA {lab}: largest AIC excess of fogts over R arima(method=\"ML\") (acceptance <= 0.05)",
         value=float(excess_r), better="lower", abs_tolerance=0.01))
-    out.append(runner.accuracy_metric(
+    out.append(accuracy_metric(
         f"accuracy.arma.param_diff_vs_r.{key}",
         f"ARMA {lab}: largest |parameter difference| to R arima(method=\"ML\")",
         value=dpar_r, better="lower", abs_tolerance=1e-4))
-    if sel is not None:
-        print(f"  fogts selects {sel.best.model}; R auto.arima selects "
-              f"{r.get('auto', {}).get('p')},{r.get('auto', {}).get('q')}", file=sys.stderr)
+    print(f"  fogts selects {run.selection.best.model}; R auto.arima selects "
+          f"{r.get('auto', {}).get('p')},{r.get('auto', {}).get('q')}", file=sys.stderr)
     return out
 
 
-def _huge_metrics(n: int) -> list[runner.Metric]:
+def _comparison_metrics(n: int, kind: str = "identified",
+                        with_r: bool = True) -> list[Metric]:
+    """fogts against statsmodels (and R, if ``with_r`` and installed) on one series."""
+    x = series(n, kind=kind)
+    lab = _label(n) + ("" if kind == "identified" else ", " + kind)
+    key = _label(n) + ("" if kind == "identified" else "." + kind.replace(" ", "_"))
+    run = _run_against_statsmodels(x, lab)
+    out = _speed_vs_statsmodels(run, lab, key) + _accuracy_vs_statsmodels(run, n, lab, key)
+    return out + (_against_r(x, run, n, lab, key) if with_r else [])
+
+
+def _huge_metrics(n: int) -> list[Metric]:
     """select_arma at n = 1e7: CPU time (best of 2) and peak extra memory (tracemalloc).
 
     There is no peer to take a ratio against, so the figure is the CPU time of this process
@@ -281,28 +313,27 @@ def _huge_metrics(n: int) -> list[runner.Metric]:
     in the details.
     """
     x = series(n)
-    run = _select if _select(x[:5000]) is not None else _fogts_fits
-    what = "select_arma" if run is _select else "5 fit_arma fits"
-    t1, c1, _ = _timed(run, x)
-    t2, c2, _ = _timed(run, x)
+    _select(x[:5000])                                    # warms imports and caches
+    t1, c1, _ = _timed(_select, x)
+    t2, c2, _ = _timed(_select, x)
     gc.collect()
     tracemalloc.start()
-    run(x)
+    _select(x)
     _, peak = tracemalloc.get_traced_memory()
     tracemalloc.stop()
     lab = _label(n)
     return [
-        runner.accuracy_metric(
-            f"time.arma.select.{lab}", f"ARMA {lab}: {what} CPU time (no peer)",
+        accuracy_metric(
+            f"time.arma.select.{lab}", f"ARMA {lab}: select_arma CPU time (no peer)",
             value=min(c1, c2), better="lower", unit="s CPU", tolerance=0.5,
             details={"wall_s": min(t1, t2)}),
-        runner.accuracy_metric(
-            f"memory.arma.select.{lab}", f"ARMA {lab}: {what} peak extra memory",
+        accuracy_metric(
+            f"memory.arma.select.{lab}", f"ARMA {lab}: select_arma peak extra memory",
             value=peak / x.nbytes, better="lower", unit="x input", tolerance=0.25),
     ]
 
 
-def metrics(quick: bool) -> list[runner.Metric]:
+def metrics(quick: bool) -> list[Metric]:
     """Measure and return the figures (the runner's entry point)."""
     out = _comparison_metrics(QUICK_N if quick else 1_000_000)
     if not quick:
@@ -318,7 +349,7 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--out", type=Path, default=None,
                    help=f"write the markdown table here (default {RESULTS} for a full run)")
     args = p.parse_args(argv)
-    text = runner.measured_markdown(
+    text = measured_markdown(
         lambda: metrics(args.quick), quick=args.quick,
         how="fogts is timed before and after the peer, best kept")
     text += "".join(f"\n- {note}" for note in NOTES) + ("\n" if NOTES else "")
@@ -326,7 +357,7 @@ def main(argv: list[str] | None = None) -> int:
     if r_version:
         text += f"R: {r_version}.\n"
     print(text)
-    runner.write_table(text, args.out if args.out is not None
+    write_table(text, args.out if args.out is not None
                        else (None if args.quick else RESULTS))
     return 0
 

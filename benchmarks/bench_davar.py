@@ -13,34 +13,19 @@ seconds / fogts seconds, > 1 means fogts is faster):
 * the largest relative difference between fogts' and allantools' deviations (must be
   <= 1e-9).
 
-``--quick`` uses 20 min at 100 Hz.  Run: ``python benchmarks/bench_davar.py [--quick]``;
+``--quick`` uses 20 min at 100 Hz.  Run: ``python -m benchmarks.bench_davar [--quick]``;
 the table goes to ``benchmarks/results/davar.md``.
 """
 
 from __future__ import annotations
 
-import sys
 from pathlib import Path
 
 import numpy as np
 
-try:
-    from benchmarks._runner import (
-        Metric,
-        accuracy_metric,
-        measure,
-        script_main,
-        speed_from,
-    )
-except ImportError:  # run as a script: python benchmarks/bench_davar.py
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-    from benchmarks._runner import (
-        Metric,
-        accuracy_metric,
-        measure,
-        script_main,
-        speed_from,
-    )
+from benchmarks.cli import script_main
+from benchmarks.metric import Metric, accuracy_metric
+from benchmarks.timing import measure, speed_from
 
 FS_HZ = 100.0
 WINDOW_S = 200.0

@@ -1,4 +1,4 @@
-"""Benchmark the seed-004 start-up tools: EMD, steady-state Kalman, thermal fit, north seeking.
+"""Benchmark the start-up tools: EMD, the steady-state Kalman filter and the thermal fit.
 
 Every time is reported as a ratio against a peer measured in the same run (these machines
 are shared and noisy):
@@ -12,7 +12,7 @@ are shared and noisy):
   smoothed series is printed too.
 * Thermal fit (GLS with AR(4) errors) of a 1 h cold start vs plain OLS on the same design.
 
-Run ``python benchmarks/bench_emd_kalman.py`` (or ``--quick`` for a smoke run); the table is
+Run ``python -m benchmarks.bench_emd_kalman`` (or ``--quick`` for a smoke run); the table is
 written to ``benchmarks/results/emd_kalman.md``.
 """
 
@@ -26,13 +26,9 @@ from typing import Any
 import numpy as np
 from scipy.signal import lfilter
 
-try:
-    from benchmarks import _runner as runner
-except ImportError:  # run as a script: python benchmarks/bench_emd_kalman.py
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-    from benchmarks import _runner as runner
-
-Metric = runner.Metric
+from benchmarks.metric import Metric, speed_metric
+from benchmarks.render import render_markdown
+from benchmarks.timing import LoadProbe, measure, speed_from, timed_once
 
 
 def _slug_id(task: str, quick: bool) -> str:
@@ -65,10 +61,10 @@ def metrics(quick: bool) -> list[Metric]:
     else:
         peer = PyEMD(spline_kind="cubic")
         n_rows = len(peer.emd(x))
-        timing = runner.measure({"fogts": lambda: emd(x), "peer": lambda: peer.emd(x)},
+        timing = measure({"fogts": lambda: emd(x), "peer": lambda: peer.emd(x)},
                                 repeat=repeat)
         task = f"EMD, n = {n_emd:,}"
-        out.append(runner.speed_from(
+        out.append(speed_from(
             timing, _slug_id(task, quick), f"{task} (fogts: {res.n_imfs} IMFs, k = "
             f"{split.k}; PyEMD: {n_rows} rows)", peer="PyEMD"))
 
@@ -86,13 +82,13 @@ def metrics(quick: bool) -> list[Metric]:
         return arma_kalman(y, params, measurement_noise=h, method="steady-state", demean=False)
 
     model = SARIMAX(y, order=(2, 0, 1), trend="n", measurement_error=True)
-    probe = runner.LoadProbe()
-    kf_t = runner.measure({"fogts": ours}, repeat=repeat)
-    t_s, c_s, ref = runner.timed_once(lambda: model.smooth([ar[0], ar[1], ma[0], h, s2]))
+    probe = LoadProbe()
+    kf_t = measure({"fogts": ours}, repeat=repeat)
+    t_s, c_s, ref = timed_once(lambda: model.smooth([ar[0], ar[1], ma[0], h, s2]))
     kf = ours()
     diff = float(np.max(np.abs(np.asarray(kf.smoothed) - ref.smoothed_state[0])))
     task = f"Kalman filter+smoother ARMA(2,1), n = {n_kf:,}"
-    out.append(runner.speed_metric(
+    out.append(speed_metric(
         _slug_id(task, quick), f"{task} (fogts steady-state, transient {kf.n_transient}; "
         f"SARIMAX.smooth max abs diff {diff:.1e})", fogts_s=kf_t.wall["fogts"], peer_s=t_s,
         peer="SARIMAX.smooth", fogts_cpu_s=kf_t.cpu["fogts"], peer_cpu_s=c_s,
@@ -109,11 +105,11 @@ def metrics(quick: bool) -> list[Metric]:
     assert temp is not None
     X = design_matrix(temp, temperature_rate(temp, fs_hz=1.0),
                       ("T*dT", "T2", "T", "dT2", "dT", "1"))
-    timing = runner.measure({"fogts": lambda: fit_thermal(sim.run.rate, temp, fs_hz=1.0),
+    timing = measure({"fogts": lambda: fit_thermal(sim.run.rate, temp, fs_hz=1.0),
                              "peer": lambda: sm.OLS(sim.run.rate, X).fit()},
                             repeat=max(repeat, 3), min_total_s=0.5 if quick else 2.0)
     task = "thermal fit, 1 h at 1 Hz"
-    out.append(runner.speed_from(timing, _slug_id(task, quick),
+    out.append(speed_from(timing, _slug_id(task, quick),
                                  f"{task} (fogts GLS with AR(4) errors; peer plain OLS)",
                                  peer="OLS"))
     return out
@@ -123,7 +119,7 @@ def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=(__doc__ or "").splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="small sizes, one repeat")
     args = ap.parse_args(argv)
-    text = runner.render_markdown({"metrics": metrics(args.quick), "quick": args.quick})
+    text = render_markdown({"metrics": metrics(args.quick), "quick": args.quick})
     print(text)
     if not args.quick:
         out = Path(__file__).resolve().parent / "results" / "emd_kalman.md"

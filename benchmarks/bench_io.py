@@ -17,24 +17,21 @@ Figures (ratio = peer seconds / fogts seconds, > 1 means fogts is faster):
 ``read_run`` does more than the peers: it detects columns and units, checks every value is
 finite and the time base is monotonic, and measures gaps and jitter.
 
-Run: ``python benchmarks/bench_io.py [--quick]``.
+Run: ``python -m benchmarks.bench_io [--quick]``.
 """
 
 from __future__ import annotations
 
 import gc
 import shutil
-import sys
 import tempfile
 from pathlib import Path
 
 import numpy as np
 
-try:
-    from benchmarks._runner import Metric, measure, script_main, speed_from
-except ImportError:  # run as a script: python benchmarks/bench_io.py
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-    from benchmarks._runner import Metric, measure, script_main, speed_from
+from benchmarks.cli import script_main
+from benchmarks.metric import Metric
+from benchmarks.timing import measure, speed_from
 
 FULL_CSV_BYTES = 1_000_000_000
 QUICK_CSV_BYTES = 8_000_000

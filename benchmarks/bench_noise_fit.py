@@ -3,7 +3,7 @@
 Every figure compares methods on the *same* simulated curves (fixed seeds), so it is a
 ratio measured in one run:
 
-* **White + random walk** (the issue's study): white rate noise N = 0.05 deg/sqrt(h) plus a
+* **White + random walk**: white rate noise N = 0.05 deg/sqrt(h) plus a
   rate random walk K = 10 deg/h^1.5, 100 Hz, 3 h, 30 seeds.  Median absolute relative
   error of N and K for ``fit_noise`` (the default: WLS on the five terms with term selection
   at 5 %; the same without selection, ``significance=None``; WLS on N, K; GLS; OLS) and for
@@ -16,7 +16,7 @@ ratio measured in one run:
 
 The Allan curves come from ``fogts.allan.allan_deviation`` (octave taus, Greenhall EDF).
 
-Run: ``python benchmarks/bench_noise_fit.py [--quick] [--out benchmarks/results/noise_fit.md]``.
+Run: ``python -m benchmarks.bench_noise_fit [--quick] [--out benchmarks/results/noise_fit.md]``.
 """
 
 from __future__ import annotations
@@ -25,17 +25,12 @@ import math
 import sys
 import time
 import warnings
-from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-try:
-    from benchmarks._runner import Metric, accuracy_metric, script_main
-except ImportError:  # run as a script: python benchmarks/bench_noise_fit.py
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-    from benchmarks._runner import Metric, accuracy_metric, script_main
-
+from benchmarks.cli import script_main
+from benchmarks.metric import Metric, accuracy_metric
 from fogts.allan import allan_deviation
 from fogts.allan.noise import fit_noise
 

@@ -13,14 +13,13 @@ Figures:
   which is how one builds such a record with allantools.  Ratio = allantools seconds /
   fogts seconds; also the peak memory of each as a multiple of its output.
 
-Run: ``python benchmarks/bench_simulate.py [--quick]``; the table goes to
+Run: ``python -m benchmarks.bench_simulate [--quick]``; the table goes to
 ``benchmarks/results/simulate.md``.  ``--quick`` uses 2x10^6 samples for the chunked run.
 """
 
 from __future__ import annotations
 
 import gc
-import sys
 import time
 import tracemalloc
 from collections.abc import Callable
@@ -29,23 +28,9 @@ from typing import Any
 
 import numpy as np
 
-try:
-    from benchmarks._runner import (
-        Metric,
-        accuracy_metric,
-        measure,
-        script_main,
-        speed_from,
-    )
-except ImportError:  # run as a script: python benchmarks/bench_simulate.py
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-    from benchmarks._runner import (
-        Metric,
-        accuracy_metric,
-        measure,
-        script_main,
-        speed_from,
-    )
+from benchmarks.cli import script_main
+from benchmarks.metric import Metric, accuracy_metric
+from benchmarks.timing import measure, speed_from
 
 FS_HZ = 100.0
 ALL_TERMS = {"Q": 0.05, "N": 0.01, "B": 0.1, "K": 0.5, "R": 0.2, "q_c": 0.05, "T_c": 30.0,

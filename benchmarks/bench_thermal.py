@@ -1,7 +1,7 @@
 """Thermal coefficient recovery: simulate cold starts with known coefficients, fit, compare.
 
 ``fogts.startup.simulator.simulate_startup`` makes a 1 h, 1 Hz cold start (temperature rising
-to steady state with its rate peaking near 0.05 degC/s, a drift following the seed-004 model
+to steady state with its rate peaking near 0.05 degC/s, a drift following the thermal model
 D = a·T·ΔT + b·T² + c·T + d·ΔT² + e·ΔT + f with the default coefficients, AR(1) drift noise
 and white noise).  ``fogts.startup.thermal.fit_thermal`` (GLS with AR(4) errors) fits the model back.
 Per coefficient, over the seeds:
@@ -16,23 +16,18 @@ improvement (before / after compensation, 10 s averages).  T, T² and T·ΔT are
 collinear over a warm-up, so single coefficients carry large standard errors (their relative
 errors are often several times the value); the drift curve itself is what is recovered well.
 
-Run: ``python benchmarks/bench_thermal.py [--quick]`` (quick: 10 seeds, full: 100).
+Run: ``python -m benchmarks.bench_thermal [--quick]`` (quick: 10 seeds, full: 100).
 """
 
 from __future__ import annotations
 
 import argparse
-import sys
 import warnings
-from pathlib import Path
 
 import numpy as np
 
-try:
-    from benchmarks._runner import Metric, accuracy_metric, render_markdown
-except ImportError:  # run as a script: python benchmarks/bench_thermal.py
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-    from benchmarks._runner import Metric, accuracy_metric, render_markdown
+from benchmarks.metric import Metric, accuracy_metric
+from benchmarks.render import render_markdown
 
 FIRST_SEED = 500
 

@@ -1,6 +1,6 @@
-"""The benchmark runner's comparison logic (``benchmarks/_runner.py``).
+"""The benchmark runner: timing, the comparison against a baseline, rendering, the CLI.
 
-The rule under test (the runner's docstring): accuracy figures compare their value;
+The rule under test (:mod:`benchmarks.compare`): accuracy figures compare their value;
 single-threaded speed figures compare the CPU-time ratio; parallel speed figures compare the
 wall-time ratio only when both runs had free cores, and are not judged otherwise; a flagged
 speed figure is re-measured and the measurement closest to the baseline is kept.  No test
@@ -16,13 +16,18 @@ from typing import Any
 import numpy as np
 import pytest
 
-from benchmarks import _runner as runner
+from benchmarks.cli import main
+from benchmarks.compare import compare, merge_best
+from benchmarks.metric import accuracy_metric, speed_metric
+from benchmarks.render import render_comparison, render_markdown
+from benchmarks.suites import SUITES, merge_results, suite_named
+from benchmarks.timing import Timing, measure, speed_from
 
 
 def _speed(value: float, cpu: float | None, *, parallel: bool = False,
            load: float | None = 0.0, id: str = "speed.x.n=1e6") -> dict[str, Any]:
     # fogts 1 s; the peer's times make the wanted ratios
-    return runner.speed_metric(id, "x against the peer", fogts_s=1.0, peer_s=value, peer="peer",
+    return speed_metric(id, "x against the peer", fogts_s=1.0, peer_s=value, peer="peer",
                                fogts_cpu_s=None if cpu is None else 1.0, peer_cpu_s=cpu,
                                parallel=parallel, other_load=load, suite="s")
 
@@ -33,26 +38,26 @@ def _doc(*metrics: dict[str, Any], quick: bool = False) -> dict[str, Any]:
 
 
 def _verdict(new: dict[str, Any], old: dict[str, Any]) -> dict[str, Any]:
-    rows = runner.compare(_doc(new), _doc(old))
+    rows = compare(_doc(new), _doc(old))
     assert len(rows) == 1
     return rows[0]
 
 
 def test_speed_metric_records_wall_and_cpu_ratios() -> None:
-    m = runner.speed_metric("speed.a", "a", fogts_s=2.0, peer_s=6.0, peer="p", fogts_cpu_s=1.5,
+    m = speed_metric("speed.a", "a", fogts_s=2.0, peer_s=6.0, peer="p", fogts_cpu_s=1.5,
                             peer_cpu_s=6.0, other_load=0.123456, suite="s")
     assert m["value"] == pytest.approx(3.0)
     assert m["cpu_value"] == pytest.approx(4.0)
     assert m["cpu_seconds"] == {"fogts": 1.5, "p": 6.0}
     assert m["other_load"] == 0.123
     assert m["parallel"] is False
-    no_cpu = runner.speed_metric("speed.b", "b", fogts_s=1.0, peer_s=2.0, peer="p")
+    no_cpu = speed_metric("speed.b", "b", fogts_s=1.0, peer_s=2.0, peer="p")
     assert no_cpu["cpu_value"] is None and no_cpu["cpu_seconds"] == {}
 
 
 def test_accuracy_metric_rejects_unknown_direction() -> None:
     with pytest.raises(ValueError, match="better must be 'lower' or 'higher', got 'up'"):
-        runner.accuracy_metric("a", "a", value=1.0, better="up")
+        accuracy_metric("a", "a", value=1.0, better="up")
 
 
 def test_single_threaded_speed_is_compared_on_cpu_time() -> None:
@@ -94,7 +99,7 @@ def test_baseline_without_cpu_times_falls_back_to_wall_ratio() -> None:
 
 def test_accuracy_tolerances_relative_and_absolute() -> None:
     def acc(v: float, better: str = "lower", abs_tol: float = 0.0) -> dict[str, Any]:
-        return runner.accuracy_metric("acc.a", "a", value=v, better=better,
+        return accuracy_metric("acc.a", "a", value=v, better=better,
                                       abs_tolerance=abs_tol, suite="s")
 
     assert _verdict(acc(1.12), acc(1.0))["verdict"] == "REGRESSION"
@@ -109,44 +114,44 @@ def test_accuracy_tolerances_relative_and_absolute() -> None:
 def test_missing_and_not_measured_figures() -> None:
     old = _doc(_speed(4.0, 4.0, id="speed.gone"), _speed(4.0, 4.0, id="speed.kept"))
     new = _doc(_speed(4.0, 4.0, id="speed.kept"))
-    verdicts = {r["id"]: r["verdict"] for r in runner.compare(new, old)}
+    verdicts = {r["id"]: r["verdict"] for r in compare(new, old)}
     assert verdicts == {"speed.kept": "ok", "speed.gone": "MISSING"}
     # a quick run never reports a full run's figure as missing
     quick = _doc(_speed(4.0, 4.0, id="speed.kept"), quick=True)
-    verdicts = {r["id"]: r["verdict"] for r in runner.compare(quick, old)}
+    verdicts = {r["id"]: r["verdict"] for r in compare(quick, old)}
     assert verdicts["speed.gone"] == "not measured"
 
 
 def test_merge_best_keeps_the_measurement_closest_to_the_baseline() -> None:
     old = _doc(_speed(4.0, 4.0))
     doc = _doc(_speed(3.0, 3.0))                      # flagged (noise, say)
-    runner.merge_best(doc, [_speed(3.2, 3.9)], old)   # the re-measurement clears it
+    merge_best(doc, [_speed(3.2, 3.9)], old)   # the re-measurement clears it
     m = doc["metrics"][0]
     assert m["cpu_value"] == pytest.approx(3.9) and m["details"]["remeasured"] is True
-    assert runner.compare(doc, old)[0]["verdict"] == "ok"
+    assert compare(doc, old)[0]["verdict"] == "ok"
     # a worse re-measurement does not replace a better one
-    runner.merge_best(doc, [_speed(2.0, 2.0)], old)
+    merge_best(doc, [_speed(2.0, 2.0)], old)
     assert doc["metrics"][0]["cpu_value"] == pytest.approx(3.9)
     # a genuine regression stays flagged whatever the re-measurements say
     doc = _doc(_speed(3.0, 3.0))
     for again in (_speed(3.1, 3.1), _speed(2.9, 2.95)):
-        runner.merge_best(doc, [again], old)
-    assert runner.compare(doc, old)[0]["verdict"] == "REGRESSION"
+        merge_best(doc, [again], old)
+    assert compare(doc, old)[0]["verdict"] == "REGRESSION"
     # a busy (unjudged) re-measurement of a parallel figure does not replace a judged one
     par_old = _doc(_speed(4.0, 4.0, parallel=True, load=0.0))
     doc = _doc(_speed(3.0, 4.0, parallel=True, load=0.1))
-    runner.merge_best(doc, [_speed(4.5, 4.0, parallel=True, load=1.0)], par_old)
-    assert runner.compare(doc, par_old)[0]["verdict"] == "REGRESSION"
+    merge_best(doc, [_speed(4.5, 4.0, parallel=True, load=1.0)], par_old)
+    assert compare(doc, par_old)[0]["verdict"] == "REGRESSION"
     # accuracy figures are never replaced
-    acc = runner.accuracy_metric("acc.a", "a", value=1.0, better="lower", suite="s")
+    acc = accuracy_metric("acc.a", "a", value=1.0, better="lower", suite="s")
     doc = _doc(acc)
-    runner.merge_best(doc, [{**acc, "value": 0.5}], _doc(acc))
+    merge_best(doc, [{**acc, "value": 0.5}], _doc(acc))
     assert doc["metrics"][0]["value"] == 1.0
 
 
 def test_measure_rotates_and_repeats() -> None:
     calls: list[str] = []
-    t = runner.measure({"a": lambda: calls.append("a"), "b": lambda: calls.append("b"),
+    t = measure({"a": lambda: calls.append("a"), "b": lambda: calls.append("b"),
                         "c": lambda: calls.append("c")}, repeat=3)
     assert calls == ["a", "b", "c", "b", "c", "a", "c", "a", "b"]
     assert t.rounds == 3 and set(t.wall) == set(t.cpu) == {"a", "b", "c"}
@@ -154,15 +159,15 @@ def test_measure_rotates_and_repeats() -> None:
     assert set(t.noise("a", "b")) == {"rounds", "spread_wall", "spread_cpu"}
     # min_total_s asks for more rounds, up to max_repeat
     calls.clear()
-    runner.measure({"a": lambda: calls.append("a")}, repeat=1, min_total_s=1e9, max_repeat=7)
+    measure({"a": lambda: calls.append("a")}, repeat=1, min_total_s=1e9, max_repeat=7)
     assert len(calls) == 7
 
 
 def test_speed_from_uses_the_named_contenders() -> None:
-    t = runner.Timing(wall={"ours": 2.0, "p": 8.0}, cpu={"ours": 1.0, "p": 6.0},
+    t = Timing(wall={"ours": 2.0, "p": 8.0}, cpu={"ours": 1.0, "p": 6.0},
                       rounds_s={"ours": [(2.0, 1.0), (2.5, 1.0)], "p": [(8.0, 6.0), (9.0, 6.6)]},
                       other_load=0.5)
-    m = runner.speed_from(t, "speed.z", "z", peer="P", peer_key="p", ours="ours",
+    m = speed_from(t, "speed.z", "z", peer="P", peer_key="p", ours="ours",
                           parallel=True)
     assert m["value"] == pytest.approx(4.0) and m["cpu_value"] == pytest.approx(6.0)
     assert m["parallel"] is True and m["other_load"] == 0.5
@@ -188,8 +193,8 @@ def test_a_slower_function_is_caught_on_cpu_time() -> None:
         return None
 
     def figure(fn: Any) -> dict[str, Any]:
-        t = runner.measure({"fogts": fn, "peer": work}, repeat=5)
-        return runner.speed_from(t, "speed.sort", "sort", peer="numpy", suite="s")
+        t = measure({"fogts": fn, "peer": work}, repeat=5)
+        return speed_from(t, "speed.sort", "sort", peer="numpy", suite="s")
 
     row = _verdict(figure(slow), figure(work))
     assert row["basis"] == "cpu"
@@ -201,31 +206,47 @@ def test_cli_compare_against_exits_1_and_names_the_figure(tmp_path: Any,
     old, new = tmp_path / "old.json", tmp_path / "new.json"
     old.write_text(json.dumps(_doc(_speed(4.0, 4.0, id="speed.oadev.1thread.n=1e7"))))
     new.write_text(json.dumps(_doc(_speed(2.5, 3.0, id="speed.oadev.1thread.n=1e7"))))
-    assert runner.main(["--compare", str(old), "--against", str(new)]) == 1
+    assert main(["--compare", str(old), "--against", str(new)]) == 1
     err = capsys.readouterr().err
     assert "REGRESSION speed.oadev.1thread.n=1e7 (x against the peer): cpu 4 -> 3, worse by " \
            "25.0 % (tolerance 10 %)" in err
-    assert runner.main(["--compare", str(old), "--against", str(old)]) == 0
+    assert main(["--compare", str(old), "--against", str(old)]) == 0
 
 
 def test_cli_usage_errors(tmp_path: Any, capsys: Any) -> None:
-    assert runner.main(["--only", "nope"]) == 2
+    assert main(["--only", "nope"]) == 2
     assert "unknown suite(s) nope" in capsys.readouterr().err
     doc = tmp_path / "d.json"
     doc.write_text(json.dumps(_doc(_speed(4.0, 4.0))))
-    assert runner.main(["--against", str(doc)]) == 2
+    assert main(["--against", str(doc)]) == 2
     assert "--against needs --compare" in capsys.readouterr().err
 
 
 def test_render_shows_both_ratios_and_the_basis() -> None:
-    text = runner.render_markdown(_doc(_speed(2.5, 3.0, parallel=True)))
+    text = render_markdown(_doc(_speed(2.5, 3.0, parallel=True)))
     assert "| ratio | CPU-time ratio |" in text
     assert "(parallel)" in text and "**2.5x** | 3x |" in text
-    table = runner.render_comparison(runner.compare(_doc(_speed(3.0, 3.0)),
+    table = render_comparison(compare(_doc(_speed(3.0, 3.0)),
                                                     _doc(_speed(4.0, 4.0))))
     assert "| cpu | 4 | 3 | +25.0 % | REGRESSION |" in table
 
 
 def test_merge_results_refuses_quick_with_full() -> None:
     with pytest.raises(ValueError, match="cannot merge a quick run with a full run"):
-        runner.merge_results(_doc(quick=True), _doc(quick=False))
+        merge_results(_doc(quick=True), _doc(quick=False))
+
+
+def test_every_suite_loads_as_a_module_of_the_package() -> None:
+    for suite in SUITES:
+        assert suite.module_path().is_file(), suite.name
+        assert callable(suite.load()), suite.name
+        assert suite_named(suite.name) is suite
+    with pytest.raises(KeyError):
+        suite_named("nope")
+
+
+def test_cli_render_writes_the_tables(tmp_path: Any) -> None:
+    doc, md = tmp_path / "d.json", tmp_path / "out" / "d.md"
+    doc.write_text(json.dumps(_doc(_speed(2.5, 3.0))))
+    assert main(["--render", str(doc), "--md", str(md)]) == 0
+    assert md.read_text() == render_markdown(_doc(_speed(2.5, 3.0)))

@@ -8,7 +8,7 @@
 
 from __future__ import annotations
 
-from benchmarks._runner import Metric
+from benchmarks.metric import Metric
 
 
 def metrics(quick: bool = False) -> list[Metric]:

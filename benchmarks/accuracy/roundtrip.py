@@ -15,7 +15,7 @@ The grades are chosen so that each of N, B and K dominates the Allan curve over 
 a 3 h record (a term that dominates nowhere cannot be identified by any fit).  The same
 study at 5 Hz is the CI test ``tests/test_simulate.py::test_round_trip_*``.
 
-Run: ``python benchmarks/accuracy/roundtrip.py [--quick] [--seeds 30] [--fs 100]``; the
+Run: ``python -m benchmarks.accuracy.roundtrip [--quick] [--seeds 30] [--fs 100]``; the
 markdown table goes to ``benchmarks/results/accuracy.md`` (``--out`` to change).
 """
 
@@ -23,7 +23,6 @@ from __future__ import annotations
 
 import argparse
 import os
-import sys
 import time
 import warnings
 from concurrent.futures import ProcessPoolExecutor
@@ -32,11 +31,7 @@ from typing import Any
 
 import numpy as np
 
-try:
-    from benchmarks._runner import Metric, accuracy_metric
-except ImportError:  # run as a script: python benchmarks/accuracy/roundtrip.py
-    sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
-    from benchmarks._runner import Metric, accuracy_metric
+from benchmarks.metric import Metric, accuracy_metric
 
 #: Sensor grades (deg/sqrt(h), deg/h, deg/h^1.5): N -> B crossover near 20-40 s and
 #: B -> K near 100-120 s.
