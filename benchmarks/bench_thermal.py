@@ -3,7 +3,7 @@
 ``fogts.startup.simulator.simulate_startup`` makes a 1 h, 1 Hz cold start (temperature rising
 to steady state with its rate peaking near 0.05 degC/s, a drift following the thermal model
 D = a·T·ΔT + b·T² + c·T + d·ΔT² + e·ΔT + f with the default coefficients, AR(1) drift noise
-and white noise).  ``fogts.startup.thermal.fit_thermal`` (GLS with AR(4) errors) fits the model back.
+and white noise).  ``fogts.startup.thermal_fit.fit_thermal`` (GLS with AR(4) errors) fits the model back.
 Per coefficient, over the seeds:
 
 * the median |est - true| in units of the fit's standard error (about 0.67 for an honest

@@ -161,7 +161,7 @@ if TYPE_CHECKING:
 
     from fogts.io.run import Run
     from fogts.preprocess.hygiene import DataQuality
-    from fogts.startup.thermal import ThermalModel
+    from fogts.startup.thermal_model import ThermalModel
 
 
 

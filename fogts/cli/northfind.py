@@ -29,7 +29,7 @@ _NORTHFIND_OPTIONS = {"latitude_deg": "--latitude", "transition_s": "--transitio
 
 if TYPE_CHECKING:
     from fogts._typing import FloatArray
-    from fogts.startup.thermal import ThermalModel
+    from fogts.startup.thermal_model import ThermalModel
 
 
 

@@ -2,7 +2,7 @@
 
 Kept apart from :mod:`fogts.io.reader` (which reads files) so that analysis modules can accept a
 Run without importing the reader.  ``Run`` is produced by :func:`fogts.io.reader.read_run`,
-:func:`fogts.simulate.gyro.simulate_gyro` and :func:`fogts.startup.thermal.compensate`.
+:func:`fogts.simulate.gyro.simulate_gyro` and :func:`fogts.startup.compensation.compensate`.
 """
 
 from __future__ import annotations

@@ -1,8 +1,8 @@
-"""Results to text tables, JSON-safe dicts and self-contained HTML.
+"""Results as JSON-safe dicts and JSON text, one-line messages, and the ``fogts info`` text.
 
-JSON conventions (DESIGN.md, "Contracts"): keys are stable; NaN and inf become ``null``;
-numpy scalars and arrays become Python numbers and lists; floats are written with
-``repr`` precision so that the same input gives byte-identical JSON.
+JSON conventions: keys are stable; NaN and inf become ``null``; numpy scalars and arrays
+become Python numbers and lists; floats are written with ``repr`` precision so that the same
+input gives byte-identical JSON.
 """
 
 from __future__ import annotations
@@ -90,7 +90,7 @@ def _stats(x: np.ndarray) -> dict[str, float]:
 
 
 def run_info(run: Run) -> dict[str, Any]:
-    """The ``fogts info`` JSON payload (DESIGN.md contract).
+    """The ``fogts info`` JSON payload (its keys are stable).
 
     Keys: ``source, n, fs_hz, duration_s, columns, units, axes, gaps, jitter, stats``
     (plus ``start_time``, ``temperature``, ``fs_source`` and ``comments``).

@@ -638,9 +638,9 @@ def thermal_drift(temperature: Any, coefficients: Mapping[str, float], *,
                   fs_hz: float) -> FloatArray:
     """Temperature-driven drift D = a T dT + b T^2 + c T + d dT^2 + e dT + f (seed 004).
 
-    The regressors are those of :func:`fogts.startup.thermal.design_matrix`; dT is the temperature
+    The regressors are those of :func:`fogts.startup.thermal_model.design_matrix`; dT is the temperature
     rate of change in degC/s from ``numpy.gradient`` of the noiseless profile
-    (:func:`fogts.startup.thermal.temperature_rate` with ``smoothing_s=None``).
+    (:func:`fogts.startup.thermal_model.temperature_rate` with ``smoothing_s=None``).
 
     Parameters
     ----------
@@ -914,7 +914,7 @@ def simulate_gyro(
         Run; with ``thermal_coefficients`` it also drives a drift.
     thermal_coefficients : mapping, optional
         Coefficients of D = a T dT + b T^2 + c T + d dT^2 + e dT + f (keys
-        :data:`fogts.startup.thermal.THERMAL_TERMS`, deg/h per unit of the regressor); see
+        :data:`fogts.startup.thermal_model.THERMAL_TERMS`, deg/h per unit of the regressor); see
         :func:`thermal_drift`.
     flicker : {"markov", "kasdin"}
         Flicker (B) synthesis: a sum of Markov processes (exact, chunked) or Kasdin-Walter

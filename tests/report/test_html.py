@@ -1,7 +1,8 @@
-"""The HTML report: sections, escaping of untrusted strings, self-containment, figures, and
-the numbers it shows are the library's; plus ``fogts report`` on the command line.
+"""The HTML report (fogts.report.html and the modules it builds on): sections, escaping of
+untrusted strings, self-containment, figures, and the numbers it shows are the library's;
+plus ``fogts report`` on the command line.
 
-(The rendering in a real browser is tests/test_report_browser.py.)
+(The rendering in a real browser is tests/report/test_browser.py.)
 """
 
 from __future__ import annotations
@@ -14,7 +15,6 @@ from pathlib import Path
 import numpy as np
 import pytest
 from markupsafe import escape
-from matplotlib.figure import Figure
 from typer.testing import CliRunner
 
 from fogts.errors import DataError, ModelFitError
@@ -24,10 +24,9 @@ from fogts.report.html import (
     DAVAR_MIN_WINDOWS,
     HtmlReport,
     build_report,
-    figure_block,
     write_report,
 )
-from fogts.report.text import info_text, json_dumps, run_info, to_jsonable
+from fogts.report.text import json_dumps
 from tests.conftest import shared_path
 
 runner = CliRunner()
@@ -73,7 +72,7 @@ def test_every_section_present_and_ok(built: tuple[HtmlReport, str, Path]) -> No
     bad = [(s.id, s.message) for s in rep.sections if s.status != "ok"]
     assert bad == []
     assert rep.omitted == ()
-    # figures where the issue asks for them
+    # a figure in every section that draws one
     figs = {s.id: len(s.figures) for s in rep.sections}
     assert figs["timeseries"] == 1 and figs["allan-1"] == 1 and figs["prediction-1"] == 1
     assert figs["davar-1"] == 1 and figs["thermal-1"] >= 1
@@ -168,12 +167,12 @@ def test_short_record_without_temperature_omits_davar_and_thermal(tmp_path: Path
 
 def test_a_failing_part_becomes_an_error_section(tmp_path: Path,
                                                  monkeypatch: pytest.MonkeyPatch) -> None:
-    import fogts.report.html as rh
+    import fogts.report.analyses as analyses
 
     def broken(self: object, i: int) -> object:
         raise ModelFitError(f"every candidate failed {EVIL}")
 
-    monkeypatch.setattr(rh._Context, "get_selection", broken)
+    monkeypatch.setattr(analyses._Context, "get_selection", broken)
     src = tmp_path / "r.csv"
     _write_recording(src, n=3000, temperature=False)
     rep = build_report(read_run(src), parts=("timeseries", "arma", "prediction"))
@@ -192,19 +191,6 @@ def test_multi_axis_run_gives_one_section_per_axis(tmp_path: Path) -> None:
     assert [s.id for s in rep.sections] == ["allan-1", "allan-2"]
     assert all(s.status == "ok" for s in rep.sections)
     assert rep.sections[1].title.endswith(f"axis {run.axes[1]}")
-
-
-def test_figure_block_is_deterministic_and_falls_back_to_png() -> None:
-    def fig() -> Figure:
-        f = Figure(figsize=(4, 3))
-        f.add_subplot().plot(np.arange(10.0), np.arange(10.0) ** 2)
-        return f
-
-    a, b = figure_block(fig(), id="a", alt="a"), figure_block(fig(), id="a", alt="a")
-    assert a.mime == "image/svg+xml" and a.data == b.data
-    png = figure_block(fig(), id="p", alt="p", max_svg_bytes=100)
-    assert png.mime == "image/png"
-    assert base64.b64decode(png.data)[:4] == b"\x89PNG"
 
 
 def test_bad_arguments(tmp_path: Path) -> None:
@@ -263,14 +249,3 @@ def test_cli_report_on_a_real_fog_recording(tmp_path: Path) -> None:
                   "Allan deviation and noise coefficients", "Thermal model"):
         assert title in text
     assert "time, fog, T" in text
-
-
-# --------------------------------------------------------------------------- report.py
-
-
-def test_json_helpers_and_info_text() -> None:
-    assert to_jsonable({"a": np.float64("nan"), "b": np.arange(2)}) == {"a": None, "b": [0, 1]}
-    assert json_dumps({"x": 1.5}, indent=None) == '{"x": 1.5}'
-    run = read_run(np.random.default_rng(0).normal(size=100), fs_hz=10.0)
-    info = run_info(run)
-    assert info["n"] == 100 and "samples     100" in info_text(info)

@@ -1,0 +1,324 @@
+"""The HTML report's sections: each builder renders results of
+:class:`fogts.report.analyses._Context` as blocks (figures, tables, text).
+
+A builder returns the blocks of one section or raises; :func:`_section` turns the exception
+into a section that shows its message, so one failed analysis does not cost the whole
+report.  ``i`` is the axis index of per-axis sections.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from typing import Any
+
+from fogts.report.analyses import _Context
+from fogts.report.blocks import _fixed, _num, _pval, _table, _yes_no, figure_block
+from fogts.report.page import Block, Section
+from fogts.report.text import _duration_text, error_message, run_info, warning_texts
+
+#: One sentence per part: what it shows and how to read it.
+_HOW = {
+    "input": "What fogts read from the file and what it did to the data before modelling; "
+             "check the sample rate, the gaps and the units first, since every other number "
+             "depends on them.",
+    "timeseries": "The raw rate against time (and the temperature below it, if recorded); "
+                  "look for steps, spikes, warm-up drift and gaps that would bias the "
+                  "noise analysis.",
+    "allan": "The Allan deviation against averaging time τ on log-log axes, with the fitted "
+             "IEEE-952 terms; each term dominates where the curve has its slope (−1/2 angle "
+             "random walk, 0 bias instability, +1/2 rate random walk), and the table gives "
+             "each coefficient with its uncertainty.",
+    "arma": "The candidate ARMA models of the drift ranked by the information criterion; "
+            "the selected model is the best-ranked one whose residuals pass the whiteness "
+            "checks, and its equation is written out with the signs as used.",
+    "prediction": "The selected model's one-step-ahead prediction against the data, and its "
+                  "residuals; white residuals (statistics inside their ±1.96/√n bands, "
+                  "Ljung–Box p-values above 0.05) mean the model has captured the drift.",
+    "davar": "The dynamic Allan deviation: the Allan deviation of a window sliding along the "
+             "record, as colour over time and τ; horizontal bands mean a stationary gyro, "
+             "while colour changing along time shows the noise changing during the run.",
+    "thermal": "The gyro drift modelled as a function of temperature T and its rate ΔT "
+               "(seed 004), and the bias stability before and after removing it; a large "
+               "drop in bias stability means temperature drives the drift.",
+}
+
+_TITLES = {"input": "Input and preprocessing", "timeseries": "Time series",
+           "allan": "Allan deviation and noise coefficients", "arma": "ARMA model selection",
+           "prediction": "One-step prediction and residual diagnostics",
+           "davar": "Dynamic Allan deviation", "thermal": "Thermal model"}
+
+_TERM_NAME = {"Q": "quantization", "N": "angle random walk", "B": "bias instability",
+              "K": "rate random walk", "R": "rate ramp"}
+
+
+@contextmanager
+def _collect_warnings(sink: list[str]) -> Iterator[None]:
+    """Record the warnings raised inside the block; append the new ones' texts to ``sink``."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        yield
+    sink.extend(t for t in warning_texts(caught) if t not in sink)
+
+
+def _section(sid: str, part: str, title: str, build: Callable[[list[str]], list[Block]]
+             ) -> Section:
+    """Run ``build`` (collecting its warnings as notes) into a section, or an error section
+    with the exception's message."""
+    notes: list[str] = []
+    try:
+        with _collect_warnings(notes):
+            blocks = build(notes)
+    except Exception as exc:
+        return Section(id=sid, title=title, how_to_read=_HOW[part], status="error",
+                       message=error_message(exc), notes=tuple(notes))
+    return Section(id=sid, title=title, how_to_read=_HOW[part], blocks=tuple(blocks),
+                   notes=tuple(notes))
+
+
+def _axis_label(ctx: _Context, i: int) -> str:
+    return f"axis {ctx.run.axes[i]}" if ctx.run.n_axes > 1 else ctx.run.axes[i]
+
+
+# --------------------------------------------------------------------------- whole run
+
+
+def _input_rows(ctx: _Context, info: dict[str, Any]) -> list[tuple[str, str]]:
+    """The "What was read" table: source, sampling, columns, units, time base."""
+    gaps, jitter = info["gaps"], info["jitter"]
+    rows: list[tuple[str, str]] = [
+        ("source", str(info["source"])),
+        ("samples", f"{info['n']:,}"),
+        ("sample rate", f"{_num(info['fs_hz'], 6)} Hz (from {info['fs_source']})"),
+        ("duration", _duration_text(info["duration_s"])),
+        ("columns", ", ".join(info["columns"])),
+        ("rate axes", f"{', '.join(info['axes'])} [{info['units']}]"),
+        ("rate unit from", "ASSUMED (no unit in the column names; pass --units)"
+         if ctx.run.units_assumed else ctx.run.units_source),
+        ("temperature", "yes" if info["temperature"] else "no temperature column"),
+    ]
+    if info["start_time"]:
+        rows.append(("start time", str(info["start_time"])))
+    if info["time_from_column"]:
+        rows.append(("time base", f"{'regular' if jitter['regular'] else 'IRREGULAR'}: "
+                                  f"{gaps['count']} gap(s) longer than "
+                                  f"{_num(gaps['threshold_s'])} s (longest "
+                                  f"{_num(gaps['max_s'])} s); jitter {_num(jitter['std_s'])} s"))
+    else:
+        rows.append(("time base", "none in the file: built from the sample rate"))
+    return rows
+
+
+def _input_blocks(ctx: _Context, notes: list[str]) -> list[Block]:
+    info = run_info(ctx.run)
+    blocks = [_table("What was read", ["item", "value"], _input_rows(ctx, info),
+                     numeric=[False, False])]
+    issues = tuple(ctx.quality.warnings()) if ctx.quality is not None else ()
+    blocks.append(Block(kind="list", caption="Data quality (units, missing cells, gaps, "
+                        "glitches)", items=issues or ("no issue found: units named, no "
+                                                      "missing cells, no gaps, no glitches",)))
+    stats = [[name, st["mean"], st["std"], st["min"], st["max"]]
+             for name, st in info["stats"].items()]
+    blocks.append(_table("Statistics of the raw data", ["column", "mean", "std", "min", "max"],
+                         stats, numeric=[False, True, True, True, True]))
+    if info["comments"]:
+        shown = list(info["comments"][:20])
+        if len(info["comments"]) > 20:
+            shown.append(f"... {len(info['comments']) - 20} more comment line(s)")
+        blocks.append(Block(kind="list", caption="Comment lines in the file",
+                            items=tuple(shown)))
+    steps: list[str] = []
+    for i in range(ctx.run.n_axes):
+        with _collect_warnings(notes):
+            p = ctx.get_prepared(i)
+        prefix = f"{ctx.run.axes[i]}: " if ctx.run.n_axes > 1 else ""
+        steps += [prefix + s for s in p.steps] or [prefix + "none"]
+    blocks.append(Block(kind="list", caption="Preprocessing before the ARMA analysis "
+                        "(the Allan analysis uses the raw rate)", items=tuple(steps)))
+    return blocks
+
+
+def _timeseries_blocks(ctx: _Context, notes: list[str]) -> list[Block]:
+    from fogts.report.plots import plot_timeseries
+
+    fig = plot_timeseries(ctx.run)
+    return [figure_block(fig, id="timeseries", alt="rate and temperature against time",
+                         caption="Long records are drawn as a min-max envelope per pixel "
+                                 "column, so spikes stay visible.")]
+
+
+# --------------------------------------------------------------------------- per axis
+
+
+def _allan_blocks(ctx: _Context, i: int, notes: list[str]) -> list[Block]:
+    from fogts.report.plots import plot_allan
+
+    res = ctx.get_allan(i)
+    with _collect_warnings(notes):
+        model = ctx.get_noise(i)
+    fig = plot_allan(res, model)
+    pct = f"{100 * model.confidence:.1f} %"
+    rows = []
+    for t in model.terms:
+        note = "at zero: upper limit only" if t.at_bound else ""
+        if not t.identifiable:
+            note = (note + "; " if note else "") + "not identifiable from this τ range"
+        rows.append([t.name, _TERM_NAME.get(t.name, t.name), t.value, t.stderr,
+                     f"{_num(t.ci_low)} … {_num(t.ci_high)}", t.unit, note])
+    blocks = [figure_block(fig, id=f"allan-{i}", alt=f"Allan deviation of {_axis_label(ctx, i)}",
+                           caption=f"{res.kind} with {pct} confidence intervals; fitted total "
+                                   "and each term's own line."),
+              _table(f"IEEE-952 noise coefficients ({model.method.upper()} fit, {pct} "
+                     "intervals)", ["term", "name", "value", "± std. error", f"{pct} interval",
+                                    "unit", "note"], rows,
+                     numeric=[False, False, True, True, True, False, False])]
+    r = model.readoff
+    blocks.append(Block(kind="paragraph", text=(
+        f"Classic slope read-offs, for comparison only: N = {_num(r.N)} deg/sqrt(h) "
+        f"(−1/2 line at τ = 1 s), K = {_num(r.K)} deg/h^1.5 (+1/2 line at τ = 3 s), "
+        f"B = {_num(r.B)} deg/h (curve minimum / 0.664).")))
+    pts = [[t, m, n, d, lo, hi, e] for t, m, n, d, lo, hi, e in
+           zip(res.tau_s, res.m, res.n, res.dev, res.ci_low, res.ci_high, res.edf, strict=True)]
+    blocks.append(_table(f"Allan deviation points [{res.units}]",
+                         ["τ (s)", "m", "terms", "deviation", "CI low", "CI high", "edf"], pts))
+    if res.dropped:
+        blocks.append(Block(kind="list", caption="Taus not computed",
+                            items=tuple(f"τ = {_num(d.tau_s)} s: {d.reason}"
+                                        for d in res.dropped)))
+    return blocks
+
+
+def _arma_blocks(ctx: _Context, i: int, notes: list[str]) -> list[Block]:
+    sel = ctx.get_selection(i)
+    crit = sel.criterion.upper()
+    rows, highlight = [], []
+    for k, c in enumerate(sel.candidates):
+        lb = c.diagnostics.ljung_box if c.diagnostics is not None else ()
+        remarks = [f"failed: {c.reason}"] if not c.ok else []
+        remarks += [f.message for f in c.flags] + list(c.warnings)
+        rows.append([c.model, c.rank if c.rank is not None else "–", _fixed(c.aic),
+                     _fixed(c.bic), c.sigma2, c.rho_a2, c.rho_ax3,
+                     ", ".join(f"{_pval(x.pvalue)} ({x.lag})" for x in lb) or "–",
+                     _yes_no(c.white) if c.ok else "–", "; ".join(remarks)])
+        if sel.selected is not None and c.model == sel.selected.model:
+            highlight.append(k)
+    blocks: list[Block] = [
+        Block(kind="paragraph", text=f"Data correlogram: {sel.correlogram.summary()}"),
+        _table(f"Candidates, ranked by {crit} (the selected model is highlighted)",
+               ["model", "rank", "AIC", "BIC", "σ²", "ρ_a,2", "ρ_ax,3",
+                "Ljung–Box p (lag)", "white", "notes"], rows,
+               numeric=[False, True, True, True, True, True, True, False, False, False],
+               highlight=highlight)]
+    best = sel.selected
+    if best is not None:
+        blocks.append(Block(kind="pre", caption=f"Selected model: {best.model}",
+                            text=best.equation()))
+        blocks.append(_table("Parameters of the selected model (statsmodels names)",
+                             ["parameter", "estimate", "± std. error", "t"],
+                             [[name, r["estimate"], r["bse"], r["t"]]
+                              for name, r in best.to_frame().iterrows()],
+                             numeric=[False, True, True, True]))
+    blocks.append(Block(kind="verdict", good=not sel.all_white_failed, text=sel.verdict))
+    return blocks
+
+
+def _residual_blocks(best: Any) -> list[Block]:
+    """The selected model's residual statistics against their bands, and the verdict."""
+    d = best.diagnostics
+    if d is None:
+        return []
+    rows: list[list[Any]] = [
+        ["ρ_a,2 (seed 000 eq. 11)", d.rho_a2.value, f"|value| ≤ {_num(d.rho_a2.band, 3)}",
+         _yes_no(d.rho_a2.passed)],
+        ["ρ_ax,3 (seed 000 eq. 12)", d.rho_ax3.value,
+         f"|value| ≤ {_num(d.rho_ax3.band, 3)}", _yes_no(d.rho_ax3.passed)]]
+    for lb in d.ljung_box:
+        pt = _pval(lb.pvalue)
+        rows.append([f"Ljung–Box Q at lag {lb.lag} ({lb.df} df)",
+                     f"{_num(lb.q)} (p {pt if pt.startswith('<') else '= ' + pt})",
+                     "p > 0.05",
+                     _yes_no(lb.passed)])
+    rows.append(["residual mean", d.mean, "", ""])
+    return [_table(f"Residual diagnostics of {best.model} (n = {d.n})",
+                   ["statistic", "value", "white if", "pass"], rows,
+                   numeric=[False, True, False, False]),
+            Block(kind="verdict", good=bool(d.white), text=(
+                "The residuals are white: the model captures the drift's correlation." if d.white
+                else "The residuals are not white: " + "; ".join(d.reasons)))]
+
+
+def _prediction_blocks(ctx: _Context, i: int, notes: list[str]) -> list[Block]:
+    from fogts.report.plots import plot_selection
+
+    sel = ctx.get_selection(i)
+    best = sel.best  # raises ModelFitError (shown in the section) if every fit failed
+    pred = best.predict()
+    units = ctx.run.units
+    return [
+        figure_block(plot_selection(sel), id=f"prediction-{i}",
+                     alt=f"ARMA diagnostics of {_axis_label(ctx, i)}",
+                     caption="Data ACF and PACF with their bands, the residual ACF, the "
+                             "residual Q-Q plot and the one-step prediction against the data."),
+        _table(f"One-step-ahead prediction with {pred.model} ({pred.method})", ["", "value"],
+               [[f"std of the prepared data [{units}]", math.sqrt(pred.variance_observed)],
+                [f"std of the one-step residual a_t [{units}]",
+                 math.sqrt(pred.variance_residual)],
+                ["share of the variance the prediction removes", pred.variance_removed]],
+               numeric=[False, True]),
+        *_residual_blocks(best),
+    ]
+
+
+def _davar_blocks(ctx: _Context, i: int, notes: list[str]) -> list[Block]:
+    from fogts.report.plots import plot_dynamic_allan
+
+    res = ctx.get_dynamic_allan(i)
+    fig = plot_dynamic_allan(res)
+    ns = res.nonstationarity
+    return [figure_block(fig, id=f"davar-{i}",
+                         alt=f"dynamic Allan deviation of {_axis_label(ctx, i)}",
+                         caption=f"{res.kind}, window {_num(res.window_s)} s, step "
+                                 f"{_num(res.step_s)} s, {res.shape[0]} windows."),
+            Block(kind="verdict", good=bool(ns.stationary), text=ns.summary())]
+
+
+def _thermal_blocks(ctx: _Context, i: int, notes: list[str]) -> list[Block]:
+    from fogts.report.plots import plot_compensation
+    from fogts.startup.thermal_model import TERM_LETTERS
+
+    res = ctx.get_compensation(i)
+    model = res.model
+    notes.extend(res.notes)  # dropped terms arrive as UnidentifiableTermWarning notes
+    rows = [[t, TERM_LETTERS[t], model.coefficients[t], model.stderr[t]] for t in model.terms]
+    b, a = res.before, res.after
+    return [
+        figure_block(plot_compensation(res), id=f"thermal-{i}",
+                     alt=f"thermal compensation of {_axis_label(ctx, i)}",
+                     caption="Raw and compensated rate (top) and temperature (bottom)."),
+        Block(kind="pre", caption="Fitted drift model (seed 004, fitted to the raw rate)",
+              text=model.equation()),
+        _table("Coefficients", ["term", "letter", "value", "± std. error"], rows,
+               numeric=[False, False, True, True]),
+        _table(f"Bias stability (1σ of {b.average_s:g} s averages, {b.unit})",
+               ["", "bias stability", "windows"],
+               [["before compensation", b.value, b.n_windows],
+                ["after compensation", a.value, a.n_windows]],
+               numeric=[False, True, True]),
+        Block(kind="paragraph", text=(
+            f"R² = {_num(model.r2)}; residual std {_num(model.residual_std)} {model.units}; "
+            f"fitted over T = {_num(model.temperature_range_degC[0])} … "
+            f"{_num(model.temperature_range_degC[1])} °C. For seed 004's full start-up "
+            "pipeline (EMD trend, ARMA Kalman filter, then this fit) run "
+            "'fogts compensate --emd'.")),
+    ]
+
+
+#: Builders of the sections that show the whole run, by part.
+_RUN_BUILDERS: dict[str, Callable[[_Context, list[str]], list[Block]]] = {
+    "input": _input_blocks, "timeseries": _timeseries_blocks}
+#: Builders of the sections drawn once per rate axis, by part.
+_AXIS_BUILDERS: dict[str, Callable[[_Context, int, list[str]], list[Block]]] = {
+    "allan": _allan_blocks, "arma": _arma_blocks, "prediction": _prediction_blocks,
+    "davar": _davar_blocks, "thermal": _thermal_blocks}

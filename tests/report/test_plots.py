@@ -1,0 +1,53 @@
+"""fogts.report.plots: the shared helpers, and the figures no other test draws."""
+
+from __future__ import annotations
+
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+from scipy.signal import lfilter
+
+from fogts.arma import select_arma
+from fogts.report.plots import plot_selection
+from fogts.report.plots._common import _envelope, _mpl_text, _thin_step, _time_unit
+
+
+def test_time_unit_thresholds() -> None:
+    assert _time_unit(0.0) == (1.0, "s")
+    assert _time_unit(179.9) == (1.0, "s")
+    assert _time_unit(180.0) == (60.0, "min")
+    assert _time_unit(3 * 3600.0) == (3600.0, "h")
+
+
+def test_thin_step_keeps_at_most_max_points() -> None:
+    assert _thin_step(100, 1000) == 1
+    assert _thin_step(10_001, 1000) == 11
+    assert len(range(0, 10_001, _thin_step(10_001, 1000))) <= 1000
+
+
+def test_envelope_keeps_the_extremes_of_every_block() -> None:
+    rng = np.random.default_rng(1)
+    y = rng.normal(size=1003)
+    y[500] = 40.0  # a spike must survive the thinning
+    t = np.arange(y.size, dtype=float)
+    tc, lo, hi, mean = _envelope(t, y, 100)
+    assert tc.size == lo.size == hi.size == mean.size + 1  # a shorter last block
+    assert hi.max() == pytest.approx(40.0, rel=1e-12)
+    assert lo.min() == pytest.approx(y.min(), rel=1e-12)
+    assert np.all(np.diff(tc) > 0)
+    assert mean[0] == pytest.approx(y[:11].mean(), rel=1e-12)
+
+
+def test_mpl_text_escapes_mathtext() -> None:
+    assert _mpl_text("a$b$") == r"a\$b\$"
+
+
+def test_selection_figure_without_a_fitted_model() -> None:
+    e = np.random.default_rng(0).standard_normal(2000)
+    sel = select_arma(lfilter([1.0], [1.0, -0.5], e))
+    failed = SimpleNamespace(correlogram=sel.correlogram, best=None,
+                             verdict="no candidate could be fitted: $x$")
+    fig = plot_selection(failed)
+    assert len(fig.axes) == 5
+    assert sum(ax.axison for ax in fig.axes) == 2  # only the data ACF and PACF
