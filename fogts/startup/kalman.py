@@ -34,7 +34,6 @@ noise N² fs of the Allan analysis) to smooth in that case.
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any, Literal, get_args
 
@@ -45,6 +44,7 @@ from scipy import linalg, optimize, signal
 from fogts._typing import FloatArray
 from fogts._validate import check_choice, check_positive, pandas_index, to_float_array
 from fogts.arma.fit import model_name
+from fogts.arma.spec import ArmaSpec
 from fogts.errors import DataError
 
 __all__ = ["KALMAN_METHODS", "MODEL_CHOICES", "ArmaStateSpace", "KalmanResult", "arma_kalman",
@@ -123,34 +123,6 @@ class ArmaStateSpace:
         return int(self.T.shape[0])
 
 
-def _params_of(model: Any) -> tuple[FloatArray, FloatArray, float]:
-    """φ, θ, σ² from an ArmaFit, a Selection, a Candidate or a params mapping."""
-    if isinstance(model, ArmaStateSpace):
-        return model.ar, model.ma, model.sigma2
-    if isinstance(model, Mapping):
-        params = model.get("params", model)
-        try:
-            ar = [float(params[k]) for k in sorted((k for k in params if str(k).startswith("ar.L")),
-                                                   key=lambda s: int(str(s)[4:]))]
-            ma = [float(params[k]) for k in sorted((k for k in params if str(k).startswith("ma.L")),
-                                                   key=lambda s: int(str(s)[4:]))]
-            sigma2 = float(params["sigma2"])
-        except (KeyError, TypeError, ValueError) as exc:
-            raise DataError("model params must use statsmodels names ar.L1.., ma.L1.. and "
-                            f"sigma2; got {dict(params)!r} ({exc})") from None
-        return np.asarray(ar, float), np.asarray(ma, float), sigma2
-    if hasattr(model, "ar") and hasattr(model, "ma") and hasattr(model, "sigma2"):
-        return (np.asarray(model.ar, float), np.asarray(model.ma, float), float(model.sigma2))
-    for attr in ("best", "fit"):
-        inner = getattr(model, attr, None)
-        if inner is not None and inner is not model:
-            return _params_of(inner)
-    if hasattr(model, "params"):
-        return _params_of({"params": dict(model.params)})
-    raise DataError("model must be an ArmaFit, a Selection (its best candidate is used), a "
-                    f"Candidate or a mapping of statsmodels parameters; got {type(model).__name__}")
-
-
 def arma_state_space(model: Any) -> ArmaStateSpace:
     """Harvey state-space form of an ARMA model (see the module docstring).
 
@@ -170,11 +142,8 @@ def arma_state_space(model: Any) -> ArmaStateSpace:
     >>> ss.T.tolist(), ss.R.ravel().tolist()
     ([[0.5, 1.0], [0.2, 0.0]], [1.0, 0.3])
     """
-    ar, ma, sigma2 = _params_of(model)
-    if not math.isfinite(sigma2) or sigma2 <= 0:
-        raise DataError(f"model sigma2 must be a finite number > 0, got {sigma2!r}")
-    if not (np.all(np.isfinite(ar)) and np.all(np.isfinite(ma))):
-        raise DataError(f"model coefficients must be finite, got ar={ar.tolist()}, ma={ma.tolist()}")
+    spec = ArmaSpec.from_any(model)
+    ar, ma, sigma2 = np.asarray(spec.ar, float), np.asarray(spec.ma, float), spec.sigma2
     if ar.size:
         roots = np.roots(np.r_[1.0, -ar][::-1])
         if roots.size and np.min(np.abs(roots)) <= 1.0 + 1e-10:
