@@ -77,7 +77,8 @@ def simulate_gyro(
     duration_s : float or str
         Record length in seconds, or a duration string (``"3h"``, ``"90min"``).
     rng : Generator, int or None
-        Random source (fixed seed -> byte-identical output).
+        Random source (fixed seed -> byte-identical output); every axis and every term
+        draws from its own stream, so toggling one term leaves the others unchanged.
     units : str
         Unit of the output rate (deg/h, deg/s, rad/s, arcsec/s); coefficients stay in
         deg/h-based units.
@@ -97,9 +98,8 @@ def simulate_gyro(
         :data:`fogts.startup.thermal.THERMAL_TERMS`, deg/h per unit of the regressor); see
         :func:`fogts.simulate.temperature.thermal_drift`.
     flicker : {"markov", "kasdin"}
-        Flicker (B) synthesis: a sum of Markov processes (exact, chunked) or Kasdin-Walter
-        fractional integration (needs the whole record in memory); see
-        :mod:`fogts.simulate.streams`.
+        Flicker (B): a sum of Markov processes (exact, chunked) or Kasdin-Walter fractional
+        integration (whole record in memory); see :mod:`fogts.simulate.streams`.
     chunk_size : int
         Samples generated at a time (changes the output only by rounding: the random draws
         are the same).
@@ -109,11 +109,6 @@ def simulate_gyro(
     Run
         ``rate`` of shape (n,) or (n, n_axes), ``time = arange(n) / fs_hz``, and
         ``temperature`` if one was given.  ``comments`` records the coefficients.
-
-    Notes
-    -----
-    Each term has its own random stream, so terms are independent and toggling one leaves
-    the others' realisations unchanged (see the module docstring for the closed forms).
 
     Examples
     --------
@@ -132,10 +127,10 @@ def simulate_gyro(
     drift = thermal_drift_of(thermal_coefficients, temp, fs_hz=fs)
     axis_rngs = as_rng(rng).spawn(len(specs))
     rate = np.empty((n, len(specs)) if len(specs) > 1 else n, dtype=np.float64)
+    scale = 1.0 / to_deg_per_hour_factor(unit)
     for j, (spec, g) in enumerate(zip(specs, axis_rngs, strict=True)):
-        col = rate if len(specs) == 1 else rate[:, j]
-        _fill_axis(col, spec, arma_spec, time, drift, fs=fs, duration=duration,
-                   flicker=flicker, chunk=chunk, scale=1.0 / to_deg_per_hour_factor(unit), rng=g)
+        _fill_axis(rate if len(specs) == 1 else rate[:, j], spec, arma_spec, time, drift,
+                   fs=fs, duration=duration, flicker=flicker, chunk=chunk, scale=scale, rng=g)
     return _as_run(rate, time, temp, specs, arma_spec, fs=fs, flicker=flicker, unit=unit)
 
 

@@ -15,8 +15,8 @@ from fogts.simulate.noise_spec import NoiseSpec, markov_avar
 
 
 def test_noise_spec_closed_form_matches_design_definitions() -> None:
-    """DESIGN.md: the seed paper's C_n convert to N, B, K, R, Q; the closed form in deg/h
-    and seconds is sum C_n^2 tau^n."""
+    """DESIGN.md "Definitions": the C_n of a reference fit convert to N, B, K, R, Q; the
+    closed form in deg/h and seconds is sum C_n^2 tau^n."""
     c = {-2: 1.1754e-5, -1: 1.0228e-2, 0: 3.835e-3, 1: 1.196e-3, 2: 1.827e-4}
     spec = NoiseSpec(Q=c[-2] / math.sqrt(3), N=c[-1] / 60, B=c[0] / 0.664,
                      K=60 * math.sqrt(3) * c[1], R=3600 * math.sqrt(2) * c[2])
