@@ -55,8 +55,8 @@ _EXPORTS: dict[str, str] = {
     "Candidate": "fogts.arma.select", "Prediction": "fogts.arma.predict",
     "correlogram": "fogts.arma.diagnostics",
     # models built on the results
-    "simulate_gyro": "fogts.simulate.gyro", "simulate_arma": "fogts.simulate.gyro",
-    "NoiseSpec": "fogts.simulate.gyro", "ArmaSpec": "fogts.simulate.gyro",
+    "simulate_gyro": "fogts.simulate.gyro", "simulate_arma": "fogts.simulate.arma_series",
+    "NoiseSpec": "fogts.simulate.noise_spec", "ArmaSpec": "fogts.arma.spec",
     "simulate_startup": "fogts.startup.simulator",
     "lowpass": "fogts.preprocess.filters", "moving_average": "fogts.preprocess.filters",
     "FilterResult": "fogts.preprocess.filters",
@@ -111,6 +111,7 @@ if TYPE_CHECKING:  # static names for type checkers and IDEs
     from fogts.arma.fit import ArmaFit, fit_arma
     from fogts.arma.predict import Prediction
     from fogts.arma.select import Candidate, Selection, select_arma
+    from fogts.arma.spec import ArmaSpec
     from fogts.batch import run_batch
     from fogts.errors import (
         DataError,
@@ -134,7 +135,9 @@ if TYPE_CHECKING:  # static names for type checkers and IDEs
     from fogts.preprocess.prepare import Prepared, prepare
     from fogts.report import plots
     from fogts.report.html import build_report, write_report
-    from fogts.simulate.gyro import ArmaSpec, NoiseSpec, simulate_arma, simulate_gyro
+    from fogts.simulate.arma_series import simulate_arma
+    from fogts.simulate.gyro import simulate_gyro
+    from fogts.simulate.noise_spec import NoiseSpec
     from fogts.startup.compensation import bias_stability, compensate
     from fogts.startup.emd import TrendSplit, separate_trend
     from fogts.startup.kalman import KalmanResult, arma_kalman

@@ -28,11 +28,13 @@ from fogts.arma.select import (
     parse_candidates,
     select_arma,
 )
+from fogts.arma.spec import ArmaSpec
 
 __all__ = [
     "CRITERIA",
     "DEFAULT_FIVE",
     "ArmaFit",
+    "ArmaSpec",
     "Candidate",
     "Correlogram",
     "Prediction",

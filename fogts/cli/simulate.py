@@ -117,12 +117,7 @@ def simulate_noise_cmd(
     from fogts.errors import DataError
     from fogts.io.writer import write_frame_atomic, write_text_atomic
     from fogts.report.text import json_dumps
-    from fogts.simulate.gyro import (
-        ArmaSpec,
-        NoiseSpec,
-        TemperatureProfile,
-        simulate_gyro,
-    )
+    from fogts.simulate import ArmaSpec, NoiseSpec, TemperatureProfile, simulate_gyro
     from fogts.units import parse_duration
 
     sidecar_path = Path(f"{output}.json")  # never raises, whatever the user typed
@@ -260,10 +255,10 @@ def _simulate_startup(output: Path, *, fs: float, duration: str | None,
 
     from fogts._validate import check_positive
     from fogts._version import __version__ as version
+    from fogts.arma.spec import ArmaSpec
     from fogts.errors import DataError
     from fogts.io.writer import write_frame_atomic, write_text_atomic
     from fogts.report.text import json_dumps
-    from fogts.simulate.gyro import ArmaSpec
     from fogts.startup.northfind_simulation import simulate_startup_positions
     from fogts.startup.simulator import DEFAULT_STARTUP_COEFFICIENTS, simulate_startup
     from fogts.units import convert_rate, parse_duration, parse_rate_unit

@@ -30,7 +30,7 @@ def test_matches_statsmodels_sarimax_filter_and_smoother() -> None:
     res = arma_kalman(y, PARAMS, measurement_noise=H, method="exact", demean=False)
     ref = SARIMAX(y, order=(2, 0, 1), trend="n", measurement_error=True).smooth(
         [AR[0], AR[1], MA[0], H, S2])
-    # tolerance 1e-8 (issue 6); the same machinery gives agreement to rounding
+    # the same state-space machinery: agreement to rounding, checked at 1e-8
     np.testing.assert_allclose(res.filtered, ref.filter_results.filtered_state[0], atol=1e-8)
     np.testing.assert_allclose(res.smoothed, ref.smoothed_state[0], atol=1e-8)
     np.testing.assert_allclose(res.predicted, ref.filter_results.forecasts[0], atol=1e-8)
@@ -48,7 +48,7 @@ def test_steady_state_equals_exact_after_transient() -> None:
     ss = arma_kalman(y, PARAMS, measurement_noise=H, method="steady-state")
     assert ss.method == "steady-state" and 0 < ss.n_transient < 200
     # exact over the transient, constant gain after it: agreement to 1e-8 everywhere
-    # (measured ~1e-9, set by the 1e-12 Riccati convergence tolerance)
+    # (set by the 1e-12 Riccati convergence tolerance)
     for name in ("filtered", "smoothed", "predicted"):
         np.testing.assert_allclose(getattr(ss, name), getattr(ex, name), atol=1e-8, err_msg=name)
     assert ss.loglike == pytest.approx(ex.loglike, abs=1e-6)
