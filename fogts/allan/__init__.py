@@ -7,7 +7,7 @@ Public entry point: :func:`allan_deviation` (-> :class:`AllanResult` or
 from __future__ import annotations
 
 from fogts.allan.api import allan_deviation
-from fogts.allan.confidence import totdev_bias
+from fogts.allan.bias import totdev_bias
 from fogts.allan.estimators import (
     ESTIMATORS,
     EstimatorOutput,

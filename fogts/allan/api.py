@@ -18,7 +18,8 @@ import pandas as pd
 
 from fogts._typing import FloatArray, IntArray
 from fogts._validate import check_choice, check_fraction, check_positive, to_float_array
-from fogts.allan.confidence import confidence_table, totdev_bias
+from fogts.allan.bias import totdev_bias
+from fogts.allan.confidence import confidence_table
 from fogts.allan.estimators import ESTIMATORS
 from fogts.allan.result import AllanResult, AllanResultSet
 from fogts.allan.taus import KINDS, Kind, tau_grid
