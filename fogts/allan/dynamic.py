@@ -60,8 +60,6 @@ __all__ = [
     "dynamic_allan",
 ]
 
-Method = Literal["auto", "cumsum", "kernel"]
-METHODS: tuple[str, ...] = get_args(Method)
 #: Family-wise significance level of the stationarity verdict and of the window flags.
 DEFAULT_ALPHA = 0.01
 #: Fewest windows a dynamic Allan analysis needs.
@@ -69,9 +67,13 @@ MIN_WINDOWS = 2
 #: The power-law noise type of each tau is identified on this many windows' worth of
 #: samples from the middle of the record (as allan_deviation would on one window).
 ID_WINDOWS = 1
+#: How the window deviations are computed (:mod:`fogts.allan.window_sums`).
+Method = Literal["auto", "cumsum", "kernel"]
+METHODS: tuple[str, ...] = get_args(Method)
 
 
 # --------------------------------------------------------------------------- public API
+# Long only by its docstring: the public entry point documents every option.
 def dynamic_allan(
     x: Any,
     *,

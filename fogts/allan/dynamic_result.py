@@ -237,9 +237,8 @@ class DynamicAllanResultSet(AxisIndexed[DynamicAllanResult]):
         self._check_curves()
 
     def to_frame(self) -> pd.DataFrame:
-        frames = [c.to_frame().assign(axis=c.axis) for c in self.curves]
-        out = pd.concat(frames, ignore_index=True)
-        return out[["axis", *[c for c in out.columns if c != "axis"]]]
+        """Long format: an ``axis`` column, then those of :meth:`DynamicAllanResult.to_frame`."""
+        return self._long_frame()
 
     def to_dict(self) -> dict[str, Any]:
         first = self.curves[0]

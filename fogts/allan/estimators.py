@@ -258,9 +258,10 @@ def mdev(y: npt.ArrayLike, *, fs_hz: float, m: npt.ArrayLike,
 
     Examples
     --------
-    >>> white = np.random.default_rng(0).normal(size=1000)
-    >>> mdev(white, fs_hz=1.0, m=[1, 10]).n.tolist()
-    [999, 972]
+    >>> y = np.random.default_rng(0).normal(size=100_000)     # white rate noise
+    >>> ratio = mdev(y, fs_hz=1.0, m=[10]).dev / oadev(y, fs_hz=1.0, m=[10]).dev
+    >>> bool(abs(ratio[0] - np.sqrt(101 / 200)) < 0.02)    # MVAR/AVAR = (m^2+1)/(2m^2)
+    True
     """
     return _run("mdev", y, fs_hz, m, workers)
 
@@ -317,9 +318,9 @@ def totdev(y: npt.ArrayLike, *, fs_hz: float, m: npt.ArrayLike,
 
     Examples
     --------
-    >>> y = np.random.default_rng(0).normal(size=1000)
-    >>> totdev(y, fs_hz=1.0, m=[1, 500]).n.tolist()
-    [999, 999]
+    >>> out = totdev(np.random.default_rng(0).normal(size=1000), fs_hz=1.0, m=[1, 500])
+    >>> out.tau_s.tolist(), out.n.tolist()     # tau up to half the record, N - 2 terms
+    ([1.0, 500.0], [999, 999])
     """
     return _run("totdev", y, fs_hz, m, workers)
 

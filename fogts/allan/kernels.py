@@ -97,6 +97,12 @@ def third_difference(x: FloatArray, lag: int, c0: int, c1: int, out: FloatArray,
     return out
 
 
+def _chunk_buffers(count: int, number: int) -> tuple[int, list[FloatArray]]:
+    """The chunk length for ``count`` elements and ``number`` float64 buffers of it."""
+    c = min(CHUNK, count)
+    return c, [np.empty(c, dtype=np.float64) for _ in range(number)]
+
+
 def _sumsq(v: FloatArray) -> float:
     """``sum(v**2)`` by single-threaded BLAS dot products over blocks of :data:`DOT_BLOCK`."""
     if v.size <= DOT_BLOCK:
@@ -153,9 +159,7 @@ def ss_second(p: FloatArray, lag: int, terms: int) -> float:
 
 def ss_third(p: FloatArray, lag: int, terms: int) -> float:
     """``sum (p[i+3L] - 3 p[i+2L] + 3 p[i+L] - p[i])^2``, ``i < terms`` (SP1065 eqs. 18, 20)."""
-    c = min(CHUNK, terms)
-    a = np.empty(c, dtype=np.float64)
-    b = np.empty(c, dtype=np.float64)
+    c, (a, b) = _chunk_buffers(terms, 2)
     total = 0.0
     for s in range(0, terms, c):
         e = min(s + c, terms)
@@ -173,9 +177,7 @@ def ss_mod(x: FloatArray, m: int, terms: int) -> float:
     nv = x.size - 2 * m                      # number of second differences
     run = np.empty(nv + 1, dtype=np.float64)  # V[0] = 0, V[k] = sum_{i<k} v_i
     run[0] = 0.0
-    c = min(CHUNK, nv)
-    a = np.empty(c, dtype=np.float64)
-    b = np.empty(c, dtype=np.float64)
+    c, (a, b) = _chunk_buffers(nv, 2)
     carry = 0.0
     for s in range(0, nv, c):
         e = min(s + c, nv)
@@ -225,11 +227,7 @@ def ss_total(x: FloatArray, m: int) -> float:
     """``sum_{i=1}^{N-2} (x*[i-m] - 2 x[i] + x*[i+m])^2`` (SP1065 eq. 25, 0-based)."""
     npts = x.size
     terms = npts - 2
-    c = min(CHUNK, terms)
-    a = np.empty(c, dtype=np.float64)
-    b = np.empty(c, dtype=np.float64)
-    ra = np.empty(c, dtype=np.float64)
-    rb = np.empty(c, dtype=np.float64)
+    c, (a, b, ra, rb) = _chunk_buffers(terms, 4)
     total = 0.0
     for s in range(1, terms + 1, c):
         e = min(s + c, terms + 1)
