@@ -18,7 +18,8 @@ import pandas as pd
 
 from fogts._typing import FloatArray, IntArray
 from fogts._validate import check_choice, check_fraction, check_positive, to_float_array
-from fogts.allan.confidence import confidence_table, totdev_bias
+from fogts.allan.bias import totdev_bias
+from fogts.allan.confidence import confidence_table
 from fogts.allan.estimators import ESTIMATORS
 from fogts.allan.result import AllanResult, AllanResultSet
 from fogts.allan.taus import KINDS, Kind, tau_grid
@@ -40,6 +41,7 @@ class AxisSeries:
     name: str
 
 
+# Long only by its docstring: the public entry point documents every option.
 def allan_deviation(
     x: Any,
     *,
@@ -55,8 +57,8 @@ def allan_deviation(
 ) -> AllanResult | AllanResultSet:
     """Allan-family deviation of gyro rate data, with confidence intervals.
 
-    The rate is integrated once to angle (phase) and differenced (seed 000 eq. 3; NIST
-    SP1065 eqs. 7, 11, 14, 18, 20, 25 for adev, oadev, mdev, hdev, ohdev, totdev).  Each
+    The rate is integrated once to angle (phase) and differenced (NIST SP1065 eqs. 7, 11,
+    14, 18, 20, 25 for adev, oadev, mdev, hdev, ohdev, totdev).  Each
     point carries the number of terms, the identified power-law noise type, its equivalent
     degrees of freedom and a chi-squared confidence interval (see
     :mod:`fogts.allan.confidence`).
@@ -65,9 +67,8 @@ def allan_deviation(
     ----------
     x : ndarray, Series, DataFrame, Run or Prepared
         Rate data.  A 2-D array ``(n, k)``, a DataFrame (every column an axis) or a
-        multi-axis Run gives one curve per axis unless ``axis`` picks one.  A DataFrame is
-        read by :func:`fogts.io.reader.read_run` (time, temperature and rate columns recognised
-        by name; when no column is recognisably a rate, every column is an axis).
+        multi-axis Run gives one curve per axis unless ``axis`` picks one.  A Series or
+        DataFrame is read as a Run (:func:`run_from_pandas`).
     fs_hz : float, optional
         Sample rate.  Required for ndarray input; a Series/DataFrame with a
         DatetimeIndex/TimedeltaIndex, a Run or a Prepared carry their own (``fs_hz``
@@ -193,8 +194,29 @@ def _one_curve(s: AxisSeries, *, fs_hz: float, units: str, kind: str, taus: Any,
                        notes=(*grid.notes, *notes), bias_corrected=bias_correction)
 
 
+def run_from_pandas(x: pd.Series | pd.DataFrame, *, fs_hz: float | None,
+                    units: str | None) -> Run:
+    """A Series or DataFrame as a :class:`~fogts.io.run.Run`, read by
+    :func:`fogts.io.reader.read_run` (sample rate from a Datetime/Timedelta index unless
+    ``fs_hz`` is given; time, temperature and rate columns recognised by name; a frame
+    without a recognisable rate column has every column as an axis).
+
+    This is the one place where the Allan analysis calls the reader.
+    """
+    from fogts.io.reader import read_run
+
+    if isinstance(x, pd.Series):
+        return read_run(x, rate_column=str(x.name) if x.name is not None else None,
+                        fs_hz=fs_hz, units=units)
+    frame = x.set_axis([str(c) for c in x.columns], axis=1)
+    try:
+        return read_run(frame, fs_hz=fs_hz, units=units)
+    except DataError:  # no recognisable rate column: every column is an axis
+        return read_run(frame, rate_column=list(frame.columns), fs_hz=fs_hz, units=units)
+
+
 def unpack_axes(x: Any, *, fs_hz: float | None, axis: int | str | None, units: str | None
-            ) -> tuple[list[AxisSeries], float, str, tuple[str, ...]]:
+                ) -> tuple[list[AxisSeries], float, str, tuple[str, ...]]:
     """Split the input into 1-D float64 series, and find the sample rate and unit."""
     fs = check_positive("fs_hz", fs_hz) if fs_hz is not None else None
     if isinstance(x, Prepared):
@@ -204,17 +226,7 @@ def unpack_axes(x: Any, *, fs_hz: float | None, axis: int | str | None, units: s
         return ([AxisSeries(to_float_array(x.x, "x"), x.axis)], fs or x.fs_hz, units or x.units,
                 notes)
     if isinstance(x, pd.Series | pd.DataFrame):
-        from fogts.io.reader import read_run  # io turns frames into Runs (fs from the index)
-
-        if isinstance(x, pd.DataFrame):
-            frame = x.set_axis([str(c) for c in x.columns], axis=1)
-            try:  # time, temperature and rate columns recognised by name
-                x = read_run(frame, fs_hz=fs, units=units)
-            except DataError:  # no recognisable rate column: every column is an axis
-                x = read_run(frame, rate_column=list(frame.columns), fs_hz=fs, units=units)
-        else:
-            x = read_run(x, rate_column=str(x.name) if x.name is not None else None,
-                         fs_hz=fs, units=units)
+        x = run_from_pandas(x, fs_hz=fs, units=units)
         fs = None  # already applied
     if isinstance(x, Run):
         names = x.axes

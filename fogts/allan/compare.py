@@ -1,10 +1,10 @@
-"""Allan analysis before and after a denoising filter (seed 001's IIR study).
+"""Allan analysis before and after a denoising filter.
 
-Seed 001 filters a laser-gyro signal with an IIR low-pass, then compares the Allan
-analysis of the data before and after: the angle-random-walk and quantization terms drop,
-while the long-tau terms (bias instability, rate random walk) should not change.  This
-module runs the same estimator and noise fit on both series and states which terms
-changed, by how much, and whether the change exceeds the fits' combined uncertainty.
+Low-pass filtering a gyro signal (an IIR filter, a moving average) lowers the
+angle-random-walk and quantization terms of its Allan analysis, while the long-tau terms
+(bias instability, rate random walk) should not change.  This module runs the same
+estimator and noise fit on both series and states which terms changed, by how much, and
+whether the change exceeds the fits' combined uncertainty.
 
 Filtering changes the noise seen at tau shorter than about ``1/cutoff_hz``: coefficients
 from filtered data describe the filtered signal, not the sensor.

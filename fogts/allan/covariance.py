@@ -152,9 +152,8 @@ def _adev_pair_sums(mi: int, mj: int, ni: int, nj: int, dt: float,
     (``gcd(a, b) = 1``) are summed one by one if there are at most :data:`_MAX_PHASES`,
     else the k-sum is averaged over the ``a`` phases of the fine lattice (a sum over all of
     ``g Z`` with weight 1/a), which the equidistribution of ``l b mod a`` makes accurate
-    to 0.5 % for N, B and K (checked against the class sums for n_j >= 17).  White phase
-    (Q) correlates only where phase points coincide, ``h = -d``; those pairs are counted
-    exactly in every case.
+    for N, B and K.  White phase (Q) correlates only where phase points coincide,
+    ``h = -d``; those pairs are counted exactly in every case.
     """
     g = math.gcd(mi, mj)
     a, b = mi // g, mj // g

@@ -5,27 +5,16 @@ L. Galleani and P. Tavella ("The dynamic Allan variance", IEEE Trans. Ultrason.,
 Ferroelectr., Freq. Control 56(3), 450-464, 2009; "Detection of atomic clock frequency
 jumps with the Kalman filter", ibid. 59(3), 2012) computes it on a window of length
 ``T`` centred at each time ``t``, so that its surface over ``(t, tau)`` shows how the
-stability changes: a jump of the noise level, a burst, a drift that switches on.  The
-seed paper uses ``T = 201 s``.  Here each window's deviation is the same estimator as
-:func:`fogts.allan.allan_deviation` (overlapping Allan by default) on that window's
-samples, and the taus are limited by the window (``tau <= T/2`` for the Allan variance).
-
-Computation
------------
-For the overlapping estimators (``oadev``, ``mdev``, ``ohdev``) every window's sum of
-squared differences is a difference of one running sum over the whole record, so each
-tau costs O(n) however many windows overlap (``method="cumsum"``): the squared second
-(third) differences of the once-integrated phase (:func:`fogts.allan.estimators.
-phase_from_rate`) are accumulated in cache-sized chunks and the running sum is sampled
-only at the window edges.  ``method="kernel"`` instead calls the estimator kernel of
-:mod:`fogts.allan.estimators` on each window (O(n T / step) per tau; it serves every
-kind, and is the reference the fast path is tested against).
+stability changes: a jump of the noise level, a burst, a drift that switches on.  Here
+each window's deviation is the same estimator as :func:`fogts.allan.allan_deviation`
+(overlapping Allan by default) on that window's samples (:mod:`fogts.allan.window_sums`),
+and the taus are limited by the window (``tau <= T/2`` for the Allan variance).
 
 Non-stationarity
 ----------------
 Under stationarity every window's variance estimate is ``avar * chi2_nu / nu`` with
 ``nu`` the window's equivalent degrees of freedom (Greenhall's EDF for the identified
-noise type, :mod:`fogts.allan.confidence`), so ``log(avar_i)`` varies between windows
+noise type, :mod:`fogts.allan.edf`), so ``log(avar_i)`` varies between windows
 with variance ``psi'(nu/2)`` (the trigamma function).  The *non-stationarity score* at a
 tau is the observed variance of ``log(avar_i)`` across windows divided by that
 chance value: about 1 for a stationary record, much larger when the level changes.
@@ -43,21 +32,25 @@ deviation ratio compares the windows entirely before and after it.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
-from dataclasses import dataclass
 from typing import Any, Literal, get_args
 
 import numpy as np
-import pandas as pd
 import scipy.special
 import scipy.stats
 
-from fogts._typing import BoolArray, FloatArray, IntArray
+from fogts._typing import BoolArray, FloatArray
 from fogts._validate import check_choice, check_fraction, check_positive
 from fogts.allan.api import is_multi_axis, unpack_axes
-from fogts.allan.estimators import ESTIMATORS, phase_from_rate
-from fogts.allan.result import AxisIndexed
-from fogts.allan.taus import KINDS, DroppedTau, Kind, n_terms, tau_grid
+from fogts.allan.confidence import chi2_interval
+from fogts.allan.dynamic_result import (
+    DynamicAllanResult,
+    DynamicAllanResultSet,
+    Nonstationarity,
+)
+from fogts.allan.edf import edf_for
+from fogts.allan.noise_identification import identify_noise
+from fogts.allan.taus import KINDS, Kind, n_terms, tau_grid
+from fogts.allan.window_sums import CUMSUM_KINDS, cumsum_devs, kernel_devs
 from fogts.errors import DataError, InsufficientDataError
 
 __all__ = [
@@ -67,254 +60,20 @@ __all__ = [
     "dynamic_allan",
 ]
 
-Method = Literal["auto", "cumsum", "kernel"]
-METHODS: tuple[str, ...] = get_args(Method)
-#: Kinds with an O(n)-per-tau running-sum implementation.
-CUMSUM_KINDS: tuple[str, ...] = ("oadev", "mdev", "ohdev")
 #: Family-wise significance level of the stationarity verdict and of the window flags.
 DEFAULT_ALPHA = 0.01
-_CHUNK = 1 << 16
 #: Fewest windows a dynamic Allan analysis needs.
 MIN_WINDOWS = 2
 #: The power-law noise type of each tau is identified on this many windows' worth of
 #: samples from the middle of the record (as allan_deviation would on one window).
 ID_WINDOWS = 1
-
-
-# --------------------------------------------------------------------------- results
-@dataclass(frozen=True)
-class Nonstationarity:
-    """How much the deviation varies between windows, against chance.
-
-    Attributes
-    ----------
-    tau_s : float
-        The tau of the headline score (the shortest tau: most degrees of freedom).
-    score : float
-        Observed variance of ``log(avar)`` across windows at ``tau_s`` divided by the
-        variance chance predicts from the EDF (``psi'(edf/2)``); ~1 when stationary.
-    observed_var, expected_var : float
-        The two variances of the score.
-    edf : float
-        Equivalent degrees of freedom of one window at ``tau_s``.
-    n_independent : int
-        Non-overlapping windows in the record (degrees of freedom of the test + 1).
-    pvalue : float
-        P-value of the score under stationarity (chi-squared with ``n_independent - 1``).
-    level : float
-        Significance level of the verdict.
-    stationary : bool
-        ``pvalue >= level``.
-    change_time_s : float or None
-        Most likely single change time (s from the start), when not stationary.
-    change_ratio : float or None
-        Deviation after the change divided by the deviation before it (at ``tau_s``).
-    flagged_windows : tuple of int
-        Windows whose variance at ``tau_s`` lies outside the stationary interval
-        (chi-squared at the Bonferroni level ``level / n_independent``).
-    tau_scores : ndarray of float64
-        The score at every tau of the result.
-    """
-
-    tau_s: float
-    score: float
-    observed_var: float
-    expected_var: float
-    edf: float
-    n_independent: int
-    pvalue: float
-    level: float
-    stationary: bool
-    change_time_s: float | None
-    change_ratio: float | None
-    flagged_windows: tuple[int, ...]
-    tau_scores: FloatArray
-
-    def to_dict(self) -> dict[str, Any]:
-        return {
-            "tau": self.tau_s, "score": _num(self.score), "observed_var": _num(self.observed_var),
-            "expected_var": _num(self.expected_var), "edf": _num(self.edf),
-            "n_independent": self.n_independent, "pvalue": _num(self.pvalue),
-            "level": self.level, "stationary": self.stationary,
-            "change_time": self.change_time_s, "change_ratio": self.change_ratio,
-            "flagged_windows": list(self.flagged_windows),
-            "tau_scores": [_num(v) for v in self.tau_scores],
-        }
-
-    def summary(self) -> str:
-        verdict = "stationary" if self.stationary else "NOT stationary"
-        text = (f"non-stationarity score {self.score:.3g} at tau = {self.tau_s:g} s "
-                f"(1 = chance; p = {self.pvalue:.3g}, {self.n_independent} independent "
-                f"windows): {verdict}")
-        if self.change_time_s is not None and self.change_ratio is not None:
-            text += (f"; most likely change at t = {self.change_time_s:.6g} s, deviation x "
-                     f"{self.change_ratio:.3g}")
-        if self.flagged_windows:
-            text += f"; {len(self.flagged_windows)} window(s) outside the stationary interval"
-        return text
-
-
-@dataclass(frozen=True)
-class DynamicAllanResult:
-    """Dynamic Allan deviation of one axis: a (window time x tau) surface.
-
-    Attributes
-    ----------
-    kind, units, axis : str
-    fs_hz : float
-    n_samples : int
-        Samples in the record.
-    window_s, step_s : float
-        Window length and step actually used (whole samples).
-    window_n, step_n : int
-        The same in samples.
-    method : str
-        ``"cumsum"`` or ``"kernel"`` (see the module notes).
-    confidence : float
-        Level of ``ci_low`` / ``ci_high``.
-    tau_s : ndarray (n_tau,)
-    m : ndarray of int64 (n_tau,)
-    n : ndarray of int64 (n_tau,)
-        Terms per window at each tau.
-    times_s : ndarray (n_win,)
-        Window centres in seconds from the start (first sample at t = 0).
-    start_s : ndarray (n_win,)
-        Window starts.
-    dev : ndarray (n_win, n_tau)
-        ``dev[i, j]``: deviation of window ``i`` at ``tau_s[j]``, in ``units``.
-    ci_low, ci_high : ndarray (n_win, n_tau)
-        Chi-squared interval of each window's deviation.
-    edf : ndarray (n_tau,)
-        Equivalent degrees of freedom of one window.
-    alpha : ndarray of int64 (n_tau,)
-        Power-law noise type identified on the whole record.
-    reference_dev : ndarray (n_tau,)
-        Pooled deviation: the root of the mean window variance (the stationary hypothesis).
-    outside : ndarray of bool (n_win, n_tau)
-        Window variance outside the stationary chi-squared interval around the pooled
-        variance (Bonferroni level, see :class:`Nonstationarity`).
-    nonstationarity : Nonstationarity
-    dropped : tuple of DroppedTau
-    notes : tuple of str
-    """
-
-    kind: str
-    units: str
-    axis: str
-    fs_hz: float
-    n_samples: int
-    window_s: float
-    step_s: float
-    window_n: int
-    step_n: int
-    method: str
-    confidence: float
-    tau_s: FloatArray
-    m: IntArray
-    n: IntArray
-    times_s: FloatArray
-    start_s: FloatArray
-    dev: FloatArray
-    ci_low: FloatArray
-    ci_high: FloatArray
-    edf: FloatArray
-    alpha: IntArray
-    reference_dev: FloatArray
-    outside: BoolArray
-    nonstationarity: Nonstationarity
-    dropped: tuple[DroppedTau, ...] = ()
-    notes: tuple[str, ...] = ()
-
-    @property
-    def shape(self) -> tuple[int, int]:
-        """``(n_windows, n_taus)``."""
-        return (int(self.times_s.size), int(self.tau_s.size))
-
-    @property
-    def avar(self) -> FloatArray:
-        return self.dev**2
-
-    def to_frame(self) -> pd.DataFrame:
-        """Long format, one row per (window, tau): ``time, tau, m, dev, ci_low, ci_high,
-        outside``."""
-        nw, nt = self.shape
-        return pd.DataFrame({
-            "time": np.repeat(self.times_s, nt), "tau": np.tile(self.tau_s, nw),
-            "m": np.tile(self.m, nw), "dev": self.dev.ravel(),
-            "ci_low": self.ci_low.ravel(), "ci_high": self.ci_high.ravel(),
-            "outside": self.outside.ravel(),
-        })
-
-    def to_dict(self) -> dict[str, Any]:
-        """JSON-safe dict (the ``fogts davar`` contract plus detail); NaN becomes None."""
-        return {
-            "kind": self.kind, "units": self.units, "axis": self.axis,
-            "fs_hz": float(self.fs_hz), "n_samples": int(self.n_samples),
-            "window_s": float(self.window_s), "step_s": float(self.step_s),
-            "window_n": int(self.window_n), "step_n": int(self.step_n),
-            "method": self.method, "confidence": _num(self.confidence),
-            "taus": self.tau_s.tolist(), "m": self.m.tolist(), "n": self.n.tolist(),
-            "edf": [_num(v) for v in self.edf], "alpha": self.alpha.tolist(),
-            "times": self.times_s.tolist(),
-            "dev": [[_num(v) for v in row] for row in self.dev],
-            "ci_low": [[_num(v) for v in row] for row in self.ci_low],
-            "ci_high": [[_num(v) for v in row] for row in self.ci_high],
-            "reference_dev": [_num(v) for v in self.reference_dev],
-            "nonstationarity": self.nonstationarity.to_dict(),
-            "dropped": [d.to_dict() for d in self.dropped],
-            "notes": list(self.notes),
-        }
-
-    def summary(self, max_rows: int = 12) -> str:
-        """Text: the set-up, the verdict, and the deviation at a few taus over time."""
-        nw, nt = self.shape
-        lines = [f"Dynamic {self.kind} of axis {self.axis!r}: {nw} windows of "
-                 f"{self.window_s:g} s every {self.step_s:g} s over {self.n_samples} samples "
-                 f"at {self.fs_hz:g} Hz; {nt} taus {self.tau_s[0]:g}..{self.tau_s[-1]:g} s; "
-                 f"unit {self.units}",
-                 self.nonstationarity.summary()]
-        cols = np.unique(np.linspace(0, nt - 1, min(nt, 6)).round().astype(int))
-        rows = np.unique(np.linspace(0, nw - 1, min(nw, max_rows)).round().astype(int))
-        head = f"{'t [s]':>10}" + "".join(f"{f'tau={self.tau_s[j]:.3g}':>13}" for j in cols)
-        lines.append(head)
-        for i in rows:
-            cells = "".join(f"{self.dev[i, j]:12.4g}{'*' if self.outside[i, j] else ' '}"
-                            for j in cols)
-            lines.append(f"{self.times_s[i]:10.6g}" + cells)
-        lines.append(f"{'pooled':>10}" + "".join(f"{self.reference_dev[j]:12.4g} " for j in cols))
-        lines.append("(* = outside the stationary interval)")
-        if self.dropped:
-            lines.append(f"dropped {len(self.dropped)} tau(s): "
-                         + "; ".join(f"tau={d.tau_s:g} s: {d.reason}" for d in self.dropped[:3]))
-        lines += [f"note: {note}" for note in self.notes]
-        return "\n".join(lines)
-
-
-@dataclass(frozen=True)
-class DynamicAllanResultSet(AxisIndexed[DynamicAllanResult]):
-    """One :class:`DynamicAllanResult` per axis of a multi-axis record (index it by axis
-    name or position)."""
-
-    curves: tuple[DynamicAllanResult, ...]
-
-    def __post_init__(self) -> None:
-        self._check_curves()
-
-    def to_frame(self) -> pd.DataFrame:
-        frames = [c.to_frame().assign(axis=c.axis) for c in self.curves]
-        out = pd.concat(frames, ignore_index=True)
-        return out[["axis", *[c for c in out.columns if c != "axis"]]]
-
-    def to_dict(self) -> dict[str, Any]:
-        first = self.curves[0]
-        return {"kind": first.kind, "window_s": first.window_s, "step_s": first.step_s,
-                "axes": list(self.axes), "curves": [c.to_dict() for c in self.curves]}
-
-    def summary(self) -> str:
-        return "\n\n".join(c.summary() for c in self.curves)
+#: How the window deviations are computed (:mod:`fogts.allan.window_sums`).
+Method = Literal["auto", "cumsum", "kernel"]
+METHODS: tuple[str, ...] = get_args(Method)
 
 
 # --------------------------------------------------------------------------- public API
+# Long only by its docstring: the public entry point documents every option.
 def dynamic_allan(
     x: Any,
     *,
@@ -333,8 +92,8 @@ def dynamic_allan(
 
     Galleani & Tavella's DAVAR (IEEE Trans. UFFC 56(3), 2009): for each window of
     ``window_s`` seconds, starting every ``step_s`` seconds, the Allan-family deviation
-    ``kind`` of the window's samples at each tau (seed 000 eq. 3 / NIST SP1065 eq. 11 for
-    the default ``oadev``).  The seed paper's window is T = 201 s.
+    ``kind`` of the window's samples at each tau (NIST SP1065 eq. 11 for the default
+    ``oadev``).
 
     Parameters
     ----------
@@ -431,11 +190,9 @@ def _one(y: FloatArray, name: str, *, fs: float, units: str, window: float, step
     use = "cumsum" if method == "cumsum" or (method == "auto" and kind in CUMSUM_KINDS) \
         else "kernel"
     if use == "cumsum":
-        dev = _cumsum_devs(y, kind=kind, m=m, terms=terms, starts=starts)
+        dev = cumsum_devs(y, kind=kind, m=m, terms=terms, starts=starts)
     else:
-        dev = _kernel_devs(y, kind=kind, m=m, starts=starts, win_n=win_n, fs=fs)
-
-    from fogts.allan.confidence import chi2_interval, edf_for, identify_noise
+        dev = kernel_devs(y, kind=kind, m=m, starts=starts, win_n=win_n, fs=fs)
 
     # Noise type per tau from the central window (ID_WINDOWS windows): the EDF describes
     # one window, and identifying on the whole record would cost more than the surface.
@@ -462,132 +219,6 @@ def _one(y: FloatArray, name: str, *, fs: float, units: str, window: float, step
         ci_low=low, ci_high=high,
         edf=edf, alpha=alpha, reference_dev=reference, outside=outside, nonstationarity=stat,
         dropped=grid.dropped, notes=(*grid.notes, *notes))
-
-
-# --------------------------------------------------------------------------- kernels
-def _kernel_devs(y: FloatArray, *, kind: str, m: IntArray, starts: IntArray, win_n: int,
-                 fs: float) -> FloatArray:
-    """The estimator kernel of :mod:`fogts.allan.estimators` on every window."""
-    fn = ESTIMATORS[kind]
-    out = np.empty((starts.size, m.size), dtype=np.float64)
-    for i, s in enumerate(starts.tolist()):
-        out[i] = fn(y[s:s + win_n], fs_hz=fs, m=m, workers=1).dev
-    return out
-
-
-def _cumsum_devs(y: FloatArray, *, kind: str, m: IntArray, terms: IntArray,
-                 starts: IntArray) -> FloatArray:
-    """Every window's deviation from one pass over the record per tau (O(n) per tau).
-
-    Window ``i`` covers rate samples ``[s_i, s_i + L)``, i.e. phase points
-    ``x[s_i .. s_i + L]``; its terms are the global terms ``s_i .. s_i + terms - 1`` of
-    the whole record's phase (the phase offset cancels in every difference).  The squared
-    terms are summed between consecutive window edges (``numpy.add.reduceat``) and each
-    window's sum is a difference of the running sum of those few block sums.  The
-    normalisations are those of :mod:`fogts.allan.estimators` (unscaled phase).
-    """
-    x = phase_from_rate(y)
-    out = np.empty((starts.size, m.size), dtype=np.float64)
-    for j, (mj, tj) in enumerate(zip(m.tolist(), terms.tolist(), strict=True)):
-        if kind == "oadev":
-            sq = _second_sq(x, mj)
-            norm = 2.0 * mj * mj * tj
-        elif kind == "ohdev":
-            sq = _third_sq(x, mj)
-            norm = 6.0 * mj * mj * tj
-        else:  # mdev
-            sq = _mod_sq(x, mj)
-            norm = 2.0 * float(mj) ** 4 * tj
-        sums = _window_sums(sq, starts, tj, chunk=max(_CHUNK, mj))
-        out[:, j] = np.sqrt(np.maximum(sums, 0.0) / norm)
-    return out
-
-
-SquaredTerms = Callable[[int, int], FloatArray]
-
-
-def _second_sq(x: FloatArray, m: int) -> SquaredTerms:
-    buf_a, buf_b = np.empty(0), np.empty(0)
-
-    def terms(c0: int, c1: int) -> FloatArray:
-        nonlocal buf_a, buf_b
-        k = c1 - c0
-        if buf_a.size < k:
-            buf_a, buf_b = np.empty(k), np.empty(k)
-        a, b = buf_a[:k], buf_b[:k]
-        # (x2 - x1) - (x1 - x0): both inner differences are small, so this is accurate
-        np.subtract(x[c0 + 2 * m:c1 + 2 * m], x[c0 + m:c1 + m], out=a)
-        np.subtract(x[c0 + m:c1 + m], x[c0:c1], out=b)
-        np.subtract(a, b, out=a)
-        return np.multiply(a, a, out=a)
-    return terms
-
-
-def _third_sq(x: FloatArray, m: int) -> SquaredTerms:
-    buf_a, buf_b = np.empty(0), np.empty(0)
-
-    def terms(c0: int, c1: int) -> FloatArray:
-        nonlocal buf_a, buf_b
-        k = c1 - c0
-        if buf_a.size < k:
-            buf_a, buf_b = np.empty(k), np.empty(k)
-        a, b = buf_a[:k], buf_b[:k]
-        np.subtract(x[c0 + 3 * m:c1 + 3 * m], x[c0:c1], out=a)
-        np.subtract(x[c0 + 2 * m:c1 + 2 * m], x[c0 + m:c1 + m], out=b)
-        b *= 3.0
-        np.subtract(a, b, out=a)
-        return np.multiply(a, a, out=a)
-    return terms
-
-
-def _mod_sq(x: FloatArray, m: int) -> SquaredTerms:
-    """(sum_{i=j}^{j+m-1} v_i)^2 with v the second differences, for j in [c0, c1)."""
-    def terms(c0: int, c1: int) -> FloatArray:
-        hi = c1 + m - 1
-        v = x[c0 + 2 * m:hi + 2 * m] - x[c0 + m:hi + m]
-        v -= x[c0 + m:hi + m] - x[c0:hi]
-        run = np.empty(v.size + 1)
-        run[0] = 0.0
-        np.cumsum(v, out=run[1:])
-        s = run[m:] - run[:-m]
-        return np.square(s, out=s)
-    return terms
-
-
-def _window_sums(sq: SquaredTerms, starts: IntArray, count: int, *, chunk: int
-                 ) -> FloatArray:
-    """``sum(t[s : s + count])`` for every start ``s`` of the squared terms ``t``.
-
-    The window edges cut the terms into blocks; each block is summed once (``reduceat``
-    over cache-sized pieces that end on an edge), and a window's sum is the sum of the
-    block sums it spans (a difference of their running sum: a few thousand numbers, so
-    no precision is lost to a long running sum).
-    """
-    edges = _sorted_unique(np.concatenate([starts, starts + count]))
-    block = np.empty(edges.size - 1)
-    # pieces of consecutive blocks, each about `chunk` terms long
-    cut = np.searchsorted(edges, edges[0] + chunk * np.arange(1, (edges[-1] - edges[0])
-                                                              // chunk + 2))
-    bounds = _sorted_unique(np.concatenate([[0], np.minimum(cut, edges.size - 1),
-                                            [edges.size - 1]]))
-    for b0, b1 in zip(bounds[:-1].tolist(), bounds[1:].tolist(), strict=True):
-        if b1 <= b0:
-            continue
-        lo, hi = int(edges[b0]), int(edges[b1])
-        t = sq(lo, hi)
-        block[b0:b1] = np.add.reduceat(t, edges[b0:b1] - lo)
-    run = np.concatenate([[0.0], np.cumsum(block)])
-    i0 = np.searchsorted(edges, starts)
-    i1 = np.searchsorted(edges, starts + count)
-    return run[i1] - run[i0]
-
-
-def _sorted_unique(v: IntArray) -> IntArray:
-    v = np.sort(v)
-    keep = np.empty(v.size, dtype=np.bool_)
-    keep[:1] = True
-    np.not_equal(v[1:], v[:-1], out=keep[1:])
-    return v[keep]
 
 
 # --------------------------------------------------------------------------- statistics
@@ -651,8 +282,3 @@ def _best_split(v: FloatArray) -> int:
     left = c2[k - 1] - c1[k - 1] ** 2 / k
     right = (c2[-1] - c2[k - 1]) - (c1[-1] - c1[k - 1]) ** 2 / (size - k)
     return int(k[np.argmin(left + right)])
-
-
-def _num(v: Any) -> float | None:
-    f = float(v)
-    return f if math.isfinite(f) else None

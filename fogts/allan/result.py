@@ -1,7 +1,7 @@
 """Result records of the Allan analysis: one curve (:class:`AllanResult`) or one per axis.
 
 Both are frozen dataclasses with ``to_frame()``, ``to_dict()`` (JSON-safe, stable keys) and
-``summary()`` (DESIGN.md, convention 1).  The arrays are stored read-only.
+``summary()``.  The arrays are stored read-only.
 """
 
 from __future__ import annotations
@@ -213,13 +213,15 @@ class _HasAxis(Protocol):
     @property
     def axis(self) -> str: ...
 
+    def to_frame(self) -> pd.DataFrame: ...
+
 
 class AxisIndexed(Generic[CurveT]):
     """Mixin for frozen dataclasses holding ``curves: tuple[CurveT, ...]``, one per axis.
 
-    Gives ``axes``, ``len()``, iteration and indexing by axis name or position; call
-    :meth:`_check_curves` from ``__post_init__``.  Shared by :class:`AllanResultSet` and
-    the dynamic Allan result set.
+    Gives ``axes``, ``len()``, iteration, indexing by axis name or position and the long
+    frame of all curves; call :meth:`_check_curves` from ``__post_init__``.  Shared by
+    :class:`AllanResultSet` and the dynamic Allan result set.
     """
 
     curves: tuple[CurveT, ...]
@@ -233,6 +235,12 @@ class AxisIndexed(Generic[CurveT]):
         if len(set(names)) != len(names):
             raise DataError(f"{name} axis names must be unique, got {names}")
         object.__setattr__(self, "curves", curves)
+
+    def _long_frame(self) -> pd.DataFrame:
+        """Every curve's ``to_frame()`` stacked, after an ``axis`` column."""
+        frames = [c.to_frame().assign(axis=c.axis) for c in self.curves]
+        out = pd.concat(frames, ignore_index=True)
+        return out[["axis", *[c for c in out.columns if c != "axis"]]]
 
     @property
     def axes(self) -> tuple[str, ...]:
@@ -280,9 +288,7 @@ class AllanResultSet(AxisIndexed[AllanResult]):
 
     def to_frame(self) -> pd.DataFrame:
         """Long format: an ``axis`` column, then the columns of :meth:`AllanResult.to_frame`."""
-        frames = [c.to_frame().assign(axis=c.axis) for c in self.curves]
-        out = pd.concat(frames, ignore_index=True)
-        return out[["axis", *[c for c in out.columns if c != "axis"]]]
+        return self._long_frame()
 
     def to_dict(self) -> dict[str, Any]:
         return {"axes": list(self.axes), "curves": [c.to_dict() for c in self.curves]}

@@ -4,7 +4,7 @@ A grid is a set of integer averaging factors ``m`` (``tau = m / fs``).  Each est
 only be evaluated where it has at least two terms, so the largest usable ``m`` depends on
 the estimator and the record length (see :func:`n_terms`).  Named grids stop at that
 largest ``m``; explicit taus outside the usable range are kept in :attr:`TauGrid.dropped`
-with the reason, never discarded silently (DESIGN.md, convention 5).
+with the reason, never discarded silently.
 
 Term counts follow NIST SP1065 (Riley 2008): with ``N = n + 1`` phase points made from
 ``n`` rate samples,
@@ -36,6 +36,13 @@ from fogts._typing import FloatArray, IntArray
 from fogts._validate import check_choice, check_int, check_positive
 from fogts.errors import DataError, InsufficientDataError
 
+#: The Allan-family estimators (:mod:`fogts.allan.estimators`).
+Kind = Literal["adev", "oadev", "mdev", "hdev", "ohdev", "totdev"]
+KINDS: tuple[str, ...] = get_args(Kind)
+#: The named tau grids of :func:`tau_grid`.
+GridName = Literal["octave", "decade", "dense", "all"]
+GRID_NAMES: tuple[str, ...] = get_args(GridName)
+
 __all__ = [
     "GRID_NAMES",
     "KINDS",
@@ -47,11 +54,6 @@ __all__ = [
     "n_terms",
     "tau_grid",
 ]
-
-Kind = Literal["adev", "oadev", "mdev", "hdev", "ohdev", "totdev"]
-KINDS: tuple[str, ...] = get_args(Kind)
-GridName = Literal["octave", "decade", "dense", "all"]
-GRID_NAMES: tuple[str, ...] = get_args(GridName)
 
 #: Fewest terms an estimate needs (allantools drops ``ns <= 1``; so does fogts).
 MIN_TERMS = 2

@@ -27,8 +27,9 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import fogts.allan.estimators as est
+import fogts.allan.kernels as kernels
 from fogts.allan.confidence import totdev_bias
-from fogts.allan.estimators import ESTIMATORS, phase_from_rate
+from fogts.allan.estimators import ESTIMATORS
 from fogts.allan.taus import KINDS, tau_grid
 from fogts.errors import DataError, InsufficientDataError
 from tests.conftest import shared_path, stable32, stable32_rounded_input
@@ -272,8 +273,8 @@ def test_matches_allantools_every_grid_fixed_seed(kind: str) -> None:
 def test_chunk_and_lane_boundaries(monkeypatch: pytest.MonkeyPatch, kind: str) -> None:
     # Tiny chunks force every code path of the chunked kernels (lags below and above the
     # chunk, partial last blocks, blocked dot products) on data allantools can check.
-    monkeypatch.setattr(est, "CHUNK", 7)
-    monkeypatch.setattr(est, "DOT_BLOCK", 3)
+    monkeypatch.setattr(kernels, "CHUNK", 7)
+    monkeypatch.setattr(kernels, "DOT_BLOCK", 3)
     y = np.random.default_rng(5).normal(size=301) + np.linspace(0, 2, 301)
     _compare_allantools(kind, y, 1.0, "all")
 
@@ -348,14 +349,6 @@ def test_white_noise_oadev_is_sigma_over_sqrt_m() -> None:
     y = np.random.default_rng(1).normal(scale=0.2, size=200_000)
     out = ESTIMATORS["oadev"](y, fs_hz=1.0, m=[1, 10, 100])
     np.testing.assert_allclose(out.dev * np.sqrt([1, 10, 100]), 0.2, rtol=0.03)
-
-
-def test_phase_from_rate_is_the_mean_removed_cumulative_sum() -> None:
-    y = np.random.default_rng(0).normal(size=100_003) + 3.0
-    x = phase_from_rate(y)
-    assert x.shape == (100_004,) and x[0] == 0.0
-    np.testing.assert_allclose(x[1:], np.cumsum(y - y.mean()), atol=1e-9)
-    assert abs(x[-1]) < 1e-8
 
 
 def test_output_fields() -> None:

@@ -366,7 +366,7 @@ def test_result_consistency_checks() -> None:
 def test_totdev_bias_correction_reproduces_stable32_ocxo_octave_file() -> None:
     """End to end: fogts' own noise identification plus the bias correction gives the
     Stable32 OCXO TOTDEV octave file (f / 1e7 with Stable32's phase rounding, see
-    tests/test_allan_estimators.py) wherever fogts and Stable32 identify the same noise."""
+    tests/allan/test_estimators.py) wherever fogts and Stable32 identify the same noise."""
     from tests.conftest import shared_path, stable32, stable32_rounded_input
 
     freq = np.loadtxt(shared_path("stable32", "ocxo", "ocxo_frequency.txt"), comments="#") / 1e7

@@ -1,0 +1,254 @@
+"""Result records of the dynamic Allan analysis: the (window time x tau) surface of one
+axis (:class:`DynamicAllanResult`), one per axis, and the non-stationarity verdict."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from fogts._typing import BoolArray, FloatArray, IntArray
+from fogts.allan.result import AxisIndexed
+from fogts.allan.taus import DroppedTau
+
+__all__ = ["DynamicAllanResult", "DynamicAllanResultSet", "Nonstationarity"]
+
+
+@dataclass(frozen=True)
+class Nonstationarity:
+    """How much the deviation varies between windows, against chance.
+
+    Attributes
+    ----------
+    tau_s : float
+        The tau of the headline score (the shortest tau: most degrees of freedom).
+    score : float
+        Observed variance of ``log(avar)`` across windows at ``tau_s`` divided by the
+        variance chance predicts from the EDF (``psi'(edf/2)``); ~1 when stationary.
+    observed_var, expected_var : float
+        The two variances of the score.
+    edf : float
+        Equivalent degrees of freedom of one window at ``tau_s``.
+    n_independent : int
+        Non-overlapping windows in the record (degrees of freedom of the test + 1).
+    pvalue : float
+        P-value of the score under stationarity (chi-squared with ``n_independent - 1``).
+    level : float
+        Significance level of the verdict.
+    stationary : bool
+        ``pvalue >= level``.
+    change_time_s : float or None
+        Most likely single change time (s from the start), when not stationary.
+    change_ratio : float or None
+        Deviation after the change divided by the deviation before it (at ``tau_s``).
+    flagged_windows : tuple of int
+        Windows whose variance at ``tau_s`` lies outside the stationary interval
+        (chi-squared at the Bonferroni level ``level / n_independent``).
+    tau_scores : ndarray of float64
+        The score at every tau of the result.
+    """
+
+    tau_s: float
+    score: float
+    observed_var: float
+    expected_var: float
+    edf: float
+    n_independent: int
+    pvalue: float
+    level: float
+    stationary: bool
+    change_time_s: float | None
+    change_ratio: float | None
+    flagged_windows: tuple[int, ...]
+    tau_scores: FloatArray
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "tau": self.tau_s, "score": _num(self.score), "observed_var": _num(self.observed_var),
+            "expected_var": _num(self.expected_var), "edf": _num(self.edf),
+            "n_independent": self.n_independent, "pvalue": _num(self.pvalue),
+            "level": self.level, "stationary": self.stationary,
+            "change_time": self.change_time_s, "change_ratio": self.change_ratio,
+            "flagged_windows": list(self.flagged_windows),
+            "tau_scores": [_num(v) for v in self.tau_scores],
+        }
+
+    def summary(self) -> str:
+        verdict = "stationary" if self.stationary else "NOT stationary"
+        text = (f"non-stationarity score {self.score:.3g} at tau = {self.tau_s:g} s "
+                f"(1 = chance; p = {self.pvalue:.3g}, {self.n_independent} independent "
+                f"windows): {verdict}")
+        if self.change_time_s is not None and self.change_ratio is not None:
+            text += (f"; most likely change at t = {self.change_time_s:.6g} s, deviation x "
+                     f"{self.change_ratio:.3g}")
+        if self.flagged_windows:
+            text += f"; {len(self.flagged_windows)} window(s) outside the stationary interval"
+        return text
+
+
+@dataclass(frozen=True)
+class DynamicAllanResult:
+    """Dynamic Allan deviation of one axis: a (window time x tau) surface.
+
+    Attributes
+    ----------
+    kind, units, axis : str
+    fs_hz : float
+    n_samples : int
+        Samples in the record.
+    window_s, step_s : float
+        Window length and step actually used (whole samples).
+    window_n, step_n : int
+        The same in samples.
+    method : str
+        ``"cumsum"`` or ``"kernel"`` (see :mod:`fogts.allan.window_sums`).
+    confidence : float
+        Level of ``ci_low`` / ``ci_high``.
+    tau_s : ndarray (n_tau,)
+    m : ndarray of int64 (n_tau,)
+    n : ndarray of int64 (n_tau,)
+        Terms per window at each tau.
+    times_s : ndarray (n_win,)
+        Window centres in seconds from the start (first sample at t = 0).
+    start_s : ndarray (n_win,)
+        Window starts.
+    dev : ndarray (n_win, n_tau)
+        ``dev[i, j]``: deviation of window ``i`` at ``tau_s[j]``, in ``units``.
+    ci_low, ci_high : ndarray (n_win, n_tau)
+        Chi-squared interval of each window's deviation.
+    edf : ndarray (n_tau,)
+        Equivalent degrees of freedom of one window.
+    alpha : ndarray of int64 (n_tau,)
+        Power-law noise type of each tau, identified on the samples of one window from the
+        middle of the record.
+    reference_dev : ndarray (n_tau,)
+        Pooled deviation: the root of the mean window variance (the stationary hypothesis).
+    outside : ndarray of bool (n_win, n_tau)
+        Window variance outside the stationary chi-squared interval around the pooled
+        variance (Bonferroni level, see :class:`Nonstationarity`).
+    nonstationarity : Nonstationarity
+    dropped : tuple of DroppedTau
+    notes : tuple of str
+    """
+
+    kind: str
+    units: str
+    axis: str
+    fs_hz: float
+    n_samples: int
+    window_s: float
+    step_s: float
+    window_n: int
+    step_n: int
+    method: str
+    confidence: float
+    tau_s: FloatArray
+    m: IntArray
+    n: IntArray
+    times_s: FloatArray
+    start_s: FloatArray
+    dev: FloatArray
+    ci_low: FloatArray
+    ci_high: FloatArray
+    edf: FloatArray
+    alpha: IntArray
+    reference_dev: FloatArray
+    outside: BoolArray
+    nonstationarity: Nonstationarity
+    dropped: tuple[DroppedTau, ...] = ()
+    notes: tuple[str, ...] = ()
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        """``(n_windows, n_taus)``."""
+        return (int(self.times_s.size), int(self.tau_s.size))
+
+    @property
+    def avar(self) -> FloatArray:
+        return self.dev**2
+
+    def to_frame(self) -> pd.DataFrame:
+        """Long format, one row per (window, tau): ``time, tau, m, dev, ci_low, ci_high,
+        outside``."""
+        nw, nt = self.shape
+        return pd.DataFrame({
+            "time": np.repeat(self.times_s, nt), "tau": np.tile(self.tau_s, nw),
+            "m": np.tile(self.m, nw), "dev": self.dev.ravel(),
+            "ci_low": self.ci_low.ravel(), "ci_high": self.ci_high.ravel(),
+            "outside": self.outside.ravel(),
+        })
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-safe dict (the ``fogts davar`` contract plus detail); NaN becomes None."""
+        return {
+            "kind": self.kind, "units": self.units, "axis": self.axis,
+            "fs_hz": float(self.fs_hz), "n_samples": int(self.n_samples),
+            "window_s": float(self.window_s), "step_s": float(self.step_s),
+            "window_n": int(self.window_n), "step_n": int(self.step_n),
+            "method": self.method, "confidence": _num(self.confidence),
+            "taus": self.tau_s.tolist(), "m": self.m.tolist(), "n": self.n.tolist(),
+            "edf": [_num(v) for v in self.edf], "alpha": self.alpha.tolist(),
+            "times": self.times_s.tolist(),
+            "dev": [[_num(v) for v in row] for row in self.dev],
+            "ci_low": [[_num(v) for v in row] for row in self.ci_low],
+            "ci_high": [[_num(v) for v in row] for row in self.ci_high],
+            "reference_dev": [_num(v) for v in self.reference_dev],
+            "nonstationarity": self.nonstationarity.to_dict(),
+            "dropped": [d.to_dict() for d in self.dropped],
+            "notes": list(self.notes),
+        }
+
+    def summary(self, max_rows: int = 12) -> str:
+        """Text: the set-up, the verdict, and the deviation at a few taus over time."""
+        nw, nt = self.shape
+        lines = [f"Dynamic {self.kind} of axis {self.axis!r}: {nw} windows of "
+                 f"{self.window_s:g} s every {self.step_s:g} s over {self.n_samples} samples "
+                 f"at {self.fs_hz:g} Hz; {nt} taus {self.tau_s[0]:g}..{self.tau_s[-1]:g} s; "
+                 f"unit {self.units}",
+                 self.nonstationarity.summary()]
+        cols = np.unique(np.linspace(0, nt - 1, min(nt, 6)).round().astype(int))
+        rows = np.unique(np.linspace(0, nw - 1, min(nw, max_rows)).round().astype(int))
+        head = f"{'t [s]':>10}" + "".join(f"{f'tau={self.tau_s[j]:.3g}':>13}" for j in cols)
+        lines.append(head)
+        for i in rows:
+            cells = "".join(f"{self.dev[i, j]:12.4g}{'*' if self.outside[i, j] else ' '}"
+                            for j in cols)
+            lines.append(f"{self.times_s[i]:10.6g}" + cells)
+        lines.append(f"{'pooled':>10}" + "".join(f"{self.reference_dev[j]:12.4g} " for j in cols))
+        lines.append("(* = outside the stationary interval)")
+        if self.dropped:
+            lines.append(f"dropped {len(self.dropped)} tau(s): "
+                         + "; ".join(f"tau={d.tau_s:g} s: {d.reason}" for d in self.dropped[:3]))
+        lines += [f"note: {note}" for note in self.notes]
+        return "\n".join(lines)
+
+
+@dataclass(frozen=True)
+class DynamicAllanResultSet(AxisIndexed[DynamicAllanResult]):
+    """One :class:`DynamicAllanResult` per axis of a multi-axis record (index it by axis
+    name or position)."""
+
+    curves: tuple[DynamicAllanResult, ...]
+
+    def __post_init__(self) -> None:
+        self._check_curves()
+
+    def to_frame(self) -> pd.DataFrame:
+        """Long format: an ``axis`` column, then those of :meth:`DynamicAllanResult.to_frame`."""
+        return self._long_frame()
+
+    def to_dict(self) -> dict[str, Any]:
+        first = self.curves[0]
+        return {"kind": first.kind, "window_s": first.window_s, "step_s": first.step_s,
+                "axes": list(self.axes), "curves": [c.to_dict() for c in self.curves]}
+
+    def summary(self) -> str:
+        return "\n\n".join(c.summary() for c in self.curves)
+
+
+def _num(v: Any) -> float | None:
+    f = float(v)
+    return f if math.isfinite(f) else None

@@ -1,0 +1,263 @@
+"""Sums of squared phase differences, the numerical core of the Allan-family estimators.
+
+The rate ``y`` is integrated once to the "phase" (angle) ``x_k = sum_{j<k} y_j``
+(:func:`phase_from_rate`, NIST SP1065 eq. 4) and every estimator is a normalised sum of
+squared differences of ``x`` (SP1065 eqs. 7, 11, 14, 18, 20, 25).
+
+* The mean of ``y`` is removed before integrating.  Every statistic is exactly invariant
+  to a constant added to ``y`` (a linear phase ramp is annihilated by the second and third
+  differences and preserved by the totdev reflection), and a small phase avoids the
+  cancellation a large bias (Earth rate, a gyro offset) would cause.
+* The phase is kept in units of "rate x sample": ``1 / fs`` cancels between the phase and
+  ``tau = m / fs``, so e.g. OADEV^2 = sum(v^2) / (2 m^2 n) with ``v`` the second difference
+  of the unscaled phase (:data:`NORMALISATION`).
+* Sums of squares are accumulated over cache-sized chunks with preallocated buffers and
+  ``np.dot``: the only large array is the phase itself (one copy of the input); ``mdev``
+  also needs one running-sum array per call.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+
+from fogts._typing import FloatArray
+
+__all__ = [
+    "CHUNK",
+    "DOT_BLOCK",
+    "NORMALISATION",
+    "phase_from_rate",
+    "second_difference",
+    "ss_mod",
+    "ss_second",
+    "ss_third",
+    "ss_total",
+    "third_difference",
+]
+
+#: Elements per chunk of the sum-of-squares loops (256 KiB of float64: stays in L2).
+CHUNK = 1 << 15
+#: Largest block handed to one ``np.dot``: OpenBLAS multithreads ``ddot`` above 10,000
+#: elements, which is slower than one thread for cache-sized blocks and collapses on a
+#: loaded machine.
+DOT_BLOCK = 8192
+
+
+def phase_from_rate(y: FloatArray) -> FloatArray:
+    """Integrate the mean-removed rate once: ``x_0 = 0``, ``x_k = sum_{j<k} (y_j - mean)``.
+
+    The result (``n + 1`` points) is the phase in units of rate x sample period, i.e. the
+    angle times ``fs``, integrated as in NIST SP1065 eq. 4.
+
+    Examples
+    --------
+    >>> phase_from_rate(np.array([1.0, 3.0, 2.0])).tolist()
+    [0.0, -1.0, 0.0, 0.0]
+    """
+    n = y.size
+    x = np.empty(n + 1, dtype=np.float64)
+    x[0] = 0.0
+    mean = float(np.mean(y))
+    buf = np.empty(min(CHUNK, max(n, 1)), dtype=np.float64)
+    carry = 0.0
+    for s in range(0, n, CHUNK):
+        e = min(s + CHUNK, n)
+        b = buf[: e - s]
+        np.subtract(y[s:e], mean, out=b)
+        seg = x[s + 1 : e + 1]
+        np.cumsum(b, out=seg)
+        if carry != 0.0:
+            seg += carry
+        carry = float(seg[-1])
+    return x
+
+
+def second_difference(x: FloatArray, lag: int, c0: int, c1: int, out: FloatArray,
+                      tmp: FloatArray) -> FloatArray:
+    """``out[i - c0] = (x[i+2L] - x[i+L]) - (x[i+L] - x[i])`` for ``c0 <= i < c1``.
+
+    Both inner differences are small, so this is the accurate way round; ``out`` and
+    ``tmp`` hold ``c1 - c0`` elements, ``out`` is returned.
+    """
+    np.subtract(x[c0 + 2 * lag : c1 + 2 * lag], x[c0 + lag : c1 + lag], out=out)
+    np.subtract(x[c0 + lag : c1 + lag], x[c0:c1], out=tmp)
+    out -= tmp
+    return out
+
+
+def third_difference(x: FloatArray, lag: int, c0: int, c1: int, out: FloatArray,
+                     tmp: FloatArray) -> FloatArray:
+    """``out[i - c0] = (x[i+3L] - x[i]) - 3 (x[i+2L] - x[i+L])`` for ``c0 <= i < c1``."""
+    np.subtract(x[c0 + 3 * lag : c1 + 3 * lag], x[c0:c1], out=out)
+    np.subtract(x[c0 + 2 * lag : c1 + 2 * lag], x[c0 + lag : c1 + lag], out=tmp)
+    tmp *= 3.0
+    out -= tmp
+    return out
+
+
+def _chunk_buffers(count: int, number: int) -> tuple[int, list[FloatArray]]:
+    """The chunk length for ``count`` elements and ``number`` float64 buffers of it."""
+    c = min(CHUNK, count)
+    return c, [np.empty(c, dtype=np.float64) for _ in range(number)]
+
+
+def _sumsq(v: FloatArray) -> float:
+    """``sum(v**2)`` by single-threaded BLAS dot products over blocks of :data:`DOT_BLOCK`."""
+    if v.size <= DOT_BLOCK:
+        return float(np.dot(v, v))
+    total = 0.0
+    for s in range(0, v.size, DOT_BLOCK):
+        w = v[s : s + DOT_BLOCK]
+        total += float(np.dot(w, w))
+    return total
+
+
+def ss_second(p: FloatArray, lag: int, terms: int) -> float:
+    """``sum (p[i+2L] - 2 p[i+L] + p[i])^2``, ``i < terms`` (SP1065 eqs. 7 and 11).
+
+    Written as ``v_i = d_{i+L} - d_i`` with the lag-L first difference
+    ``d_j = p_{j+L} - p_j`` (the values of :func:`second_difference`).  Each ``d`` block is
+    computed once: for ``L`` below the chunk size a block of ``d`` covers the chunk plus
+    ``L``; for larger ``L`` the index range is walked in lanes ``r, r+L, r+2L, ...`` so that
+    the ``d`` block of one step is the ``d_i`` of the next.  Two ufunc passes and one dot
+    per element.
+    """
+    k = min(CHUNK, terms)
+    total = 0.0
+    if lag < k:
+        dbuf = np.empty(k + lag, dtype=np.float64)
+        vbuf = np.empty(k, dtype=np.float64)
+        for s in range(0, terms, k):
+            e = min(s + k, terms)
+            w = e - s
+            d = dbuf[: w + lag]
+            np.subtract(p[s + lag : e + 2 * lag], p[s : e + lag], out=d)
+            v = vbuf[:w]
+            np.subtract(d[lag:], d[:w], out=v)
+            total += _sumsq(v)
+        return total
+    prev_buf = np.empty(k, dtype=np.float64)
+    cur_buf = np.empty(k, dtype=np.float64)
+    for r in range(0, min(lag, terms), k):
+        w = min(k, lag - r, terms - r)
+        prev = prev_buf[:w]
+        np.subtract(p[r + lag : r + lag + w], p[r : r + w], out=prev)  # d[r : r+w]
+        s = r
+        while s < terms:
+            w = min(w, terms - s)
+            cur = cur_buf[:w]
+            np.subtract(p[s + 2 * lag : s + 2 * lag + w], p[s + lag : s + lag + w], out=cur)
+            v = prev_buf[:w]
+            np.subtract(cur, v, out=v)
+            total += _sumsq(v)
+            prev_buf, cur_buf = cur_buf, prev_buf  # d[s+L : s+L+w] is the next d_i block
+            s += lag
+    return total
+
+
+def ss_third(p: FloatArray, lag: int, terms: int) -> float:
+    """``sum (p[i+3L] - 3 p[i+2L] + 3 p[i+L] - p[i])^2``, ``i < terms`` (SP1065 eqs. 18, 20)."""
+    c, (a, b) = _chunk_buffers(terms, 2)
+    total = 0.0
+    for s in range(0, terms, c):
+        e = min(s + c, terms)
+        total += _sumsq(third_difference(p, lag, s, e, a[: e - s], b[: e - s]))
+    return total
+
+
+def ss_mod(x: FloatArray, m: int, terms: int) -> float:
+    """``sum_j (sum_{i=j}^{j+m-1} (x[i+2m] - 2x[i+m] + x[i]))^2``, ``j < terms`` (SP1065 eq. 14).
+
+    The inner moving sum is a difference of the running sum ``V`` of the second
+    differences ``v`` (which are small), not a third difference of a doubly integrated
+    phase, so it keeps full precision.
+    """
+    nv = x.size - 2 * m                      # number of second differences
+    run = np.empty(nv + 1, dtype=np.float64)  # V[0] = 0, V[k] = sum_{i<k} v_i
+    run[0] = 0.0
+    c, (a, b) = _chunk_buffers(nv, 2)
+    carry = 0.0
+    for s in range(0, nv, c):
+        e = min(s + c, nv)
+        seg = run[s + 1 : e + 1]
+        np.cumsum(second_difference(x, m, s, e, a[: e - s], b[: e - s]), out=seg)
+        if carry != 0.0:
+            seg += carry
+        carry = float(seg[-1])
+    total = 0.0
+    c = min(CHUNK, terms)
+    for s in range(0, terms, c):
+        e = min(s + c, terms)
+        va = a[: e - s]
+        np.subtract(run[s + m : e + m], run[s:e], out=va)
+        total += _sumsq(va)
+    return total
+
+
+def _reflected(x: FloatArray, k0: int, k1: int, out: FloatArray) -> FloatArray:
+    """``x*[k0:k1]`` of the reflection-extended phase of SP1065 eq. 25 (0-based).
+
+    ``x*[-j] = 2 x[0] - x[j]`` and ``x*[N-1+j] = 2 x[N-1] - x[N-1-j]`` for ``j >= 1``;
+    returns a view of ``x`` when no reflection is involved, else fills ``out``.
+    """
+    npts = x.size
+    if k0 >= 0 and k1 <= npts:
+        return x[k0:k1]
+    res = out[: k1 - k0]
+    pos = 0
+    if k0 < 0:  # left reflection, k in [k0, min(k1, 0))
+        hi = min(k1, 0)
+        cnt = hi - k0
+        np.subtract(2.0 * x[0], x[-hi + 1 : -k0 + 1][::-1], out=res[:cnt])
+        pos = cnt
+    lo, hi = max(k0, 0), min(k1, npts)
+    if hi > lo:  # plain phase
+        res[pos : pos + hi - lo] = x[lo:hi]
+        pos += hi - lo
+    if k1 > npts:  # right reflection, k in [max(k0, N), k1) -> index 2(N-1) - k
+        lo = max(k0, npts)
+        top = 2 * (npts - 1)
+        np.subtract(2.0 * x[-1], x[top - k1 + 1 : top - lo + 1][::-1], out=res[pos:])
+    return res
+
+
+def ss_total(x: FloatArray, m: int) -> float:
+    """``sum_{i=1}^{N-2} (x*[i-m] - 2 x[i] + x*[i+m])^2`` (SP1065 eq. 25, 0-based)."""
+    npts = x.size
+    terms = npts - 2
+    c, (a, b, ra, rb) = _chunk_buffers(terms, 4)
+    total = 0.0
+    for s in range(1, terms + 1, c):
+        e = min(s + c, terms + 1)
+        k = e - s
+        va, vb = a[:k], b[:k]
+        mid = x[s:e]
+        np.subtract(_reflected(x, s - m, e - m, ra), mid, out=va)
+        np.subtract(_reflected(x, s + m, e + m, rb), mid, out=vb)
+        va += vb
+        total += _sumsq(va)
+    return total
+
+
+def _second_norm(m: int, terms: int) -> float:
+    return 2.0 * m * m * terms
+
+
+def _third_norm(m: int, terms: int) -> float:
+    return 6.0 * m * m * terms
+
+
+def _mod_norm(m: int, terms: int) -> float:
+    return 2.0 * float(m) ** 4 * terms
+
+
+#: Per kind, the divisor that turns the sum of squares of ``terms`` terms at averaging
+#: factor ``m`` (unscaled phase) into the variance: ``2 m^2 terms`` for the Allan and total
+#: variances, ``6 m^2 terms`` for the Hadamard variances, ``2 m^4 terms`` for the modified
+#: Allan variance (its inner sum of m second differences).
+NORMALISATION: dict[str, Callable[[int, int], float]] = {
+    "adev": _second_norm, "oadev": _second_norm, "totdev": _second_norm,
+    "hdev": _third_norm, "ohdev": _third_norm, "mdev": _mod_norm,
+}

@@ -1,0 +1,269 @@
+"""Noise identification: the dominant power-law noise at each averaging factor.
+
+Per averaging factor ``m``, the power-law exponent ``alpha`` of the rate ("frequency")
+spectrum :math:`S_y(f) \\propto f^\\alpha` (NIST SP1065, W. J. Riley, *Handbook of Frequency
+Stability Analysis*, 2008, section 5.2), rounded to one of ``2`` (white PM: quantization
+noise Q), ``1`` (flicker PM), ``0`` (white FM: angle random walk N), ``-1`` (flicker FM:
+bias instability B) or ``-2`` (random-walk FM: rate random walk K).  The method that found
+it is reported as:
+
+* ``"acf"``: the lag-1 autocorrelation method of W. J. Riley and C. A. Greenhall,
+  "Power law noise identification using the lag 1 autocorrelation", 18th EFTF (2004),
+  applied to the rate averaged over non-overlapping blocks of ``m`` samples.
+* ``"b1"``: when fewer than 30 decimated phase points remain, Barnes' B1 bias ratio
+  (standard variance / Allan variance, SP1065 section 5.2), supplemented by
+* ``"rn"``: the ratio R(n) = Mod sigma^2 / sigma^2 (SP1065 section 5.2), which the B1
+  ratio needs to separate white PM, flicker PM and white FM.
+* ``"none"``: nothing could be identified at this tau (fewer than 4 averaged points, or
+  a constant series); the alpha of the nearest identified tau is used instead (white FM,
+  ``alpha = 0``, if there is none).
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+
+import numpy as np
+import numpy.typing as npt
+import pandas as pd
+
+from fogts._typing import FloatArray, IntArray
+from fogts._validate import check_choice, check_positive, to_float_array
+from fogts.allan._checks import check_m
+from fogts.allan.estimators import mdev, oadev, phase_from_rate
+from fogts.allan.taus import KINDS
+
+__all__ = [
+    "ACF_MIN_POINTS",
+    "ALPHAS",
+    "ALPHA_METHODS",
+    "B1_MIN_POINTS",
+    "identify_noise",
+    "identify_with_methods",
+]
+
+#: Fewest decimated phase points (``n // m + 1``) for the lag-1 autocorrelation method;
+#: SP1065 section 5.2 and Riley & Greenhall (2004) ask for "at least about 30".
+ACF_MIN_POINTS = 30
+#: Fewest averaged rate values for the B1 ratio (below it the point is ``"none"``).
+B1_MIN_POINTS = 4
+#: The values of ``alpha_method``.
+ALPHA_METHODS: tuple[str, ...] = ("acf", "b1", "rn", "none")
+#: The power-law exponents that are identified (frequency-noise convention).
+ALPHAS: tuple[int, ...] = (2, 1, 0, -1, -2)
+
+
+def _lag1(c: FloatArray) -> float:
+    """Lag-1 autocorrelation of a zero-mean series (Riley & Greenhall 2004, eq. 2);
+    NaN for a constant series."""
+    den = float(np.dot(c, c))
+    if not den > 0.0:
+        return math.nan
+    return float(np.dot(c[:-1], c[1:])) / den
+
+
+def _acf_alpha(xd: FloatArray, d_max: int) -> float:
+    """Riley & Greenhall (2004) lag-1 ACF noise estimate for frequency data.
+
+    ``xd`` is the phase decimated by m (``N + 1`` points), so ``z = diff(xd)`` are the N
+    rates averaged over blocks of m (the scale ``1/m`` does not matter).  A least-squares
+    line is removed from ``z`` (a linear rate drift); the series is then differenced until
+    ``delta = r1 / (1 + r1)`` falls below 0.25 (stationary) or ``d_max`` differences are
+    taken, and ``p = -2 (delta + d)`` estimates alpha (``theta = 0`` for frequency data).
+
+    The detrended lag-1 sums are formed from the sums of the centred series ``c`` (no
+    trend array is built): with ``u_t = t - (N-1)/2``, ``b = sum(u c) / sum(u^2)``,
+    ``sum(e^2) = sum(c^2) - b^2 sum(u^2)`` and
+    ``sum(e_t e_t+1) = sum(c_t c_t+1) - b [2 sum(u c) - c_N-1 u_N-1 - c_N-1 - c_0 u_0 + c_0]
+    + b^2 [sum(u^2) - u_N-1^2 - u_N-1]``; ``sum(t z_t) = N xd_N - sum_{s>=1} xd_s``.
+    """
+    n = xd.size - 1
+    z = np.diff(xd)
+    zbar = (float(xd[-1]) - float(xd[0])) / n
+    z -= zbar
+    stt = n * (n * n - 1.0) / 12.0
+    if n < 3 or not stt > 0.0:
+        return math.nan
+    t_z = n * float(xd[-1]) - float(np.sum(xd[1:]))  # sum_t t z_t
+    suc = t_z - zbar * n * (n - 1.0) / 2.0  # sum_t u_t c_t = sum_t t c_t (sum c = 0)
+    b = suc / stt
+    u0, ul = -(n - 1.0) / 2.0, (n - 1.0) / 2.0
+    c0, cl = float(z[0]), float(z[-1])
+    den = float(np.dot(z, z)) - b * b * stt
+    num = (float(np.dot(z[:-1], z[1:])) - b * (2.0 * suc - cl * ul - cl - c0 * u0 + c0)
+           + b * b * (stt - ul * ul - ul))
+    if not den > 0.0 or not math.isfinite(num):
+        return math.nan
+    r1 = num / den
+    d = 0
+    w = z
+    while True:
+        delta = r1 / (1.0 + r1)
+        if delta < 0.25 or d >= d_max:
+            return -2.0 * (delta + d)
+        # differencing the detrended series = differencing z, up to a constant that the
+        # centring removes
+        w = np.diff(w)
+        if w.size < 2:
+            return math.nan
+        w -= w.mean()
+        r1 = _lag1(w)
+        if not math.isfinite(r1):
+            return math.nan
+        d += 1
+
+
+def _b1_expected(n: int, mu: int) -> float:
+    """Expected B1 ratio for ``n`` averaged values when AVAR ~ tau**mu (SP1065 section 5.2;
+    Barnes' bias function, B1(N, r=1, mu) = N (1 - N**mu) / (2 (N - 1) (1 - 2**mu)))."""
+    if mu == 0:
+        return n * math.log(n) / (2.0 * (n - 1) * math.log(2.0))
+    return n * (1.0 - float(n) ** mu) / (2.0 * (n - 1) * (1.0 - 2.0 ** mu))
+
+
+def _rn_expected(m: int, alpha: int) -> float:
+    """Expected R(n) = MVAR / AVAR at averaging factor ``m``.
+
+    White PM: ``1/m`` (SP1065 section 5.2).  Flicker PM: the ratio of the SP1065 flicker-PM
+    expressions ``3 ln(256/27) / (8 pi^2)`` and ``(1.038 + 3 ln(2 pi f_h tau)) / (4 pi^2)``
+    with the Nyquist bandwidth ``f_h tau = m / 2``.  White FM: ``(m^2 + 1) / (2 m^2)``, the
+    exact ratio for white rate noise (1 at m = 1, 1/2 for large m).
+    """
+    if alpha == 2:
+        return 1.0 / m
+    if alpha == 1:
+        return 3.0 * math.log(256.0 / 27.0) / (2.0 * (1.038 + 3.0 * math.log(math.pi * m)))
+    return (m * m + 1.0) / (2.0 * m * m)
+
+
+def _b1_type(z: FloatArray, oavar: float) -> int:
+    """B1 ratio decision (SP1065 section 5.2): -2, -1, 0, or 2 for "phase noise" (which the
+    B1 ratio cannot split; R(n) does)."""
+    n = z.size
+    b1 = float(np.var(z, ddof=1)) / oavar
+    # mu (AVAR ~ tau**mu) of RWFM, FFM, WFM and the PM types; decision boundaries are the
+    # geometric means of adjacent expected values.
+    expected = [(-2, _b1_expected(n, 1)), (-1, _b1_expected(n, 0)), (0, _b1_expected(n, -1)),
+                (2, _b1_expected(n, -2))]
+    for (a_hi, b_hi), (_, b_lo) in itertools.pairwise(expected):
+        if b1 > math.sqrt(b_hi * b_lo):
+            return a_hi
+    return 2
+
+
+def _rn_type(m: int, rn: float) -> int:
+    """R(n) decision among white PM, flicker PM and white FM (geometric-mean boundaries)."""
+    r_wpm, r_fpm, r_wfm = _rn_expected(m, 2), _rn_expected(m, 1), _rn_expected(m, 0)
+    if rn < math.sqrt(r_wpm * r_fpm):
+        return 2
+    if rn < math.sqrt(r_fpm * r_wfm):
+        return 1
+    return 0
+
+
+def identify_with_methods(y: FloatArray, m: IntArray, kind: str, oavar_given: FloatArray | None = None
+              ) -> tuple[IntArray, tuple[str, ...]]:
+    """Alpha and the method that found it (:data:`ALPHA_METHODS`) at every averaging factor.
+
+    ``oavar_given`` (aligned with ``m``) are known overlapping Allan variances, reused for
+    the B1 ratio instead of recomputing them (as
+    :func:`fogts.allan.confidence.confidence_table` does for ``kind="oadev"``).
+    """
+    d_max = 2 if kind in ("hdev", "ohdev") else 1  # phase d_max 3 / 2, in frequency terms
+    n = y.size
+    x = phase_from_rate(y)
+    alpha = np.zeros(m.size, dtype=np.int64)
+    methods = ["none"] * m.size
+    b1_idx: list[int] = []
+    for i, mi in enumerate(m.tolist()):
+        blocks = n // mi
+        if blocks + 1 >= ACF_MIN_POINTS:
+            p = _acf_alpha(x[: blocks * mi + 1 : mi], d_max)
+            if math.isfinite(p):
+                alpha[i] = int(np.clip(np.rint(p), -2, 2))
+                methods[i] = "acf"
+        elif blocks >= B1_MIN_POINTS:
+            b1_idx.append(i)
+    if b1_idx:
+        mb = m[b1_idx]
+        if oavar_given is not None:
+            oavar = np.asarray(oavar_given, dtype=np.float64)[b1_idx]
+        else:
+            oavar = oadev(y, fs_hz=1.0, m=mb).dev ** 2
+        pm_idx: list[int] = []
+        for i, mi, av in zip(b1_idx, mb.tolist(), oavar.tolist(), strict=True):
+            if not av > 0.0:
+                continue
+            xd = x[: (n // mi) * mi + 1 : mi]
+            alpha[i] = _b1_type(np.diff(xd) / mi, av)
+            methods[i] = "b1"
+            if alpha[i] == 2 and 3 * mi <= n:
+                pm_idx.append(i)
+        if pm_idx:
+            mp = m[pm_idx]
+            mvar = mdev(y, fs_hz=1.0, m=mp).dev ** 2
+            av_of = dict(zip(mb.tolist(), oavar.tolist(), strict=True))
+            for i, mi, mv in zip(pm_idx, mp.tolist(), mvar.tolist(), strict=True):
+                alpha[i] = _rn_type(mi, mv / av_of[mi])
+                methods[i] = "rn"
+    known = np.array([meth != "none" for meth in methods])
+    if not known.all():
+        if known.any():
+            logm = np.log(m.astype(np.float64))
+            idx = np.flatnonzero(known)
+            for i in np.flatnonzero(~known).tolist():
+                dist = np.abs(logm[idx] - logm[i]) + 1e-9 * (m[idx] > m[i])  # ties: shorter
+                alpha[i] = alpha[idx[int(np.argmin(dist))]]
+        else:
+            alpha[~known] = 0
+    return alpha, tuple(methods)
+
+
+def identify_noise(y: npt.ArrayLike | pd.Series, m: npt.ArrayLike, *, fs_hz: float,
+                   kind: str) -> IntArray:
+    """Dominant power-law noise exponent alpha at each averaging factor.
+
+    The rate is averaged over non-overlapping blocks of ``m`` samples (the first difference
+    of the phase decimated by ``m``); with at least 30 decimated phase points the lag-1
+    autocorrelation method of Riley & Greenhall (2004) is used on the linearly detrended
+    averages, otherwise the B1 ratio and R(n) of NIST SP1065 section 5.2.  Alpha is rounded
+    and clipped to the five power-law types ``2, 1, 0, -1, -2`` (frequency convention:
+    ``S_y(f) ~ f**alpha``; 2 = white PM / quantization, 0 = white FM / angle random walk,
+    -1 = flicker FM / bias instability, -2 = random-walk FM / rate random walk).
+
+    Parameters
+    ----------
+    y : array_like or pandas.Series
+        Rate samples (any unit: the result is scale invariant).
+    m : array_like of int
+        Averaging factors.
+    fs_hz : float
+        Sample rate (checked; the identification itself depends only on ``m``).
+    kind : {"adev", "oadev", "mdev", "hdev", "ohdev", "totdev"}
+        Estimator; sets the largest number of differences (2 for the Hadamard family,
+        1 otherwise, counted on the rate).
+
+    Returns
+    -------
+    ndarray of int64
+        Alpha per averaging factor.  Where nothing could be identified (fewer than 4
+        averaged values) the nearest identified tau's alpha is used; use
+        :func:`fogts.allan.confidence.confidence_table` to see which method found each
+        value.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> rng = np.random.default_rng(1)
+    >>> white = rng.standard_normal(4096)
+    >>> identify_noise(white, [1, 4, 16], fs_hz=100.0, kind="oadev").tolist()
+    [0, 0, 0]
+    >>> identify_noise(np.cumsum(white), [1, 4, 16], fs_hz=100.0, kind="oadev").tolist()
+    [-2, -2, -2]
+    """
+    kind = check_choice("kind", kind, KINDS)
+    check_positive("fs_hz", fs_hz)
+    arr = to_float_array(y, "y", min_length=2)
+    mm = check_m(m)
+    return identify_with_methods(arr, mm, kind)[0]

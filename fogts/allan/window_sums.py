@@ -1,0 +1,136 @@
+"""Every sliding window's Allan-family deviation, for the dynamic Allan analysis.
+
+For the overlapping estimators (``oadev``, ``mdev``, ``ohdev``) every window's sum of
+squared differences is a difference of one running sum over the whole record, so each
+tau costs O(n) however many windows overlap (:func:`cumsum_devs`): the squared second
+(third) differences of the once-integrated phase (:func:`fogts.allan.kernels.
+phase_from_rate`) are accumulated in cache-sized chunks and the running sum is sampled
+only at the window edges.  :func:`kernel_devs` instead calls the estimator of
+:mod:`fogts.allan.estimators` on each window (O(n T / step) per tau; it serves every
+kind, and is the reference the fast path is tested against).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+
+from fogts._typing import FloatArray, IntArray
+from fogts.allan.estimators import ESTIMATORS
+from fogts.allan.kernels import (
+    NORMALISATION,
+    phase_from_rate,
+    second_difference,
+    third_difference,
+)
+
+__all__ = ["CUMSUM_KINDS", "cumsum_devs", "kernel_devs"]
+
+#: Kinds with an O(n)-per-tau running-sum implementation.
+CUMSUM_KINDS: tuple[str, ...] = ("oadev", "mdev", "ohdev")
+_CHUNK = 1 << 16
+
+SquaredTerms = Callable[[int, int], FloatArray]
+Difference = Callable[[FloatArray, int, int, int, FloatArray, FloatArray], FloatArray]
+
+
+def kernel_devs(y: FloatArray, *, kind: str, m: IntArray, starts: IntArray, win_n: int,
+                fs: float) -> FloatArray:
+    """The estimator of :mod:`fogts.allan.estimators` on every window, ``(n_win, n_tau)``."""
+    fn = ESTIMATORS[kind]
+    out = np.empty((starts.size, m.size), dtype=np.float64)
+    for i, s in enumerate(starts.tolist()):
+        out[i] = fn(y[s:s + win_n], fs_hz=fs, m=m, workers=1).dev
+    return out
+
+
+def cumsum_devs(y: FloatArray, *, kind: str, m: IntArray, terms: IntArray,
+                starts: IntArray) -> FloatArray:
+    """Every window's deviation from one pass over the record per tau (O(n) per tau).
+
+    Window ``i`` covers rate samples ``[s_i, s_i + L)``, i.e. phase points
+    ``x[s_i .. s_i + L]``; its terms are the global terms ``s_i .. s_i + terms - 1`` of
+    the whole record's phase (the phase offset cancels in every difference).  The squared
+    terms are summed between consecutive window edges (``numpy.add.reduceat``) and each
+    window's sum is a difference of the running sum of those few block sums.  The
+    normalisations are those of the estimators (:data:`fogts.allan.kernels.NORMALISATION`).
+    """
+    x = phase_from_rate(y)
+    squared, normalisation = _SQUARED_TERMS[kind], NORMALISATION[kind]
+    out = np.empty((starts.size, m.size), dtype=np.float64)
+    for j, (mj, tj) in enumerate(zip(m.tolist(), terms.tolist(), strict=True)):
+        sums = _window_sums(squared(x, mj), starts, tj, chunk=max(_CHUNK, mj))
+        out[:, j] = np.sqrt(np.maximum(sums, 0.0) / normalisation(mj, tj))
+    return out
+
+
+def _squared(difference: Difference) -> Callable[[FloatArray, int], SquaredTerms]:
+    """Squared terms ``difference(x, m)^2`` for any range ``[c0, c1)`` of term indices,
+    computed in two buffers that are reused from one range to the next."""
+    def at_lag(x: FloatArray, m: int) -> SquaredTerms:
+        buffers = [np.empty(0), np.empty(0)]
+
+        def terms(c0: int, c1: int) -> FloatArray:
+            k = c1 - c0
+            if buffers[0].size < k:
+                buffers[:] = [np.empty(k), np.empty(k)]
+            a = difference(x, m, c0, c1, buffers[0][:k], buffers[1][:k])
+            return np.multiply(a, a, out=a)
+        return terms
+    return at_lag
+
+
+def _mod_sq(x: FloatArray, m: int) -> SquaredTerms:
+    """(sum_{i=j}^{j+m-1} v_i)^2 with v the second differences, for j in [c0, c1)."""
+    def terms(c0: int, c1: int) -> FloatArray:
+        hi = c1 + m - 1
+        v = second_difference(x, m, c0, hi, np.empty(hi - c0), np.empty(hi - c0))
+        run = np.empty(v.size + 1)
+        run[0] = 0.0
+        np.cumsum(v, out=run[1:])
+        s = run[m:] - run[:-m]
+        return np.square(s, out=s)
+    return terms
+
+
+_SQUARED_TERMS: dict[str, Callable[[FloatArray, int], SquaredTerms]] = {
+    "oadev": _squared(second_difference), "ohdev": _squared(third_difference),
+    "mdev": _mod_sq,
+}
+
+
+def _window_sums(sq: SquaredTerms, starts: IntArray, count: int, *, chunk: int
+                 ) -> FloatArray:
+    """``sum(t[s : s + count])`` for every start ``s`` of the squared terms ``t``.
+
+    The window edges cut the terms into blocks; each block is summed once (``reduceat``
+    over cache-sized pieces that end on an edge), and a window's sum is the sum of the
+    block sums it spans (a difference of their running sum: a few thousand numbers, so
+    no precision is lost to a long running sum).
+    """
+    edges = _sorted_unique(np.concatenate([starts, starts + count]))
+    block = np.empty(edges.size - 1)
+    # pieces of consecutive blocks, each about `chunk` terms long
+    cut = np.searchsorted(edges, edges[0] + chunk * np.arange(1, (edges[-1] - edges[0])
+                                                              // chunk + 2))
+    bounds = _sorted_unique(np.concatenate([[0], np.minimum(cut, edges.size - 1),
+                                            [edges.size - 1]]))
+    for b0, b1 in zip(bounds[:-1].tolist(), bounds[1:].tolist(), strict=True):
+        if b1 <= b0:
+            continue
+        lo, hi = int(edges[b0]), int(edges[b1])
+        t = sq(lo, hi)
+        block[b0:b1] = np.add.reduceat(t, edges[b0:b1] - lo)
+    run = np.concatenate([[0.0], np.cumsum(block)])
+    i0 = np.searchsorted(edges, starts)
+    i1 = np.searchsorted(edges, starts + count)
+    return run[i1] - run[i0]
+
+
+def _sorted_unique(v: IntArray) -> IntArray:
+    v = np.sort(v)
+    keep = np.empty(v.size, dtype=np.bool_)
+    keep[:1] = True
+    np.not_equal(v[1:], v[:-1], out=keep[1:])
+    return v[keep]

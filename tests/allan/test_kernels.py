@@ -1,0 +1,54 @@
+"""Tests of fogts.allan.kernels: the phase and the differences the estimators are built from.
+
+The kernels' sums themselves are checked through the estimators against Stable32 and
+allantools (``tests/allan/test_estimators.py``, also with tiny chunks); here the phase and
+the difference helpers are checked against their plain numpy definitions.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from fogts.allan.estimators import phase_from_rate as phase_from_estimators
+from fogts.allan.kernels import (
+    NORMALISATION,
+    phase_from_rate,
+    second_difference,
+    third_difference,
+)
+from fogts.allan.taus import KINDS
+
+
+def test_phase_from_rate_is_the_mean_removed_cumulative_sum() -> None:
+    y = np.random.default_rng(0).normal(size=100_003) + 3.0
+    x = phase_from_rate(y)
+    assert x.shape == (100_004,) and x[0] == 0.0
+    np.testing.assert_allclose(x[1:], np.cumsum(y - y.mean()), atol=1e-9)
+    assert abs(x[-1]) < 1e-8
+
+
+def test_phase_from_rate_is_importable_from_the_estimators() -> None:
+    assert phase_from_estimators is phase_from_rate
+
+
+def test_differences_match_their_definitions() -> None:
+    x = np.cumsum(np.random.default_rng(3).normal(size=500))
+    lag, c0, c1 = 7, 11, 400
+    i = np.arange(c0, c1)
+    out, tmp = np.empty(c1 - c0), np.empty(c1 - c0)
+    second = second_difference(x, lag, c0, c1, out, tmp)
+    assert second is out
+    np.testing.assert_allclose(second, x[i + 2 * lag] - 2 * x[i + lag] + x[i], rtol=1e-12,
+                               atol=1e-12)
+    third = third_difference(x, lag, c0, c1, np.empty(c1 - c0), np.empty(c1 - c0))
+    np.testing.assert_allclose(third, x[i + 3 * lag] - 3 * x[i + 2 * lag] + 3 * x[i + lag]
+                               - x[i], rtol=1e-12, atol=1e-12)
+
+
+def test_normalisation_covers_every_kind() -> None:
+    assert sorted(NORMALISATION) == sorted(KINDS)
+    # 2 m^2 n (Allan, total), 6 m^2 n (Hadamard), 2 m^4 n (modified Allan)
+    assert NORMALISATION["oadev"](3, 10) == pytest.approx(180.0, rel=1e-15)
+    assert NORMALISATION["ohdev"](3, 10) == pytest.approx(540.0, rel=1e-15)
+    assert NORMALISATION["mdev"](3, 10) == pytest.approx(1620.0, rel=1e-15)
