@@ -104,6 +104,7 @@ __all__ = [
 ]
 
 
+# Long only by its numpydoc docstring; the steps are the helpers below.
 def fit_noise(
     allan_result: Any,
     *,

@@ -94,8 +94,12 @@ class LsqFit:
         Final diagonal weights.
     cov : callable
         ``cov(idx)``: covariance of ``a[idx]`` with the terms ``idx`` free, the rest fixed.
-    chi2, dof, model_error : float
     stderr_method : str
+        Which covariance ``cov`` uses.
+    model_error : float
+        Relative standard deviation added to every point (NaN for OLS).
+    chi2, dof : float
+        Pearson chi-square (residual sum of squares for OLS) and degrees of freedom.
     iterations : int
     converged : bool
     """
@@ -104,10 +108,10 @@ class LsqFit:
     mu: FloatArray
     w: FloatArray
     cov: Callable[[IntArray], FloatArray]
+    stderr_method: str
+    model_error: float
     chi2: float
     dof: float
-    model_error: float
-    stderr_method: str
     iterations: int
     converged: bool
 
@@ -202,8 +206,8 @@ def _nnls_scaled(a: FloatArray, b: FloatArray) -> FloatArray:
 def _forward_substitution(lower: npt.NDArray[np.floating[Any]], rhs: FloatArray) -> FloatArray:
     """Solve ``lower @ x = rhs`` row by row.
 
-    For these small systems (at most MAX_COVARIANCE_POINTS rows) this is ~100x faster than
-    LAPACK's threaded triangular solve on a busy machine, and exact to round-off.
+    For these small systems (at most MAX_COVARIANCE_POINTS rows) a plain loop avoids the
+    overhead of LAPACK's threaded triangular solve; it is exact to round-off.
     """
     x = np.empty_like(rhs)
     for i in range(lower.shape[0]):
@@ -298,7 +302,8 @@ def _fit_wls(design: FloatArray, y: FloatArray, edf: FloatArray, density: FloatA
         h_inv = _scaled_inverse(design[:, idx].T @ x)
         return h_inv @ (x.T @ v @ x) @ h_inv
 
-    return LsqFit(a, mu, w, cov, chi2, dof, math.sqrt(eps2), how, int(state["iters"]), ok)
+    return LsqFit(a=a, mu=mu, w=w, cov=cov, stderr_method=how, model_error=math.sqrt(eps2),
+                  chi2=chi2, dof=dof, iterations=int(state["iters"]), converged=ok)
 
 
 def _fit_gls(design: FloatArray, y: FloatArray, edf: FloatArray, covm: CovarianceModel,
@@ -338,10 +343,10 @@ def _fit_gls(design: FloatArray, y: FloatArray, edf: FloatArray, covm: Covarianc
         x = design[:, idx]
         return _scaled_inverse(x.T @ v_inv @ x)
 
-    return LsqFit(a, mu, 1.0 / np.diag(v), cov, float(r @ v_inv @ r),
-                float(y.size - np.count_nonzero(a > 0)), math.sqrt(eps2),
-                f"GLS with {covm.label}",
-                start.iterations + int(state["iters"]), ok)
+    return LsqFit(a=a, mu=mu, w=1.0 / np.diag(v), cov=cov,
+                  stderr_method=f"GLS with {covm.label}", model_error=math.sqrt(eps2), chi2=float(r @ v_inv @ r),
+                  dof=float(y.size - np.count_nonzero(a > 0)),
+                  iterations=start.iterations + int(state["iters"]), converged=ok)
 
 
 def _fit_ols(design: FloatArray, y: FloatArray) -> LsqFit:
@@ -357,4 +362,5 @@ def _fit_ols(design: FloatArray, y: FloatArray) -> LsqFit:
         x = design[:, idx]
         return s2 * _scaled_inverse(x.T @ x)
 
-    return LsqFit(a, mu, w, cov, rss, dof, math.nan, "OLS residual variance", 1, True)
+    return LsqFit(a=a, mu=mu, w=w, cov=cov, stderr_method="OLS residual variance",
+                  model_error=math.nan, chi2=rss, dof=dof, iterations=1, converged=True)

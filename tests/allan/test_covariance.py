@@ -138,10 +138,10 @@ def test_adev_and_totdev_covariance_match_monte_carlo(noise: str) -> None:
     """800 records of 1024 samples (simulate_gyro, fixed seed) of white, flicker or RW FM.
 
     adev: the model covariance's relative variances within 25 % and correlations within
-    0.15 of the Monte-Carlo ones (sampling errors ~5 % and <= 0.035, max over 28 pairs).  totdev (EDF
-    variances + oadev correlations): the same, from m = 4 on (SP1065's totdev EDF is for
-    larger m: at m = 1 totdev *is* oadev, and the EDF understates its variance 2x for
-    white FM).  The 500-record study with flicker FM is in the report of issue 3."""
+    0.15 of the Monte-Carlo ones (sampling errors ~5 % and <= 0.035, max over 28 pairs).
+    totdev (EDF variances + oadev correlations): the same, from m = 4 on (SP1065's totdev
+    EDF is for larger m: at m = 1 totdev *is* oadev, and the EDF understates its variance
+    for white FM)."""
     from fogts.allan.confidence import edf_for
     from fogts.simulate.gyro import simulate_gyro
 

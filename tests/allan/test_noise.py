@@ -84,7 +84,7 @@ SEEDS = 30
 
 @pytest.fixture(scope="module")
 def simulated() -> list[AllanResult]:
-    """Seeds 0..29 of white + RRW noise at 100 Hz over 3 h (1.08e6 samples each; ~3 s)."""
+    """Seeds 0..29 of white + RRW noise at 100 Hz over 3 h (1.08e6 samples each)."""
     n = int(HOURS * 3600 * FS)
     out = []
     for seed in range(SEEDS):
@@ -119,8 +119,8 @@ def test_recovery_fixed_seed(simulated: list[AllanResult],
 
 def test_weighted_fit_beats_slope_readoff(simulated_fits: list[NoiseModel]) -> None:
     """Seeds 0..29: the default fit's median |error| is below the slope read-off's for
-    both N and K (measured 0.0463 % vs 0.0564 % and 4.4 % vs 9.9 %; without the term
-    selection N was 0.071 %, the read-off winning, see benchmarks/bench_noise_fit.py)."""
+    both N and K (benchmarks/bench_noise_fit.py compares them with and without the term
+    selection)."""
     err = np.array([[m["N"].value / N_TRUE - 1, m["K"].value / K_TRUE - 1,
                      m.readoff.N / N_TRUE - 1, m.readoff.K / K_TRUE - 1]
                     for m in simulated_fits])
@@ -132,10 +132,10 @@ def test_weighted_fit_beats_slope_readoff(simulated_fits: list[NoiseModel]) -> N
 
 def test_term_selection_on_white_plus_rw(simulated: list[AllanResult],
                                          simulated_fits: list[NoiseModel]) -> None:
-    """Q, B and R are absent in the truth: Q and B are at the bound or dropped (z < 1.645)
-    in 28 of 30 seeds each, R in 18 (a spurious R that shapes the last two taus is kept:
-    12 seeds); the model error is 0 (the curve is exactly the model) in every seed,
-    whereas the unrestricted ML estimate is > 0 in some (1 of the first 8)."""
+    """Q, B and R are absent in the truth: most seeds put them at the bound or drop them
+    (z < 1.645; a spurious R that shapes the last two taus is kept); the model error is 0
+    (the curve is exactly the model) in every seed, whereas the unrestricted ML estimate
+    is > 0 in some."""
     z_crit = 1.6448536269514722
     for name in ("N", "K"):
         assert all(m[name].status == "fitted" and m[name].z_score > z_crit
@@ -184,7 +184,7 @@ def test_published_fog_curves(sensor: str, units: str, n_range: tuple[float, flo
         assert np.all(np.isfinite(values)) and np.all(values >= 0)
         assert n_range[0] < model["N"].value < n_range[1]
         assert model["N"].identifiable
-        # within the published ~95 % bounds at most taus (measured: 68 %, 62 %, 78 %)
+        # within the published ~95 % bounds at most taus
         fit = model.curve(res.tau_s)
         share = np.mean((fit >= res.ci_low) & (fit <= res.ci_high))
         assert share >= inside, (method, share)
@@ -222,3 +222,17 @@ def test_confidence_level_is_carried() -> None:
 def test_argument_errors(kwargs: dict, exc: type, match: str) -> None:
     with pytest.raises(exc, match=match):
         fit_noise(nk_result(), **kwargs)
+
+
+def test_the_noise_module_keeps_its_names() -> None:
+    """fogts.allan.noise re-exports what its parts define."""
+    import fogts.allan.noise as noise
+    from fogts.allan import noise_input, noise_lsq, noise_model, noise_selection, readout, terms
+
+    assert noise.NoiseModel is noise_model.NoiseModel and noise.NoiseTerm is noise_model.NoiseTerm
+    assert noise.SlopeReadoff is readout.SlopeReadoff
+    assert noise.parse_terms is terms.parse_terms and noise.terms_from_c is terms.terms_from_c
+    assert noise.FITTABLE_KINDS == noise_input.FITTABLE_KINDS == ("adev", "oadev", "totdev")
+    assert noise.FIT_METHODS == noise_lsq.FIT_METHODS == ("wls", "gls", "ols")
+    assert noise.COVERAGE_SHARE == noise_selection.COVERAGE_SHARE
+    assert all(hasattr(noise, name) for name in noise.__all__)

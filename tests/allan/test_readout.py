@@ -70,7 +70,7 @@ def test_bad_input() -> None:
 
 @pytest.mark.parametrize("seed", [1, 2, 3])
 def test_minimum_of_simulated_record_matches_theory(seed: int) -> None:
-    # Issue 8: white + flicker + rate random walk, 6 h at 10 Hz; the measured minimum
+    # white + flicker + rate random walk, 6 h at 10 Hz; the measured minimum
     # (among points with edf >= 10) lies within one octave (the grid spacing) of the
     # closed-form curve's minimum (311.9 s for these coefficients).
     import warnings
