@@ -1,4 +1,4 @@
-"""IEEE-952 noise terms from an Allan-variance curve, with honest uncertainties: :func:`fit_noise`.
+"""IEEE-952 noise terms from an Allan-variance curve, with honest uncertainties (fit_noise).
 
 The five classical terms of IEEE Std 952-1997 Annex C (:mod:`fogts.allan.terms`; DESIGN.md
 "Definitions") add in the Allan variance of a rate signal:

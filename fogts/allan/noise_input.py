@@ -1,4 +1,4 @@
-"""The Allan curve a noise fit reads: :func:`read_fit_curve` checks it and returns a :class:`FitCurve`.
+"""The Allan curve a noise fit reads: :func:`read_fit_curve` checks it, returns a FitCurve.
 
 Points with a non-finite or zero deviation are set aside (``excluded``).  Each point needs an
 equivalent number of degrees of freedom: the Allan result's (Greenhall's algorithm) or, where

@@ -1,4 +1,4 @@
-"""Weighted least squares on the Allan variance: the fits behind :func:`~fogts.allan.noise.fit_noise`.
+"""Weighted least squares on the Allan variance: the fits of :func:`fogts.allan.noise.fit_noise`.
 
 The model :math:`\\sigma^2(\\tau) = \\sum_n a_n \\tau^n` is linear in :math:`a_n = C_n^2 \\ge 0`
 (:mod:`fogts.allan.terms`); every fit here is non-negative least squares
@@ -344,8 +344,8 @@ def _fit_gls(design: FloatArray, y: FloatArray, edf: FloatArray, covm: Covarianc
         return _scaled_inverse(x.T @ v_inv @ x)
 
     return LsqFit(a=a, mu=mu, w=1.0 / np.diag(v), cov=cov,
-                  stderr_method=f"GLS with {covm.label}", model_error=math.sqrt(eps2), chi2=float(r @ v_inv @ r),
-                  dof=float(y.size - np.count_nonzero(a > 0)),
+                  stderr_method=f"GLS with {covm.label}", model_error=math.sqrt(eps2),
+                  chi2=float(r @ v_inv @ r), dof=float(y.size - np.count_nonzero(a > 0)),
                   iterations=start.iterations + int(state["iters"]), converged=ok)
 
 

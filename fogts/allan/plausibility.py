@@ -419,7 +419,7 @@ def check_plausibility(N: Coefficient, B: Coefficient, *, units: str) -> Plausib
     ``to_deg_per_hour_factor(u) / to_deg_per_hour_factor(units)``.  Suggested units are
     those whose rescaled values lie in a grade, ordered by the distance to the middle of
     that grade in log space (RMS over N and B of the offset in units of the grade's
-    half-width).  See the module docstring for the grade table and its sources.
+    half-width).  The grade table and its sources are in :mod:`fogts.allan.gyro_grades`.
 
     Examples
     --------
