@@ -6,69 +6,12 @@ coefficient, comes out 206 265 times too small; in deg/s, 3600 times.  The noise
 notice: the curve has the same shape in every unit.  What can notice is a comparison with
 the range real gyros span.  :func:`check_plausibility` places the angle random walk N
 (deg/sqrt(h)) and the bias instability B (deg/h), as :mod:`fogts.allan.noise` reports them
-(IEEE Std 952-1997 Annex C; DESIGN.md "Definitions"), in a table of gyro grades, and when
-they fit none it says which other rate unit of :data:`fogts.units.RATE_UNITS` would make
-them fit.  A change of rate unit multiplies N and B by the same factor (the ratio of the
-units' deg/h factors, :func:`fogts.units.to_deg_per_hour_factor`), so the pair moves along
-the diagonal of the (log N, log B) plane.
-
-Gyro grades
------------
-N in deg/sqrt(h), B in deg/h (Allan-variance bias instability, the flicker floor / 0.664).
-Each range is the span of the published figures quoted beside it, widened by a factor of
-about 2 to 5 on each side, because datasheet figures are specification limits (a unit is often
-better than its limit) and in-run B from an Allan curve is usually below a datasheet's
-turn-on or repeatability bias.  A pair (N, B) is plausible if one grade holds both.
-
-=============  ======================  ===============  ==============  ==========================
-grade          technology              N (deg/sqrt(h))  B (deg/h)       anchors
-=============  ======================  ===============  ==============  ==========================
-strategic      FOG, RLG (marine,       3e-5 .. 1e-3     1e-4 .. 3e-3    best instruments reach
-               submarine, space)                                        N, B of order 1e-4 (order
-                                                                        of magnitude only: few
-                                                                        datasheets are public) [2]_;
-                                                                        "inertial grade" N < 1e-3,
-                                                                        B < 0.01 [1]_
-navigation     RLG, FOG (1 nmi/h       3e-4 .. 1e-2     1e-3 .. 5e-2    Honeywell HG9900: N <= 0.002,
-               aircraft/marine INS)                                     B <= 0.003; GG1320AN:
-                                                                        N <= 0.0035, B <= 0.0035
-                                                                        [3]_; aviation-grade bias
-                                                                        ~0.001..0.01 [6]_
-tactical       FOG, RLG, high-end      1e-3 .. 0.5      3e-3 .. 30      KVH/Emcore DSP-1750:
-               MEMS                                                     N <= 0.012, B <= 0.1 [5]_;
-                                                                        Honeywell HG1700: N 0.125..
-                                                                        0.3, B 1..10 [3]_; tactical
-                                                                        grade N 0.05..0.5, B 0.1..10
-                                                                        [1]_ [2]_
-industrial     industrial/automotive   0.05 .. 10       0.5 .. 100      ADIS16488: N 0.26, B 5.1;
-               MEMS                                                     ADIS16448: 0.66, 14.5;
-                                                                        ADIS16405: 2.0, 25 (0.007
-                                                                        deg/s); ADXRS150/300 rate
-                                                                        noise 0.05/0.1 deg/s/
-                                                                        sqrt(Hz), N 3/6 [4]_
-consumer       consumer MEMS           0.07 .. 6        3 .. 1000       MPU-6050 0.005, BMI160 0.007,
-                                                                        L3G4200D 0.03 deg/s/sqrt(Hz):
-                                                                        N 0.3, 0.4, 1.8 (N = 60 x
-                                                                        noise density) [4]_; "rate
-                                                                        grade" N > 0.5, B 10..1000
-                                                                        [1]_ [2]_
-=============  ======================  ===============  ==============  ==========================
-
-The envelope, the union of the grades, is N in [3e-5, 10] deg/sqrt(h) and B in [1e-4, 1e3]
-deg/h.  Its lower end lies a factor of about 3 below the best strategic-grade FOG and RLG
-(~1e-4 in both); its upper end is a factor of ~1.5 to 3 above the noisiest rate gyros we
-know datasheets of (ADXRS300, 0.1 deg/s/sqrt(Hz), N = 6) and the top of the "rate grade"
-bias range (1000 deg/h).  Out of scope, and so reported as implausible: electrostatically
-suspended gyros (not rate sensors), metre-scale ring lasers for geodesy, atom-interferometer
-gyros.
-
-Checked against the curves in ``../shared/data/allan_curves`` (N = adev(1 s)/60 and
-B = min adev/0.664, in deg/h; ``tests/test_allan_plausibility.py``): ADIS16405 (deg/s)
-N 2.3..2.6, B 28..46; NavChip (rad/s) 0.22..0.25, 17..18; KVH 1750 FOG (deg/s) 0.003, 0.06..
-0.08; LN-200 FOG (rad/s) 0.038..0.041, 0.015..0.062; iMAR FOG (rad/s) 0.09..0.12, 0.08..
-0.18; six MEMS from imu_utils (deg/h) 0.22..0.62, 6.3..26.  All are plausible.  (SMAC does
-not document its units; they are inferred from the datasheets, as in the noise-fit tests.
-The KVH curve would be plausible in rad/s too: N 0.17, B 3.3..4.5.)
+(IEEE Std 952-1997 Annex C; DESIGN.md "Definitions"), in the table of gyro grades of
+:mod:`fogts.allan.gyro_grades`, and when they fit none it says which other rate unit of
+:data:`fogts.units.RATE_UNITS` would make them fit.  A change of rate unit multiplies N and
+B by the same factor (the ratio of the units' deg/h factors,
+:func:`fogts.units.to_deg_per_hour_factor`), so the pair moves along the diagonal of the
+(log N, log B) plane.
 
 Limits of the check
     The grades overlap along the diagonal, so a factor of 57 (rad/s vs deg/s) or of 3600
@@ -79,23 +22,6 @@ Limits of the check
     ``ambiguous``) so that a caller which knows the unit was only assumed can say so.  A
     rad/s recording read as deg/h (factor 206 265), the common mistake, is caught for every
     gyro with N below 6 deg/sqrt(h): its N lands below the envelope.
-
-References
-----------
-.. [1] N. Yazdi, F. Ayazi and K. Najafi, "Micromachined inertial sensors", Proc. IEEE
-   86(8):1640-1659, 1998, Table I (rate, tactical and inertial grade).
-.. [2] V. M. N. Passaro, A. Cuccovillo, L. Vaiani, M. De Carlo and C. E. Campanella,
-   "Gyroscope technology and applications: a review in the industrial perspective",
-   Sensors 17(10):2284, 2017 (grade classification and technology survey).
-.. [3] Honeywell Aerospace datasheets: HG9900 and HG1700 IMUs, GG1320AN digital laser gyro.
-.. [4] Analog Devices datasheets: ADIS16405, ADIS16448, ADIS16488 IMUs; ADXRS150, ADXRS300
-   gyros.  InvenSense MPU-6050, Bosch BMI160 and STMicroelectronics L3G4200D datasheets
-   (rate noise density).
-.. [5] KVH (now Emcore) DSP-1750 fiber optic gyro datasheet (ARW <= 0.012 deg/sqrt(h),
-   i.e. 0.7 deg/h/sqrt(Hz); bias instability <= 0.1 deg/h, typ. 0.05 deg/h).
-.. [6] P. D. Groves, *Principles of GNSS, Inertial, and Multisensor Integrated Navigation
-   Systems*, 2nd ed., Artech House, 2013, ch. 4 (grades of IMU, gyro biases and noise).
-.. [7] IEEE Std 952-1997, Annex C (definitions of N and B; see DESIGN.md).
 """
 
 from __future__ import annotations
@@ -107,6 +33,16 @@ from typing import Any, Literal
 import numpy as np
 import pandas as pd
 
+from fogts.allan.gyro_grades import (
+    B_ENVELOPE,
+    GRADE_BY_KEY,
+    GYRO_GRADES,
+    N_ENVELOPE,
+    GyroGrade,
+    grade_table,
+    grades_of,
+)
+from fogts.allan.terms import TERM_UNIT
 from fogts.errors import DataError
 from fogts.units import RATE_UNITS, parse_rate_unit, to_deg_per_hour_factor
 
@@ -125,111 +61,8 @@ Verdict = Literal["plausible", "implausible", "not checked"]
 #: A coefficient as callers hold it (None: the term was not fitted).
 Coefficient = float | int | np.floating[Any] | np.integer[Any] | None
 
-N_UNIT = "deg/sqrt(h)"
-B_UNIT = "deg/h"
-
-
-@dataclass(frozen=True)
-class GyroGrade:
-    """One grade of gyro: the N and B ranges its instruments span.
-
-    Attributes
-    ----------
-    key : str
-        Short name (``"strategic"``, ``"navigation"``, ``"tactical"``, ``"industrial"``,
-        ``"consumer"``).
-    label : str
-        Noun phrase for messages ("tactical-grade gyro").
-    technology : str
-    n_range : tuple of float
-        Angle random walk N, deg/sqrt(h), inclusive.
-    b_range : tuple of float
-        Bias instability B, deg/h, inclusive.
-    anchors : str
-        The published figures the ranges were widened from (see the module docstring).
-    """
-
-    key: str
-    label: str
-    technology: str
-    n_range: tuple[float, float]
-    b_range: tuple[float, float]
-    anchors: str
-
-    def contains(self, N: float | None, B: float | None) -> bool:
-        """True if every available value lies in this grade's range."""
-        return ((N is None or self.n_range[0] <= N <= self.n_range[1])
-                and (B is None or self.b_range[0] <= B <= self.b_range[1]))
-
-    def distance(self, N: float | None, B: float | None) -> float:
-        """RMS over the available values of the log-distance to the middle of the range,
-        in units of the half-width (0 at the middle, 1 on the edge)."""
-        offsets = [_offset(v, r) for v, r in ((N, self.n_range), (B, self.b_range))
-                   if v is not None]
-        if not offsets:
-            return math.nan
-        return math.sqrt(sum(u * u for u in offsets) / len(offsets))
-
-
-def _offset(value: float, bounds: tuple[float, float]) -> float:
-    lo, hi = math.log10(bounds[0]), math.log10(bounds[1])
-    return (math.log10(value) - (lo + hi) / 2) / ((hi - lo) / 2)
-
-
-#: The table of gyro grades (module docstring), best first.
-GYRO_GRADES: tuple[GyroGrade, ...] = (
-    GyroGrade("strategic", "strategic-grade FOG or RLG",
-              "FOG, RLG (marine, submarine, space)", (3e-5, 1e-3), (1e-4, 3e-3),
-              "best instruments reach N, B of order 1e-4; inertial grade N < 0.001, "
-              "B < 0.01 (Yazdi 1998; Passaro 2017; Groves 2013 ch. 4)"),
-    GyroGrade("navigation", "navigation-grade FOG or RLG",
-              "RLG, FOG (1 nmi/h aircraft and marine INS)", (3e-4, 1e-2), (1e-3, 5e-2),
-              "Honeywell HG9900 N <= 0.002, B <= 0.003; GG1320AN N, B <= 0.0035; aviation-"
-              "grade bias ~0.001..0.01 (Groves 2013 ch. 4)"),
-    GyroGrade("tactical", "tactical-grade gyro", "FOG, RLG, high-end MEMS",
-              (1e-3, 0.5), (3e-3, 30.0),
-              "KVH/Emcore DSP-1750 N <= 0.012, B <= 0.1; Honeywell HG1700 N 0.125..0.3, "
-              "B 1..10; tactical grade N 0.05..0.5, B 0.1..10 (Yazdi 1998; Passaro 2017)"),
-    GyroGrade("industrial", "industrial/automotive MEMS gyro",
-              "industrial and automotive MEMS", (0.05, 10.0), (0.5, 100.0),
-              "ADIS16488 N 0.26, B 5.1; ADIS16448 N 0.66, B 14.5; ADIS16405 N 2.0, B 25; "
-              "ADXRS150/300 N 3/6 (Analog Devices datasheets)"),
-    GyroGrade("consumer", "consumer MEMS gyro", "consumer MEMS", (0.07, 6.0), (3.0, 1000.0),
-              "MPU-6050, BMI160, L3G4200D N 0.3, 0.4, 1.8 (60 x noise density); rate grade "
-              "N > 0.5, B 10..1000 (Yazdi 1998)"),
-)
-
-#: Envelope of N (deg/sqrt(h)) over every grade.
-N_ENVELOPE: tuple[float, float] = (min(g.n_range[0] for g in GYRO_GRADES),
-                                   max(g.n_range[1] for g in GYRO_GRADES))
-#: Envelope of B (deg/h) over every grade.
-B_ENVELOPE: tuple[float, float] = (min(g.b_range[0] for g in GYRO_GRADES),
-                                   max(g.b_range[1] for g in GYRO_GRADES))
-
-_GRADE = {g.key: g for g in GYRO_GRADES}
-
-
-def grade_table() -> pd.DataFrame:
-    """The grade table as a frame (one row per grade).
-
-    Examples
-    --------
-    >>> grade_table().loc["tactical", ["N_low", "N_high", "B_low", "B_high"]].tolist()
-    [0.001, 0.5, 0.003, 30.0]
-    """
-    rows = [{"grade": g.key, "label": g.label, "technology": g.technology,
-             "N_low": g.n_range[0], "N_high": g.n_range[1], "B_low": g.b_range[0],
-             "B_high": g.b_range[1], "anchors": g.anchors} for g in GYRO_GRADES]
-    return pd.DataFrame(rows).set_index("grade")
-
-
-def _grades_of(N: float | None, B: float | None) -> tuple[tuple[str, ...], float]:
-    """Grades holding (N, B), closest to a grade's middle first, and that distance."""
-    hits = sorted((g.distance(N, B), i, g.key) for i, g in enumerate(GYRO_GRADES)
-                  if g.contains(N, B))
-    if not hits:
-        return (), math.nan
-    return tuple(k for _, _, k in hits), hits[0][0]
+N_UNIT = TERM_UNIT["N"]
+B_UNIT = TERM_UNIT["B"]
 
 
 @dataclass(frozen=True)
@@ -475,7 +308,7 @@ def _values_text(N: float | None, B: float | None) -> str:
 
 
 def _grades_phrase(keys: tuple[str, ...]) -> str:
-    return " or ".join(_a(_GRADE[k].label) for k in keys)
+    return " or ".join(_a(GRADE_BY_KEY[k].label) for k in keys)
 
 
 def _alt_text(group: list[UnitAlternative]) -> str:
@@ -504,9 +337,9 @@ def _check_value(name: str, value: Any) -> tuple[float | None, str]:
         raise DataError(f"{name} must be a number >= 0 or None, got {value!r}")
     v = float(value)
     if not math.isfinite(v) or v < 0:
-        unit = N_UNIT if name == "N" else B_UNIT
-        raise DataError(f"{name} must be a finite number >= 0 ({unit}) or None, got {value!r}; "
-                        "pass None for a term that was not fitted, 0 for one fitted to zero")
+        raise DataError(f"{name} must be a finite number >= 0 ({TERM_UNIT[name]}) or None, "
+                        f"got {value!r}; pass None for a term that was not fitted, 0 for one "
+                        "fitted to zero")
     if v == 0.0:
         return None, "zero"
     return v, "used"
@@ -516,26 +349,15 @@ def _side(value: float, bounds: tuple[float, float]) -> int:
     return -1 if value < bounds[0] else 1 if value > bounds[1] else 0
 
 
+#: For values below (-1) and above (+1) the envelope: the word, the bound's comparison and
+#: index, and the grade that stays inside.
+_BEYOND = {-1: ("below", ">=", 0, "even strategic-grade FOG and RLG"),
+           1: ("above", "<=", 1, "even consumer MEMS")}
+
+
 def _reason(N: float | None, B: float | None) -> str:
     """Why (N, B) is in no grade."""
-    below = [(n, v, b) for n, v, b in (("N", N, N_ENVELOPE), ("B", B, B_ENVELOPE))
-             if v is not None and _side(v, b) < 0]
-    above = [(n, v, b) for n, v, b in (("N", N, N_ENVELOPE), ("B", B, B_ENVELOPE))
-             if v is not None and _side(v, b) > 0]
-    units = {"N": N_UNIT, "B": B_UNIT}
-    parts = []
-    if below:
-        values = " and ".join(f"{n} = {_fmt(v)} {units[n]}" for n, v, _ in below)
-        limits = ", ".join(f"{n} >= {b[0]:g} {units[n]}" for n, _, b in below)
-        verb = "is" if len(below) == 1 else "are"
-        parts.append(f"{values} {verb} below any real gyro (even strategic-grade FOG and RLG "
-                     f"stay at {limits})")
-    if above:
-        values = " and ".join(f"{n} = {_fmt(v)} {units[n]}" for n, v, _ in above)
-        limits = ", ".join(f"{n} <= {b[1]:g} {units[n]}" for n, _, b in above)
-        verb = "is" if len(above) == 1 else "are"
-        parts.append(f"{values} {verb} above any real gyro (even consumer MEMS stay at "
-                     f"{limits})")
+    parts = [text for text in (_beyond_text(N, B, side) for side in (-1, 1)) if text]
     if parts:
         return "; ".join(parts)
     # both inside the envelope, but no grade holds both
@@ -547,9 +369,23 @@ def _reason(N: float | None, B: float | None) -> str:
             "gyro grade")
 
 
+def _beyond_text(N: float | None, B: float | None, side: int) -> str:
+    """The values on one ``side`` of the envelope and the bound they cross ("" if none)."""
+    out = [(n, v, b) for n, v, b in (("N", N, N_ENVELOPE), ("B", B, B_ENVELOPE))
+           if v is not None and _side(v, b) == side]
+    if not out:
+        return ""
+    word, op, end, inside = _BEYOND[side]
+    values = " and ".join(f"{n} = {_fmt(v)} {TERM_UNIT[n]}" for n, v, _ in out)
+    limits = ", ".join(f"{n} {op} {b[end]:g} {TERM_UNIT[n]}" for n, _, b in out)
+    verb = "is" if len(out) == 1 else "are"
+    return f"{values} {verb} {word} any real gyro ({inside} stay at {limits})"
+
+
 # --------------------------------------------------------------------------- entry point
 
 
+# Long only by its numpydoc docstring (parameters, notes, examples).
 def check_plausibility(N: Coefficient, B: Coefficient, *, units: str) -> PlausibilityReport:
     """Compare a fitted N and B with the range real gyros span; suggest the rate unit.
 
@@ -583,7 +419,7 @@ def check_plausibility(N: Coefficient, B: Coefficient, *, units: str) -> Plausib
     ``to_deg_per_hour_factor(u) / to_deg_per_hour_factor(units)``.  Suggested units are
     those whose rescaled values lie in a grade, ordered by the distance to the middle of
     that grade in log space (RMS over N and B of the offset in units of the grade's
-    half-width).  See the module docstring for the grade table and its sources.
+    half-width).  The grade table and its sources are in :mod:`fogts.allan.gyro_grades`.
 
     Examples
     --------
@@ -616,12 +452,12 @@ def check_plausibility(N: Coefficient, B: Coefficient, *, units: str) -> Plausib
             units=unit, grades=(), distance=math.nan, reason=reason, alternatives=(),
             notes=notes)
 
-    grades, distance = _grades_of(n, b)
+    grades, distance = grades_of(n, b)
     if grades:
         verdict: Verdict = "plausible"
         verb = "lies" if n is None or b is None else "lie"
         reason = (f"{_values_text(n, b)} {verb} in the range of: "
-                  + ", ".join(_GRADE[k].label for k in grades))
+                  + ", ".join(GRADE_BY_KEY[k].label for k in grades))
     else:
         verdict = "implausible"
         reason = _reason(n, b)
@@ -634,7 +470,7 @@ def check_plausibility(N: Coefficient, B: Coefficient, *, units: str) -> Plausib
         factor = to_deg_per_hour_factor(other) / base
         an = None if n is None else n * factor
         bn = None if b is None else b * factor
-        alt_grades, alt_distance = _grades_of(an, bn)
+        alt_grades, alt_distance = grades_of(an, bn)
         alternatives.append(UnitAlternative(
             units=other, factor=factor, N=an, B=bn, plausible=bool(alt_grades),
             grades=alt_grades, distance=alt_distance))

@@ -1,21 +1,23 @@
-"""Read an Allan-deviation curve the way seed 001 does: regions A-D, minimum, slopes.
+"""Read an Allan-deviation curve by eye, as a program: regions A-D, minimum, slopes, read-offs.
 
-Seed 001 (a review of Allan-variance studies of optical gyros) reads the log-log curve in
-four regions:
+The log-log curve of an optical gyro is read in four regions (IEEE Std 952-1997 Annex C):
 
 * A: the single-sample noise at the shortest tau;
 * B: the falling part that averaging removes (ARW has slope -1/2, quantization -1);
 * C: the minimum, giving the optimal averaging time and the noise floor (the
-  bias-instability point; IEEE Std 952-1997 Annex C: B = sigma_min / 0.664 for flicker);
+  bias-instability point: B = sigma_min / 0.664 for flicker noise);
 * D: the rise from slow drift (rate random walk +1/2, rate ramp +1).
 
 :func:`read_curve` returns the minimum with its confidence interval, the log-log slope of
 every segment, the regions B-D found from the curve itself, and, when the fitted term
-lines are given, the tau range where each term dominates.
+lines are given, the tau range where each term dominates.  :func:`slope_readoff` gives the
+classic graphical N, K and B (IEEE 952 Annex C; MATLAB's ``allanvar`` example), which the
+noise fit reports beside its answer for comparison.
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any
 
@@ -23,13 +25,10 @@ import numpy as np
 import pandas as pd
 
 from fogts._typing import FloatArray
-from fogts.allan.terms import B_PLATEAU
+from fogts.allan.terms import B_PLATEAU, TERM_SLOPE, TERM_UNIT, TERMS, from_seconds
 from fogts.errors import DataError, InsufficientDataError
 
-__all__ = ["CurveReadout", "DominantRange", "read_curve"]
-
-#: Power-law slopes of sigma(tau) for the IEEE-952 terms (IEEE Std 952-1997, Annex C).
-TERM_SLOPES: dict[str, float] = {"Q": -1.0, "N": -0.5, "B": 0.0, "K": 0.5, "R": 1.0}
+__all__ = ["CurveReadout", "DominantRange", "SlopeReadoff", "read_curve", "slope_readoff"]
 
 
 @dataclass(frozen=True)
@@ -58,7 +57,7 @@ class CurveReadout:
         Its confidence interval ``(low, high)`` at level ``confidence``.
     confidence : float
     bias_instability_floor : float
-        ``dev_min / 0.664``: the flicker-floor estimate of B (IEEE 952 Annex C), in the
+        ``dev_min / B_PLATEAU`` (0.664): the flicker-floor estimate of B (IEEE 952 Annex C), in the
         curve's rate unit.
     segment_tau_s : ndarray, shape (k, 2)
         Start and end tau of each segment between consecutive points.
@@ -105,7 +104,7 @@ class CurveReadout:
         lo, hi = self.dev_min_ci
         lines = [f"minimum: sigma = {self.dev_min:.4g} [{lo:.4g}, {hi:.4g}] at tau = "
                  f"{self.tau_min_s:.4g} s ({100 * self.confidence:.1f} % CI); "
-                 f"floor/0.664 = {self.bias_instability_floor:.4g}"]
+                 f"floor/{B_PLATEAU:g} = {self.bias_instability_floor:.4g}"]
         for name, span in self.regions.items():
             if span is not None:
                 lines.append(f"region {name}: tau {span[0]:.4g} .. {span[1]:.4g} s")
@@ -213,6 +212,105 @@ def _dominant_ranges(t: FloatArray, ok: np.ndarray, term_curves: dict[str, Any]
             name = names[int(winner[start])]
             if stack[winner[start], start:i].max() > 0:
                 ranges.append(DominantRange(name, float(t[start]), float(t[i - 1]),
-                                            TERM_SLOPES.get(name, float("nan"))))
+                                            TERM_SLOPE.get(name, float("nan"))))
             start = i
     return tuple(ranges)
+
+
+# --------------------------------------------------------------------------- slope read-offs
+
+
+@dataclass(frozen=True)
+class SlopeReadoff:
+    """The classic graphical read-offs (comparison only; NOT the fitted answer).
+
+    IEEE Std 952-1997 Annex C and MATLAB's ``allanvar`` example: a line of the term's slope
+    is drawn through the curve point whose local log-log slope is closest to it; N is that
+    -1/2 line at tau = 1 s (divided by 60 for deg/sqrt(h)), K the +1/2 line at tau = 3 s
+    (times 60 for deg/h^1.5); B is the minimum deviation / 0.664.
+
+    Attributes
+    ----------
+    N, K, B : float
+        In deg/sqrt(h), deg/h^1.5 and deg/h.
+    tau_N_s, tau_K_s, tau_B_s : float
+        The curve point each value was read from.
+    slope_N, slope_K : float
+        The local slope found there (how well the curve shows the -1/2 or +1/2 line).
+    """
+
+    N: float
+    K: float
+    B: float
+    tau_N_s: float
+    tau_K_s: float
+    tau_B_s: float
+    slope_N: float
+    slope_K: float
+    # the read-off points in the curve's own units, for plotting: (tau_s, dev)
+    points: tuple[tuple[str, float, float], ...] = ()
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"method": "slope read-off (IEEE 952 Annex C / MATLAB allanvar example); "
+                          "comparison only, not the fit",
+                "N": {"value": self.N, "unit": TERM_UNIT["N"], "tau": self.tau_N_s,
+                      "local_slope": self.slope_N, "read_at_tau": TERMS["N"].readoff_tau_s},
+                "K": {"value": self.K, "unit": TERM_UNIT["K"], "tau": self.tau_K_s,
+                      "local_slope": self.slope_K, "read_at_tau": TERMS["K"].readoff_tau_s},
+                "B": {"value": self.B, "unit": TERM_UNIT["B"], "tau": self.tau_B_s}}
+
+
+def slope_readoff(tau: FloatArray, dev: FloatArray, factor: float,
+                  edf: FloatArray | None = None) -> SlopeReadoff:
+    """The IEEE 952 Annex C / MATLAB ``allanvar`` read-offs of N, K and B.
+
+    Lines of slope -1/2 (+1/2) through the point whose local log-log slope is closest to it,
+    read at tau = 1 s (3 s); B = minimum / 0.664.  The minimum is :func:`read_curve`'s: the
+    lowest point among those with at least ``MIN_EDF_FOR_MINIMUM`` degrees of freedom, so
+    that a last point with two terms that happens to fall low is not read as the flicker
+    floor.
+
+    Parameters
+    ----------
+    tau, dev : ndarray
+        The curve (increasing tau, positive deviations).
+    factor : float
+        Multiplies ``dev`` to give deg/h.
+    edf : ndarray, optional
+        Equivalent degrees of freedom per point.
+
+    Returns
+    -------
+    SlopeReadoff
+
+    Examples
+    --------
+    >>> tau = 2.0 ** np.arange(-4, 8)
+    >>> r = slope_readoff(tau, 0.6 / np.sqrt(tau), 1.0)
+    >>> round(r.N, 6), r.slope_N
+    (0.01, -0.5)
+    """
+    logt, logd = np.log10(tau), np.log10(dev)
+    slopes = np.diff(logd) / np.diff(logt) if tau.size >= 2 else np.array([math.nan])
+
+    def line(name: str) -> tuple[float, float, float]:
+        at, target = TERMS[name].readoff_tau_s, TERM_SLOPE[name]
+        if not np.any(np.isfinite(slopes)):
+            return math.nan, math.nan, math.nan
+        i = int(np.nanargmin(np.abs(slopes - target)))
+        b = logd[i] - target * logt[i]
+        return float(10 ** (target * math.log10(at) + b)), float(tau[i]), float(slopes[i])
+
+    n_dev, tau_n, slope_n = line("N")
+    k_dev, tau_k, slope_k = line("K")
+    if tau.size >= 2:
+        floor = read_curve(tau, dev, edf=edf)
+        b_dev, tau_b = floor.dev_min, floor.tau_min_s
+    else:
+        b_dev, tau_b = float(dev[0]), float(tau[0])
+    return SlopeReadoff(
+        N=from_seconds("N", n_dev * factor), K=from_seconds("K", k_dev * factor),
+        B=b_dev * factor / B_PLATEAU, tau_N_s=tau_n, tau_K_s=tau_k, tau_B_s=tau_b,
+        slope_N=slope_n, slope_K=slope_k,
+        points=(("N", TERMS["N"].readoff_tau_s, n_dev), ("K", TERMS["K"].readoff_tau_s, k_dev),
+                ("B", tau_b, b_dev)))

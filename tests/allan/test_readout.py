@@ -5,8 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from fogts.allan.readout import read_curve
+from fogts.allan.readout import read_curve, slope_readoff
 from fogts.errors import DataError, InsufficientDataError
+from tests.allan.noise_cases import avar, make_result, quiet_fit
 
 
 def _theory(tau: np.ndarray, n: float = 0.1, b: float = 0.01, k: float = 1e-4) -> dict[str, np.ndarray]:
@@ -69,7 +70,7 @@ def test_bad_input() -> None:
 
 @pytest.mark.parametrize("seed", [1, 2, 3])
 def test_minimum_of_simulated_record_matches_theory(seed: int) -> None:
-    # Issue 8: white + flicker + rate random walk, 6 h at 10 Hz; the measured minimum
+    # white + flicker + rate random walk, 6 h at 10 Hz; the measured minimum
     # (among points with edf >= 10) lies within one octave (the grid spacing) of the
     # closed-form curve's minimum (311.9 s for these coefficients).
     import warnings
@@ -96,3 +97,35 @@ def test_minimum_ignores_low_edf_points() -> None:
     assert r.tau_min_s == 100.0
     assert read_curve(tau, dev).tau_min_s == 1000.0
     assert read_curve(tau, dev, edf=[1.0, 1.0, 1.0, 1.0]).tau_min_s == 1000.0
+
+
+# --------------------------------------------------------------------------- slope read-offs
+
+
+def test_slope_readoffs_follow_the_matlab_definition() -> None:
+    tau = 2.0 ** np.arange(-6, 18)
+    n_only = quiet_fit(make_result(tau, np.sqrt(avar(tau, N=0.02))))
+    assert n_only.readoff.N == pytest.approx(0.02, rel=1e-12)
+    assert n_only.readoff.slope_N == pytest.approx(-0.5)
+    k_only = quiet_fit(make_result(tau, np.sqrt(avar(tau, K=0.4, N=1e-6))))
+    assert k_only.readoff.K == pytest.approx(0.4, rel=1e-6)
+    mixed = quiet_fit(make_result(tau, np.sqrt(avar(tau, N=0.02, B=0.1, K=0.05))))
+    dev = np.sqrt(avar(tau, N=0.02, B=0.1, K=0.05))
+    assert mixed.readoff.B == pytest.approx(dev.min() / 0.664)
+    assert mixed.readoff.tau_B_s == tau[np.argmin(dev)]
+    assert "comparison only" in mixed.to_dict()["readoff"]["method"]
+
+
+def test_slope_readoff_of_pure_lines() -> None:
+    """N from the -1/2 line at 1 s (/ 60), K from the +1/2 line at 3 s (x 60), B from the
+    minimum / 0.664, in deg/h after the unit factor."""
+    tau = 2.0 ** np.arange(-4, 8)
+    n_line = slope_readoff(tau, 0.6 / np.sqrt(tau), 1.0)
+    assert n_line.N == pytest.approx(0.01, rel=1e-12)
+    assert n_line.points[0] == ("N", 1.0, pytest.approx(0.6, rel=1e-12))
+    k_line = slope_readoff(tau, 0.5 * np.sqrt(tau / 3.0), 2.0)
+    assert k_line.K == pytest.approx(60.0, rel=1e-12) and k_line.slope_K == pytest.approx(0.5)
+    assert k_line.B == pytest.approx(2.0 * 0.5 * np.sqrt(tau[0] / 3.0) / 0.664, rel=1e-12)
+    assert k_line.to_dict()["K"]["read_at_tau"] == 3.0
+    single = slope_readoff(tau[:1], np.array([0.3]), 1.0)
+    assert single.tau_B_s == tau[0] and np.isnan(single.N)

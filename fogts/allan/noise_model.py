@@ -1,0 +1,300 @@
+"""The result of a noise fit: :class:`NoiseTerm` (one IEEE-952 term) and :class:`NoiseModel`.
+
+Produced by :func:`fogts.allan.noise.fit_noise`; the term table (names, powers, units) is
+:mod:`fogts.allan.terms`.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import pandas as pd
+from scipy.stats import norm
+
+from fogts._typing import FloatArray
+from fogts.allan.readout import SlopeReadoff
+from fogts.allan.terms import TERM_POWER, TERM_UNIT
+from fogts.errors import DataError
+
+__all__ = ["NoiseModel", "NoiseTerm"]
+
+
+@dataclass(frozen=True)
+class NoiseTerm:
+    """One fitted IEEE-952 term.
+
+    Attributes
+    ----------
+    name : str
+        ``"Q"``, ``"N"``, ``"B"``, ``"K"`` or ``"R"``.
+    value, stderr, ci_low, ci_high : float
+        The coefficient in ``unit`` (deg/h based, :data:`fogts.allan.terms.TERM_UNIT`), its
+        standard error and its confidence interval at the model's ``confidence``.
+        ``stderr`` is NaN at the zero bound (see ``at_bound``).
+    unit : str
+    c_coeff, c_stderr : float
+        ``C_n`` (rate in deg/h, tau in s; :mod:`fogts.allan.terms`) and its standard error.
+    c_unit : str
+    power : int
+        ``n`` in ``C_n^2 tau^n``; the slope of the term's Allan-deviation line is ``n/2``.
+    at_bound : bool
+        True when the fit put the term at zero (the interval is then an upper limit).
+    identifiable : bool
+        False when fewer than
+        :data:`~fogts.allan.noise_selection.MIN_COVERED_POINTS` data taus lie in the
+        term's region (one suffices if its interval excludes 0).
+    n_covered : int
+        Number of data taus in the term's region (where it makes up at least
+        :data:`~fogts.allan.noise_selection.COVERAGE_SHARE` of the fitted sigma^2).
+    region_tau_s : tuple of float
+        Tau range (s) of the term's region (share of sigma^2 >= COVERAGE_SHARE),
+        searched over 1000x beyond the data on each side; ``(nan, nan)`` if nowhere.
+    status : str
+        ``"fitted"`` (non-zero in the final fit), ``"at_bound"`` (the non-negative fit put
+        it at zero) or ``"dropped"`` (it was positive but neither significant at the
+        model's ``significance`` nor visible at two taus, so backward elimination removed
+        it and refitted); the last two have value 0 and ``at_bound`` True.
+    z_score : float
+        Wald statistic ``a / se(a)`` of ``a = C_n^2``: in the final fit for a fitted term,
+        when it was dropped for a dropped one, 0 at the bound.
+    """
+
+    name: str
+    value: float
+    stderr: float
+    ci_low: float
+    ci_high: float
+    unit: str
+    c_coeff: float
+    c_stderr: float
+    c_unit: str
+    power: int
+    at_bound: bool
+    identifiable: bool
+    n_covered: int
+    region_tau_s: tuple[float, float]
+    status: str = "fitted"
+    z_score: float = math.nan
+
+    @property
+    def slope(self) -> float:
+        """Log-log slope of this term's Allan-deviation line (-1, -1/2, 0, 1/2, 1)."""
+        return self.power / 2.0
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"value": self.value, "stderr": self.stderr, "ci_low": self.ci_low,
+                "ci_high": self.ci_high, "unit": self.unit, "c_coeff": self.c_coeff,
+                "c_stderr": self.c_stderr, "c_unit": self.c_unit,
+                "identifiable": self.identifiable, "at_bound": self.at_bound,
+                "slope": self.slope, "n_covered": self.n_covered,
+                "region_tau": list(self.region_tau_s), "status": self.status,
+                "z": self.z_score}
+
+
+@dataclass(frozen=True)
+class NoiseModel:
+    """IEEE-952 noise terms fitted to one Allan-variance curve.
+
+    Attributes
+    ----------
+    terms : tuple of NoiseTerm
+        The fitted terms, in the order Q, N, B, K, R (only those requested).
+    confidence : float
+        Level of every term's interval.
+    method : str
+        ``"wls"`` (EDF-weighted IRLS, the default), ``"gls"`` (full model covariance) or
+        ``"ols"`` (unweighted, the traditional fit; for comparison).
+    kind, units, axis : str
+        From the Allan result; ``units`` is the rate unit of the curve.
+    deg_per_hour_factor : float
+        Multiply the curve's deviations by this to get deg/h.
+    tau_s, dev, fitted_dev, weight : ndarray
+        The points used in the fit, the fitted deviation there and each point's final
+        diagonal weight relative to the largest (all 1 for ``ols``; for ``gls`` the
+        inverse of the diagonal of the covariance).
+    edf : ndarray
+        Degrees of freedom used per point.
+    edf_source : str
+        ``"result"`` (from the Allan result), ``"ieee952"`` (N/m - 1) or ``"mixed"``.
+    chi2, dof : float
+        Pearson chi-square of the final fit and its (effective) degrees of freedom: the
+        sum of the grid-density factors minus the number of non-zero terms.
+    model_error : float
+        Relative standard deviation on sigma^2 added to every point because the model
+        misfits the curve beyond its sampling noise (maximum likelihood; 0 when the fit
+        is consistent with the EDF; NaN for ``ols``).
+    stderr_method : str
+        How the standard errors were obtained: the sandwich or GLS with the model
+        covariance of the adev or oadev estimates, or with totdev's EDF variances and the
+        oadev correlations; the EDF diagonal (correlation ignored); or the OLS residual
+        variance.
+    iterations : int
+    converged : bool
+    readoff : SlopeReadoff
+    excluded_tau_s : tuple of float
+        Taus dropped before the fit (non-finite or non-positive deviation).
+    significance : float or None
+        Level of the term-selection and model-error tests (None: every requested term was
+        kept and the model error is the unrestricted ML estimate; always None for ols).
+    warnings : tuple of str
+        Every warning emitted by the fit.
+    """
+
+    terms: tuple[NoiseTerm, ...]
+    confidence: float
+    method: str
+    kind: str
+    units: str
+    axis: str
+    deg_per_hour_factor: float
+    tau_s: FloatArray
+    dev: FloatArray
+    fitted_dev: FloatArray
+    weight: FloatArray
+    edf: FloatArray
+    edf_source: str
+    chi2: float
+    dof: float
+    model_error: float
+    stderr_method: str
+    iterations: int
+    converged: bool
+    readoff: SlopeReadoff
+    excluded_tau_s: tuple[float, ...] = ()
+    warnings: tuple[str, ...] = ()
+    significance: float | None = None
+    _a: tuple[float, ...] = field(default=(), repr=False)
+
+    # -------------------------------------------------------------- access
+    def __getitem__(self, name: str) -> NoiseTerm:
+        for t in self.terms:
+            if t.name == name:
+                return t
+        raise KeyError(f"term {name!r} was not fitted; fitted terms are: "
+                       f"{', '.join(self.names)}")
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        return tuple(t.name for t in self.terms)
+
+    @property
+    def dropped(self) -> tuple[str, ...]:
+        """Terms removed by the backward elimination (status ``"dropped"``)."""
+        return tuple(t.name for t in self.terms if t.status == "dropped")
+
+    @property
+    def values(self) -> dict[str, float]:
+        """Term name to value (deg/h-based units)."""
+        return {t.name: t.value for t in self.terms}
+
+    # -------------------------------------------------------------- curves
+    def term_line(self, name: str, tau_s: Any) -> FloatArray:
+        """One term's own Allan-deviation line ``C_n tau^(n/2)`` in the curve's units."""
+        term = self[name]
+        tau = _tau_array(tau_s)
+        a = self._a[self.names.index(term.name)]
+        return np.sqrt(a * tau ** float(term.power))
+
+    def lines(self, tau_s: Any) -> dict[str, FloatArray]:
+        """Every fitted term's own line at ``tau_s`` (curve units)."""
+        return {n: self.term_line(n, tau_s) for n in self.names}
+
+    def curve(self, tau_s: Any) -> FloatArray:
+        """The fitted total Allan deviation at ``tau_s`` (curve units).
+
+        Examples
+        --------
+        >>> import numpy as np, warnings
+        >>> from types import SimpleNamespace
+        >>> from fogts.allan.noise import fit_noise
+        >>> tau = 2.0 ** np.arange(-5, 12)
+        >>> res = SimpleNamespace(kind="oadev", units="deg/h", axis="x", tau_s=tau,
+        ...                       dev=np.sqrt(0.25 / tau + 1e-4 * tau / 3), edf=100 + 0 * tau)
+        >>> with warnings.catch_warnings():
+        ...     warnings.simplefilter("ignore")
+        ...     model = fit_noise(res, terms="N,K")
+        >>> np.round(model.curve([1.0, 3.0]), 4).tolist()   # sqrt(0.25/tau + 1e-4 tau/3)
+        [0.5, 0.2888]
+        """
+        tau = _tau_array(tau_s)
+        total = np.zeros_like(tau)
+        for name, a in zip(self.names, self._a, strict=True):
+            total += a * tau ** float(TERM_POWER[name])
+        return np.sqrt(total)
+
+    # -------------------------------------------------------------- exports
+    def noise_dict(self) -> dict[str, dict[str, Any]]:
+        """Term name to ``{value, stderr, ci_low, ci_high, unit, ...}`` (the JSON ``noise``)."""
+        return {t.name: t.to_dict() for t in self.terms}
+
+    def to_frame(self) -> pd.DataFrame:
+        """One row per term: value, stderr, CI, unit, C_n, identifiability, status, z."""
+        rows = [{"term": t.name, "value": t.value, "stderr": t.stderr, "ci_low": t.ci_low,
+                 "ci_high": t.ci_high, "unit": t.unit, "c_coeff": t.c_coeff,
+                 "c_stderr": t.c_stderr, "slope": t.slope, "at_bound": t.at_bound,
+                 "identifiable": t.identifiable, "status": t.status, "z": t.z_score}
+                for t in self.terms]
+        return pd.DataFrame(rows).set_index("term")
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "method": self.method,
+            "confidence": self.confidence,
+            "kind": self.kind,
+            "units": self.units,
+            "axis": self.axis,
+            "terms": self.noise_dict(),
+            "readoff": self.readoff.to_dict(),
+            "fit": {"n_points": int(self.tau_s.size),
+                    "tau_range": [float(self.tau_s[0]), float(self.tau_s[-1])],
+                    "chi2": self.chi2, "dof": self.dof, "model_error": self.model_error,
+                    "iterations": self.iterations, "converged": self.converged,
+                    "edf_source": self.edf_source, "stderr_method": self.stderr_method,
+                    "deg_per_hour_factor": self.deg_per_hour_factor,
+                    "significance": self.significance, "dropped": list(self.dropped)},
+            "excluded_tau": list(self.excluded_tau_s),
+            "warnings": list(self.warnings),
+        }
+
+    def summary(self) -> str:
+        pct = 100 * self.confidence
+        lines = [f"IEEE-952 noise terms ({self.method.upper()} fit of {self.kind} on "
+                 f"{self.tau_s.size} taus {self.tau_s[0]:.4g}..{self.tau_s[-1]:.4g} s, "
+                 f"axis {self.axis!r}, input in {self.units})",
+                 f"{'term':<5}{'value':>12}  {'± stderr':>11}  {f'{pct:.1f} % CI':>25}  "
+                 f"{'unit':<12}{'C_n':>11}  note"]
+        for t in self.terms:
+            se = "-" if not math.isfinite(t.stderr) else f"{t.stderr:.3e}"
+            note = ("at zero (upper limit)" if t.status == "at_bound" else
+                    f"dropped, z = {t.z_score:.2f} (upper limit)" if t.status == "dropped"
+                    else "")
+            if not t.identifiable:
+                note = (note + "; " if note else "") + "not identifiable"
+            lines.append(f"{t.name:<5}{t.value:>12.4e}  {se:>11}  "
+                         f"[{t.ci_low:.3e}, {t.ci_high:.3e}]  {t.unit:<12}"
+                         f"{t.c_coeff:>11.4e}  {note}")
+        r = self.readoff
+        lines.append(f"slope read-offs (comparison only): N = {r.N:.4e} {TERM_UNIT['N']}, "
+                     f"K = {r.K:.4e} {TERM_UNIT['K']}, B = {r.B:.4e} {TERM_UNIT['B']}")
+        lines.append(f"chi2 = {self.chi2:.4g} on {self.dof:.4g} dof; model error "
+                     f"{self.model_error:.3g} (relative, on sigma^2); "
+                     f"{self.iterations} iteration(s)"
+                     + ("" if self.converged else " (NOT converged)")
+                     + f"; edf from {self.edf_source}")
+        if self.significance is not None:
+            lines.append(f"term selection: one-sided tests at {100 * self.significance:g} % "
+                         f"(drop if z < {norm.ppf(1 - self.significance):.3f}); dropped: "
+                         + (", ".join(self.dropped) or "none"))
+        lines += [f"warning: {w}" for w in self.warnings]
+        return "\n".join(lines)
+
+
+
+def _tau_array(tau_s: Any) -> FloatArray:
+    tau = np.atleast_1d(np.asarray(tau_s, dtype=np.float64))
+    if tau.ndim != 1 or not np.all(np.isfinite(tau) & (tau > 0)):
+        raise DataError(f"tau_s must be finite and > 0, got {tau_s!r}")
+    return tau

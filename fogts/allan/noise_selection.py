@@ -1,0 +1,200 @@
+"""Which IEEE-952 terms the data support: term selection, intervals, upper limits, identifiability.
+
+Term selection (``significance`` :math:`\\alpha`)
+    A term absent from the data is still estimated, and the non-negative fit keeps it
+    whenever the noise pushes it up; Q and N are nearly collinear over the first taus (as
+    are K and R over the last), so a spurious term takes part of its neighbour's share.
+    :func:`backward_elimination`: among the terms that are neither significant (Wald
+    statistic :math:`z_j = a_j / se(a_j) < z_{1-\\alpha}`, standard error from the fit's
+    covariance, which accounts for the correlation between taus) nor visible in the curve
+    (fewer than :data:`MIN_COVERED_POINTS` taus where the term makes up
+    :data:`COVERAGE_SHARE` of the fitted :math:`\\sigma^2`), drop the one with the smallest
+    :math:`z_j`, refit (model error included) and repeat; terms the NNLS put at zero stay
+    there.  A term that shapes the curve over several taus is kept even when its z is
+    small: dropping a real but weakly determined B or K would hand its share to its
+    neighbours.  For :math:`a_j` on the boundary :math:`a_j = 0`, :math:`\\max(z_j, 0)^2`
+    has the 50:50 :math:`\\chi^2_0 / \\chi^2_1` null distribution of the likelihood-ratio
+    statistic (Self & Liang, *J. Am. Stat. Assoc.* 82(398), 1987; Chernoff, *Ann. Math.
+    Stat.* 25, 1954), so the one-sided :math:`z > z_{1-\\alpha}` is its level-:math:`\\alpha`
+    test; the Wald form is used because the Gamma likelihood treats correlated taus as
+    independent and its ratio would be miscalibrated.
+
+Intervals (:func:`term_estimates`)
+    :math:`a_n \\pm z\\,se(a_n)` clipped at 0, and for :math:`C_n` the square roots of its
+    ends (asymmetric); :math:`se(C_n) = se(a_n)/(2C_n)` (delta method).  A term at zero
+    (fitted there, ``at_bound``, or dropped) has no standard error (NaN) and the upper limit
+    :math:`[0, \\sqrt{z\\,se}]`, ``se`` from the active set plus that term.
+
+Identifiability (:func:`identify_terms`)
+    A term's *region* is where it makes up at least :data:`COVERAGE_SHARE` of the fitted
+    :math:`\\sigma^2`.  The term is *identifiable* when the data have at least
+    :data:`MIN_COVERED_POINTS` taus in its region, or one tau and an interval that excludes
+    zero; otherwise its value is at best an upper limit.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.stats import norm
+
+from fogts._typing import FloatArray
+from fogts.allan.noise_lsq import LsqFit, LsqProblem
+from fogts.allan.noise_model import NoiseModel, NoiseTerm
+from fogts.allan.terms import C_UNIT, TERM_DESCRIPTION, TERM_FACTOR, TERM_POWER, TERM_UNIT
+
+__all__ = [
+    "COVERAGE_SHARE",
+    "MIN_COVERED_POINTS",
+    "TermSelection",
+    "backward_elimination",
+    "identify_terms",
+    "term_estimates",
+]
+
+#: A term's region: where it makes up at least this share of the fitted sigma^2.
+COVERAGE_SHARE = 0.25
+#: A term must have this many data taus in its region to count as identified.
+MIN_COVERED_POINTS = 2
+
+
+@dataclass(frozen=True)
+class TermSelection:
+    """The final fit after term selection.
+
+    Attributes
+    ----------
+    fit : LsqFit
+    a : ndarray
+        Its coefficients with NNLS round-off set to 0 (:func:`round_off_zero`).
+    dropped_z : dict of int to float
+        Column index of each dropped term to the Wald statistic it was dropped with.
+    """
+
+    fit: LsqFit
+    a: FloatArray
+    dropped_z: dict[int, float]
+
+
+def backward_elimination(problem: LsqProblem, z_crit: float | None) -> TermSelection:
+    """Fit every term, then drop weak ones one at a time (module docstring).
+
+    ``z_crit`` is :math:`z_{1-\\alpha}`; None keeps every term (a single fit).
+    """
+    free = np.ones(problem.design.shape[1], dtype=bool)
+    fit = problem.solve(free)
+    a = round_off_zero(problem.design, fit)
+    dropped_z: dict[int, float] = {}
+    while z_crit is not None:
+        free &= a > 0  # terms the NNLS put at zero stay there
+        z_act = z_scores(fit, a)
+        covered = np.count_nonzero(
+            problem.design * a[None, :] >= COVERAGE_SHARE * fit.mu[:, None], axis=0)
+        weak = [(z, j) for j, z in z_act.items()
+                if z < z_crit and covered[j] < MIN_COVERED_POINTS]
+        if not weak or np.count_nonzero(free) <= 1:
+            break
+        z_min, j_min = min(weak)
+        dropped_z[j_min] = z_min
+        free[j_min] = False
+        fit = problem.solve(free)
+        a = round_off_zero(problem.design, fit)
+    return TermSelection(fit, a, dropped_z)
+
+
+def round_off_zero(design: FloatArray, fit: LsqFit) -> FloatArray:
+    """The fitted ``a`` with NNLS round-off (< 1e-9 of the curve at every tau) set to 0."""
+    share = np.max(design / fit.mu[:, None], axis=0) * fit.a
+    return np.where(share < 1e-9, 0.0, fit.a)
+
+
+def z_scores(fit: LsqFit, a: FloatArray) -> dict[int, float]:
+    """Wald statistic ``a_j / se(a_j)`` of every non-zero term (covariance of the fit)."""
+    idx = np.flatnonzero(a > 0)
+    if not idx.size:
+        return {}
+    var = np.diag(fit.cov(idx))
+    return {int(j): (float(a[j] / math.sqrt(v)) if v > 0 else math.inf)
+            for j, v in zip(idx, var, strict=True)}
+
+
+def term_estimates(names: tuple[str, ...], selection: TermSelection, confidence: float,
+                   scale: float) -> tuple[NoiseTerm, ...]:
+    """Each term's value, standard error and interval (an upper limit at zero).
+
+    ``scale`` turns the square root of a scaled coefficient into ``C_n`` in deg/h units.
+    Identifiability is filled in later by :func:`identify_terms`.
+    """
+    fit, a, dropped_z = selection.fit, selection.a, selection.dropped_z
+    active = a > 0
+    z_final = z_scores(fit, a)
+    z = float(norm.ppf(0.5 + confidence / 2))
+    idx_active = np.flatnonzero(active)
+    var_active = np.diag(fit.cov(idx_active)) if idx_active.size else np.zeros(0)
+    out: list[NoiseTerm] = []
+    for j, name in enumerate(names):
+        if active[j]:
+            se_a = math.sqrt(max(float(var_active[int(np.searchsorted(idx_active, j))]), 0.0))
+            c = math.sqrt(a[j])
+            c_se = se_a / (2 * c)
+            lo_a, hi_a = max(0.0, a[j] - z * se_a), a[j] + z * se_a
+            status, z_score = "fitted", z_final[j]
+        else:
+            idx = np.append(np.flatnonzero(active), j)
+            se_bound = math.sqrt(max(float(fit.cov(idx)[-1, -1]), 0.0))
+            c, c_se = 0.0, math.nan
+            lo_a, hi_a = 0.0, z * se_bound
+            status = "dropped" if j in dropped_z else "at_bound"
+            z_score = dropped_z.get(j, 0.0)
+        tf = TERM_FACTOR[name]
+        out.append(NoiseTerm(
+            name=name, value=tf * c * scale, stderr=tf * c_se * scale,
+            ci_low=tf * math.sqrt(lo_a) * scale, ci_high=tf * math.sqrt(hi_a) * scale,
+            unit=TERM_UNIT[name], c_coeff=c * scale, c_stderr=c_se * scale,
+            c_unit=C_UNIT[name], power=TERM_POWER[name], at_bound=not bool(active[j]),
+            identifiable=True, n_covered=0, region_tau_s=(math.nan, math.nan), status=status,
+            z_score=z_score))
+    return tuple(out)
+
+
+def identify_terms(model: NoiseModel, tau: FloatArray) -> tuple[tuple[NoiseTerm, ...],
+                                                                 list[str]]:
+    """The model's terms with their region and identifiability, and a message for each
+    term that is not identifiable (module docstring)."""
+    share = np.vstack(list(model.lines(tau).values())) ** 2 / model.curve(tau) ** 2
+    wide = np.logspace(math.log10(tau[0]) - 3, math.log10(tau[-1]) + 3, 601)
+    wide_share = np.vstack(list(model.lines(wide).values())) ** 2 / model.curve(wide) ** 2
+    out: list[NoiseTerm] = []
+    messages: list[str] = []
+    for j, term in enumerate(model.terms):
+        n_cov = int(np.count_nonzero(share[j] >= COVERAGE_SHARE))
+        where = wide_share[j] >= COVERAGE_SHARE
+        region = ((float(wide[where][0]), float(wide[where][-1])) if np.any(where)
+                  else (math.nan, math.nan))
+        ok = n_cov >= MIN_COVERED_POINTS or (n_cov == 1 and term.ci_low > 0)
+        if not ok:
+            messages.append(_unidentifiable_message(model, term, tau, n_cov, region))
+        out.append(dataclasses.replace(term, identifiable=ok, n_covered=n_cov,
+                                       region_tau_s=region))
+    return tuple(out), messages
+
+
+def _unidentifiable_message(model: NoiseModel, term: NoiseTerm, tau: FloatArray, n_cov: int,
+                            region: tuple[float, float]) -> str:
+    pct = f"{100 * COVERAGE_SHARE:g} %"
+    if term.status == "dropped":
+        why = (f"it was dropped as not significant, z = {term.z_score:.2f} at "
+               f"level {model.significance:g}")
+    elif term.at_bound:
+        why = "it was fitted to zero"
+    elif math.isnan(region[0]):
+        why = f"it never reaches {pct} of the fitted curve"
+    else:
+        why = f"it would reach {pct} only at tau {region[0]:.3g}..{region[1]:.3g} s"
+    return (f"noise term {term.name} ({TERM_DESCRIPTION[term.name]}, slope "
+            f"{term.slope:+g}) is not identifiable from taus {tau[0]:.4g}..{tau[-1]:.4g}"
+            f" s: it makes up at least {pct} of the fitted sigma^2 at {n_cov} of "
+            f"{tau.size} taus ({why}); treat its value as an upper limit")

@@ -1,0 +1,36 @@
+"""Tests for fogts.allan.noise_model: NoiseModel access, curves and exports."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from fogts.report.text import json_dumps
+from tests.allan.noise_cases import avar, make_result, quiet_fit
+
+
+def test_exports() -> None:
+    tau = 2.0 ** np.arange(-6, 14)
+    res = make_result(tau, np.sqrt(avar(tau, N=0.02, B=0.1, K=0.05)))
+    # with n_samples = 4 m_max + 10, K (at most 30 % of sigma^2) is not significant: z = 0.32
+    selected = quiet_fit(res)
+    assert selected.dropped == ("K",) and 0 < selected["K"].z_score < 1
+    assert selected.to_dict()["fit"]["dropped"] == ["K"]
+    assert selected.to_dict()["terms"]["K"]["status"] == "dropped"
+    assert "dropped, z = 0.32" in selected.summary()
+    assert "term selection: one-sided tests at 5 %" in selected.summary()
+    model = quiet_fit(res, significance=None)  # every term kept: the exact curve back
+    assert model.significance is None and "term selection" not in model.summary()
+    frame = model.to_frame()
+    assert list(frame.index) == ["Q", "N", "B", "K", "R"]
+    assert frame.loc["N", "unit"] == "deg/sqrt(h)" and frame.loc["Q", "unit"] == "arcsec"
+    assert frame.loc["K", "slope"] == 0.5
+    d = model.to_dict()
+    assert set(d) >= {"method", "confidence", "terms", "readoff", "fit", "warnings"}
+    assert d["fit"]["stderr_method"] == model.stderr_method
+    assert json_dumps(d) == json_dumps(model.to_dict())  # deterministic
+    text = model.summary()
+    assert "IEEE-952 noise terms" in text and "deg/h^1.5" in text and "read-offs" in text
+    assert model.values["N"] == pytest.approx(0.02, rel=1e-6)
+    with pytest.raises(KeyError, match="term 'X' was not fitted"):
+        model["X"]
