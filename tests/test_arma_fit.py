@@ -32,7 +32,10 @@ from scipy.signal import lfilter
 from statsmodels.tsa.arima.model import ARIMA
 
 import fogts.arma.fit as fitmod
+import fogts.arma.optimiser as optimiser
 from fogts.arma.fit import ArmaFit, fit_arma, model_name, param_names
+from fogts.arma.likelihood import ExactLikelihood
+from fogts.arma.start_values import hannan_rissanen
 from fogts.errors import ConvergenceWarning, DataError, InsufficientDataError, ModelFitError
 from tests.conftest import shared_path
 
@@ -158,8 +161,8 @@ def test_nearly_redundant_fit_tries_more_starts() -> None:
     xs = x / np.std(x)
     fit = fit_arma(x, 1, 1)
     llf_std = fit.llf + n * math.log(fit.scale)
-    model = fitmod._Arma(xs, 1, 1)
-    first = fitmod._solve(xs, model, *fitmod._start_values(xs, 1, 1))
+    model = ExactLikelihood(xs, 1, 1)
+    first = optimiser.solve(xs, model, *hannan_rissanen(xs, 1, 1), polish=True)
     llf_first = -0.5 * n * (math.log(2 * math.pi) + 1 + math.log(first.ev.S / n)) - 0.5 * first.ev.D
     assert llf_std > llf_first + 0.5
     ref = sm_fit(xs, 1, 1)
@@ -198,7 +201,7 @@ def test_long_series_matches_statsmodels() -> None:
 def test_long_record_path(monkeypatch: pytest.MonkeyPatch) -> None:
     """The long-record path - Newton on a presample, then on the whole series; bse from the
     analytic Hessian (relative error ~20/n) - with its thresholds lowered to run at n = 10,000."""
-    monkeypatch.setattr(fitmod, "_PRESAMPLE", 2_000)
+    monkeypatch.setattr(optimiser, "_PRESAMPLE", 2_000)
     monkeypatch.setattr(fitmod, "_FD_HESSIAN_MAX_N", 5_000)
     n = 10_000
     x = simulate([1.2, -0.5], [0.4], n, 98, 5.0)
@@ -460,13 +463,13 @@ def test_bad_data() -> None:
 
 
 def test_nonstationary_covariance_is_a_fit_error() -> None:
-    model = fitmod._Arma(np.random.default_rng(0).standard_normal(600), 1, 0)
+    model = ExactLikelihood(np.random.default_rng(0).standard_normal(600), 1, 0)
     with pytest.raises(ModelFitError, match="not positive definite"):
         model.transient(np.array([[1.5]]), np.zeros((1, 0)))
 
 
 def test_nonfinite_likelihood_is_a_fit_error() -> None:
-    model = fitmod._Arma(np.full(600, 1e200), 1, 0)
+    model = ExactLikelihood(np.full(600, 1e200), 1, 0)
     with np.errstate(over="ignore", invalid="ignore"), \
             pytest.raises(ModelFitError, match="likelihood is not finite"):
         model.evaluate(np.array([0.5]), np.zeros(0))
@@ -501,9 +504,9 @@ def test_statsmodels_nonfinite_llf_is_a_fit_error(monkeypatch: pytest.MonkeyPatc
 
 
 def test_non_convergence_is_attached_and_warned(monkeypatch: pytest.MonkeyPatch) -> None:
-    monkeypatch.setattr(fitmod, "_MAX_ITER", 1)
+    monkeypatch.setattr(optimiser, "_MAX_ITER", 1)
     monkeypatch.setattr(fitmod, "_FD_HESSIAN_MAX_N", 0)
-    monkeypatch.setattr(fitmod, "_start_values",
+    monkeypatch.setattr(fitmod, "hannan_rissanen",
                         lambda xs, p, q: (np.array([0.0]), np.array([0.9])))
     x = simulate([0.9], [-0.5], 800, 71, 1.0)
     with pytest.warns(ConvergenceWarning, match=r"ARMA\(1,1\): the likelihood maximisation"):
