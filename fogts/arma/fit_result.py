@@ -19,7 +19,7 @@ import pandas as pd
 from fogts._typing import FloatArray
 from fogts.arma.likelihood import ExactLikelihood
 
-__all__ = ["ArmaFit", "criteria", "model_name", "param_names"]
+__all__ = ["ArmaFit", "criteria", "model_name", "param_lines", "param_names"]
 
 
 def model_name(p: int, q: int) -> str:
@@ -35,6 +35,11 @@ def param_names(p: int, q: int) -> list[str]:
     """statsmodels' parameter names of ARIMA(p, 0, q) with ``trend="n"``."""
     return ([f"ar.L{i}" for i in range(1, p + 1)] + [f"ma.L{j}" for j in range(1, q + 1)]
             + ["sigma2"])
+
+
+def param_lines(params: dict[str, float], bse: dict[str, float]) -> list[str]:
+    """One summary line per parameter: its estimate and standard error."""
+    return [f"  {k:>8s} = {v: .6g}  (se {bse.get(k, math.nan):.3g})" for k, v in params.items()]
 
 
 @dataclass(frozen=True)
@@ -140,8 +145,7 @@ class ArmaFit:
         if self.standardized:
             lines.append(f"  fitted on x / {self.scale:.6g}; reported in the original units")
         lines.append("  " + self.equation())
-        for k in self.params:
-            lines.append(f"  {k:>8s} = {self.params[k]: .6g}  (se {self.bse.get(k, math.nan):.3g})")
+        lines += param_lines(self.params, self.bse)
         lines.append(f"  llf = {self.llf:.6f}  aic = {self.aic:.4f}  bic = {self.bic:.4f}  "
                      f"hqic = {self.hqic:.4f}  aicc = {self.aicc:.4f}")
         if not self.converged:
