@@ -146,6 +146,7 @@ def _boundary_notes(params: dict[str, float], p: int, q: int) -> list[str]:
     return notes
 
 
+# over 80 lines only through its numpydoc docstring; the body is short
 def fit_arma(x: Any, p: int, q: int, *, method: FitMethod = "fast",
              standardize: bool = True) -> ArmaFit:
     """Fit ARMA(p, q) without a mean by exact Gaussian maximum likelihood.
