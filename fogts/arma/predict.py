@@ -1,6 +1,6 @@
 """One-step-ahead prediction with a fitted ARMA model, and the noise it removes.
 
-Seed 000 (Fig. 5) closes its modelling with a one-step prediction of the drift: the
+The drift paper (Fig. 5) closes its modelling with a one-step prediction of the drift: the
 predicted x_t given x_1..x_{t-1}, the residual a_t = x_t - predicted, and how much of the
 drift the model explains.  Two ways to get it:
 
@@ -37,7 +37,7 @@ __all__ = ["Prediction", "one_step_prediction", "predict_arma"]
 
 @dataclass(frozen=True)
 class Prediction:
-    """Observed series, its one-step-ahead prediction and the residual (seed 000, Fig. 5).
+    """Observed series, its one-step-ahead prediction and the residual (drift paper, Fig. 5).
 
     Attributes
     ----------
@@ -140,10 +140,7 @@ def one_step_prediction(observed: Any, innovations: Any, *, model: str = "",
     if a.shape != x.shape:
         raise DataError(f"innovations must have the same length as observed ({x.shape[0]}), "
                         f"got {a.shape[0]}")
-    t = None if time is None else to_float_array(time, "time", min_length=1)
-    if t is not None and t.shape != x.shape:
-        raise DataError(f"time must have the same length as observed ({x.shape[0]}), got "
-                        f"{t.shape[0]}")
+    t = _time_axis(time, x, "observed")
     if index is not None and len(index) != x.shape[0]:
         raise DataError(f"index must have the same length as observed ({x.shape[0]}), got "
                         f"{len(index)}")
@@ -167,10 +164,8 @@ def predict_arma(x: Any, *, ar: Any = (), ma: Any = (), model: str = "",
         phi_1..phi_p and theta_1..theta_q in statsmodels' sign convention,
         x_t = phi_1 x_{t-1} + ... + a_t + theta_1 a_{t-1} + ...; the MA part must be
         invertible.
-    model : str
-        Name for the record.
-    time : array_like, optional
-        Time in seconds of each sample.
+    model, time
+        As in :func:`one_step_prediction`: the model's name and the time of each sample.
 
     Returns
     -------
@@ -194,9 +189,15 @@ def predict_arma(x: Any, *, ar: Any = (), ma: Any = (), model: str = "",
         raise DataError(f"ma={theta.tolist()} is not invertible (an MA root on or inside the "
                         "unit circle): the one-step prediction would diverge")
     a = lfilter(np.r_[1.0, -phi], np.r_[1.0, theta], arr)
-    t = None if time is None else to_float_array(time, "time", min_length=1)
-    if t is not None and t.shape != arr.shape:
-        raise DataError(f"time must have the same length as x ({arr.shape[0]}), got "
-                        f"{t.shape[0]}")
+    t = _time_axis(time, arr, "x")
     return Prediction(model=model, observed=arr, predicted=arr - a, residual=np.asarray(a),
                       index=index, time=t, method="conditional")
+
+
+def _time_axis(time: Any, x: FloatArray, name: str) -> FloatArray | None:
+    """``time`` as float64, checked to be as long as the series ``x`` (called ``name``)."""
+    t = None if time is None else to_float_array(time, "time", min_length=1)
+    if t is not None and t.shape != x.shape:
+        raise DataError(f"time must have the same length as {name} ({x.shape[0]}), got "
+                        f"{t.shape[0]}")
+    return t

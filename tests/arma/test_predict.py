@@ -9,16 +9,15 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 import pytest
-from scipy.signal import lfilter
 from statsmodels.tsa.arima.model import ARIMA
 
 from fogts.arma import one_step_prediction, predict_arma, select_arma
 from fogts.errors import DataError
+from tests.arma.simulated import arma_series
 
 
 def _arma(ar: list[float], ma: list[float], n: int, seed: int, scale: float = 1.0) -> np.ndarray:
-    e = np.random.default_rng(seed).standard_normal(n + 1000) * scale
-    return np.asarray(lfilter(np.r_[1.0, ma], np.r_[1.0, -np.asarray(ar)], e)[1000:])
+    return arma_series(ar, ma, n, seed, scale, burn=1000)
 
 
 @pytest.mark.parametrize("method", ["fast", "statsmodels"])
@@ -59,7 +58,7 @@ def test_innovations_equal_dense_cholesky() -> None:
 
 
 def test_prediction_matches_statsmodels_own_fit() -> None:
-    # statsmodels' own optimum on the standardised series, scaled back (issue 4's reference)
+    # statsmodels' own optimum on the standardised series, scaled back
     x = _arma([0.6], [0.3], 400, 2, scale=1e-3)
     x = x - x.mean()
     s = float(np.std(x))

@@ -1,18 +1,5 @@
-"""Tests of fogts.arma.fit against statsmodels' exact-ML ARIMA and gretl's reference fits.
-
-Tolerances (the acceptance criteria of issue 4):
-
-* ``PARAM_TOL = 1e-4`` absolute on AR/MA coefficients wherever the model is identified and both
-  fits reach the same optimum; sigma2 to ``1e-4`` relative.
-* ``AIC_TOL = 0.05``: fogts' AIC is never worse than statsmodels' ``ARIMA(...).fit()`` on the
-  standardised series by more than this.
-* ``LLF_EXACT = 1e-6``: fogts' log-likelihood equals statsmodels' own ``loglike`` evaluated at
-  fogts' parameters (the reported llf is the exact state-space likelihood).
-* Standard errors: the observed information, as gretl and statsmodels ``cov_type="approx"``
-  report; ``1e-3`` relative below 50,000 samples (finite-difference Hessian of the exact
-  gradient), ``20/n`` relative for the analytic Hessian used above that.
-* gretl (``arma_refs``): params ``1e-4``, llf ``1e-3`` (the issue's numbers), bse ``3e-3`` relative.
-"""
+"""fit_arma against statsmodels' exact-ML ARIMA, R's arima and gretl's reference fits;
+its input checks and failures (tolerances: :mod:`tests.arma.references`)."""
 
 from __future__ import annotations
 
@@ -32,55 +19,20 @@ from scipy.signal import lfilter
 from statsmodels.tsa.arima.model import ARIMA
 
 import fogts.arma.fit as fitmod
-from fogts.arma.fit import ArmaFit, fit_arma, model_name, param_names
+import fogts.arma.optimiser as optimiser
+from fogts.arma.fit import fit_arma, param_names
 from fogts.errors import ConvergenceWarning, DataError, InsufficientDataError, ModelFitError
+from tests.arma.references import (
+    AIC_TOL,
+    CANDIDATES,
+    LLF_EXACT,
+    PARAM_TOL,
+    near_redundant,
+    simulate,
+    sm_fit,
+    sm_loglike,
+)
 from tests.conftest import shared_path
-
-PARAM_TOL = 1e-4
-AIC_TOL = 0.05
-LLF_EXACT = 1e-6
-CANDIDATES = [(1, 0), (2, 0), (3, 0), (1, 1), (2, 1)]
-
-
-def simulate(ar: list[float], ma: list[float], n: int, seed: int, scale: float) -> np.ndarray:
-    """x_t = sum ar_i x_{t-i} + a_t + sum ma_j a_{t-j}, a_t ~ N(0, scale^2), 500 burn-in."""
-    e = np.random.default_rng(seed).standard_normal(n + 500) * scale
-    x = lfilter(np.r_[1.0, ma], np.r_[1.0, -np.asarray(ar, dtype=float)], e)
-    return np.ascontiguousarray(x[500:])
-
-
-def sm_fit(xs: np.ndarray, p: int, q: int, **kw):
-    """statsmodels' reference fit on the standardised series (no covariance unless asked).
-
-    ``low_memory=True`` only stops statsmodels from storing the filter output: the optimiser
-    and its answer are the same (checked to 1e-12), at a third of the cost."""
-    kw.setdefault("cov_type", "none")
-    kw.setdefault("low_memory", True)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        return ARIMA(xs, order=(p, 0, q), trend="n").fit(**kw)
-
-
-def near_redundant(ar: np.ndarray, ma: np.ndarray, gap: float = 0.15) -> bool:
-    """An inverse AR root within ``gap`` of an inverse MA root (a near-common factor)."""
-    if len(ar) == 0 or len(ma) == 0:
-        return False
-    ar_roots = np.roots(np.r_[1.0, -np.asarray(ar)])
-    ma_roots = np.roots(np.r_[1.0, np.asarray(ma)])
-    return bool(np.min(np.abs(ar_roots[:, None] - ma_roots[None, :])) < gap)
-
-
-def sm_loglike(xs: np.ndarray, fit: ArmaFit) -> float:
-    """statsmodels' exact log-likelihood of the standardised series at fogts' parameters."""
-    params = np.r_[fit.ar, fit.ma, fit.sigma2 / fit.scale**2]
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        return float(ARIMA(xs, order=(fit.p, 0, fit.q), trend="n").loglike(params))
-
-
-# --------------------------------------------------------------------------------------------
-# statsmodels: five candidates on simulated series from each of the five models
-# --------------------------------------------------------------------------------------------
 
 SIM_CASES = {
     # name: (ar, ma, n, raw scale, seed)
@@ -149,26 +101,8 @@ def test_statsmodels_default_start_can_miss_the_optimum() -> None:
     assert again.llf - shift == pytest.approx(fit.llf, abs=1e-4)
 
 
-def test_nearly_redundant_fit_tries_more_starts() -> None:
-    """ARMA(1,1) on white noise: the likelihood has several maxima along the cancellation
-    ridge phi = -theta; from the Hannan-Rissanen start alone Newton ends 0.8 llf lower, the
-    extra starts (mirrored pair, statsmodels' start values) find the better maximum."""
-    n = 300
-    x = np.random.default_rng(22).standard_normal(n)
-    xs = x / np.std(x)
-    fit = fit_arma(x, 1, 1)
-    llf_std = fit.llf + n * math.log(fit.scale)
-    model = fitmod._Arma(xs, 1, 1)
-    first = fitmod._solve(xs, model, *fitmod._start_values(xs, 1, 1))
-    llf_first = -0.5 * n * (math.log(2 * math.pi) + 1 + math.log(first.ev.S / n)) - 0.5 * first.ev.D
-    assert llf_std > llf_first + 0.5
-    ref = sm_fit(xs, 1, 1)
-    assert llf_std >= ref.llf - AIC_TOL / 2
-    assert near_redundant(fit.ar, fit.ma)
-
-
 def test_tiny_variance_pitfall_is_avoided() -> None:
-    """ARMA(2,1) data with sigma = 3e-3, n = 20,000 (issue 4): statsmodels on the raw series
+    """ARMA(2,1) data with sigma = 3e-3, n = 20,000: statsmodels on the raw series
     ends hundreds of AIC units short for ARMA(1,1) (here without even a warning); the same fit
     on the standardised series reaches the optimum fogts reports."""
     n = 20_000
@@ -193,34 +127,6 @@ def test_long_series_matches_statsmodels() -> None:
     np.testing.assert_allclose(np.r_[fit.ar, fit.ma], ref.params[:-1], atol=PARAM_TOL)
     assert fit.aic <= ref.aic + 2 * n * math.log(np.std(x)) + AIC_TOL
     assert fit.llf == pytest.approx(sm_loglike(xs, fit) - n * math.log(fit.scale), abs=1e-5)
-
-
-def test_long_record_path(monkeypatch: pytest.MonkeyPatch) -> None:
-    """The long-record path - Newton on a presample, then on the whole series; bse from the
-    analytic Hessian (relative error ~20/n) - with its thresholds lowered to run at n = 10,000."""
-    monkeypatch.setattr(fitmod, "_PRESAMPLE", 2_000)
-    monkeypatch.setattr(fitmod, "_FD_HESSIAN_MAX_N", 5_000)
-    n = 10_000
-    x = simulate([1.2, -0.5], [0.4], n, 98, 5.0)
-    xs = x / np.std(x)
-    fit = fit_arma(x, 2, 1)
-    ref = sm_fit(xs, 2, 1, cov_type="approx")
-    np.testing.assert_allclose(np.r_[fit.ar, fit.ma], ref.params[:-1], atol=PARAM_TOL)
-    assert fit.aic <= ref.aic + 2 * n * math.log(np.std(x)) + AIC_TOL
-    ref_bse = np.r_[ref.bse[:-1], ref.bse[-1] * np.std(x) ** 2]
-    np.testing.assert_allclose(list(fit.bse.values()), ref_bse, rtol=20 / n)
-
-
-def test_resid_are_statsmodels_innovations() -> None:
-    x = simulate([0.8], [0.4], 700, 5, 1e-3)
-    fit = fit_arma(x, 1, 1)
-    xs = x / fit.scale
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        res = ARIMA(xs, order=(1, 0, 1), trend="n").filter(
-            np.r_[fit.ar, fit.ma, fit.sigma2 / fit.scale**2])
-    np.testing.assert_allclose(fit.resid, res.resid * fit.scale, rtol=0, atol=1e-9 * fit.scale)
-    assert fit.resid.shape == (700,)
 
 
 _R_FITS = """
@@ -258,57 +164,6 @@ def test_never_worse_than_r_arima_ml(tmp_path: Path) -> None:
                                    atol=1e-3)
 
 
-# --------------------------------------------------------------------------------------------
-# standard errors
-# --------------------------------------------------------------------------------------------
-
-@pytest.mark.parametrize("order", [(2, 0), (2, 1)])
-def test_bse_match_statsmodels_observed_information(order: tuple[int, int],
-                                                    monkeypatch: pytest.MonkeyPatch) -> None:
-    p, q = order
-    n = 3000
-    x = simulate([1.2, -0.5], [0.4], n, 21, 1.0)
-    xs = x / np.std(x)
-    ref = sm_fit(xs, p, q, cov_type="approx")
-    ref_bse = np.r_[ref.bse[:-1], ref.bse[-1] * np.std(x) ** 2]
-    fit = fit_arma(x, p, q)
-    np.testing.assert_allclose(list(fit.bse.values()), ref_bse, rtol=1e-3)
-    # the analytic Hessian of the long-record path: relative error about 20/n
-    monkeypatch.setattr(fitmod, "_FD_HESSIAN_MAX_N", 0)
-    fit2 = fit_arma(x, p, q)
-    np.testing.assert_allclose(list(fit2.bse.values()), ref_bse, rtol=20 / n)
-
-
-def test_units_and_scaling() -> None:
-    """AR/MA and their bse are scale-free; sigma2 scales by c^2; llf shifts by -n log c."""
-    x = simulate([1.2, -0.5], [0.4], 1200, 31, 1.0)
-    a = fit_arma(x, 2, 1)
-    b = fit_arma(1e3 * x, 2, 1)
-    np.testing.assert_allclose(np.r_[a.ar, a.ma], np.r_[b.ar, b.ma], atol=1e-10)
-    assert b.sigma2 == pytest.approx(1e6 * a.sigma2, rel=1e-9)
-    assert b.bse["sigma2"] == pytest.approx(1e6 * a.bse["sigma2"], rel=1e-4)
-    for k in ("ar.L1", "ar.L2", "ma.L1"):
-        assert b.bse[k] == pytest.approx(a.bse[k], rel=1e-4)
-    assert b.llf == pytest.approx(a.llf - 1200 * math.log(1e3), abs=1e-6)
-    assert b.aic == pytest.approx(-2 * b.llf + 2 * 4)
-    assert b.bic == pytest.approx(-2 * b.llf + 4 * math.log(1200))
-    assert b.hqic == pytest.approx(-2 * b.llf + 2 * 4 * math.log(math.log(1200)))
-    assert b.aicc == pytest.approx(b.aic + 2 * 4 * 5 / (1200 - 5))
-
-
-def test_criteria_as_statsmodels_defines_them() -> None:
-    x = simulate([0.6], [], 400, 3, 1.0)
-    fit = fit_arma(x, 1, 0, standardize=False)
-    ref = sm_fit(x, 1, 0)
-    assert fit.scale == 1.0 and not fit.standardized
-    for attr in ("aic", "bic", "hqic", "aicc"):
-        assert getattr(fit, attr) == pytest.approx(getattr(ref, attr), abs=1e-4)
-
-
-# --------------------------------------------------------------------------------------------
-# gretl reference fits
-# --------------------------------------------------------------------------------------------
-
 GRETL_SERIES = ["Y_arma11", "Y_arma14", "Y_arma41", "Y_arma22", "Y_arma50", "Y_arma02"]
 
 
@@ -333,38 +188,6 @@ def test_gretl_exact_ml(key: str, gretl: tuple[pd.DataFrame, dict]) -> None:
     assert fit.sigma2 == pytest.approx(mle["sigma2"], rel=1e-4)
     np.testing.assert_allclose([fit.bse[k] for k in param_names(p, q)[:-1]], mle["bse"],
                                rtol=3e-3)
-
-
-# --------------------------------------------------------------------------------------------
-# interface, methods, input types
-# --------------------------------------------------------------------------------------------
-
-def test_result_interface() -> None:
-    x = simulate([1.2, -0.5], [0.4], 600, 41, 2e-3)
-    fit = fit_arma(x, 2, 1)
-    assert fit.name == "ARMA(2,1)" and fit.method == "fast" and fit.nobs == 600
-    assert list(fit.params) == ["ar.L1", "ar.L2", "ma.L1", "sigma2"]
-    assert list(fit.bse) == list(fit.params)
-    assert fit.sigma2 == fit.params["sigma2"] and fit.k_params == 4
-    assert fit.ar.shape == (2,) and fit.ma.shape == (1,)
-    d = fit.to_dict()
-    assert json.loads(json.dumps(d)) == d
-    assert d["standardized"] is True and d["model"] == "ARMA(2,1)"
-    frame = fit.to_frame()
-    assert list(frame.index) == list(fit.params) and list(frame.columns) == ["estimate", "bse"]
-    text = fit.summary()
-    assert "x_t = " in text and "a_{t-1}" in text and "fitted on x /" in text
-    # the equation carries statsmodels' sign: + theta_1 a_{t-1}
-    sign = "+" if fit.ma[0] > 0 else "-"
-    assert f"{sign} {abs(fit.ma[0]):.6g} a_{{t-1}}" in fit.equation()
-    with pytest.raises(AttributeError):
-        fit.p = 3  # type: ignore[misc]
-
-
-def test_model_names() -> None:
-    assert [model_name(p, q) for p, q in CANDIDATES] == [
-        "AR(1)", "AR(2)", "AR(3)", "ARMA(1,1)", "ARMA(2,1)"]
-    assert model_name(0, 2) == "MA(2)"
 
 
 def test_statsmodels_method_agrees_with_fast() -> None:
@@ -412,10 +235,6 @@ def test_docstring_examples_run() -> None:
     assert result.attempted > 0 and result.failed == 0
 
 
-# --------------------------------------------------------------------------------------------
-# bad input and failures
-# --------------------------------------------------------------------------------------------
-
 def test_too_short() -> None:
     with pytest.raises(InsufficientDataError, match=r"too short for ARMA\(2,1\): need at least 40"):
         fit_arma(np.random.default_rng(0).standard_normal(30), 2, 1)
@@ -459,19 +278,6 @@ def test_bad_data() -> None:
         fit_arma(np.ones((100, 2)), 1, 0)
 
 
-def test_nonstationary_covariance_is_a_fit_error() -> None:
-    model = fitmod._Arma(np.random.default_rng(0).standard_normal(600), 1, 0)
-    with pytest.raises(ModelFitError, match="not positive definite"):
-        model.transient(np.array([[1.5]]), np.zeros((1, 0)))
-
-
-def test_nonfinite_likelihood_is_a_fit_error() -> None:
-    model = fitmod._Arma(np.full(600, 1e200), 1, 0)
-    with np.errstate(over="ignore", invalid="ignore"), \
-            pytest.raises(ModelFitError, match="likelihood is not finite"):
-        model.evaluate(np.array([0.5]), np.zeros(0))
-
-
 def test_numerical_failure_becomes_model_fit_error(monkeypatch: pytest.MonkeyPatch) -> None:
     def boom(*args: object) -> None:
         raise np.linalg.LinAlgError("Singular matrix")
@@ -501,9 +307,9 @@ def test_statsmodels_nonfinite_llf_is_a_fit_error(monkeypatch: pytest.MonkeyPatc
 
 
 def test_non_convergence_is_attached_and_warned(monkeypatch: pytest.MonkeyPatch) -> None:
-    monkeypatch.setattr(fitmod, "_MAX_ITER", 1)
+    monkeypatch.setattr(optimiser, "_MAX_ITER", 1)
     monkeypatch.setattr(fitmod, "_FD_HESSIAN_MAX_N", 0)
-    monkeypatch.setattr(fitmod, "_start_values",
+    monkeypatch.setattr(fitmod, "hannan_rissanen",
                         lambda xs, p, q: (np.array([0.0]), np.array([0.9])))
     x = simulate([0.9], [-0.5], 800, 71, 1.0)
     with pytest.warns(ConvergenceWarning, match=r"ARMA\(1,1\): the likelihood maximisation"):
@@ -515,12 +321,12 @@ def test_non_convergence_is_attached_and_warned(monkeypatch: pytest.MonkeyPatch)
 
 def test_white_plus_rate_random_walk_fits_near_the_unit_root() -> None:
     """The typical gyro model (white noise + rate random walk) puts the ARMA(1,1) optimum
-    within 1e-5 of phi = 1; the derivatives' difference steps used to cross it and raise
-    "not positive definite (LAPACK dpbtrf)".  Reference: statsmodels' exact ML on the
+    within 1e-5 of phi = 1; the derivatives' difference steps must not cross it (they would
+    raise "not positive definite (LAPACK dpbtrf)").  Reference: statsmodels' exact ML on the
     standardised series (AIC shifted by 2 n log s back to the data's scale)."""
     from statsmodels.tsa.arima.model import ARIMA
 
-    r = np.random.default_rng(900107)  # the issue's reproduction
+    r = np.random.default_rng(900107)
     n = 100_000
     x = 0.1 * r.standard_normal(n) + np.cumsum(1e-4 * r.standard_normal(n))
     x = x - x.mean()

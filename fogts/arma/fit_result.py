@@ -1,0 +1,234 @@
+"""One fitted ARMA(p, q) model in the units of its series: :class:`ArmaFit`.
+
+Sign convention (statsmodels):
+x_t = phi_1 x_{t-1} + ... + phi_p x_{t-p} + a_t + theta_1 a_{t-1} + ... + theta_q a_{t-q}.
+Parameter names are statsmodels' (``ar.L1``.., ``ma.L1``.., ``sigma2``); the information
+criteria count sigma2 as a parameter (k = p + q + 1), as statsmodels, gretl and R do.
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from fogts._typing import FloatArray
+from fogts.arma.likelihood import ExactLikelihood
+
+__all__ = ["ArmaFit", "criteria", "model_name", "param_lines", "param_names"]
+
+
+def model_name(p: int, q: int) -> str:
+    """Conventional name of an ARMA(p, q) model: ``"AR(p)"``, ``"MA(q)"`` or ``"ARMA(p,q)"``."""
+    if q == 0:
+        return f"AR({p})"
+    if p == 0:
+        return f"MA({q})"
+    return f"ARMA({p},{q})"
+
+
+def param_names(p: int, q: int) -> list[str]:
+    """statsmodels' parameter names of ARIMA(p, 0, q) with ``trend="n"``."""
+    return ([f"ar.L{i}" for i in range(1, p + 1)] + [f"ma.L{j}" for j in range(1, q + 1)]
+            + ["sigma2"])
+
+
+def param_lines(params: dict[str, float], bse: dict[str, float]) -> list[str]:
+    """One summary line per parameter: its estimate and standard error."""
+    return [f"  {k:>8s} = {v: .6g}  (se {bse.get(k, math.nan):.3g})" for k, v in params.items()]
+
+
+@dataclass(frozen=True)
+class ArmaFit:
+    """One fitted ARMA(p, q) candidate, in the units of the input series.
+
+    The fit is done on ``x / scale`` (when ``standardized``) and transformed back:
+    AR and MA coefficients are scale-free, ``sigma2`` is multiplied by ``scale**2`` and the
+    log-likelihood of the original series is ``llf_std - nobs * log(scale)``.
+
+    ``resid`` (the innovations a_t, as long as the series) is normally stored.  A ``"fast"``
+    fit may instead hold only a reference to the series it was fitted on (``select_arma``
+    does this for every candidate but the selected one, to keep one series-length array per
+    selection): ``resid`` is then recomputed on each access from the parameters and that
+    series by the same exact-innovations code the fit used, so it is bit-identical to the
+    stored array.  Keep a reference (``a = fit.resid``) when using it repeatedly.
+    """
+
+    p: int
+    q: int
+    name: str
+    params: dict[str, float]
+    bse: dict[str, float]
+    llf: float
+    aic: float
+    bic: float
+    hqic: float
+    aicc: float
+    nobs: int
+    sigma2: float
+    resid: FloatArray = field(repr=False)
+    converged: bool
+    warnings: tuple[str, ...]
+    scale: float
+    standardized: bool
+    method: str
+    n_iter: int | None
+
+    @property
+    def ar(self) -> FloatArray:
+        """AR coefficients phi_1..phi_p (statsmodels sign)."""
+        return np.array([self.params[f"ar.L{i}"] for i in range(1, self.p + 1)], dtype=float)
+
+    @property
+    def ma(self) -> FloatArray:
+        """MA coefficients theta_1..theta_q (statsmodels sign: + theta_1 a_{t-1})."""
+        return np.array([self.params[f"ma.L{j}"] for j in range(1, self.q + 1)], dtype=float)
+
+    @property
+    def k_params(self) -> int:
+        """Number of estimated parameters, sigma2 included (as statsmodels counts them)."""
+        return self.p + self.q + 1
+
+    def equation(self, digits: int = 6) -> str:
+        """The fitted model written out, e.g. ``x_t = 0.5 x_{t-1} + a_t - 0.3 a_{t-1}``."""
+        terms = []
+        for i, c in enumerate(self.ar, start=1):
+            terms.append((c, f"x_{{t-{i}}}"))
+        out = "x_t = "
+        first = True
+        for c, sym in terms:
+            out += (f"{c:.{digits}g} {sym}" if first
+                    else f" {'-' if c < 0 else '+'} {abs(c):.{digits}g} {sym}")
+            first = False
+        out += "a_t" if first else " + a_t"
+        for j, c in enumerate(self.ma, start=1):
+            out += f" {'-' if c < 0 else '+'} {abs(c):.{digits}g} a_{{t-{j}}}"
+        return out + f",  var(a_t) = {self.sigma2:.{digits}g}"
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-safe dictionary with stable keys (the residual series is not included)."""
+        return {
+            "model": self.name,
+            "p": self.p,
+            "q": self.q,
+            "params": {k: float(v) for k, v in self.params.items()},
+            "bse": {k: float(v) for k, v in self.bse.items()},
+            "llf": float(self.llf),
+            "aic": float(self.aic),
+            "bic": float(self.bic),
+            "hqic": float(self.hqic),
+            "aicc": float(self.aicc),
+            "nobs": int(self.nobs),
+            "sigma2": float(self.sigma2),
+            "converged": bool(self.converged),
+            "warnings": list(self.warnings),
+            "scale": float(self.scale),
+            "standardized": bool(self.standardized),
+            "method": self.method,
+            "n_iter": None if self.n_iter is None else int(self.n_iter),
+        }
+
+    def to_frame(self) -> pd.DataFrame:
+        """Parameter table: one row per parameter with its estimate and standard error."""
+        names = list(self.params)
+        return pd.DataFrame({"param": names,
+                             "estimate": [self.params[k] for k in names],
+                             "bse": [self.bse.get(k, math.nan) for k in names]}).set_index("param")
+
+    def summary(self) -> str:
+        """Human-readable summary: the equation, the parameter table and the criteria."""
+        lines = [f"{self.name} fitted by exact Gaussian ML ({self.method}), n = {self.nobs}"]
+        if self.standardized:
+            lines.append(f"  fitted on x / {self.scale:.6g}; reported in the original units")
+        lines.append("  " + self.equation())
+        lines += param_lines(self.params, self.bse)
+        lines.append(f"  llf = {self.llf:.6f}  aic = {self.aic:.4f}  bic = {self.bic:.4f}  "
+                     f"hqic = {self.hqic:.4f}  aicc = {self.aicc:.4f}")
+        if not self.converged:
+            lines.append("  NOT CONVERGED")
+        lines.extend(f"  warning: {w}" for w in self.warnings)
+        return "\n".join(lines)
+
+    def _without_resid(self, x: FloatArray) -> ArmaFit:
+        """A copy that does not store ``resid`` but recomputes it from ``x`` on access.
+
+        ``x`` must be the float64 series this fit was fitted on (in the original units).  Only
+        ``"fast"`` fits can recompute their innovations bit for bit (a ``"statsmodels"`` fit
+        comes from statsmodels' Kalman filter): any other fit is returned unchanged, and so
+        is the fit when ``x`` is not a float64 array of its length.
+        """
+        if (self.method != "fast" or not isinstance(x, np.ndarray) or x.dtype != np.float64
+                or x.shape != (self.nobs,)):
+            return self
+        out = copy.copy(self)
+        object.__setattr__(out, "resid", None)
+        object.__setattr__(out, _RESID_SOURCE, x)
+        return out
+
+    def _with_resid(self) -> ArmaFit:
+        """A copy that stores ``resid`` (computed once if this fit recomputes it)."""
+        if self.__dict__.get(_RESID_STORE) is not None:
+            return self
+        out = copy.copy(self)
+        object.__setattr__(out, "resid", self.resid)
+        out.__dict__.pop(_RESID_SOURCE, None)
+        return out
+
+
+_RESID_STORE = "_resid"           # instance-dict key of the stored innovations
+_RESID_SOURCE = "_resid_source"   # instance-dict key of the series to recompute them from
+
+
+class _Innovations:
+    """Data descriptor behind ``ArmaFit.resid``: the stored array, or a recomputation.
+
+    Installed on the class after ``@dataclass`` has made ``resid`` an ordinary field (its
+    ``__init__``, ``repr=False``, ``fields()`` and ``replace()`` are unchanged: the generated
+    ``__init__`` stores through ``__set__``).  See :class:`ArmaFit` for when it recomputes.
+    """
+
+    def __get__(self, obj: ArmaFit | None, objtype: type | None = None) -> Any:
+        if obj is None:
+            return self
+        stored = obj.__dict__.get(_RESID_STORE)
+        if stored is not None:
+            return stored
+        x = obj.__dict__.get(_RESID_SOURCE)
+        if x is None:
+            raise AttributeError("this ArmaFit holds neither its innovations nor the series "
+                                 "to recompute them from")
+        return _exact_innovations(x, obj)
+
+    def __set__(self, obj: ArmaFit, value: FloatArray | None) -> None:
+        obj.__dict__[_RESID_STORE] = value
+
+
+setattr(ArmaFit, "resid", _Innovations())  # noqa: B010  (mypy keeps the plain field type)
+
+
+def _exact_innovations(x: FloatArray, fit: ArmaFit) -> FloatArray:
+    """The innovations of a ``"fast"`` fit, recomputed exactly as ``fit_arma`` made them.
+
+    Same standardisation (``x / scale``), same exact likelihood evaluation
+    (:meth:`ExactLikelihood.evaluate` at the fitted coefficients, which are stored as the very
+    float64 values the optimiser ended on) and the same back-scaling, so the result is
+    bit-identical to the array the fit returned.
+    """
+    xs = x / fit.scale if fit.standardized else x
+    with np.errstate(over="raise", invalid="raise", divide="raise", under="ignore"):
+        e = ExactLikelihood(xs, fit.p, fit.q).evaluate(fit.ar, fit.ma).e
+    return e * fit.scale
+
+
+def criteria(llf: float, k: int, n: int) -> tuple[float, float, float, float]:
+    """AIC, BIC, HQIC and AICc as statsmodels defines them (k counts sigma2)."""
+    aic = -2.0 * llf + 2.0 * k
+    bic = -2.0 * llf + k * math.log(n)
+    hqic = -2.0 * llf + 2.0 * k * math.log(math.log(n))
+    aicc = aic + 2.0 * k * (k + 1) / (n - k - 1) if n - k - 1 > 0 else math.inf
+    return aic, bic, hqic, aicc
+

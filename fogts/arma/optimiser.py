@@ -1,0 +1,210 @@
+"""Maximise the exact ARMA likelihood: damped Newton steps from one or more starts.
+
+The profile objective f = n/2 log(S/n) + D/2 of :mod:`fogts.arma.likelihood` is minimised by
+damped Newton steps with a backtracking (Armijo) line search inside the stationarity and
+invertibility region.  The Hessian is the analytic one of S (cheap), replaced by the Fisher
+information when it is not positive definite, or the finite-difference Hessian of the exact
+gradient (``exact=True``, used to polish fits on short series, where it matters on the flat
+ridges of non-identified models).
+
+A nearly cancelling AR/MA root pair (a near-redundant model, e.g. ARMA(1,1) on nearly white
+data) makes the likelihood flat along the cancellation ridge, with possibly several maxima on
+it: :func:`maximise` then also tries the mirrored pair and statsmodels' own start values and
+keeps the highest likelihood.
+"""
+
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass
+
+import numpy as np
+
+from fogts._typing import FloatArray
+from fogts.arma.likelihood import Evaluation, ExactLikelihood
+from fogts.arma.region import admissible, shrink_into_region
+
+__all__ = ["NewtonResult", "maximise", "newton", "solve"]
+
+_MAX_ITER = 100
+_PRESAMPLE = 100_000      # long series: Newton first runs on this many leading samples
+_SMALL_STEP = 1e-6        # a Newton step this small is the last one
+
+
+@dataclass
+class NewtonResult:
+    """Where Newton's method stopped, and the derivatives it used there."""
+
+    ev: Evaluation
+    converged: bool
+    n_iter: int
+    msgs: list[str]
+    dS: FloatArray | None = None      # gradient of S and D at the last Newton iterate
+    dD: FloatArray | None = None
+    HS: FloatArray | None = None      # Hessian of S and D used at the last Newton iterate
+    HD: FloatArray | None = None
+
+
+def newton(model: ExactLikelihood, phi: FloatArray, theta: FloatArray, *,
+           small_step: float = _SMALL_STEP, exact: bool = False,
+           max_iter: int | None = None) -> NewtonResult:
+    """Minimise the profile objective f from (phi, theta) by damped Newton steps.
+
+    ``exact=False`` uses the analytic Hessian (cheap: 2 lfilter passes); ``exact=True`` the
+    finite-difference Hessian of the exact gradient (4(p+q) gradients; used on short series,
+    where it matters on flat ridges of non-identified models).
+    """
+    max_iter = _MAX_ITER if max_iter is None else max_iter
+    n, p, q = model.n, model.p, model.q
+    k = p + q
+    msgs: list[str] = []
+    ev = model.evaluate(phi, theta)
+    converged = False
+    n_iter = 0
+    dS = dD = HS = HD = None
+    for n_iter in range(1, max_iter + 1):
+        if exact:
+            dS, dD, _ = model.derivatives(ev, hessian=False)
+            HS, HD = model.fd_hessians(ev)
+        else:
+            dS, dD, HS = model.derivatives(ev, hessian=True)
+            HD = np.zeros((k, k))
+        assert HS is not None
+        grad = 0.5 * n / ev.S * dS + 0.5 * dD
+        Hf = model.hessian_f(ev, dS, HS) + 0.5 * HD
+        try:
+            np.linalg.cholesky(Hf)
+        except np.linalg.LinAlgError:
+            Hf = n * model.information(ev.phi, ev.theta)
+            Hf += 1e-8 * np.trace(Hf) / k * np.eye(k)
+        try:
+            step = np.linalg.solve(Hf, grad)
+        except np.linalg.LinAlgError:
+            step = np.linalg.lstsq(Hf, grad, rcond=None)[0]
+        beta = ev.beta
+        if float(np.max(np.abs(step))) < small_step:
+            cand = beta - step
+            if admissible(cand[:p], cand[p:]):
+                ev2 = model.evaluate(cand[:p], cand[p:])
+                if ev2.f <= ev.f + 1e-6:
+                    ev = ev2
+            converged = True
+            break
+        t = 1.0
+        accepted = None
+        while t > 1e-12:
+            cand = beta - t * step
+            if admissible(cand[:p], cand[p:]):
+                ev2 = model.evaluate(cand[:p], cand[p:])
+                if ev2.f <= ev.f - 1e-4 * t * float(grad @ step):
+                    accepted = ev2
+                    break
+            t *= 0.5
+        if accepted is None:
+            # no descent possible: at the optimum up to rounding, or stuck on the boundary
+            dec = float(grad @ step)
+            converged = dec < 1e-6
+            if not converged:
+                msgs.append(f"line search failed at iteration {n_iter} "
+                            f"(Newton decrement {dec:.3g}); the optimum may lie on the "
+                            "stationarity/invertibility boundary")
+            break
+        ev = accepted
+    else:
+        msgs.append(f"Newton's method did not converge in {max_iter} iterations")
+    return NewtonResult(ev=ev, converged=converged, n_iter=n_iter, msgs=msgs, dS=dS, dD=dD,
+                        HS=HS, HD=HD)
+
+
+def solve(xs: FloatArray, model: ExactLikelihood, phi: FloatArray, theta: FloatArray, *,
+          polish: bool) -> NewtonResult:
+    """Newton from (phi, theta): presample first on long series, exact polish if ``polish``.
+
+    On long series the iterations start on the first ``_PRESAMPLE`` samples (cheaper, and
+    their optimum is close to the full one), then finish on the whole series.  ``polish``
+    continues with the finite-difference Hessian of the exact gradient (short series).
+    """
+    n, p, q = model.n, model.p, model.q
+    if n > 4 * _PRESAMPLE:
+        pre = newton(ExactLikelihood(xs[:_PRESAMPLE], p, q), phi, theta, small_step=1e-4)
+        if admissible(pre.ev.phi, pre.ev.theta, margin=1e-3):
+            phi, theta = pre.ev.phi, pre.ev.theta
+    res = newton(model, phi, theta)
+    if polish:
+        # polish with the exact Hessian; it also gives the observed information
+        res2 = newton(model, res.ev.phi, res.ev.theta, small_step=1e-7, exact=True,
+                      max_iter=20)
+        if res2.ev.f <= res.ev.f:
+            return NewtonResult(ev=res2.ev, converged=res2.converged,
+                                n_iter=res.n_iter + res2.n_iter,
+                                msgs=res2.msgs if res2.converged else res.msgs + res2.msgs,
+                                dS=res2.dS, dD=res2.dD, HS=res2.HS, HD=res2.HD)
+        res.n_iter += res2.n_iter
+    return res
+
+
+def cancelling_pair(phi: FloatArray, theta: FloatArray, tol: float = 0.15
+                    ) -> tuple[FloatArray, FloatArray, tuple[complex, complex]] | None:
+    """Inverse AR and MA roots without their closest real pair, and the pair, if it cancels.
+
+    A near-common factor of phi(B) and theta(B) makes the model nearly redundant: the
+    likelihood is flat along the cancellation ridge and can have several local maxima on it.
+    """
+    if phi.size == 0 or theta.size == 0:
+        return None
+    ar_roots = np.roots(np.r_[1.0, -phi])        # inverse AR roots
+    ma_roots = np.roots(np.r_[1.0, theta])       # inverse MA roots
+    gap = np.abs(ar_roots[:, None] - ma_roots[None, :])
+    i, j = np.unravel_index(int(np.argmin(gap)), gap.shape)
+    if gap[i, j] > tol or abs(ar_roots[i].imag) > 1e-8 or abs(ma_roots[j].imag) > 1e-8:
+        return None
+    return np.delete(ar_roots, i), np.delete(ma_roots, j), (ar_roots[i], ma_roots[j])
+
+
+def second_starts(xs: FloatArray, p: int, q: int, base_ar: FloatArray, base_ma: FloatArray,
+                  pair: tuple[complex, complex]) -> list[tuple[FloatArray, FloatArray]]:
+    """Further starts for a nearly redundant fit: the mirrored pair and statsmodels' start.
+
+    The mirrored pair negates both nearly cancelling roots (the other side of the ridge);
+    statsmodels' ``start_params`` (on at most ``_PRESAMPLE`` samples) is the start of its own
+    optimiser, so its basin is explored too.
+    """
+    from statsmodels.tsa.arima.model import ARIMA
+
+    starts = []
+    r, m = pair
+    phi = -np.real(np.poly(np.r_[base_ar, -r]))[1:]
+    theta = np.real(np.poly(np.r_[base_ma, -m]))[1:]
+    starts.append((phi, theta))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        try:
+            sp = np.asarray(ARIMA(xs[:_PRESAMPLE], order=(p, 0, q), trend="n").start_params)
+            starts.append((sp[:p].copy(), sp[p:p + q].copy()))
+        except (ValueError, np.linalg.LinAlgError):
+            pass
+    out = []
+    for phi, theta in starts:
+        if np.all(np.isfinite(phi)) and np.all(np.isfinite(theta)):
+            if not admissible(phi, theta, margin=1e-3):
+                phi, theta = shrink_into_region(phi, theta)
+            out.append((phi, theta))
+    return out
+
+
+def maximise(xs: FloatArray, model: ExactLikelihood, phi: FloatArray, theta: FloatArray, *,
+             polish: bool) -> tuple[NewtonResult, int]:
+    """The maximum likelihood from (phi, theta), and from further starts if the fit is redundant.
+
+    Returns the best :class:`NewtonResult` and the Newton iterations of all starts together.
+    """
+    res = solve(xs, model, phi, theta, polish=polish)
+    n_iter = res.n_iter
+    found = cancelling_pair(res.ev.phi, res.ev.theta)
+    if found is not None:
+        for start in second_starts(xs, model.p, model.q, *found):
+            res_alt = solve(xs, model, *start, polish=polish)
+            n_iter += res_alt.n_iter
+            if res_alt.ev.f < res.ev.f - 1e-9:
+                res = res_alt
+    return res, n_iter

@@ -1,0 +1,155 @@
+"""The result of an ARMA selection: ranked candidates, the data's correlogram, the verdict."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import pandas as pd
+
+from fogts.arma.candidate import Candidate
+from fogts.arma.identification import Correlogram
+from fogts.errors import ModelFitError
+
+__all__ = ["Selection"]
+
+
+@dataclass(frozen=True)
+class Selection:
+    """The ranked candidates, the data's correlogram and the selected model.
+
+    Attributes
+    ----------
+    candidates : tuple of Candidate
+        In ranked order (rank 1 first, failed fits last in the order given).
+    criterion : str
+    lags : tuple of int
+        Ljung-Box lags.
+    n : int
+        Samples fitted.
+    fs_hz : float or None
+    units : str or None
+    correlogram : Correlogram
+        ACF/PACF of the data and the Box-Jenkins reading.
+    selected : Candidate or None
+        Rank 1 (None only if every fit failed).
+    all_white_failed : bool
+        No candidate left white residuals (the CLI exits with code 1).
+    verdict : str
+        One plain-language sentence.
+    input : dict
+        What was analysed (source, axis, n, fs_hz, units).
+    preprocessing : dict or None
+        ``Prepared.to_dict()``, or the steps taken here on raw input.
+    method : str
+        Fit method passed to :func:`fogts.arma.fit.fit_arma`.
+    notes : tuple of str
+        Remarks on the data (e.g. a quantised raw rate), also appended to ``verdict``.
+    """
+
+    candidates: tuple[Candidate, ...]
+    criterion: str
+    lags: tuple[int, ...]
+    n: int
+    fs_hz: float | None
+    units: str | None
+    correlogram: Correlogram
+    selected: Candidate | None
+    all_white_failed: bool
+    verdict: str
+    input: dict[str, Any]
+    preprocessing: dict[str, Any] | None
+    method: str = "fast"
+    notes: tuple[str, ...] = ()
+
+    @property
+    def best(self) -> Candidate | None:
+        """The selected candidate (rank 1); None only if every fit failed (see ``verdict``).
+
+        ``selection.best.predict()`` gives the one-step prediction.
+        """
+        return self.selected
+
+    def require_best(self) -> Candidate:
+        """The selected candidate; raises ModelFitError (with every fit's reason) if none."""
+        if self.selected is None:
+            raise ModelFitError(self.verdict)
+        return self.selected
+
+    @property
+    def exit_code(self) -> int:
+        """0 if a white model was selected, 1 otherwise (DESIGN.md exit codes)."""
+        return 1 if self.all_white_failed else 0
+
+    def __getitem__(self, model: str) -> Candidate:
+        key = model.replace(" ", "").upper()
+        for c in self.candidates:
+            if c.model.upper() == key:
+                return c
+        raise KeyError(f"no candidate {model!r}; candidates are "
+                       f"{', '.join(c.model for c in self.candidates)}")
+
+    def to_frame(self) -> pd.DataFrame:
+        """One row per candidate in ranked order."""
+        rows = []
+        for c in self.candidates:
+            row: dict[str, Any] = {"model": c.model, "rank": c.rank, "status": c.status,
+                                   "p": c.p, "q": c.q, "llf": c.llf, "aic": c.aic, "bic": c.bic,
+                                   "hqic": c.hqic, "aicc": c.aicc, "sigma2": c.sigma2,
+                                   "rho_a2": c.rho_a2, "rho_ax3": c.rho_ax3}
+            for lag in self.lags:
+                lb = ([x for x in c.diagnostics.ljung_box if x.lag == lag]
+                      if c.diagnostics else [])
+                row[f"lb_p_{lag}"] = lb[0].pvalue if lb else math.nan
+            row.update(white=c.white, flags="; ".join(f.message for f in c.flags),
+                       reason=c.reason or "")
+            rows.append(row)
+        return pd.DataFrame(rows).set_index("model")
+
+    def to_dict(self) -> dict[str, Any]:
+        """The ``fogts select`` JSON: ``{"input", "preprocessing", "candidates", "selected"}``
+        plus ``criterion``, ``lags``, ``correlogram``, ``verdict``, ``all_white_failed``."""
+        sel = self.selected
+        selected: dict[str, Any] | None = None
+        if sel is not None:
+            pred = sel.predict()
+            selected = {"model": sel.model, "p": sel.p, "q": sel.q, "rank": sel.rank,
+                        "criterion": self.criterion, "value": sel.criterion_value,
+                        "white": sel.white, "equation": sel.equation(),
+                        "params": dict(sel.params), "sigma2": sel.sigma2,
+                        "prediction": pred.to_dict()}
+        return {
+            "input": dict(self.input),
+            "preprocessing": self.preprocessing,
+            "criterion": self.criterion,
+            "lags": list(self.lags),
+            "fit_method": self.method,
+            "correlogram": self.correlogram.to_dict(),
+            "candidates": [c.to_dict() for c in self.candidates],
+            "selected": selected,
+            "all_white_failed": self.all_white_failed,
+            "verdict": self.verdict,
+            "notes": list(self.notes),
+        }
+
+    def summary(self) -> str:
+        crit = self.criterion.upper()
+        lines = [f"ARMA selection by {crit} on {self.n} samples; {self.correlogram.summary()}",
+                 f"{'rank':>4}  {'model':<10}{crit:>16}{'rho_a2':>10}{'rho_ax3':>10}"
+                 + "".join(f"{'LB p(' + str(lag) + ')':>11}" for lag in self.lags)
+                 + "  white"]
+        for c in self.candidates:
+            if not c.ok:
+                lines.append(f"{'-':>4}  {c.model:<10}  failed: {c.reason}")
+                continue
+            assert c.diagnostics is not None
+            lbs = "".join(f"{x.pvalue:>11.3g}" for x in c.diagnostics.ljung_box)
+            lines.append(f"{c.rank:>4}  {c.model:<10}{c.criterion_value:>16.4f}"
+                         f"{c.rho_a2:>+10.4f}{c.rho_ax3:>+10.4f}{lbs}  "
+                         f"{'yes' if c.white else 'no'}")
+        if self.selected is not None:
+            lines.append(f"selected: {self.selected.equation()}")
+        lines.append(self.verdict)
+        return "\n".join(lines)
+

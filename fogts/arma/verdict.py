@@ -1,0 +1,100 @@
+"""The plain-language verdict of an ARMA selection, and the notes on its data."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+from fogts._typing import FloatArray
+from fogts.arma.candidate import Candidate
+from fogts.arma.identification import Correlogram
+
+__all__ = ["CLOSE_CALL", "QUANT_CHECK_SAMPLES", "QUANT_MAX_LEVELS", "SMALL_PREDICTION",
+           "quantisation_note", "write_verdict"]
+
+#: A simpler white candidate within this many criterion units of the selected one is named in
+#: the verdict (Burnham & Anderson, *Model Selection and Multimodel Inference*, 2nd ed.,
+#: sec. 2.6: Delta AIC <= 2 means substantial support).
+CLOSE_CALL = 2.0
+#: Below this share of variance removed by the one-step prediction, the verdict says the
+#: series is nearly white (the model explains almost nothing).
+SMALL_PREDICTION = 0.05
+#: A raw rate with at most this many distinct values (in the first QUANT_CHECK_SAMPLES) is
+#: reported as quantised.
+QUANT_MAX_LEVELS = 64
+QUANT_CHECK_SAMPLES = 200_000
+
+
+def quantisation_note(raw: FloatArray | None, units: str | None) -> str | None:
+    """A note if the raw rate takes few distinct values (a quantised gyro output)."""
+    if raw is None or raw.size < 100:
+        return None
+    levels = np.unique(raw[:QUANT_CHECK_SAMPLES])
+    if levels.size > QUANT_MAX_LEVELS:
+        return None
+    step = float(np.min(np.diff(levels))) if levels.size > 1 else 0.0
+    unit = f" {units}" if units else ""
+    return (f"The raw rate takes only {levels.size} distinct values (step {step:.4g}{unit}): "
+            "it is quantised, so its residuals cannot look Gaussian; block-average it "
+            "(decimate) before modelling the drift.")
+
+
+def _cancellation_sentence(sel: Candidate, ranked: Sequence[Candidate], criterion: str,
+                           simpler_exists: bool) -> str:
+    """What nearly cancelling AR/MA roots mean here: a lower order does as well only when a
+    lower-order candidate is white and close in the criterion; otherwise say why not, with
+    the numbers of the best lower-order candidate."""
+    if simpler_exists:
+        return " Its AR and MA roots nearly cancel."
+    crit = criterion.upper()
+    lower = [c for c in ranked if c.ok and c.p + c.q < sel.p + sel.q]
+    if not lower:
+        return " Its AR and MA roots nearly cancel, but no lower-order candidate was fitted."
+    best = min(lower, key=lambda c: getattr(c, criterion))
+    delta = getattr(best, criterion) - getattr(sel, criterion)
+    why = "and is not white" if not best.white else "though white"
+    return (f" Its AR and MA roots nearly cancel, yet no lower order does as well: the best "
+            f"lower-order candidate, {best.model}, is {delta:+.1f} {crit} units {why}; keep "
+            f"{sel.model}.")
+
+
+def write_verdict(sel: Candidate | None, ranked: Sequence[Candidate], criterion: str,
+                  corr: Correlogram) -> str:
+    """One paragraph on the selected candidate ``sel`` (None if every fit failed): whether it
+    describes the drift, a simpler white model close in the criterion, the cancelling roots
+    and how much the one-step prediction removes."""
+    crit = criterion.upper()
+    if sel is None:
+        reasons: dict[str, list[str]] = {}
+        for c in ranked:
+            reasons.setdefault(str(c.reason), []).append(c.model)
+        text = "; ".join(r if len(reasons) == 1 else f"{', '.join(m)}: {r}"
+                         for r, m in reasons.items())
+        return f"No candidate could be fitted: {text}."
+    pred = sel.predict()
+    removed = 100.0 * pred.variance_removed
+    if sel.white:
+        text = (f"{sel.model} describes the drift: its residuals are white (rho_a2, rho_ax3 and "
+                f"Ljung-Box all pass), lowest {crit} among the white candidates; one-step "
+                f"prediction removes {removed:.1f} % of the variance.")
+        simpler = [c for c in ranked if c.white and c.p + c.q < sel.p + sel.q
+                   and getattr(c, criterion) - getattr(sel, criterion) < CLOSE_CALL]
+        if sel.flagged("near_cancellation"):
+            text += _cancellation_sentence(sel, ranked, criterion, bool(simpler))
+        if simpler:
+            alt = min(simpler, key=lambda c: (c.p + c.q, getattr(c, criterion)))
+            text += (f" The simpler {alt.model} is within {CLOSE_CALL:g} {crit} units and also "
+                     f"white: the data support it about as well.")
+        if pred.variance_removed < SMALL_PREDICTION:
+            text += (" The series is nearly white at this sample rate (white rate noise, i.e. "
+                     "angle random walk, dominates): decimate to model the slower drift.")
+        elif corr.acf_pattern.kind == "none" and corr.pacf_pattern.kind == "none":
+            text += " The data are close to white noise to begin with."
+        return text
+    assert sel.diagnostics is not None
+    why = "; ".join(sel.diagnostics.reasons)
+    return (f"No candidate leaves white residuals: the best by {crit}, {sel.model}, still "
+            f"fails ({why}). The drift needs a richer model or more preprocessing (detrend, "
+            f"remove outliers, decimate); use this model with care.")
+

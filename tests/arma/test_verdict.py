@@ -1,0 +1,65 @@
+"""The verdict of a selection and the notes on its data."""
+
+from __future__ import annotations
+
+import json
+import re
+
+import numpy as np
+import pytest
+
+from fogts.arma import select_arma
+from fogts.report.text import json_dumps
+from tests.arma.simulated import arma_series
+
+
+def test_quantised_raw_rate_is_noted() -> None:
+    from fogts.preprocess.prepare import prepare
+
+    x = np.round(arma_series([0.6], [], 3000, 1) * 2.0) / 2.0        # a 0.5 deg/h output step
+    sel = select_arma(x)
+    assert len(sel.notes) == 1 and "distinct values (step 0.5)" in sel.notes[0]
+    assert sel.notes[0] in sel.verdict
+    assert json.loads(json_dumps(sel.to_dict()))["notes"] == list(sel.notes)
+    # block-averaged data are no longer quantised: no note
+    assert select_arma(prepare(x, fs_hz=10.0, decimate=2, stationarity=False)).notes == ()
+    assert select_arma(arma_series([0.6], [], 3000, 1)).notes == ()
+
+
+def test_nearly_white_series_says_so() -> None:
+    sel = select_arma(np.random.default_rng(2).standard_normal(5000))
+    assert sel.best is not None
+    assert "nearly white at this sample rate" in sel.verdict
+
+
+def test_verdict_names_a_simpler_model_within_two_units() -> None:
+    for seed in range(12):
+        sel = select_arma(arma_series([0.6], [], 4000, seed))
+        best = sel.best
+        assert best is not None
+        close = [c for c in sel.candidates if c.white and c.p + c.q < best.p + best.q
+                 and c.aic - best.aic < 2.0]
+        assert ("The simpler" in sel.verdict) == bool(close)
+        if close:
+            return
+    pytest.fail("no seed produced an over-fitted selection with a simpler model close by")
+
+
+def test_cancellation_verdict_follows_the_numbers() -> None:
+    """ADIS16405 run 1, axis Z at 1 Hz: ARMA(1,1) has nearly cancelling roots, yet AR(1) is
+    ~2185 AIC units worse and not white, so the verdict must not say a lower order does as
+    well, and must show the numbers it rests on."""
+
+    from fogts.io.reader import read_run
+    from fogts.preprocess.prepare import prepare
+    from tests.conftest import shared_path
+
+    run = read_run(shared_path("imu", "adis_16405_imu1_gyro.npz"))
+    sel = select_arma(prepare(run, axis="Gyro. Z", decimate=100))
+    assert sel.selected is not None and sel.selected.model == "ARMA(1,1)"
+    assert sel.selected.flagged("near_cancellation")
+    assert "a lower order would do as well" not in sel.verdict
+    m = re.search(r"yet no lower order does as well: the best lower-order candidate, AR\(1\), "
+                  r"is \+(\d+\.\d) AIC units and is not white; keep ARMA\(1,1\)", sel.verdict)
+    assert m is not None, sel.verdict
+    assert float(m.group(1)) == pytest.approx(2185.0, rel=0.01)
