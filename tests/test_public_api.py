@@ -35,7 +35,8 @@ def test_import_is_light() -> None:
 def test_submodules_are_attributes_and_the_package_is_typed() -> None:
     import importlib.resources
 
-    assert fogts.report.plots.plot_allan is not None  # was AttributeError without an import
+    assert fogts.report.plots.plot_allan is not None  # no import needed
+    assert fogts.plots.plot_allan is fogts.report.plots.plot_allan
     assert fogts.preprocess.hygiene.detect_glitches is fogts.detect_glitches
     assert importlib.resources.files("fogts").joinpath("py.typed").is_file()
 
