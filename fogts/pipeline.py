@@ -15,8 +15,6 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-import numpy as np
-
 from fogts.errors import FogtsWarning
 
 if TYPE_CHECKING:
@@ -160,6 +158,8 @@ class AxisAllan:
 
     def to_dict(self) -> dict[str, Any]:
         """One axis of the ``fogts allan`` JSON."""
+        import numpy as np
+
         res, model = self.result, self.model
         points = res.to_dict()["points"]
         fit = model.curve(res.tau_s) if model is not None else np.full(len(points), np.nan)

@@ -15,14 +15,17 @@ Exit codes (DESIGN.md): 0 success, 1 negative verdict, 2 bad usage/input/interna
 
 from __future__ import annotations
 
+import dataclasses
+import functools
+import inspect
 import re
 import sys
 import warnings
-from collections.abc import Iterable, Iterator, Mapping, Sequence
+from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from contextlib import contextmanager
 from enum import StrEnum
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated, Any
+from typing import TYPE_CHECKING, Annotated, Any, TypeVar
 
 import typer
 from rich.console import Console
@@ -30,6 +33,7 @@ from rich.table import Table
 from typer.core import TyperGroup
 
 from fogts._version import __version__
+from fogts.pipeline import ReadSettings
 
 try:  # typer >= 0.16 vendors click as typer._click
     from typer._click import exceptions as _click_exc
@@ -68,6 +72,8 @@ class _OneLineErrors(TyperGroup):
         sys.exit(rv if isinstance(rv, int) else ExitCode.OK)
 
 
+R = TypeVar("R")
+
 app = typer.Typer(
     name="fogts",
     cls=_OneLineErrors,
@@ -85,11 +91,11 @@ _STATE: dict[str, bool] = {"debug": False}
 
 # ---------------------------------------------------------------- shared input options
 FileArg = Annotated[Path, typer.Argument(help="Input recording (CSV/TSV/text, .gz, Parquet, .npy/.npz).")]
-RateColOpt = Annotated[str | None, typer.Option("--rate-column", help="Rate column(s), comma-separated; default: auto-detect.")]
-TimeColOpt = Annotated[str | None, typer.Option("--time-column", help="Time column; default: auto-detect.")]
-TempColOpt = Annotated[str | None, typer.Option("--temperature-column", help="Temperature column; default: auto-detect.")]
-FsOpt = Annotated[float | None, typer.Option("--fs", help="Sample rate in Hz (overrides the time column).")]
-UnitsOpt = Annotated[str | None, typer.Option("--units", help="Rate unit of the input: deg/h, deg/s, rad/s, arcsec/s (default: from a unit in the column name such as gyro_x_deg_s, else deg/h).")]
+RateColOpt = Annotated[str | None, typer.Option("--rate-column", rich_help_panel="Input", help="Rate column(s), comma-separated; default: auto-detect.")]
+TimeColOpt = Annotated[str | None, typer.Option("--time-column", rich_help_panel="Input", help="Time column; default: auto-detect.")]
+TempColOpt = Annotated[str | None, typer.Option("--temperature-column", rich_help_panel="Input", help="Temperature column; default: auto-detect.")]
+FsOpt = Annotated[float | None, typer.Option("--fs", rich_help_panel="Input", help="Sample rate in Hz (overrides the time column).")]
+UnitsOpt = Annotated[str | None, typer.Option("--units", rich_help_panel="Input", help="Rate unit of the input: deg/h, deg/s, rad/s, arcsec/s (default: from a unit in the column name such as gyro_x_deg_s, else deg/h).")]
 JsonOpt = Annotated[str | None, typer.Option("--json", help="Write JSON to PATH, or '-' for stdout.")]
 
 
@@ -151,8 +157,14 @@ class NoiseFitMethod(_Choice):
     ols = "ols"
 
 
-NanOpt = Annotated[NanPolicy, typer.Option("--nan", help="Empty, NaN or inf cells: error (name the first one), drop (the rows become gaps) or interpolate (linearly in time).")]
-GapsOpt = Annotated[GapPolicy, typer.Option("--gaps", help="Gaps in the time base: warn (analyse as if regular, and say so), error, split (analyse the longest regular segment) or ignore (no warning; still in the JSON).")]
+NanOpt = Annotated[NanPolicy, typer.Option("--nan", rich_help_panel="Input", help="Empty, NaN or inf cells: error (name the first one), drop (the rows become gaps) or interpolate (linearly in time).")]
+GapsOpt = Annotated[GapPolicy, typer.Option("--gaps", rich_help_panel="Input", help="Gaps in the time base: warn (analyse as if regular, and say so), error, split (analyse the longest regular segment) or ignore (no warning; still in the JSON).")]
+#: The shared input options: (parameter, annotation, default), in --help order.
+_INPUT_OPTIONS: list[tuple[str, Any, Any]] = [
+    ("rate_column", RateColOpt, None), ("time_column", TimeColOpt, None),
+    ("temperature_column", TempColOpt, None), ("fs", FsOpt, None), ("units", UnitsOpt, None),
+    ("nan", NanOpt, NanPolicy.error), ("gaps", GapsOpt, GapPolicy.warn),
+]
 KindOpt = Annotated[Estimator, typer.Option("--kind", help="Allan estimator (noise terms are fitted to adev, oadev and totdev).")]
 CriterionOpt = Annotated[Criterion, typer.Option("--criterion", help="ARMA ranking criterion.")]
 
@@ -232,24 +244,58 @@ def _option_names(message: str, options: Mapping[str, str]) -> str:
     return message
 
 
-def _read(path: Path, rate_column: str | None, time_column: str | None,
-          temperature_column: str | None, fs: float | None, units: str | None, *,
-          nan: str = "error", gaps: str = "warn", glitches: bool = True
-          ) -> tuple[Run, DataQuality]:
-    """Read one input and check its hygiene (:func:`fogts.preprocess.hygiene.assess_run`): assumed
-    units, missing cells, gaps and glitches are printed at once as ``warning:`` lines
-    naming the file, before any analysis output.  Returns the Run (restricted to the
-    longest regular segment with ``--gaps split``) and its DataQuality."""
-    from fogts.io.reader import read_run
-    from fogts.preprocess.hygiene import assess_run
+#: The placeholder default of a command's ``read`` parameter (replaced by :func:`reads_input`).
+DEFAULT_READ = ReadSettings()
 
-    rate_cols: str | list[str] | None = None
-    if rate_column:
-        parts = [c.strip() for c in rate_column.split(",") if c.strip()]
-        rate_cols = parts if len(parts) > 1 else parts[0]
-    run = read_run(path, rate_column=rate_cols, time_column=time_column,
-                   temperature_column=temperature_column, fs_hz=fs, units=units, nan=nan)
-    run, quality = assess_run(run, gaps=gaps, glitches=glitches)  # type: ignore[arg-type]
+
+def reads_input(*, nan: bool = True, gaps: bool = True
+                ) -> Callable[[Callable[..., R]], Callable[..., R]]:
+    """Give a command the shared input options and pass them to it as one
+    :class:`~fogts.pipeline.ReadSettings` argument ``read``.
+
+    The options (``--rate-column``, ``--time-column``, ``--temperature-column``, ``--fs``,
+    ``--units`` and, where asked, ``--nan`` and ``--gaps``) are declared once here and
+    listed under "Input" in each command's ``--help``.  The command declares a last
+    parameter ``read: ReadSettings = DEFAULT_READ`` instead; typer sees the options through the
+    wrapper's ``__signature__``.
+    """
+    names = [name for name, _, _ in _INPUT_OPTIONS
+             if (name != "nan" or nan) and (name != "gaps" or gaps)]
+
+    def decorate(command: Callable[..., R]) -> Callable[..., R]:
+        signature = inspect.signature(command, eval_str=True)
+        kept = [p for p in signature.parameters.values() if p.name != "read"]
+        added = [inspect.Parameter(name, inspect.Parameter.KEYWORD_ONLY, default=default,
+                                   annotation=annotation)
+                 for name, annotation, default in _INPUT_OPTIONS if name in names]
+
+        @functools.wraps(command)
+        def run_command(*args: Any, **kwargs: Any) -> R:
+            given = {name: kwargs.pop(name) for name in names}
+            read = ReadSettings(
+                rate_column=given["rate_column"], time_column=given["time_column"],
+                temperature_column=given["temperature_column"], fs_hz=given["fs"],
+                units=given["units"], nan=str(given.get("nan", "error")),
+                gaps=str(given.get("gaps", "warn")))
+            return command(*args, read=read, **kwargs)
+
+        run_command.__signature__ = signature.replace(  # type: ignore[attr-defined]
+            parameters=kept + added)
+        run_command.__annotations__ = {p.name: p.annotation for p in kept + added}
+        return run_command
+
+    return decorate
+
+
+def _read(path: Path, read: ReadSettings, *, glitches: bool = True
+          ) -> tuple[Run, DataQuality]:
+    """Read one input and check its hygiene (:func:`fogts.pipeline.load`): assumed units,
+    missing cells, gaps and glitches are printed at once as ``warning:`` lines naming the
+    file, before any analysis output.  Returns the Run (restricted to the longest regular
+    segment with ``--gaps split``) and its DataQuality."""
+    from fogts.pipeline import load
+
+    run, quality = load(path, dataclasses.replace(read, glitches=glitches))
     for line in quality.warnings():
         err_console.print(f"warning: {Path(run.source).name}: {line}", markup=False,
                           soft_wrap=True)

@@ -8,19 +8,11 @@ from typing import TYPE_CHECKING, Annotated, Any
 import typer
 
 from fogts.cli._common import (
+    DEFAULT_READ,
     Estimator,
-    FsOpt,
-    GapPolicy,
-    GapsOpt,
     JsonOpt,
     KindOpt,
-    NanOpt,
-    NanPolicy,
     NoiseFitMethod,
-    RateColOpt,
-    TempColOpt,
-    TimeColOpt,
-    UnitsOpt,
     _axis_index,
     _check_output_names,
     _emit_json,
@@ -33,7 +25,9 @@ from fogts.cli._common import (
     _tau_option,
     app,
     err_console,
+    reads_input,
 )
+from fogts.pipeline import ReadSettings
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -91,13 +85,9 @@ def _allan_tables(res: AllanResult, model: NoiseModel | None, check: dict[str, A
 
 
 @app.command("allan")
+@reads_input()
 def allan_cmd(
     files: Annotated[list[Path], typer.Argument(help="Input recording(s). Several files (or a multi-axis file) are overlaid on one --plot for comparing gyros.")],
-    rate_column: RateColOpt = None,
-    time_column: TimeColOpt = None,
-    temperature_column: TempColOpt = None,
-    fs: FsOpt = None,
-    units: UnitsOpt = None,
     kind: KindOpt = Estimator.oadev,
     taus: Annotated[str, typer.Option("--taus", help="Tau grid: octave, decade, dense, all, or taus in s separated by commas.")] = "octave",
     confidence: Annotated[float, typer.Option("--confidence", help="Confidence level of the deviation and coefficient intervals.")] = 0.683,
@@ -113,8 +103,7 @@ def allan_cmd(
     plot: Annotated[Path | None, typer.Option("--plot", help="Log-log figure with CIs, the fit and its term lines (several inputs: an overlay): .png, .svg or .pdf.")] = None,
     check_allantools: Annotated[bool, typer.Option("--check-allantools", help="Recompute with allantools on the same data and taus; print the largest relative difference.")] = False,
     bias_correction: Annotated[bool, typer.Option("--bias-correction", help="--kind totdev: divide TOTVAR by its bias at flicker- and random-walk-FM taus (Howe 1999), as Stable32 does.")] = False,
-    nan: NanOpt = NanPolicy.error,
-    gaps: GapsOpt = GapPolicy.warn,
+    read: ReadSettings = DEFAULT_READ,
 ) -> None:
     """Allan deviation with confidence intervals, the IEEE-952 noise terms (Q, N, B, K, R)
     with standard errors, and the curve read-outs (minimum, regions, slopes).
@@ -140,8 +129,7 @@ def allan_cmd(
                                  check_allantools=check_allantools)
         analyses = []
         for f in files:
-            run, quality = _read(f, rate_column, time_column, temperature_column, fs, units,
-                                 nan=nan, gaps=gaps)
+            run, quality = _read(f, read)
             picks = None if axis is None else [_axis_index(run, axis)]
             analysis = analyse_allan(run, quality, settings, axes=picks)
             for ax in analysis.axes:

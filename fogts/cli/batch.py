@@ -10,28 +10,23 @@ import typer
 from rich.table import Table
 
 from fogts.cli._common import (
+    DEFAULT_READ,
     Criterion,
     CriterionOpt,
     Estimator,
     ExitCode,
-    FsOpt,
-    GapPolicy,
-    GapsOpt,
     KindOpt,
-    NanOpt,
-    NanPolicy,
-    RateColOpt,
-    TempColOpt,
-    TimeColOpt,
-    UnitsOpt,
     _guard,
     app,
     console,
     err_console,
+    reads_input,
 )
+from fogts.pipeline import ReadSettings
 
 
 @app.command("batch")
+@reads_input()
 def batch_cmd(
     patterns: Annotated[list[str], typer.Argument(help="Input files or glob patterns (quote them to let fogts expand '**').")],
     output: Annotated[Path, typer.Option("--output", "-o", help="Summary table (.csv or .parquet): one row per run and axis.")],
@@ -39,19 +34,13 @@ def batch_cmd(
     workers: Annotated[int | None, typer.Option("--workers", help="Local worker processes (default: the number of CPUs).")] = None,
     scheduler: Annotated[str | None, typer.Option("--scheduler", help="Dask scheduler address (tcp://host:8786): run on that cluster instead of locally (needs the fogts\\[dask] extra).")] = None,
     resume: Annotated[bool, typer.Option("--resume", help="Skip runs whose per-run JSON already exists (delete a failed run's JSON to retry it).")] = False,
-    rate_column: RateColOpt = None,
-    time_column: TimeColOpt = None,
-    temperature_column: TempColOpt = None,
-    fs: FsOpt = None,
-    units: UnitsOpt = None,
     kind: KindOpt = Estimator.oadev,
     taus: Annotated[str, typer.Option("--taus", help="Tau grid: octave, decade, dense, all.")] = "octave",
     detrend: Annotated[int | None, typer.Option("--detrend", help="Polynomial order removed before the ARMA selection.")] = None,
     decimate: Annotated[int | None, typer.Option("--decimate", help="Block-average K samples before the ARMA selection.")] = None,
     criterion: CriterionOpt = Criterion.aic,
     no_select: Annotated[bool, typer.Option("--no-select", help="Skip the ARMA selection (info and Allan only).")] = False,
-    nan: NanOpt = NanPolicy.error,
-    gaps: GapsOpt = GapPolicy.warn,
+    read: ReadSettings = DEFAULT_READ,
 ) -> None:
     """Run info, allan and select on many files; write one summary row per run and axis.
 
@@ -72,10 +61,11 @@ def batch_cmd(
     from fogts.batch import BatchOptions, BatchProgress, run_batch
 
     with _guard({"summary_path": "--output", "patterns": "PATTERNS"}):
-        options = BatchOptions(rate_column=rate_column, time_column=time_column,
-                               temperature_column=temperature_column, fs_hz=fs, units=units,
-                               kind=kind, taus=taus, detrend=detrend, decimate=decimate,
-                               criterion=criterion, select=not no_select, nan=nan, gaps=gaps)
+        options = BatchOptions(rate_column=read.rate_column, time_column=read.time_column,
+                               temperature_column=read.temperature_column, fs_hz=read.fs_hz,
+                               units=read.units, kind=kind, taus=taus, detrend=detrend,
+                               decimate=decimate, criterion=criterion, select=not no_select,
+                               nan=read.nan, gaps=read.gaps)
         bar = Progress(SpinnerColumn(), TextColumn("{task.description}"), BarColumn(),
                        MofNCompleteColumn(),
                        TextColumn("failed {task.fields[failed]}, remaining "

@@ -8,15 +8,9 @@ from typing import Annotated
 import typer
 
 from fogts.cli._common import (
+    DEFAULT_READ,
     FileArg,
-    FsOpt,
     JsonOpt,
-    NanOpt,
-    NanPolicy,
-    RateColOpt,
-    TempColOpt,
-    TimeColOpt,
-    UnitsOpt,
     _axis_index,
     _emit_json,
     _guard,
@@ -25,10 +19,13 @@ from fogts.cli._common import (
     _save_figure,
     _say,
     app,
+    reads_input,
 )
+from fogts.pipeline import ReadSettings
 
 
 @app.command("compensate")
+@reads_input(gaps=False)
 def compensate_cmd(
     file: FileArg,
     output: Annotated[Path | None, typer.Option("-o", "--output", help="Output table (.csv or .parquet): time, raw, trend, used, compensated, temperature.")] = None,
@@ -40,14 +37,9 @@ def compensate_cmd(
     average: Annotated[float, typer.Option("--average", help="Averaging time of the bias stability in seconds (GJB/IEEE: 10 s).")] = 10.0,
     dt_smoothing: Annotated[float, typer.Option("--dt-smoothing", help="Window in seconds of the temperature-rate (dT/dt) estimate.")] = 60.0,
     axis: Annotated[str, typer.Option("--axis", help="Axis to compensate (name or index).")] = "0",
-    rate_column: RateColOpt = None,
-    time_column: TimeColOpt = None,
-    temperature_column: TempColOpt = None,
-    fs: FsOpt = None,
-    units: UnitsOpt = None,
     json_out: JsonOpt = None,
     plot: Annotated[Path | None, typer.Option("--plot", help="Raw rate, trend, compensated rate and temperature: .png, .svg or .pdf.")] = None,
-    nan: NanOpt = NanPolicy.error,
+    read: ReadSettings = DEFAULT_READ,
 ) -> None:
     """Fit the start-up temperature-drift model D = aT·dT + bT² + cT + d·dT² + e·dT + f and
     compensate; prints the model and the bias stability before and after."""
@@ -57,11 +49,10 @@ def compensate_cmd(
                          "--plot": plot},
                 inputs={"FILE": [file], "--model": [model] if model else [],
                         "--calibration": calibration or []}):
-        run, quality = _read(file, rate_column, time_column, temperature_column, fs, units,
-                             nan=nan)
+        run, quality = _read(file, read)
         pick = _axis_index(run, axis)
         given = _load_thermal_model(model) if model is not None else None
-        extra = [_read(c, rate_column, time_column, temperature_column, fs, units, nan=nan)[0]
+        extra = [_read(c, read)[0]
                  for c in (calibration or [])]
         if extra and given is not None:
             from fogts.errors import DataError

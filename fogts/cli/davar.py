@@ -8,18 +8,10 @@ from typing import Annotated
 import typer
 
 from fogts.cli._common import (
+    DEFAULT_READ,
     Estimator,
     FileArg,
-    FsOpt,
-    GapPolicy,
-    GapsOpt,
     JsonOpt,
-    NanOpt,
-    NanPolicy,
-    RateColOpt,
-    TempColOpt,
-    TimeColOpt,
-    UnitsOpt,
     _axis_index,
     _emit_json,
     _guard,
@@ -29,10 +21,13 @@ from fogts.cli._common import (
     app,
     console,
     err_console,
+    reads_input,
 )
+from fogts.pipeline import ReadSettings
 
 
 @app.command("davar")
+@reads_input()
 def davar_cmd(
     file: FileArg,
     window: Annotated[str, typer.Option("--window", help="Window length: 200s, 5min, ....")] = "200s",
@@ -41,15 +36,9 @@ def davar_cmd(
     taus: Annotated[str, typer.Option("--taus", help="Tau grid within the window: octave, decade, dense, all, or taus in s separated by commas.")] = "octave",
     axis: Annotated[str | None, typer.Option("--axis", help="Analyse one axis (name or index) (default: every axis).")] = None,
     confidence: Annotated[float, typer.Option("--confidence", help="Confidence level of each window's interval.")] = 0.683,
-    rate_column: RateColOpt = None,
-    time_column: TimeColOpt = None,
-    temperature_column: TempColOpt = None,
-    fs: FsOpt = None,
-    units: UnitsOpt = None,
     json_out: JsonOpt = None,
     plot: Annotated[Path | None, typer.Option("--plot", help="Heat map of log deviation over (time, tau): .png, .svg or .pdf.")] = None,
-    nan: NanOpt = NanPolicy.error,
-    gaps: GapsOpt = GapPolicy.warn,
+    read: ReadSettings = DEFAULT_READ,
 ) -> None:
     """Dynamic Allan deviation (DAVAR, Galleani & Tavella 2009): the deviation in a
     window sliding along the record, and a non-stationarity score."""
@@ -60,8 +49,7 @@ def davar_cmd(
         window_s = parse_duration(window, "--window")
         step_s = parse_duration(step, "--step")
         tau_spec = _tau_option(taus)
-        run, quality = _read(file, rate_column, time_column, temperature_column, fs, units,
-                             nan=nan, gaps=gaps)
+        run, quality = _read(file, read)
         pick = None if axis is None else _axis_index(run, axis)
         result = dynamic_allan(run, window_s=window_s, step_s=step_s, kind=kind,  # type: ignore[arg-type]
                                taus=tau_spec, confidence=confidence, axis=pick)

@@ -8,17 +8,9 @@ from typing import TYPE_CHECKING, Annotated, Any, Literal
 import typer
 
 from fogts.cli._common import (
+    DEFAULT_READ,
     FileArg,
-    FsOpt,
-    GapPolicy,
-    GapsOpt,
     JsonOpt,
-    NanOpt,
-    NanPolicy,
-    RateColOpt,
-    TempColOpt,
-    TimeColOpt,
-    UnitsOpt,
     _axis_index,
     _emit_json,
     _guard,
@@ -26,7 +18,9 @@ from fogts.cli._common import (
     _save_figure,
     _say,
     app,
+    reads_input,
 )
+from fogts.pipeline import ReadSettings
 
 FILTER_METHODS = ("kalman", "iir", "moving-average")
 
@@ -37,6 +31,7 @@ if TYPE_CHECKING:
 
 
 @app.command("filter")
+@reads_input()
 def filter_cmd(
     file: FileArg,
     output: Annotated[Path, typer.Option("-o", "--output", help="Output table (.csv or .parquet): time, observed, filtered (kalman adds smoothed, predicted).")],
@@ -49,15 +44,9 @@ def filter_cmd(
     window: Annotated[float | None, typer.Option("--window", help="--method moving-average: window in seconds.")] = None,
     compare_allan: Annotated[bool, typer.Option("--compare-allan", help="Allan deviation and noise terms before and after filtering, side by side (with --plot: the overlay figure).")] = False,
     axis: Annotated[str, typer.Option("--axis", help="Axis to filter (name or index).")] = "0",
-    rate_column: RateColOpt = None,
-    time_column: TimeColOpt = None,
-    temperature_column: TempColOpt = None,
-    fs: FsOpt = None,
-    units: UnitsOpt = None,
     json_out: JsonOpt = None,
     plot: Annotated[Path | None, typer.Option("--plot", help="Figure (.png, .svg, .pdf): observed/filtered/smoothed for kalman; the before/after Allan overlay with --compare-allan.")] = None,
-    nan: NanOpt = NanPolicy.error,
-    gaps: GapsOpt = GapPolicy.warn,
+    read: ReadSettings = DEFAULT_READ,
 ) -> None:
     """Filter a gyro record: Kalman filter with an ARMA drift model, or a
     zero-phase IIR / moving-average low-pass with a before/after Allan comparison.
@@ -69,8 +58,7 @@ def filter_cmd(
         check_choice("--method", method, FILTER_METHODS)
         if method == "kalman":
             noise = _parse_measurement_noise(measurement_noise)
-        run, _ = _read(file, rate_column, time_column, temperature_column, fs, units, nan=nan,
-                       gaps=gaps)
+        run, _ = _read(file, read)
         pick = _axis_index(run, axis)
         x = run.axis(pick)
         if method == "kalman":

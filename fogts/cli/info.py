@@ -2,24 +2,21 @@
 
 from __future__ import annotations
 
+import dataclasses
 from typing import TYPE_CHECKING, Any
 
 from fogts.cli._common import (
+    DEFAULT_READ,
     FileArg,
-    FsOpt,
     JsonOpt,
-    NanOpt,
-    NanPolicy,
-    RateColOpt,
-    TempColOpt,
-    TimeColOpt,
-    UnitsOpt,
     _emit_json,
     _guard,
     _read,
     app,
     console,
+    reads_input,
 )
+from fogts.pipeline import ReadSettings
 
 if TYPE_CHECKING:
     from fogts.io.run import Run
@@ -33,21 +30,16 @@ def _info_payload(run: Run) -> dict[str, Any]:
 
 
 @app.command("info")
+@reads_input(gaps=False)
 def info_cmd(
     file: FileArg,
-    rate_column: RateColOpt = None,
-    time_column: TimeColOpt = None,
-    temperature_column: TempColOpt = None,
-    fs: FsOpt = None,
-    units: UnitsOpt = None,
-    nan: NanOpt = NanPolicy.error,
     json_out: JsonOpt = None,
+    read: ReadSettings = DEFAULT_READ,
 ) -> None:
     """Show what was read: columns, sample rate, duration, gaps, jitter, glitches and
     statistics."""
     with _guard(outputs={"--json": json_out}, inputs={"FILE": [file]}):
-        run, quality = _read(file, rate_column, time_column, temperature_column, fs, units,
-                             nan=nan, gaps="ignore")
+        run, quality = _read(file, dataclasses.replace(read, gaps="ignore"))
         payload = {**_info_payload(run), "data_quality": quality.to_dict()}
         _emit_json(payload, json_out)
         if json_out != "-":

@@ -2,18 +2,15 @@
 
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated
 
 import typer
 
 from fogts.cli._common import (
-    FsOpt,
+    DEFAULT_READ,
     JsonOpt,
-    RateColOpt,
-    TempColOpt,
-    TimeColOpt,
-    UnitsOpt,
     _emit_json,
     _guard,
     _load_thermal_model,
@@ -21,7 +18,9 @@ from fogts.cli._common import (
     _save_figure,
     _say,
     app,
+    reads_input,
 )
+from fogts.pipeline import ReadSettings
 
 #: Library argument names of ``fogts northfind`` and their options.
 _NORTHFIND_OPTIONS = {"latitude_deg": "--latitude", "transition_s": "--transition",
@@ -33,9 +32,8 @@ if TYPE_CHECKING:
 
 
 
-def _position_rates(files: list[Path], *, position_column: str, rate_column: str | None,
-                    time_column: str | None, temperature_column: str | None, fs: float | None,
-                    units: str | None, thermal: ThermalModel | None
+def _position_rates(files: list[Path], *, position_column: str, read: ReadSettings,
+                    thermal: ThermalModel | None
                     ) -> tuple[dict[int, FloatArray], dict[int, float] | None, float, str]:
     import numpy as np
 
@@ -44,8 +42,8 @@ def _position_rates(files: list[Path], *, position_column: str, rate_column: str
     from fogts.startup.northfind import POSITIONS_DEG, positions_from_frame
 
     if len(files) == 1:
-        run, _ = _read(files[0], f"{rate_column or 'rate'},{position_column}", time_column,
-                       temperature_column, fs, units, gaps="ignore", glitches=False)
+        both = f"{read.rate_column or 'rate'},{position_column}"
+        run, _ = _read(files[0], dataclasses.replace(read, rate_column=both), glitches=False)
         if thermal is not None:
             run = compensate(run, thermal, axis=0)
         import pandas as pd
@@ -62,8 +60,7 @@ def _position_rates(files: list[Path], *, position_column: str, rate_column: str
     rates = {}
     fs_hz, unit = 0.0, "deg/h"
     for p, path in zip(POSITIONS_DEG, files, strict=True):
-        run, _ = _read(path, rate_column, time_column, temperature_column, fs, units,
-                       gaps="ignore", glitches=False)
+        run, _ = _read(path, read, glitches=False)
         if thermal is not None:
             run = compensate(run, thermal, axis=0)
         rates[p] = run.axis(0)
@@ -72,6 +69,7 @@ def _position_rates(files: list[Path], *, position_column: str, rate_column: str
 
 
 @app.command("northfind")
+@reads_input(nan=False, gaps=False)
 def northfind_cmd(
     files: Annotated[list[Path] | None, typer.Argument(help="One CSV with position_deg and rate columns, or four files for 0/90/180/270 degrees (omit with --simulate).")] = None,
     latitude: Annotated[float, typer.Option("--latitude", help="Latitude in degrees (|L| <= 89).")] = ...,  # type: ignore[assignment]
@@ -81,13 +79,9 @@ def northfind_cmd(
     bias_sigma: Annotated[float, typer.Option("--bias-sigma", help="1-sigma position-to-position bias variation in deg/h for the error budget.")] = 0.0,
     simulate: Annotated[int | None, typer.Option("--simulate", help="Simulation mode: repeat cold-start north seeking N times, with and without thermal compensation.")] = None,
     seed: Annotated[int, typer.Option("--seed", help="Random seed of the simulation mode.")] = 4,
-    rate_column: RateColOpt = None,
-    time_column: TimeColOpt = None,
-    temperature_column: TempColOpt = None,
-    fs: FsOpt = None,
-    units: UnitsOpt = None,
     json_out: JsonOpt = None,
     plot: Annotated[Path | None, typer.Option("--plot", help="Simulation mode: azimuth error per trial (.png, .svg, .pdf).")] = None,
+    read: ReadSettings = DEFAULT_READ,
 ) -> None:
     """Four-position north seeking: azimuth of the input axis at position 0,
     clockwise from true north, with its error budget; or, with --simulate N, the cold-start
@@ -122,9 +116,8 @@ def northfind_cmd(
         if not files:
             raise DataError("give one positions file or four files, or --simulate N")
         rates, times, fs_hz, unit = _position_rates(
-            files, position_column=position_column, rate_column=rate_column,
-            time_column=time_column, temperature_column=temperature_column, fs=fs, units=units,
-            thermal=thermal)
+            files, position_column=position_column,
+            read=dataclasses.replace(read, gaps="ignore"), thermal=thermal)
         result = four_position(rates, latitude_deg=latitude, fs_hz=fs_hz, units=unit,
                                position_time_s=times, transition_s=transition,
                                bias_sigma_deg_h=bias_sigma)

@@ -8,38 +8,28 @@ from typing import Annotated
 import typer
 
 from fogts.cli._common import (
+    DEFAULT_READ,
     Criterion,
     CriterionOpt,
     Estimator,
     ExitCode,
     FileArg,
-    FsOpt,
-    GapPolicy,
-    GapsOpt,
     KindOpt,
-    NanOpt,
-    NanPolicy,
-    RateColOpt,
-    TempColOpt,
-    TimeColOpt,
-    UnitsOpt,
     _guard,
     _read,
     app,
     console,
     err_console,
+    reads_input,
 )
+from fogts.pipeline import ReadSettings
 
 
 @app.command("report")
+@reads_input()
 def report_cmd(
     file: FileArg,
     output: Annotated[Path, typer.Option("--output", "-o", help="HTML file to write (self-contained: figures embedded, no network needed).")],
-    rate_column: RateColOpt = None,
-    time_column: TimeColOpt = None,
-    temperature_column: TempColOpt = None,
-    fs: FsOpt = None,
-    units: UnitsOpt = None,
     title: Annotated[str | None, typer.Option("--title", help="Document title (default: 'Gyro report: <file name>').")] = None,
     outliers: Annotated[float | None, typer.Option("--outliers", help="Replace samples beyond this many robust sigmas before the ARMA analysis.")] = None,
     detrend: Annotated[int | None, typer.Option("--detrend", help="Polynomial order removed before the ARMA analysis.")] = None,
@@ -48,8 +38,7 @@ def report_cmd(
     taus: Annotated[str, typer.Option("--taus", help="Tau grid: octave, decade, dense, all.")] = "octave",
     criterion: CriterionOpt = Criterion.aic,
     davar_window: Annotated[float | None, typer.Option("--davar-window", help="Dynamic Allan window in seconds (default: a tenth of the record).")] = None,
-    nan: NanOpt = NanPolicy.error,
-    gaps: GapsOpt = GapPolicy.warn,
+    read: ReadSettings = DEFAULT_READ,
 ) -> None:
     """Write one self-contained HTML report of a recording.
 
@@ -60,8 +49,7 @@ def report_cmd(
     from fogts.report.html import build_report, write_report
 
     with _guard(outputs={"--output": output}, inputs={"FILE": [file]}):
-        run, quality = _read(file, rate_column, time_column, temperature_column, fs, units,
-                             nan=nan, gaps=gaps)
+        run, quality = _read(file, read)
         rep = build_report(run, quality=quality, title=title, outliers=outliers, detrend=detrend,
                            decimate=decimate, kind=kind, taus=taus, criterion=criterion,
                            davar_window_s=davar_window)

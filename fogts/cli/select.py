@@ -9,19 +9,11 @@ import typer
 from rich.table import Table
 
 from fogts.cli._common import (
+    DEFAULT_READ,
     Criterion,
     CriterionOpt,
     FileArg,
-    FsOpt,
-    GapPolicy,
-    GapsOpt,
     JsonOpt,
-    NanOpt,
-    NanPolicy,
-    RateColOpt,
-    TempColOpt,
-    TimeColOpt,
-    UnitsOpt,
     _axis_index,
     _check_output_names,
     _emit_json,
@@ -31,7 +23,9 @@ from fogts.cli._common import (
     app,
     console,
     err_console,
+    reads_input,
 )
+from fogts.pipeline import ReadSettings
 
 if TYPE_CHECKING:
     from fogts.arma.select import Candidate, Selection
@@ -108,13 +102,9 @@ def _select_params(c: Candidate, units: str | None) -> list[str]:
 
 
 @app.command("select")
+@reads_input()
 def select_cmd(
     file: FileArg,
-    rate_column: RateColOpt = None,
-    time_column: TimeColOpt = None,
-    temperature_column: TempColOpt = None,
-    fs: FsOpt = None,
-    units: UnitsOpt = None,
     axis: Annotated[str | None, typer.Option("--axis", help="Axis to model, by name or index (default: the first).")] = None,
     outliers: Annotated[float | None, typer.Option("--outliers", help="Replace samples beyond this many robust sigmas first.")] = None,
     detrend: Annotated[int | None, typer.Option("--detrend", help="Remove a polynomial trend of this order; 0 removes the mean only (default: remove the mean).")] = None,
@@ -124,8 +114,7 @@ def select_cmd(
     json_out: JsonOpt = None,
     plot: Annotated[Path | None, typer.Option("--plot", help="Diagnostics figure (data ACF/PACF, residual ACF, Q-Q, prediction): .png, .svg or .pdf.")] = None,
     predict: Annotated[Path | None, typer.Option("--predict", help="Write the one-step prediction as CSV (time, observed, predicted, residual); .csv, .csv.gz, .tsv or .parquet.")] = None,
-    nan: NanOpt = NanPolicy.error,
-    gaps: GapsOpt = GapPolicy.warn,
+    read: ReadSettings = DEFAULT_READ,
 ) -> None:
     """Select the ARMA model of the drift: fit AR(1), AR(2), AR(3), ARMA(1,1) and ARMA(2,1), check that their residuals are white, rank them and predict one step ahead.
 
@@ -140,8 +129,7 @@ def select_cmd(
                 inputs={"FILE": [file]}):
         orders = parse_candidates(candidates)
         _check_output_names(plot=plot, predict=predict)
-        run, quality = _read(file, rate_column, time_column, temperature_column, fs, units,
-                             nan=nan, gaps=gaps)
+        run, quality = _read(file, read)
         pick = 0 if axis is None else _axis_index(run, axis)
         analysis = analyse_selection(run, quality, pick, SelectSettings(
             outliers=outliers, detrend=detrend, decimate=decimate, candidates=orders,
