@@ -4,13 +4,13 @@ Each result is computed for one rate axis on first use and kept, so sections tha
 same result (the ARMA table and the prediction, say) share one computation.  The section
 builders in :mod:`fogts.report.sections` only render what this module returns.
 
-The chain, per axis ``i``:
+The Allan and ARMA analyses are those of ``fogts allan`` and ``fogts select``
+(:mod:`fogts.pipeline`), per axis ``i``:
 
-* ``get_prepared(i)``: :func:`fogts.preprocess.prepare.prepare` with the report's
-  ``outliers``, ``detrend`` and ``decimate`` (the series the ARMA analysis sees);
-* ``get_allan(i)``: :func:`fogts.allan.allan_deviation` of the raw rate (``kind``, ``taus``);
-* ``get_noise(i)``: :func:`fogts.allan.noise.fit_noise` of that curve;
-* ``get_selection(i)``: :func:`fogts.arma.select_arma` of the prepared series (``criterion``);
+* ``get_allan(i)`` / ``get_noise(i)``: :func:`fogts.pipeline.analyse_allan_axis` of the raw
+  rate (``kind``, ``taus``; the noise fit with its defaults);
+* ``get_prepared(i)`` / ``get_selection(i)``: :func:`fogts.pipeline.analyse_selection` with
+  the report's ``outliers``, ``detrend``, ``decimate`` and ``criterion``;
 * ``get_dynamic_allan(i)``: :func:`fogts.allan.dynamic.dynamic_allan` (``davar_window_s``);
 * ``get_compensation(i)``: :func:`fogts.startup.startup_workflow.startup_compensation` without EMD
   (``bias_average_s``).
@@ -19,9 +19,16 @@ The chain, per axis ``i``:
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from fogts.io.run import Run
+
+if TYPE_CHECKING:
+    from fogts.allan.noise_model import NoiseModel
+    from fogts.allan.result import AllanResult
+    from fogts.arma.selection import Selection
+    from fogts.pipeline import AxisAllan, AxisSelection
+    from fogts.preprocess.prepare import Prepared
 
 
 @dataclass
@@ -31,44 +38,40 @@ class _Context:
     run: Run
     options: dict[str, Any]
     quality: Any = None  # fogts.preprocess.hygiene.DataQuality
-    prepared: dict[int, Any] = field(default_factory=dict)
-    allan: dict[int, Any] = field(default_factory=dict)
-    noise: dict[int, Any] = field(default_factory=dict)
-    selection: dict[int, Any] = field(default_factory=dict)
+    allan_axes: dict[int, AxisAllan] = field(default_factory=dict)
+    selections: dict[int, AxisSelection] = field(default_factory=dict)
     dynamic: dict[int, Any] = field(default_factory=dict)
     compensation: dict[int, Any] = field(default_factory=dict)
 
-    def get_prepared(self, i: int) -> Any:
-        if i not in self.prepared:
-            from fogts.preprocess.prepare import prepare
+    def _allan_axis(self, i: int) -> AxisAllan:
+        if i not in self.allan_axes:
+            from fogts.pipeline import AllanSettings, analyse_allan_axis
+
+            self.allan_axes[i] = analyse_allan_axis(self.run, i, AllanSettings(
+                kind=self.options["kind"], taus=self.options["taus"]))
+        return self.allan_axes[i]
+
+    def _selection(self, i: int) -> AxisSelection:
+        if i not in self.selections:
+            from fogts.pipeline import SelectSettings, analyse_selection
 
             o = self.options
-            self.prepared[i] = prepare(self.run, axis=i, outliers=o["outliers"],
-                                       detrend=o["detrend"], decimate=o["decimate"])
-        return self.prepared[i]
+            self.selections[i] = analyse_selection(self.run, self.quality, i, SelectSettings(
+                outliers=o["outliers"], detrend=o["detrend"], decimate=o["decimate"],
+                criterion=o["criterion"]))
+        return self.selections[i]
 
-    def get_allan(self, i: int) -> Any:
-        if i not in self.allan:
-            from fogts.allan import allan_deviation
+    def get_allan(self, i: int) -> AllanResult:
+        return self._allan_axis(i).result
 
-            self.allan[i] = allan_deviation(self.run, axis=i, kind=self.options["kind"],
-                                            taus=self.options["taus"])
-        return self.allan[i]
+    def get_noise(self, i: int) -> NoiseModel | None:
+        return self._allan_axis(i).model
 
-    def get_noise(self, i: int) -> Any:
-        if i not in self.noise:
-            from fogts.allan.noise import fit_noise
+    def get_prepared(self, i: int) -> Prepared:
+        return self._selection(i).prepared
 
-            self.noise[i] = fit_noise(self.get_allan(i))
-        return self.noise[i]
-
-    def get_selection(self, i: int) -> Any:
-        if i not in self.selection:
-            from fogts.arma import select_arma
-
-            self.selection[i] = select_arma(self.get_prepared(i),
-                                            criterion=self.options["criterion"])
-        return self.selection[i]
+    def get_selection(self, i: int) -> Selection:
+        return self._selection(i).selection
 
     def get_dynamic_allan(self, i: int) -> Any:
         """Windows of ``davar_window_s`` every quarter window (at least one sample); the

@@ -14,6 +14,7 @@ from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from typing import Any
 
+from fogts.errors import DataError
 from fogts.report.analyses import _Context
 from fogts.report.blocks import _fixed, _num, _pval, _table, _yes_no, figure_block
 from fogts.report.page import Block, Section
@@ -155,9 +156,12 @@ def _timeseries_blocks(ctx: _Context, notes: list[str]) -> list[Block]:
 def _allan_blocks(ctx: _Context, i: int, notes: list[str]) -> list[Block]:
     from fogts.report.plots import plot_allan
 
-    res = ctx.get_allan(i)
     with _collect_warnings(notes):
+        res = ctx.get_allan(i)
         model = ctx.get_noise(i)
+    if model is None:
+        raise DataError(f"the IEEE-952 terms are fitted to adev, oadev or totdev curves only, "
+                        f"not {res.kind}")
     fig = plot_allan(res, model)
     pct = f"{100 * model.confidence:.1f} %"
     rows = []
@@ -253,7 +257,7 @@ def _prediction_blocks(ctx: _Context, i: int, notes: list[str]) -> list[Block]:
     from fogts.report.plots import plot_selection
 
     sel = ctx.get_selection(i)
-    best = sel.best  # raises ModelFitError (shown in the section) if every fit failed
+    best = sel.require_best()  # ModelFitError (shown in the section) if every fit failed
     pred = best.predict()
     units = ctx.run.units
     return [
