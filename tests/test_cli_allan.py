@@ -43,7 +43,7 @@ def test_tables_json_csv_plot(gyro_npy: Path, tmp_path: Path) -> None:
                            "--plot", out_png])
     assert code == 0, err
     assert "oadev of rate (deg/h), 68.3 % CI" in out
-    assert "IEEE-952 noise terms of rate (WLS fit)" in out
+    assert "IEEE-952 noise terms of rate (WLS fit of oadev" in out
     assert "deg/sqrt(h)" in out and "slope read-offs (comparison only" in out
     assert "warning: axis 'rate': noise term" in err  # Q, B, R are not in these data
     doc = json.loads(out_json.read_text())

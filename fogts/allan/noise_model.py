@@ -16,8 +16,9 @@ from scipy.stats import norm
 
 from fogts._typing import FloatArray
 from fogts.allan.readout import SlopeReadoff
-from fogts.allan.terms import TERM_POWER, TERM_UNIT
+from fogts.allan.terms import TERM_DESCRIPTION, TERM_POWER
 from fogts.errors import DataError
+from fogts.tables import Column, Table
 
 __all__ = ["NoiseModel", "NoiseTerm"]
 
@@ -78,6 +79,16 @@ class NoiseTerm:
     region_tau_s: tuple[float, float]
     status: str = "fitted"
     z_score: float = math.nan
+
+    @property
+    def note(self) -> str:
+        """Why the value is only an upper limit, or not identifiable; "" otherwise."""
+        note = ("at zero (upper limit)" if self.status == "at_bound" else
+                f"dropped, z = {self.z_score:.2f} (upper limit)" if self.status == "dropped"
+                else "")
+        if not self.identifiable:
+            note = (note + "; " if note else "") + "not identifiable from this τ range"
+        return note
 
     @property
     def slope(self) -> float:
@@ -259,26 +270,27 @@ class NoiseModel:
             "warnings": list(self.warnings),
         }
 
+    def term_table(self) -> Table:
+        """The terms with their standard errors, intervals, units, C_n and notes: the one
+        definition the summary, the terminal and the HTML report show."""
+        pct = f"{100 * self.confidence:.1f} %"
+        columns = (Column("term", numeric=False), Column("name", numeric=False),
+                   Column("value"), Column("± stderr", digits=3),
+                   Column(f"{pct} interval"), Column("unit", numeric=False),
+                   Column("C_n"), Column("note", numeric=False))
+        rows = [(t.name, TERM_DESCRIPTION.get(t.name, t.name), t.value, t.stderr,
+                 (t.ci_low, t.ci_high), t.unit, t.c_coeff, t.note) for t in self.terms]
+        return Table.build(
+            f"IEEE-952 noise terms of {self.axis} ({self.method.upper()} fit of {self.kind} "
+            f"on {self.tau_s.size} taus {self.tau_s[0]:.4g}..{self.tau_s[-1]:.4g} s, input "
+            f"in {self.units})", columns, rows,
+            caption="C_n: coefficient of tau^n in sigma^2(tau) = sum C_n tau^n (rate in "
+                    "deg/h, tau in s); an upper limit is the one-sided bound of a term the "
+                    "data do not support")
+
     def summary(self) -> str:
-        pct = 100 * self.confidence
-        lines = [f"IEEE-952 noise terms ({self.method.upper()} fit of {self.kind} on "
-                 f"{self.tau_s.size} taus {self.tau_s[0]:.4g}..{self.tau_s[-1]:.4g} s, "
-                 f"axis {self.axis!r}, input in {self.units})",
-                 f"{'term':<5}{'value':>12}  {'± stderr':>11}  {f'{pct:.1f} % CI':>25}  "
-                 f"{'unit':<12}{'C_n':>11}  note"]
-        for t in self.terms:
-            se = "-" if not math.isfinite(t.stderr) else f"{t.stderr:.3e}"
-            note = ("at zero (upper limit)" if t.status == "at_bound" else
-                    f"dropped, z = {t.z_score:.2f} (upper limit)" if t.status == "dropped"
-                    else "")
-            if not t.identifiable:
-                note = (note + "; " if note else "") + "not identifiable"
-            lines.append(f"{t.name:<5}{t.value:>12.4e}  {se:>11}  "
-                         f"[{t.ci_low:.3e}, {t.ci_high:.3e}]  {t.unit:<12}"
-                         f"{t.c_coeff:>11.4e}  {note}")
-        r = self.readoff
-        lines.append(f"slope read-offs (comparison only): N = {r.N:.4e} {TERM_UNIT['N']}, "
-                     f"K = {r.K:.4e} {TERM_UNIT['K']}, B = {r.B:.4e} {TERM_UNIT['B']}")
+        lines = [self.term_table().to_text()]
+        lines.append(self.readoff.describe(lambda v: f"{v:.4e}"))
         lines.append(f"chi2 = {self.chi2:.4g} on {self.dof:.4g} dof; model error "
                      f"{self.model_error:.3g} (relative, on sigma^2); "
                      f"{self.iterations} iteration(s)"

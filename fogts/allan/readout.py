@@ -18,6 +18,7 @@ noise fit reports beside its answer for comparison.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -27,6 +28,7 @@ import pandas as pd
 from fogts._typing import FloatArray
 from fogts.allan.terms import B_PLATEAU, TERM_SLOPE, TERM_UNIT, TERMS, from_seconds
 from fogts.errors import DataError, InsufficientDataError
+from fogts.tables import Column, Table
 
 __all__ = ["CurveReadout", "DominantRange", "SlopeReadoff", "read_curve", "slope_readoff"]
 
@@ -100,18 +102,29 @@ class CurveReadout:
                                               strict=True)],
         }
 
-    def summary(self) -> str:
+    def table(self, units: str = "", axis: str = "") -> Table:
+        """The read-outs: minimum (with its interval), regions B-D, dominant terms; ``units``
+        and ``axis`` name the curve's unit and axis in the cells and the title."""
         lo, hi = self.dev_min_ci
-        lines = [f"minimum: sigma = {self.dev_min:.4g} [{lo:.4g}, {hi:.4g}] at tau = "
-                 f"{self.tau_min_s:.4g} s ({100 * self.confidence:.1f} % CI); "
-                 f"floor/{B_PLATEAU:g} = {self.bias_instability_floor:.4g}"]
-        for name, span in self.regions.items():
+        unit = f" {units}" if units else ""
+        rows: list[tuple[str, str, str]] = [
+            ("minimum", f"{self.tau_min_s:.4g} s",
+             f"{self.dev_min:.4g} [{lo:.4g}, {hi:.4g}]{unit}; "
+             f"floor/{B_PLATEAU:g} = {self.bias_instability_floor:.4g}{unit}")]
+        for name, label in (("B", "falling (B)"), ("C", "floor (C)"), ("D", "rising (D)")):
+            span = self.regions.get(name)
             if span is not None:
-                lines.append(f"region {name}: tau {span[0]:.4g} .. {span[1]:.4g} s")
+                rows.append((label, f"{span[0]:.4g} .. {span[1]:.4g} s", ""))
         for d in self.dominant:
-            lines.append(f"{d.term} dominates tau {d.tau_from_s:.4g} .. {d.tau_to_s:.4g} s "
-                         f"(slope {d.slope:+g})")
-        return "\n".join(lines)
+            rows.append((f"{d.term} dominates", f"{d.tau_from_s:.4g} .. {d.tau_to_s:.4g} s",
+                         f"slope {d.slope:+g}"))
+        return Table.build(f"curve of {axis}" if axis else "curve read-outs",
+                           (Column("read-out", numeric=False), Column("tau", numeric=False),
+                            Column("value", numeric=False)), rows,
+                           caption=f"minimum with its {100 * self.confidence:.1f} % interval")
+
+    def summary(self) -> str:
+        return self.table().to_text()
 
 
 #: Points with fewer equivalent degrees of freedom (68 % CI wider than about +-25 %) are
@@ -258,6 +271,14 @@ class SlopeReadoff:
                 "K": {"value": self.K, "unit": TERM_UNIT["K"], "tau": self.tau_K_s,
                       "local_slope": self.slope_K, "read_at_tau": TERMS["K"].readoff_tau_s},
                 "B": {"value": self.B, "unit": TERM_UNIT["B"], "tau": self.tau_B_s}}
+
+    def describe(self, number: Callable[[float], str] = lambda v: f"{v:.4g}") -> str:
+        """The read-offs as one sentence (``number`` formats the values)."""
+        return (f"slope read-offs (comparison only, not the fit): "
+                f"N = {number(self.N)} {TERM_UNIT['N']} (-1/2 line at tau = "
+                f"{TERMS['N'].readoff_tau_s:g} s), K = {number(self.K)} {TERM_UNIT['K']} "
+                f"(+1/2 line at tau = {TERMS['K'].readoff_tau_s:g} s), B = {number(self.B)} "
+                f"{TERM_UNIT['B']} (minimum / {B_PLATEAU:g})")
 
 
 def slope_readoff(tau: FloatArray, dev: FloatArray, factor: float,

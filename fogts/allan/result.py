@@ -17,6 +17,7 @@ import pandas as pd
 from fogts._typing import FloatArray, IntArray
 from fogts.allan.taus import DroppedTau
 from fogts.errors import DataError
+from fogts.tables import Column, Table
 
 __all__ = ["KIND_LABELS", "AllanResult", "AllanResultSet", "AxisIndexed"]
 
@@ -183,6 +184,19 @@ class AllanResult:
                 "confidence": _num(self.confidence), "bias_corrected": self.bias_corrected,
                 "points": points,
                 "dropped": [d.to_dict() for d in self.dropped], "notes": list(self.notes)}
+
+    def points_table(self) -> Table:
+        """The points: tau, averaging factor, number of terms, deviation, interval, EDF."""
+        pct = f"{100 * self.confidence:.1f} % CI" if math.isfinite(self.confidence) \
+            else "no CI"
+        corrected = ", bias-corrected (Howe 1999)" if self.bias_corrected else ""
+        rows = list(zip(self.tau_s.tolist(), self.m.tolist(), self.n.tolist(),
+                        self.dev.tolist(), self.ci_low.tolist(), self.ci_high.tolist(),
+                        self.edf.tolist(), strict=True))
+        return Table.build(
+            f"{self.kind} of {self.axis} ({self.units}), {pct}{corrected}",
+            (Column("tau (s)", digits=6), Column("m"), Column("terms"), Column("dev", digits=5),
+             Column("ci_low", digits=5), Column("ci_high", digits=5), Column("edf")), rows)
 
     def summary(self) -> str:
         """Plain-text table of the curve, the dropped taus and the notes."""

@@ -147,6 +147,22 @@ class Candidate:
     def rho_ax3(self) -> float:
         return self.diagnostics.rho_ax3.value if self.diagnostics else math.nan
 
+    @property
+    def notes(self) -> str:
+        """Short notes for the candidate table: a failed fit, nearly cancelling AR/MA
+        roots, parameters that are not significant, no convergence."""
+        if not self.ok:
+            return f"fit failed: {self.reason}"
+        notes = []
+        if self.flagged("near_cancellation"):
+            notes.append("AR/MA roots nearly cancel")
+        insignificant = [f.details["param"] for f in self.flagged("insignificant")]
+        if insignificant:
+            notes.append(f"{', '.join(insignificant)} not significant")
+        if not self.converged:
+            notes.append("did not converge")
+        return "; ".join(notes)
+
     def flagged(self, kind: str) -> tuple[RedundancyFlag, ...]:
         return tuple(f for f in self.flags if f.kind == kind)
 

@@ -11,6 +11,7 @@ import pandas as pd
 from fogts.arma.candidate import Candidate
 from fogts.arma.identification import Correlogram
 from fogts.errors import ModelFitError
+from fogts.tables import Column, Table
 
 __all__ = ["Selection"]
 
@@ -133,21 +134,44 @@ class Selection:
             "notes": list(self.notes),
         }
 
-    def summary(self) -> str:
+    def candidate_table(self) -> Table:
+        """The candidates ranked, with the residual checks (failed checks marked) and
+        notes; the selected model's row is emphasised."""
         crit = self.criterion.upper()
-        lines = [f"ARMA selection by {crit} on {self.n} samples; {self.correlogram.summary()}",
-                 f"{'rank':>4}  {'model':<10}{crit:>16}{'rho_a2':>10}{'rho_ax3':>10}"
-                 + "".join(f"{'LB p(' + str(lag) + ')':>11}" for lag in self.lags)
-                 + "  white"]
-        for c in self.candidates:
-            if not c.ok:
-                lines.append(f"{'-':>4}  {c.model:<10}  failed: {c.reason}")
+        best = self.selected.criterion_value if self.selected is not None else math.nan
+        columns = (Column("#"), Column("model", numeric=False), Column(crit, digits=2, fixed=True),
+                   Column(f"Δ{crit}", digits=2, fixed=True, signed=True),
+                   Column("σ_a²", digits=3), Column("ρ_a,2", fixed=True, signed=True),
+                   Column("ρ_ax,3", fixed=True, signed=True),
+                   *[Column(f"LB p({lag})", digits=3) for lag in self.lags],
+                   Column("white", numeric=False), Column("notes", numeric=False))
+        rows: list[tuple[Any, ...]] = []
+        failed: list[tuple[int, int]] = []
+        for i, c in enumerate(self.candidates):
+            d = c.diagnostics
+            if not c.ok or d is None:
+                rows.append((None, c.model, *[None] * (5 + len(self.lags)), "failed",
+                             f"fit failed: {c.reason}"))
+                failed.append((i, len(columns) - 2))
                 continue
-            assert c.diagnostics is not None
-            lbs = "".join(f"{x.pvalue:>11.3g}" for x in c.diagnostics.ljung_box)
-            lines.append(f"{c.rank:>4}  {c.model:<10}{c.criterion_value:>16.4f}"
-                         f"{c.rho_a2:>+10.4f}{c.rho_ax3:>+10.4f}{lbs}  "
-                         f"{'yes' if c.white else 'no'}")
+            checks = [d.rho_a2.passed, d.rho_ax3.passed, *(x.passed for x in d.ljung_box)]
+            failed += [(i, 5 + k) for k, ok in enumerate(checks) if ok is False]
+            if not c.white:
+                failed.append((i, len(columns) - 2))
+            rows.append((c.rank, c.model, c.criterion_value, c.criterion_value - best,
+                         c.sigma2, d.rho_a2.value, d.rho_ax3.value,
+                         *(x.pvalue for x in d.ljung_box), c.white, c.notes))
+        band = 1.96 / math.sqrt(self.n)
+        return Table.build(
+            f"ARMA candidates ranked by {crit}, white residuals first", columns, rows,
+            caption=f"white: |ρ_a,2|, |ρ_ax,3| ≤ 1.96/√n = {band:.3g} and Ljung–Box p ≥ 0.05 "
+                    f"at each lag (model_df = p+q); marked cells fail their check",
+            failed=failed,
+            highlight=[i for i, c in enumerate(self.candidates) if c is self.selected])
+
+    def summary(self) -> str:
+        lines = [f"ARMA selection by {self.criterion.upper()} on {self.n} samples; "
+                 f"{self.correlogram.summary()}", self.candidate_table().to_text()]
         if self.selected is not None:
             lines.append(f"selected: {self.selected.equation()}")
         lines.append(self.verdict)

@@ -174,6 +174,7 @@ if TYPE_CHECKING:
     from fogts.io.run import Run
     from fogts.preprocess.hygiene import DataQuality
     from fogts.startup.thermal_model import ThermalModel
+    from fogts.tables import Table as FogtsTable
 
 
 
@@ -316,13 +317,21 @@ def _emit_json(payload: dict[str, Any], target: str | None) -> None:
         write_text_atomic(Path(target), text + "\n")
 
 
-def _table(title: str, columns: list[str], rows: list[list[Any]]) -> Table:
-    table = Table(title=title, title_justify="left")
-    for c in columns:
-        table.add_column(c, justify="left" if c in ("term", "model", "name", "column", "read-out") else "right")
-    for r in rows:
-        table.add_row(*[str(v) for v in r])
-    return table
+def _rich(table: FogtsTable) -> Table:
+    """A :class:`fogts.tables.Table` on the terminal: failed checks in red, emphasised rows
+    in bold, the caption under it."""
+    from rich.markup import escape
+    from rich.text import Text
+
+    out = Table(title=escape(table.title), title_justify="left",
+                caption=escape(table.caption) or None, caption_justify="left")
+    for c in table.columns:
+        out.add_column(escape(c.title), justify="right" if c.numeric else "left")
+    for i, row in enumerate(table.cells()):
+        style = "bold" if i in table.highlight else ""
+        out.add_row(*[Text(v, "red" if (i, j) in table.failed else style)
+                      for j, v in enumerate(row)])
+    return out
 
 
 def _print(*objects: Any, quiet_json: str | None = None) -> None:

@@ -19,9 +19,9 @@ from fogts.cli._common import (
     _guard,
     _print,
     _read,
+    _rich,
     _save_figure,
     _say,
-    _table,
     _tau_option,
     app,
     err_console,
@@ -45,35 +45,12 @@ def _allan_tables(res: AllanResult, model: NoiseModel | None, check: dict[str, A
     def g(v: float, digits: int = 5) -> str:
         return "-" if v is None or not math.isfinite(v) else f"{v:.{digits}g}"
 
-    from rich.markup import escape
-
-    pct = f"{100 * res.confidence:.1f} % CI" if math.isfinite(res.confidence) else "no CI"
-    rows = [[g(t, 6), int(m), int(n), g(d), g(lo), g(hi), g(e, 4)]
-            for t, m, n, d, lo, hi, e in zip(res.tau_s, res.m, res.n, res.dev, res.ci_low,
-                                             res.ci_high, res.edf, strict=True)]
-    corrected = ", bias-corrected (Howe 1999)" if res.bias_corrected else ""
-    _print(_table(escape(f"{res.kind} of {res.axis} ({res.units}), {pct}{corrected}"),
-                  ["tau (s)", "m", "n", "dev", "ci_low", "ci_high", "edf"], rows),
-           quiet_json=quiet_json)
+    _print(_rich(res.points_table()), quiet_json=quiet_json)
     for d in res.dropped:
         _say([f"dropped tau = {d.tau_s:g} s (m = {d.m}): {d.reason}"], quiet_json)
     if model is not None:
-        trows = []
-        for t in model.terms:
-            note = "upper limit only" if t.at_bound or not t.identifiable else ""
-            trows.append([t.name, f"{t.value:.4g}", g(t.stderr, 3),
-                          f"{t.ci_low:.4g} .. {t.ci_high:.4g}", t.unit, note])
-        pct = f"{100 * model.confidence:.1f} %"
-        _print(_table(escape(f"IEEE-952 noise terms of {res.axis} ({model.method.upper()} "
-                             f"fit)"),
-                      ["term", "value", "± stderr", f"{pct} interval", "unit", "note"],
-                      trows), quiet_json=quiet_json)
-        _say(["power-law coefficients C_n of sigma^2(tau) = sum C_n tau^n (rate in deg/h, tau in s): "
-              + ", ".join(f"C{t.power:+d} = {t.c_coeff:.4g}" for t in model.terms)], quiet_json)
-        r = model.readoff
-        _say([f"slope read-offs (comparison only, not the fit): N = {r.N:.4g} deg/sqrt(h) "
-              f"(-1/2 line at tau = 1 s), K = {r.K:.4g} deg/h^1.5 (+1/2 line at tau = 3 s), "
-              f"B = {r.B:.4g} deg/h (minimum / 0.664)"], quiet_json)
+        _print(_rich(model.term_table()), quiet_json=quiet_json)
+        _say([model.readoff.describe()], quiet_json)
         _say([f"fit: chi2 = {model.chi2:.4g} on {model.dof:.4g} dof, model error "
               f"{model.model_error:.3g}; standard errors: {model.stderr_method}"], quiet_json)
     if check is not None:
@@ -197,17 +174,4 @@ def _allan_figure(analyses: list[AllanAnalysis]) -> Figure:
 
 
 def _curve_table(res: AllanResult, readout: CurveReadout, quiet_json: str | None) -> None:
-    from rich.markup import escape
-
-    lo, hi = readout.dev_min_ci
-    rows: list[list[Any]] = [["minimum", f"{readout.tau_min_s:.4g} s",
-                              f"{readout.dev_min:.4g} [{lo:.4g}, {hi:.4g}] {res.units}"]]
-    for name, label in (("B", "falling (B)"), ("C", "floor (C)"), ("D", "rising (D)")):
-        span = readout.regions[name]
-        if span is not None:
-            rows.append([label, f"{span[0]:.4g} .. {span[1]:.4g} s", ""])
-    for d in readout.dominant:
-        rows.append([f"{d.term} dominates", f"{d.tau_from_s:.4g} .. {d.tau_to_s:.4g} s",
-                     f"slope {d.slope:+g}"])
-    _print(_table(escape(f"curve of {res.axis}"), ["read-out", "tau", "value"], rows),
-           quiet_json=quiet_json)
+    _print(_rich(readout.table(res.units, res.axis)), quiet_json=quiet_json)

@@ -6,7 +6,6 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
-from rich.table import Table
 
 from fogts.cli._common import (
     DEFAULT_READ,
@@ -19,6 +18,7 @@ from fogts.cli._common import (
     _emit_json,
     _guard,
     _read,
+    _rich,
     _save_figure,
     app,
     console,
@@ -28,7 +28,7 @@ from fogts.cli._common import (
 from fogts.pipeline import ReadSettings
 
 if TYPE_CHECKING:
-    from fogts.arma.select import Candidate, Selection
+    from fogts.arma.select import Candidate
 
 
 
@@ -37,57 +37,6 @@ def _fmt(v: Any, spec: str = ".4g") -> str:
 
     return "–" if v is None or (isinstance(v, float) and not math.isfinite(v)) else \
         format(v, spec)
-
-
-def _select_notes(c: Candidate) -> str:
-    """Short notes for one candidate row: why not white, redundancy, convergence."""
-    if not c.ok:
-        return f"fit failed: {c.reason}"
-    notes = []
-    if c.flagged("near_cancellation"):
-        notes.append("AR/MA roots nearly cancel")
-    insig = [f.details["param"] for f in c.flagged("insignificant")]
-    if insig:
-        notes.append(f"{', '.join(insig)} not significant")
-    if not c.converged:
-        notes.append("did not converge")
-    return "; ".join(notes)
-
-
-def _select_table(sel: Selection) -> Table:
-    from rich.text import Text
-
-    crit = sel.criterion.upper()
-    best = sel.selected.criterion_value if sel.selected is not None else float("nan")
-    band = 1.96 / sel.n ** 0.5
-    title = f"ARMA candidates ranked by {crit}, white residuals first"
-    if sel.selected is not None:
-        title += f" ({crit} of #1: {best:.2f})"
-    table = Table(title=title, title_justify="left", box=None, pad_edge=False, padding=(0, 1),
-                  header_style="bold underline")
-    for name in ("#", "model", f"Δ{crit}", "σ_a²", "ρ_a,2", "ρ_ax,3",
-                 *[f"LB p({lag})" for lag in sel.lags], "white"):
-        table.add_column(name, justify="left" if name == "model" else "right", no_wrap=True)
-    for c in sel.candidates:
-        if not c.ok:
-            table.add_row("–", c.model, *["–"] * (4 + len(sel.lags)), Text("failed", "red"))
-            continue
-        d = c.diagnostics
-        assert d is not None  # a fitted candidate has its residual checks
-
-        def chk(value: float, ok: bool | None) -> Text:
-            return Text(_fmt(value, "+.4f"), "" if ok in (True, None) else "red")
-
-        lbs = [Text(_fmt(x.pvalue, ".3g"), "" if x.passed in (True, None) else "red")
-               for x in d.ljung_box]
-        table.add_row(str(c.rank), Text(c.model, "bold" if c is sel.selected else ""),
-                      _fmt(c.criterion_value - best, "+.2f"), _fmt(c.sigma2, ".3g"),
-                      chk(d.rho_a2.value, d.rho_a2.passed), chk(d.rho_ax3.value, d.rho_ax3.passed),
-                      *lbs, Text("yes", "green") if c.white else Text("no", "red"))
-    table.caption = (f"white: |ρ_a,2|, |ρ_ax,3| ≤ 1.96/√n = {band:.3g} and "
-                     f"Ljung–Box p ≥ 0.05 at each lag (model_df = p+q); red: check fails")
-    table.caption_justify = "left"
-    return table
 
 
 def _select_params(c: Candidate, units: str | None) -> list[str]:
@@ -169,11 +118,7 @@ def select_cmd(
         corr = sel.correlogram
         say(f"{'ACF/PACF':<10}ACF {corr.acf_pattern.describe()}, PACF "
             f"{corr.pacf_pattern.describe()} -> {corr.suggestion}")
-        out.print(_select_table(sel))
-        for c in sel.candidates:
-            note = _select_notes(c)
-            if note and c is not sel.selected:
-                say(f"{'note':<10}{c.model}: {note}")
+        out.print(_rich(sel.candidate_table()))
         best = sel.selected
         if best is not None:
             how = (f"lowest {sel.criterion.upper()} among the white candidates" if best.white

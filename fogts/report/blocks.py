@@ -8,13 +8,16 @@ import io
 import math
 import re
 from collections.abc import Sequence
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from fogts.report.page import Block
 
-__all__ = ["MAX_SVG_BYTES", "figure_block"]
+if TYPE_CHECKING:
+    from fogts.tables import Table as FogtsTable
+
+__all__ = ["MAX_SVG_BYTES", "figure_block", "table_block"]
 
 #: Figures larger than this as SVG are embedded as PNG instead.
 MAX_SVG_BYTES = 1_500_000
@@ -107,3 +110,12 @@ def _table(caption: str, columns: Sequence[str], rows: Sequence[Sequence[Any]], 
                    for j in range(len(columns))]
     return Block(kind="table", caption=caption, columns=tuple(columns), rows=cells,
                  numeric=tuple(numeric), highlight=tuple(highlight))
+
+
+def table_block(table: FogtsTable) -> Block:
+    """A :class:`fogts.tables.Table` as a report table (its caption as a paragraph after
+    it is left to the caller: the block's caption is the table's title)."""
+    return Block(kind="table", caption=table.title, columns=tuple(table.titles),
+                 rows=tuple(tuple(r) for r in table.cells()),
+                 numeric=tuple(c.numeric for c in table.columns),
+                 highlight=tuple(table.highlight))

@@ -16,7 +16,7 @@ from typing import Any
 
 from fogts.errors import DataError
 from fogts.report.analyses import _Context
-from fogts.report.blocks import _fixed, _num, _pval, _table, _yes_no, figure_block
+from fogts.report.blocks import _num, _pval, _table, _yes_no, figure_block, table_block
 from fogts.report.page import Block, Section
 from fogts.report.text import _duration_text, error_message, run_info, warning_texts
 
@@ -164,29 +164,13 @@ def _allan_blocks(ctx: _Context, i: int, notes: list[str]) -> list[Block]:
                         f"not {res.kind}")
     fig = plot_allan(res, model)
     pct = f"{100 * model.confidence:.1f} %"
-    rows = []
-    for t in model.terms:
-        note = "at zero: upper limit only" if t.at_bound else ""
-        if not t.identifiable:
-            note = (note + "; " if note else "") + "not identifiable from this τ range"
-        rows.append([t.name, _TERM_NAME.get(t.name, t.name), t.value, t.stderr,
-                     f"{_num(t.ci_low)} … {_num(t.ci_high)}", t.unit, note])
+    terms = model.term_table()
     blocks = [figure_block(fig, id=f"allan-{i}", alt=f"Allan deviation of {_axis_label(ctx, i)}",
                            caption=f"{res.kind} with {pct} confidence intervals; fitted total "
                                    "and each term's own line."),
-              _table(f"IEEE-952 noise coefficients ({model.method.upper()} fit, {pct} "
-                     "intervals)", ["term", "name", "value", "± std. error", f"{pct} interval",
-                                    "unit", "note"], rows,
-                     numeric=[False, False, True, True, True, False, False])]
-    r = model.readoff
-    blocks.append(Block(kind="paragraph", text=(
-        f"Classic slope read-offs, for comparison only: N = {_num(r.N)} deg/sqrt(h) "
-        f"(−1/2 line at τ = 1 s), K = {_num(r.K)} deg/h^1.5 (+1/2 line at τ = 3 s), "
-        f"B = {_num(r.B)} deg/h (curve minimum / 0.664).")))
-    pts = [[t, m, n, d, lo, hi, e] for t, m, n, d, lo, hi, e in
-           zip(res.tau_s, res.m, res.n, res.dev, res.ci_low, res.ci_high, res.edf, strict=True)]
-    blocks.append(_table(f"Allan deviation points [{res.units}]",
-                         ["τ (s)", "m", "terms", "deviation", "CI low", "CI high", "edf"], pts))
+              table_block(terms), Block(kind="paragraph", text=terms.caption),
+              Block(kind="paragraph", text=model.readoff.describe(_num)),
+              table_block(res.points_table())]
     if res.dropped:
         blocks.append(Block(kind="list", caption="Taus not computed",
                             items=tuple(f"τ = {_num(d.tau_s)} s: {d.reason}"
@@ -196,25 +180,10 @@ def _allan_blocks(ctx: _Context, i: int, notes: list[str]) -> list[Block]:
 
 def _arma_blocks(ctx: _Context, i: int, notes: list[str]) -> list[Block]:
     sel = ctx.get_selection(i)
-    crit = sel.criterion.upper()
-    rows, highlight = [], []
-    for k, c in enumerate(sel.candidates):
-        lb = c.diagnostics.ljung_box if c.diagnostics is not None else ()
-        remarks = [f"failed: {c.reason}"] if not c.ok else []
-        remarks += [f.message for f in c.flags] + list(c.warnings)
-        rows.append([c.model, c.rank if c.rank is not None else "–", _fixed(c.aic),
-                     _fixed(c.bic), c.sigma2, c.rho_a2, c.rho_ax3,
-                     ", ".join(f"{_pval(x.pvalue)} ({x.lag})" for x in lb) or "–",
-                     _yes_no(c.white) if c.ok else "–", "; ".join(remarks)])
-        if sel.selected is not None and c.model == sel.selected.model:
-            highlight.append(k)
+    candidates = sel.candidate_table()
     blocks: list[Block] = [
         Block(kind="paragraph", text=f"Data correlogram: {sel.correlogram.summary()}"),
-        _table(f"Candidates, ranked by {crit} (the selected model is highlighted)",
-               ["model", "rank", "AIC", "BIC", "σ²", "ρ_a,2", "ρ_ax,3",
-                "Ljung–Box p (lag)", "white", "notes"], rows,
-               numeric=[False, True, True, True, True, True, True, False, False, False],
-               highlight=highlight)]
+        table_block(candidates), Block(kind="paragraph", text=candidates.caption)]
     best = sel.selected
     if best is not None:
         blocks.append(Block(kind="pre", caption=f"Selected model: {best.model}",

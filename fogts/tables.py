@@ -1,0 +1,122 @@
+"""One table model for every tabular output.
+
+A result defines each of its tables once, as a :class:`Table` (title, columns, rows, a
+caption, the cells that fail a check, the rows to emphasise); the renderers turn that one
+definition into plain text (:meth:`Table.to_text`, used by ``summary()``), a DataFrame
+(:meth:`Table.to_frame`), a rich table on the terminal (:func:`fogts.cli._common._rich`)
+and an HTML table in the report (:func:`fogts.report.blocks.table_block`).  A change of
+wording or of a column therefore reaches all of them together.  (The JSON documents are
+contracts of their own: DESIGN.md, "Contracts".)
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    import pandas as pd
+
+__all__ = ["Column", "Table", "format_cell"]
+
+#: What an empty, NaN or infinite cell shows.
+MISSING = "–"
+
+
+@dataclass(frozen=True)
+class Column:
+    """A column: its ``title`` (shown), whether it holds numbers (right-aligned) and the
+    ``digits`` (significant, or decimals with ``fixed``) numbers are shown with."""
+
+    title: str
+    numeric: bool = True
+    digits: int = 4
+    fixed: bool = False
+    signed: bool = False
+
+
+def format_cell(value: Any, column: Column) -> str:
+    """A cell as text: strings as they are, booleans as yes/no, (low, high) pairs as an
+    interval, numbers with the column's digits; None, NaN and inf as :data:`MISSING`."""
+    if value is None:
+        return MISSING
+    if isinstance(value, str):
+        return value
+    if isinstance(value, bool):
+        return "yes" if value else "no"
+    if isinstance(value, tuple) and len(value) == 2:
+        return f"{format_cell(value[0], column)} … {format_cell(value[1], column)}"
+    if isinstance(value, int):
+        return f"{value:+d}" if column.signed else str(value)
+    v = float(value)
+    if not math.isfinite(v):
+        return MISSING
+    sign = "+" if column.signed else ""
+    return f"{v:{sign}.{column.digits}f}" if column.fixed else f"{v:{sign}.{column.digits}g}"
+
+
+@dataclass(frozen=True)
+class Table:
+    """A titled table.
+
+    Attributes
+    ----------
+    title : str
+    columns : tuple of Column
+    rows : tuple of tuples
+        The raw values (numbers stay numbers: each renderer formats them).
+    caption : str
+        How to read the table (thresholds, units), shown under it.
+    failed : frozenset of (row, column)
+        Cells whose value fails a check (shown in red / marked).
+    highlight : tuple of int
+        Rows to emphasise (the selected model, say).
+    """
+
+    title: str
+    columns: tuple[Column, ...]
+    rows: tuple[tuple[Any, ...], ...]
+    caption: str = ""
+    failed: frozenset[tuple[int, int]] = frozenset()
+    highlight: tuple[int, ...] = ()
+
+    @classmethod
+    def build(cls, title: str, columns: Sequence[Column], rows: Sequence[Sequence[Any]], *,
+              caption: str = "", failed: Sequence[tuple[int, int]] = (),
+              highlight: Sequence[int] = ()) -> Table:
+        """A Table from lists (converted to the frozen tuples)."""
+        return cls(title=title, columns=tuple(columns), rows=tuple(tuple(r) for r in rows),
+                   caption=caption, failed=frozenset(failed), highlight=tuple(highlight))
+
+    @property
+    def titles(self) -> list[str]:
+        return [c.title for c in self.columns]
+
+    def cells(self) -> list[list[str]]:
+        """Every cell as text (:func:`format_cell`)."""
+        return [[format_cell(v, c) for v, c in zip(row, self.columns, strict=True)]
+                for row in self.rows]
+
+    def to_text(self) -> str:
+        """Aligned plain text: the title, the header, the rows and the caption."""
+        cells = self.cells()
+        widths = [max([len(c.title), *(len(r[j]) for r in cells)])
+                  for j, c in enumerate(self.columns)]
+
+        def line(values: Sequence[str]) -> str:
+            return "  ".join(v.rjust(w) if c.numeric else v.ljust(w)
+                             for v, w, c in zip(values, widths, self.columns, strict=True)
+                             ).rstrip()
+
+        out = [self.title, line(self.titles), *(line(r) for r in cells)]
+        if self.caption:
+            out.append(self.caption)
+        return "\n".join(out)
+
+    def to_frame(self) -> pd.DataFrame:
+        """The raw values with the column titles as columns."""
+        import pandas as pd
+
+        return pd.DataFrame([list(r) for r in self.rows], columns=self.titles)
