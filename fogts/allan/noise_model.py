@@ -83,11 +83,11 @@ class NoiseTerm:
     @property
     def note(self) -> str:
         """Why the value is only an upper limit, or not identifiable; "" otherwise."""
-        note = ("at zero (upper limit)" if self.status == "at_bound" else
-                f"dropped, z = {self.z_score:.2f} (upper limit)" if self.status == "dropped"
+        note = ("upper limit (fit at zero)" if self.status == "at_bound" else
+                f"upper limit (dropped, z = {self.z_score:.2f})" if self.status == "dropped"
                 else "")
         if not self.identifiable:
-            note = (note + "; " if note else "") + "not identifiable from this τ range"
+            note = (note + "; " if note else "") + "not identifiable"
         return note
 
     @property
@@ -285,8 +285,9 @@ class NoiseModel:
             f"on {self.tau_s.size} taus {self.tau_s[0]:.4g}..{self.tau_s[-1]:.4g} s, input "
             f"in {self.units})", columns, rows,
             caption="C_n: coefficient of tau^n in sigma^2(tau) = sum C_n tau^n (rate in "
-                    "deg/h, tau in s); an upper limit is the one-sided bound of a term the "
-                    "data do not support")
+                    "deg/h, tau in s). Upper limit: the one-sided bound of a term the data do "
+                    "not support. Not identifiable: the term makes up a sizeable share of the "
+                    "fitted sigma^2 at too few taus of this grid to be measured.")
 
     def summary(self) -> str:
         lines = [self.term_table().to_text()]
