@@ -20,6 +20,7 @@ from fogts.cli._common import (
     _read,
     _rich,
     _save_figure,
+    _say,
     app,
     console,
     err_console,
@@ -29,6 +30,7 @@ from fogts.pipeline import ReadSettings
 
 if TYPE_CHECKING:
     from fogts.arma.select import Candidate
+    from fogts.pipeline import AxisSelection
 
 
 
@@ -69,8 +71,6 @@ def select_cmd(
 
     Exit code 0 if the selected model leaves white residuals, 1 if no candidate does (the best one is still reported), 2 on bad input.
     """
-    from rich.text import Text
-
     from fogts.arma.select import parse_candidates
     from fogts.pipeline import SelectSettings, analyse_selection
 
@@ -83,63 +83,76 @@ def select_cmd(
         analysis = analyse_selection(run, quality, pick, SelectSettings(
             outliers=outliers, detrend=detrend, decimate=decimate, candidates=orders,
             criterion=criterion), file=str(file))
-        prepared, sel = analysis.prepared, analysis.selection
-        payload = analysis.to_dict()
-        _emit_json(payload, json_out)
+        sel = analysis.selection
+        _emit_json(analysis.to_dict(), json_out)
         if plot is not None:
             from fogts.report.plots import plot_selection
 
             _save_figure(plot_selection(sel), plot)
-        pred = None
-        if predict is not None and sel.selected is not None:
-            from fogts.io.writer import write_frame_atomic
-
-            pred = sel.selected.predict()
-            frame = pred.to_frame().reset_index(drop=True)
-            if "time" not in frame:
-                frame.insert(0, "time", prepared.time)
-            write_frame_atomic(predict, frame[["time", "observed", "predicted", "residual"]])
-
-        out = err_console if json_out == "-" else console
-
-        def say(text: str = "", style: str = "") -> None:
-            out.print(Text(text, style), soft_wrap=True)
-
-        dur = run.duration_s
-        dur_text = f"{dur / 3600:.3g} h" if dur >= 3600 else (
-            f"{dur / 60:.3g} min" if dur >= 60 else f"{dur:.3g} s")
-        say(f"read      {file}: {run.n:,} samples of {prepared.axis!r} at {run.fs_hz:g} Hz "
-            f"({dur_text}), rate in {run.units}")
-        if run.n_axes > 1:
-            say(f"{'':<10}axes in the file: {', '.join(run.axes)} (choose with --axis)")
-        for i, step in enumerate(prepared.steps):
-            say(f"{'prepared' if i == 0 else '':<10}{step}")
-        say(f"{'modelled':<10}{sel.n:,} samples at {prepared.fs_hz:g} Hz")
-        corr = sel.correlogram
-        say(f"{'ACF/PACF':<10}ACF {corr.acf_pattern.describe()}, PACF "
-            f"{corr.pacf_pattern.describe()} -> {corr.suggestion}")
-        out.print(_rich(sel.candidate_table()))
-        best = sel.selected
-        if best is not None:
-            how = (f"lowest {sel.criterion.upper()} among the white candidates" if best.white
-                   else f"lowest {sel.criterion.upper()}; residuals NOT white")
-            say(f"selected  {best.model} ({how}), drift in {prepared.units}:", "bold")
-            say(f"  {best.equation()}", "bold")
-            for line in _select_params(best, prepared.units):
-                say(line)
-            for f in best.flags:
-                say(f"  note: {f.message}")
-            bp = best.predict()
-            say(f"  one-step prediction: std {bp.variance_observed ** 0.5:.4g} -> "
-                f"{bp.variance_residual ** 0.5:.4g} {prepared.units} "
-                f"({100 * bp.variance_removed:.1f} % of the variance removed)")
-        say(f"verdict   {sel.verdict}", "green" if sel.exit_code == 0 else "red")
-        if json_out not in (None, "-"):
-            say(f"wrote     {json_out}")
-        if plot is not None:
-            say(f"wrote     {plot}")
-        if pred is not None:
-            say(f"wrote     {predict}")
-        elif predict is not None:
-            say(f"not written {predict}: no candidate could be fitted")
+        written = _write_prediction(analysis, predict) if predict is not None else False
+        _print_selection(analysis, json_out)
+        _say([f"wrote     {path}" for path, done in ((json_out, json_out not in (None, "-")),
+                                                    (plot, plot is not None),
+                                                    (predict, written)) if done]
+             + ([f"not written {predict}: no candidate could be fitted"]
+                if predict is not None and not written else []), json_out)
     raise typer.Exit(sel.exit_code)
+
+
+def _write_prediction(analysis: AxisSelection, target: Path) -> bool:
+    """Write the selected model's one-step prediction (time, observed, predicted, residual);
+    False when no candidate could be fitted."""
+    from fogts.io.writer import write_frame_atomic
+
+    best = analysis.selection.selected
+    if best is None:
+        return False
+    frame = best.predict().to_frame().reset_index(drop=True)
+    if "time" not in frame:
+        frame.insert(0, "time", analysis.prepared.time)
+    write_frame_atomic(target, frame[["time", "observed", "predicted", "residual"]])
+    return True
+
+
+def _duration_text(seconds: float) -> str:
+    return (f"{seconds / 3600:.3g} h" if seconds >= 3600 else
+            f"{seconds / 60:.3g} min" if seconds >= 60 else f"{seconds:.3g} s")
+
+
+def _print_selection(analysis: AxisSelection, json_out: str | None) -> None:
+    """What was read and prepared, the candidate table, the selected model and the verdict
+    (to stderr when the JSON goes to stdout)."""
+    from rich.text import Text
+
+    out = err_console if json_out == "-" else console
+    run, prepared, sel = analysis.run, analysis.prepared, analysis.selection
+
+    def say(text: str = "", style: str = "") -> None:
+        out.print(Text(text, style), soft_wrap=True)
+
+    say(f"read      {analysis.file}: {run.n:,} samples of {prepared.axis!r} at "
+        f"{run.fs_hz:g} Hz ({_duration_text(run.duration_s)}), rate in {run.units}")
+    if run.n_axes > 1:
+        say(f"{'':<10}axes in the file: {', '.join(run.axes)} (choose with --axis)")
+    for i, step in enumerate(prepared.steps):
+        say(f"{'prepared' if i == 0 else '':<10}{step}")
+    say(f"{'modelled':<10}{sel.n:,} samples at {prepared.fs_hz:g} Hz")
+    corr = sel.correlogram
+    say(f"{'ACF/PACF':<10}ACF {corr.acf_pattern.describe()}, PACF "
+        f"{corr.pacf_pattern.describe()} -> {corr.suggestion}")
+    out.print(_rich(sel.candidate_table()))
+    best = sel.selected
+    if best is not None:
+        how = (f"lowest {sel.criterion.upper()} among the white candidates" if best.white
+               else f"lowest {sel.criterion.upper()}; residuals NOT white")
+        say(f"selected  {best.model} ({how}), drift in {prepared.units}:", "bold")
+        say(f"  {best.equation()}", "bold")
+        for line in _select_params(best, prepared.units):
+            say(line)
+        for f in best.flags:
+            say(f"  note: {f.message}")
+        bp = best.predict()
+        say(f"  one-step prediction: std {bp.variance_observed ** 0.5:.4g} -> "
+            f"{bp.variance_residual ** 0.5:.4g} {prepared.units} "
+            f"({100 * bp.variance_removed:.1f} % of the variance removed)")
+    say(f"verdict   {sel.verdict}", "green" if sel.exit_code == 0 else "red")

@@ -4,7 +4,7 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated, Any
+from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 
@@ -13,6 +13,11 @@ from fogts.cli._common import (
     app,
     console,
 )
+
+if TYPE_CHECKING:
+    import pandas as pd
+
+    from fogts.simulate import NoiseSpec
 
 #: Library argument names of ``fogts simulate`` (both modes) and their options.
 _SIMULATE_OPTIONS = {
@@ -109,15 +114,13 @@ def simulate_noise_cmd(
     profile), and a sidecar JSON OUTPUT.json with the true parameters and the closed-form
     Allan deviation.
     """
-    import dataclasses
-
     import numpy as np
 
     from fogts._version import __version__ as version
     from fogts.errors import DataError
     from fogts.io.writer import write_frame_atomic, write_text_atomic
     from fogts.report.text import json_dumps
-    from fogts.simulate import ArmaSpec, NoiseSpec, TemperatureProfile, simulate_gyro
+    from fogts.simulate import ArmaSpec, TemperatureProfile, simulate_gyro
     from fogts.units import parse_duration
 
     sidecar_path = Path(f"{output}.json")  # never raises, whatever the user typed
@@ -126,21 +129,8 @@ def simulate_noise_cmd(
                 inputs={"--from-json": [noise_json] if noise_json else []}):
         _check_simulation_output(output)
         duration_s = parse_duration("1h" if duration is None else duration, "--duration")
-        values: dict[str, float] = {}
-        if noise_json is not None:
-            from fogts.io.reader import read_json
-
-            loaded = read_json(noise_json, "--from-json file")
-            values.update(dataclasses.asdict(NoiseSpec.from_any(loaded)))
-        given = {"Q": q_term, "N": n_term, "B": b_term, "K": k_term, "R": r_term, "bias": bias}
-        values.update({k: v for k, v in given.items() if v != 0.0 or k not in values})
-        pm = _pair(markov, "--markov", "q_c,T_c")
-        if pm is not None:
-            values["q_c"], values["T_c"] = pm
-        ps = _pair(sine, "--sine", "amplitude,frequency")
-        if ps is not None:
-            values["Omega_0"], values["f_0"] = ps
-        spec = NoiseSpec(**values)
+        spec = _noise_spec(noise_json, {"Q": q_term, "N": n_term, "B": b_term, "K": k_term,
+                                         "R": r_term, "bias": bias}, markov=markov, sine=sine)
         arma_spec = ArmaSpec.parse(arma) if arma is not None else None
         profile = TemperatureProfile.parse(temperature_profile) \
             if temperature_profile is not None else None
@@ -153,11 +143,7 @@ def simulate_noise_cmd(
                             n_axes=axes, arma=arma_spec, temperature=profile,
                             thermal_coefficients=coefs,
                             flicker=flicker)  # type: ignore[arg-type]
-        frame = run.to_frame()
-        frame["time"] = np.round(frame["time"].to_numpy(), 9)
-        if decimals is not None:
-            for col in frame.columns[1:]:
-                frame[col] = np.round(frame[col].to_numpy(), decimals)
+        frame = _rounded(run.to_frame(), decimals)
         m = 2 ** np.arange(int(np.log2(max(run.n // 4, 1))) + 1)
         sidecar = {
             "generator": f"fogts {version} simulate noise", "output": output.name, "seed": seed,
@@ -179,6 +165,42 @@ def simulate_noise_cmd(
                       f"{run.fs_hz:g} Hz ({run.duration_s:g} s), rate in {run.units}, seed "
                       f"{seed}; true parameters in {side}", markup=False, soft_wrap=True)
         console.print(spec.summary(), markup=False, soft_wrap=True)
+
+
+def _noise_spec(noise_json: Path | None, given: dict[str, float], *, markov: str | None,
+                sine: str | None) -> NoiseSpec:
+    """The noise terms: those of ``--from-json`` (if given), overridden by the non-zero
+    ``--Q/--N/--B/--K/--R/--bias``, plus ``--markov`` and ``--sine``."""
+    import dataclasses
+
+    from fogts.simulate import NoiseSpec
+
+    values: dict[str, float] = {}
+    if noise_json is not None:
+        from fogts.io.reader import read_json
+
+        loaded = read_json(noise_json, "--from-json file")
+        values.update(dataclasses.asdict(NoiseSpec.from_any(loaded)))
+    values.update({k: v for k, v in given.items() if v != 0.0 or k not in values})
+    pm = _pair(markov, "--markov", "q_c,T_c")
+    if pm is not None:
+        values["q_c"], values["T_c"] = pm
+    ps = _pair(sine, "--sine", "amplitude,frequency")
+    if ps is not None:
+        values["Omega_0"], values["f_0"] = ps
+    return NoiseSpec(**values)
+
+
+def _rounded(frame: pd.DataFrame, decimals: int | None) -> pd.DataFrame:
+    """Time to the nanosecond and, with ``--decimals``, the other columns to that many
+    decimals (smaller files)."""
+    import numpy as np
+
+    frame["time"] = np.round(frame["time"].to_numpy(), 9)
+    if decimals is not None:
+        for col in frame.columns[1:]:
+            frame[col] = np.round(frame[col].to_numpy(), decimals)
+    return frame
 
 
 def _duration_or_zero(text: str | None, option: str, default: float) -> float:
@@ -244,28 +266,17 @@ def _check_simulation_output(output: Path) -> None:
                         f"{output.name!r}")
 
 
-def _simulate_startup(output: Path, *, fs: float, duration: str | None,
-                      seed: int | None, units: str, decimals: int | None, bias: float,
-                      arma: str | None, thermal: str | None, cold: dict[str, Any]) -> None:
-    """A cold start (or four-position record) to a file that ``fogts compensate``,
-    ``filter`` and ``northfind`` read directly."""
+def _startup_kwargs(cold: dict[str, Any], *, bias: float, arma: str | None,
+                    thermal: str | None) -> dict[str, Any]:
+    """The cold-start options as keyword arguments of the start-up simulator."""
     import math
 
-    import numpy as np
-
     from fogts._validate import check_positive
-    from fogts._version import __version__ as version
     from fogts.arma.spec import ArmaSpec
     from fogts.errors import DataError
-    from fogts.io.writer import write_frame_atomic, write_text_atomic
-    from fogts.report.text import json_dumps
-    from fogts.startup.northfind_simulation import simulate_startup_positions
-    from fogts.startup.simulator import DEFAULT_STARTUP_COEFFICIENTS, simulate_startup
-    from fogts.units import convert_rate, parse_duration, parse_rate_unit
+    from fogts.startup.simulator import DEFAULT_STARTUP_COEFFICIENTS
+    from fogts.units import parse_duration
 
-    if decimals is not None and not 0 <= decimals <= 15:
-        raise DataError(f"--decimals must be in 0..15, got {decimals}")
-    unit = parse_rate_unit(units, "--units")
     kwargs: dict[str, Any] = {"ambient_degC": cold["--ambient-c"], "earth_rate_deg_h": bias}
     for name, key, zero in (("--peak-heating-c-s", "peak_rate_degC_s", False),
                             ("--white-deg-h", "white_sigma_deg_h", True),
@@ -285,6 +296,29 @@ def _simulate_startup(output: Path, *, fs: float, duration: str | None,
         kwargs.update(ar=spec.ar, ma=spec.ma, arma_sigma_deg_h=math.sqrt(spec.sigma2),
                       earth_rate_deg_h=bias + spec.const)
     kwargs["coefficients"] = _coefficients(thermal, "--thermal") or DEFAULT_STARTUP_COEFFICIENTS
+    return kwargs
+
+
+def _simulate_startup(output: Path, *, fs: float, duration: str | None,
+                      seed: int | None, units: str, decimals: int | None, bias: float,
+                      arma: str | None, thermal: str | None, cold: dict[str, Any]) -> None:
+    """A cold start (or four-position record) to a file that ``fogts compensate``,
+    ``filter`` and ``northfind`` read directly."""
+
+    import numpy as np
+
+    from fogts._version import __version__ as version
+    from fogts.errors import DataError
+    from fogts.io.writer import write_frame_atomic, write_text_atomic
+    from fogts.report.text import json_dumps
+    from fogts.startup.northfind_simulation import simulate_startup_positions
+    from fogts.startup.simulator import simulate_startup
+    from fogts.units import convert_rate, parse_duration, parse_rate_unit
+
+    if decimals is not None and not 0 <= decimals <= 15:
+        raise DataError(f"--decimals must be in 0..15, got {decimals}")
+    unit = parse_rate_unit(units, "--units")
+    kwargs = _startup_kwargs(cold, bias=bias, arma=arma, thermal=thermal)
     fs_hz = fs
     if seed is None:
         seed = int(np.random.SeedSequence().generate_state(1, np.uint64)[0] >> np.uint64(1))
