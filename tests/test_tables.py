@@ -7,7 +7,7 @@ import math
 import numpy as np
 from rich.console import Console
 
-from fogts.cli._common import _rich
+from fogts.cli._common import rich_table as _rich
 from fogts.report.blocks import table_block
 from fogts.tables import MISSING, Column, Table, format_cell
 

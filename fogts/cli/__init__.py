@@ -11,7 +11,8 @@ import sys
 
 import typer
 
-from fogts.cli._common import _STATE, ExitCode, app, err_console
+from fogts.cli import _common as common
+from fogts.cli._common import app
 
 #: The commands, in the order ``fogts --help`` lists them; importing a command's module
 #: registers it on the app.
@@ -64,9 +65,9 @@ def main(argv: list[str] | None = None) -> None:
     try:
         app(args=argv, prog_name="fogts")
     except Exception as exc:  # anything a command raised outside its guard: still one line
-        if _STATE["debug"]:
+        if common._STATE["debug"]:
             raise
         from fogts.report.text import error_message
 
-        err_console.print(f"error: {error_message(exc)}", markup=False, soft_wrap=True)
-        raise SystemExit(ExitCode.ERROR) from None
+        common.err_console.print(f"error: {error_message(exc)}", markup=False, soft_wrap=True)
+        raise SystemExit(common.ExitCode.ERROR) from None

@@ -203,7 +203,7 @@ def _main_options(
 
 
 @contextmanager
-def _guard(options: Mapping[str, str] | None = None, *,
+def guard(options: Mapping[str, str] | None = None, *,
            outputs: Mapping[str, Path | str | None] | None = None,
            inputs: Mapping[str, Iterable[Path]] | None = None) -> Iterator[None]:
     """Run a command body: warnings become ``warning: ...`` lines on stderr (each once),
@@ -288,7 +288,7 @@ def reads_input(*, nan: bool = True, gaps: bool = True
     return decorate
 
 
-def _read(path: Path, read: ReadSettings, *, glitches: bool = True
+def read_input(path: Path, read: ReadSettings, *, glitches: bool = True
           ) -> tuple[Run, DataQuality]:
     """Read one input and check its hygiene (:func:`fogts.pipeline.load`): assumed units,
     missing cells, gaps and glitches are printed at once as ``warning:`` lines naming the
@@ -303,7 +303,7 @@ def _read(path: Path, read: ReadSettings, *, glitches: bool = True
     return run, quality
 
 
-def _emit_json(payload: dict[str, Any], target: str | None) -> None:
+def emit_json(payload: dict[str, Any], target: str | None) -> None:
     """Write ``payload`` as JSON to ``target`` ('-' = stdout); files are written atomically."""
     if target is None:
         return
@@ -317,7 +317,7 @@ def _emit_json(payload: dict[str, Any], target: str | None) -> None:
         write_text_atomic(Path(target), text + "\n")
 
 
-def _rich(table: FogtsTable) -> Table:
+def rich_table(table: FogtsTable) -> Table:
     """A :class:`fogts.tables.Table` on the terminal: failed checks in red, emphasised rows
     in bold, the caption under it."""
     from rich.markup import escape
@@ -334,7 +334,7 @@ def _rich(table: FogtsTable) -> Table:
     return out
 
 
-def _print(*objects: Any, quiet_json: str | None = None) -> None:
+def print_out(*objects: Any, quiet_json: str | None = None) -> None:
     """Print to the terminal unless JSON goes to stdout (keep stdout parseable)."""
     target = err_console if quiet_json == "-" else console
     target.print(*objects)
@@ -344,7 +344,7 @@ def _print(*objects: Any, quiet_json: str | None = None) -> None:
 _TAU_GRIDS = ("octave", "decade", "dense", "all")
 
 
-def _tau_option(text: str, option: str = "--taus") -> str | list[float]:
+def tau_option(text: str, option: str = "--taus") -> str | list[float]:
     """``octave``, ``decade``, ``dense``, ``all``, or taus in seconds separated by commas."""
     from fogts.errors import DataError
 
@@ -364,7 +364,7 @@ _FIGURE_SUFFIXES = (".png", ".svg", ".pdf")
 _TABLE_SUFFIXES = (".csv", ".csv.gz", ".tsv", ".txt", ".parquet", ".pq")
 
 
-def _check_output_names(**outputs: Path | None) -> None:
+def check_output_names(**outputs: Path | None) -> None:
     """Reject output names the writers would refuse, before any analysis runs.
 
     ``plot`` must be a figure (.png, .svg, .pdf); every other keyword names a table option
@@ -384,7 +384,7 @@ def _check_output_names(**outputs: Path | None) -> None:
 
 
 
-def _save_figure(fig: Figure, path: str | Path) -> None:
+def save_figure(fig: Figure, path: str | Path) -> None:
     """Save a Figure atomically; the format follows the suffix (.png, .svg, .pdf)."""
     from fogts.errors import DataError
     from fogts.io.writer import atomic_path
@@ -398,14 +398,14 @@ def _save_figure(fig: Figure, path: str | Path) -> None:
 
 
 
-def _say(lines: list[str], json_out: str | None) -> None:
+def say(lines: list[str], json_out: str | None) -> None:
     """Print text lines unwrapped (to stderr when the JSON goes to stdout)."""
     target = err_console if json_out == "-" else console
     target.print("\n".join(lines), markup=False, soft_wrap=True)
 
 
 
-def _load_thermal_model(path: Path) -> ThermalModel:
+def load_thermal_model(path: Path) -> ThermalModel:
     from fogts.io.reader import read_json
     from fogts.startup.thermal_model import ThermalModel
 
@@ -415,7 +415,7 @@ def _load_thermal_model(path: Path) -> ThermalModel:
     return ThermalModel.from_dict(data)
 
 
-def _axis_index(run: Run, axis: str) -> int:
+def axis_index(run: Run, axis: str) -> int:
     """``--axis`` as a position in ``run.axes``: an axis name, or an index (negative ones
     count from the end, as in Python).  One parser for every command."""
     from fogts.errors import DataError

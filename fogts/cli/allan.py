@@ -7,26 +7,7 @@ from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 
-from fogts.cli._common import (
-    DEFAULT_READ,
-    Estimator,
-    JsonOpt,
-    KindOpt,
-    NoiseFitMethod,
-    _axis_index,
-    _check_output_names,
-    _emit_json,
-    _guard,
-    _print,
-    _read,
-    _rich,
-    _save_figure,
-    _say,
-    _tau_option,
-    app,
-    err_console,
-    reads_input,
-)
+from fogts.cli import _common as common
 from fogts.pipeline import ReadSettings
 
 if TYPE_CHECKING:
@@ -45,42 +26,42 @@ def _allan_tables(res: AllanResult, model: NoiseModel | None, check: dict[str, A
     def g(v: float, digits: int = 5) -> str:
         return "-" if v is None or not math.isfinite(v) else f"{v:.{digits}g}"
 
-    _print(_rich(res.points_table()), quiet_json=quiet_json)
+    common.print_out(common.rich_table(res.points_table()), quiet_json=quiet_json)
     for d in res.dropped:
-        _say([f"dropped tau = {d.tau_s:g} s (m = {d.m}): {d.reason}"], quiet_json)
+        common.say([f"dropped tau = {d.tau_s:g} s (m = {d.m}): {d.reason}"], quiet_json)
     if model is not None:
-        _print(_rich(model.term_table()), quiet_json=quiet_json)
-        _say([model.readoff.describe()], quiet_json)
-        _say([f"fit: chi2 = {model.chi2:.4g} on {model.dof:.4g} dof, model error "
+        common.print_out(common.rich_table(model.term_table()), quiet_json=quiet_json)
+        common.say([model.readoff.describe()], quiet_json)
+        common.say([f"fit: chi2 = {model.chi2:.4g} on {model.dof:.4g} dof, model error "
               f"{model.model_error:.3g}; standard errors: {model.stderr_method}"], quiet_json)
     if check is not None:
         worst = check["max_rel_diff"]
-        _say([f"allantools check ({check['peer']}): largest relative difference "
+        common.say([f"allantools check ({check['peer']}): largest relative difference "
               f"{g(worst, 3)} over {check['n_compared']} taus"
               + (f" (at tau = {check['tau_at_max']:g} s)" if worst is not None else "")
               + ("" if check["n_terms_equal"] else "; the numbers of terms differ")], quiet_json)
 
 
-@app.command("allan")
-@reads_input()
+@common.app.command("allan")
+@common.reads_input()
 def allan_cmd(
     files: Annotated[list[Path], typer.Argument(help="Input recording(s). Several files (or a multi-axis file) are overlaid on one --plot for comparing gyros.")],
-    kind: KindOpt = Estimator.oadev,
+    kind: common.KindOpt = common.Estimator.oadev,
     taus: Annotated[str, typer.Option("--taus", help="Tau grid: octave, decade, dense, all, or taus in s separated by commas.")] = "octave",
     confidence: Annotated[float, typer.Option("--confidence", help="Confidence level of the deviation and coefficient intervals.")] = 0.683,
     terms: Annotated[str, typer.Option("--terms", help="Noise terms to fit, from Q,N,B,K,R.")] = "Q,N,B,K,R",
-    method: Annotated[NoiseFitMethod, typer.Option("--method", help="Noise fit: wls (EDF weights), gls (full covariance), ols (unweighted, comparison only).")] = NoiseFitMethod.wls,
+    method: Annotated[common.NoiseFitMethod, typer.Option("--method", help="Noise fit: wls (EDF weights), gls (full covariance), ols (unweighted, comparison only).")] = common.NoiseFitMethod.wls,
     keep_all_terms: Annotated[bool, typer.Option("--keep-all-terms", help="Keep every --terms term in the fit even when the data do not support it (default: drop terms that are not significant at 5 % and visible at fewer than two taus).")] = False,
     axis: Annotated[str | None, typer.Option("--axis", help="Analyse one axis (name or index) (default: every axis).")] = None,
     outliers: Annotated[float | None, typer.Option("--outliers", help="Replace samples beyond this many robust sigmas first (default: raw data).")] = None,
     detrend: Annotated[int | None, typer.Option("--detrend", help="Remove a polynomial trend of this order first (default: raw data).")] = None,
     decimate: Annotated[int | None, typer.Option("--decimate", help="Block-average K samples first (default: raw data).")] = None,
-    json_out: JsonOpt = None,
+    json_out: common.JsonOpt = None,
     csv_out: Annotated[Path | None, typer.Option("--csv", help="Write the points (and the fitted curve) to PATH (.csv, .tsv, .parquet).")] = None,
     plot: Annotated[Path | None, typer.Option("--plot", help="Log-log figure with CIs, the fit and its term lines (several inputs: an overlay): .png, .svg or .pdf.")] = None,
     check_allantools: Annotated[bool, typer.Option("--check-allantools", help="Recompute with allantools on the same data and taus; print the largest relative difference.")] = False,
     bias_correction: Annotated[bool, typer.Option("--bias-correction", help="--kind totdev: divide TOTVAR by its bias at flicker- and random-walk-FM taus (Howe 1999), as Stable32 does.")] = False,
-    read: ReadSettings = DEFAULT_READ,
+    read: ReadSettings = common.DEFAULT_READ,
 ) -> None:
     """Allan deviation with confidence intervals, the IEEE-952 noise terms (Q, N, B, K, R)
     with standard errors, and the curve read-outs (minimum, regions, slopes).
@@ -93,11 +74,11 @@ def allan_cmd(
     from fogts.allan.noise import parse_terms
     from fogts.pipeline import AllanSettings, analyse_allan
 
-    with _guard(outputs={"--json": json_out, "--csv": csv_out, "--plot": plot},
+    with common.guard(outputs={"--json": json_out, "--csv": csv_out, "--plot": plot},
                 inputs={"FILES": files}):
-        tau_spec = _tau_option(taus)
+        tau_spec = common.tau_option(taus)
         term_names = parse_terms(terms)
-        _check_output_names(plot=plot, csv=csv_out)
+        common.check_output_names(plot=plot, csv=csv_out)
         settings = AllanSettings(kind=kind, taus=tau_spec, confidence=confidence,
                                  terms=term_names, method=method,
                                  significance=None if keep_all_terms else 0.05,
@@ -106,28 +87,28 @@ def allan_cmd(
                                  check_allantools=check_allantools)
         analyses = []
         for f in files:
-            run, quality = _read(f, read)
-            picks = None if axis is None else [_axis_index(run, axis)]
+            run, quality = common.read_input(f, read)
+            picks = None if axis is None else [common.axis_index(run, axis)]
             analysis = analyse_allan(run, quality, settings, axes=picks)
             for ax in analysis.axes:
                 warning = ax.plausibility_warning(run)
                 if warning is not None:
-                    err_console.print(f"warning: {warning}", markup=False, soft_wrap=True)
+                    common.err_console.print(f"warning: {warning}", markup=False, soft_wrap=True)
             analyses.append(analysis)
         payload = (analyses[0].to_dict() if len(analyses) == 1
                    else {"inputs": [a.to_dict() for a in analyses]})
-        _emit_json(payload, json_out)
+        common.emit_json(payload, json_out)
         if csv_out is not None:
             _allan_csv(analyses, csv_out)
         if plot is not None:
-            _save_figure(_allan_figure(analyses), plot)
+            common.save_figure(_allan_figure(analyses), plot)
         for done in analyses:
             run = done.run
-            _say([f"{run.source}: {run.n} samples at {run.fs_hz:.6g} Hz "
+            common.say([f"{run.source}: {run.n} samples at {run.fs_hz:.6g} Hz "
                   f"({run.duration_s:.6g} s), rate in {run.units}"], json_out)
             for ax in done.axes:
                 if ax.notes:
-                    _say([f"{ax.result.axis}: {line}" for line in ax.notes], json_out)
+                    common.say([f"{ax.result.axis}: {line}" for line in ax.notes], json_out)
                 _allan_tables(ax.result, ax.model, ax.check, json_out)
                 _curve_table(ax.result, ax.readout, json_out)
 
@@ -174,4 +155,4 @@ def _allan_figure(analyses: list[AllanAnalysis]) -> Figure:
 
 
 def _curve_table(res: AllanResult, readout: CurveReadout, quiet_json: str | None) -> None:
-    _print(_rich(readout.table(res.units, res.axis)), quiet_json=quiet_json)
+    common.print_out(common.rich_table(readout.table(res.units, res.axis)), quiet_json=quiet_json)

@@ -9,24 +9,12 @@ from typing import Annotated, Any
 import typer
 from rich.table import Table
 
-from fogts.cli._common import (
-    DEFAULT_READ,
-    Criterion,
-    CriterionOpt,
-    Estimator,
-    ExitCode,
-    KindOpt,
-    _guard,
-    app,
-    console,
-    err_console,
-    reads_input,
-)
+from fogts.cli import _common as common
 from fogts.pipeline import ReadSettings
 
 
-@app.command("batch")
-@reads_input()
+@common.app.command("batch")
+@common.reads_input()
 def batch_cmd(
     patterns: Annotated[list[str], typer.Argument(help="Input files or glob patterns (quote them to let fogts expand '**').")],
     output: Annotated[Path, typer.Option("--output", "-o", help="Summary table (.csv or .parquet): one row per run and axis.")],
@@ -34,13 +22,13 @@ def batch_cmd(
     workers: Annotated[int | None, typer.Option("--workers", help="Local worker processes (default: the number of CPUs).")] = None,
     scheduler: Annotated[str | None, typer.Option("--scheduler", help="Dask scheduler address (tcp://host:8786): run on that cluster instead of locally (needs the fogts\\[dask] extra).")] = None,
     resume: Annotated[bool, typer.Option("--resume", help="Skip runs whose per-run JSON already exists (delete a failed run's JSON to retry it).")] = False,
-    kind: KindOpt = Estimator.oadev,
+    kind: common.KindOpt = common.Estimator.oadev,
     taus: Annotated[str, typer.Option("--taus", help="Tau grid: octave, decade, dense, all.")] = "octave",
     detrend: Annotated[int | None, typer.Option("--detrend", help="Polynomial order removed before the ARMA selection.")] = None,
     decimate: Annotated[int | None, typer.Option("--decimate", help="Block-average K samples before the ARMA selection.")] = None,
-    criterion: CriterionOpt = Criterion.aic,
+    criterion: common.CriterionOpt = common.Criterion.aic,
     no_select: Annotated[bool, typer.Option("--no-select", help="Skip the ARMA selection (info and Allan only).")] = False,
-    read: ReadSettings = DEFAULT_READ,
+    read: ReadSettings = common.DEFAULT_READ,
 ) -> None:
     """Run info, allan and select on many files; write one summary row per run and axis.
 
@@ -60,7 +48,7 @@ def batch_cmd(
 
     from fogts.batch import BatchOptions, BatchProgress, run_batch
 
-    with _guard({"summary_path": "--output", "patterns": "PATTERNS"}):
+    with common.guard({"summary_path": "--output", "patterns": "PATTERNS"}):
         options = BatchOptions(rate_column=read.rate_column, time_column=read.time_column,
                                temperature_column=read.temperature_column, fs_hz=read.fs_hz,
                                units=read.units, kind=kind, taus=taus, detrend=detrend,
@@ -71,7 +59,7 @@ def batch_cmd(
                        TextColumn("failed {task.fields[failed]}, remaining "
                                   "{task.fields[remaining]}"),
                        TimeElapsedColumn(), TextColumn("ETA"), TimeRemainingColumn(),
-                       console=err_console, transient=False)
+                       console=common.err_console, transient=False)
         task_id: list[Any] = []
 
         def on_progress(p: BatchProgress) -> None:
@@ -86,9 +74,9 @@ def batch_cmd(
             result = run_batch(patterns, summary_path=output, json_dir=json_dir,
                                workers=workers, scheduler=scheduler, resume=resume,
                                options=options, progress=on_progress)
-        console.print(result.summary(), markup=False, soft_wrap=True)
+        common.console.print(result.summary(), markup=False, soft_wrap=True)
         for line in _batch_quality_lines(result.rows):
-            err_console.print(f"warning: {line}", markup=False, soft_wrap=True)
+            common.err_console.print(f"warning: {line}", markup=False, soft_wrap=True)
         errors = [r for r in result.rows if r["status"] == "error"]
         if errors:
             from rich.text import Text
@@ -98,11 +86,11 @@ def batch_cmd(
                 failed.add_column(c)
             for r in errors:  # Text(): file names and messages are not rich markup
                 failed.add_row(Text(r["file"]), Text(r["axis"] or ""), Text(r["error"]))
-            console.print(failed)
+            common.console.print(failed)
     if result.interrupted:
-        err_console.print("error: interrupted; rerun with --resume to finish", markup=False)
-        raise typer.Exit(ExitCode.ERROR)
-    raise typer.Exit(ExitCode.NEGATIVE if errors else ExitCode.OK)
+        common.err_console.print("error: interrupted; rerun with --resume to finish", markup=False)
+        raise typer.Exit(common.ExitCode.ERROR)
+    raise typer.Exit(common.ExitCode.NEGATIVE if errors else common.ExitCode.OK)
 
 
 def _batch_quality_lines(rows: Iterable[Mapping[str, Any]]) -> list[str]:

@@ -7,27 +7,14 @@ from typing import Annotated
 
 import typer
 
-from fogts.cli._common import (
-    DEFAULT_READ,
-    FileArg,
-    JsonOpt,
-    _axis_index,
-    _emit_json,
-    _guard,
-    _load_thermal_model,
-    _read,
-    _save_figure,
-    _say,
-    app,
-    reads_input,
-)
+from fogts.cli import _common as common
 from fogts.pipeline import ReadSettings
 
 
-@app.command("compensate")
-@reads_input(gaps=False)
+@common.app.command("compensate")
+@common.reads_input(gaps=False)
 def compensate_cmd(
-    file: FileArg,
+    file: common.FileArg,
     output: Annotated[Path | None, typer.Option("-o", "--output", help="Output table (.csv or .parquet): time, raw, trend, used, compensated, temperature.")] = None,
     emd: Annotated[bool, typer.Option("--emd/--no-emd", help="Separate the trend by EMD and Kalman-filter the rest before fitting.")] = True,
     save_model: Annotated[Path | None, typer.Option("--save-model", help="Save the fitted thermal model as JSON.")] = None,
@@ -37,22 +24,22 @@ def compensate_cmd(
     average: Annotated[float, typer.Option("--average", help="Averaging time of the bias stability in seconds (GJB/IEEE: 10 s).")] = 10.0,
     dt_smoothing: Annotated[float, typer.Option("--dt-smoothing", help="Window in seconds of the temperature-rate (dT/dt) estimate.")] = 60.0,
     axis: Annotated[str, typer.Option("--axis", help="Axis to compensate (name or index).")] = "0",
-    json_out: JsonOpt = None,
+    json_out: common.JsonOpt = None,
     plot: Annotated[Path | None, typer.Option("--plot", help="Raw rate, trend, compensated rate and temperature: .png, .svg or .pdf.")] = None,
-    read: ReadSettings = DEFAULT_READ,
+    read: ReadSettings = common.DEFAULT_READ,
 ) -> None:
     """Fit the start-up temperature-drift model D = aT·dT + bT² + cT + d·dT² + e·dT + f and
     compensate; prints the model and the bias stability before and after."""
     from fogts.startup.startup_workflow import startup_compensation
 
-    with _guard(outputs={"--output": output, "--save-model": save_model, "--json": json_out,
+    with common.guard(outputs={"--output": output, "--save-model": save_model, "--json": json_out,
                          "--plot": plot},
                 inputs={"FILE": [file], "--model": [model] if model else [],
                         "--calibration": calibration or []}):
-        run, quality = _read(file, read)
-        pick = _axis_index(run, axis)
-        given = _load_thermal_model(model) if model is not None else None
-        extra = [_read(c, read)[0]
+        run, quality = common.read_input(file, read)
+        pick = common.axis_index(run, axis)
+        given = common.load_thermal_model(model) if model is not None else None
+        extra = [common.read_input(c, read)[0]
                  for c in (calibration or [])]
         if extra and given is not None:
             from fogts.errors import DataError
@@ -73,14 +60,14 @@ def compensate_cmd(
         payload = {"input": str(file), **result.to_dict(), "data_quality": quality.to_dict()}
         if given is not None:
             payload["thermal"]["source"] = str(model)
-        _emit_json(payload, json_out)
+        common.emit_json(payload, json_out)
         if plot is not None:
             from fogts.report.plots import plot_compensation
 
-            _save_figure(plot_compensation(result), plot)
+            common.save_figure(plot_compensation(result), plot)
         lines = [result.summary()]
         if output is not None:
             lines.append(f"wrote {output} ({run.n} rows)")
         if save_model is not None:
             lines.append(f"saved the thermal model to {save_model}")
-        _say(lines, json_out)
+        common.say(lines, json_out)

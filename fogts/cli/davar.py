@@ -7,57 +7,42 @@ from typing import Annotated
 
 import typer
 
-from fogts.cli._common import (
-    DEFAULT_READ,
-    Estimator,
-    FileArg,
-    JsonOpt,
-    _axis_index,
-    _emit_json,
-    _guard,
-    _read,
-    _save_figure,
-    _tau_option,
-    app,
-    console,
-    err_console,
-    reads_input,
-)
+from fogts.cli import _common as common
 from fogts.pipeline import ReadSettings
 
 
-@app.command("davar")
-@reads_input()
+@common.app.command("davar")
+@common.reads_input()
 def davar_cmd(
-    file: FileArg,
+    file: common.FileArg,
     window: Annotated[str, typer.Option("--window", help="Window length: 200s, 5min, ....")] = "200s",
     step: Annotated[str, typer.Option("--step", help="Step between windows: 20s, 1min, ...")] = "20s",
-    kind: Annotated[Estimator, typer.Option("--kind", help="Estimator per window (oadev, mdev and ohdev are the fast ones).")] = Estimator.oadev,
+    kind: Annotated[common.Estimator, typer.Option("--kind", help="Estimator per window (oadev, mdev and ohdev are the fast ones).")] = common.Estimator.oadev,
     taus: Annotated[str, typer.Option("--taus", help="Tau grid within the window: octave, decade, dense, all, or taus in s separated by commas.")] = "octave",
     axis: Annotated[str | None, typer.Option("--axis", help="Analyse one axis (name or index) (default: every axis).")] = None,
     confidence: Annotated[float, typer.Option("--confidence", help="Confidence level of each window's interval.")] = 0.683,
-    json_out: JsonOpt = None,
+    json_out: common.JsonOpt = None,
     plot: Annotated[Path | None, typer.Option("--plot", help="Heat map of log deviation over (time, tau): .png, .svg or .pdf.")] = None,
-    read: ReadSettings = DEFAULT_READ,
+    read: ReadSettings = common.DEFAULT_READ,
 ) -> None:
     """Dynamic Allan deviation (DAVAR, Galleani & Tavella 2009): the deviation in a
     window sliding along the record, and a non-stationarity score."""
     from fogts.allan.dynamic import dynamic_allan
     from fogts.units import parse_duration
 
-    with _guard(outputs={"--json": json_out, "--plot": plot}, inputs={"FILE": [file]}):
+    with common.guard(outputs={"--json": json_out, "--plot": plot}, inputs={"FILE": [file]}):
         window_s = parse_duration(window, "--window")
         step_s = parse_duration(step, "--step")
-        tau_spec = _tau_option(taus)
-        run, quality = _read(file, read)
-        pick = None if axis is None else _axis_index(run, axis)
+        tau_spec = common.tau_option(taus)
+        run, quality = common.read_input(file, read)
+        pick = None if axis is None else common.axis_index(run, axis)
         result = dynamic_allan(run, window_s=window_s, step_s=step_s, kind=kind,  # type: ignore[arg-type]
                                taus=tau_spec, confidence=confidence, axis=pick)
         payload = {"input": str(file), **result.to_dict(), "data_quality": quality.to_dict()}
-        _emit_json(payload, json_out)
+        common.emit_json(payload, json_out)
         if plot is not None:
             from fogts.report.plots import plot_dynamic_allan
 
-            _save_figure(plot_dynamic_allan(result), plot)
-        target = err_console if json_out == "-" else console
+            common.save_figure(plot_dynamic_allan(result), plot)
+        target = common.err_console if json_out == "-" else common.console
         target.print(result.summary(), markup=False, soft_wrap=True)

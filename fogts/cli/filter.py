@@ -7,19 +7,7 @@ from typing import TYPE_CHECKING, Annotated, Any, Literal
 
 import typer
 
-from fogts.cli._common import (
-    DEFAULT_READ,
-    FileArg,
-    JsonOpt,
-    _axis_index,
-    _emit_json,
-    _guard,
-    _read,
-    _save_figure,
-    _say,
-    app,
-    reads_input,
-)
+from fogts.cli import _common as common
 from fogts.pipeline import ReadSettings
 
 FILTER_METHODS = ("kalman", "iir", "moving-average")
@@ -30,10 +18,10 @@ if TYPE_CHECKING:
 
 
 
-@app.command("filter")
-@reads_input()
+@common.app.command("filter")
+@common.reads_input()
 def filter_cmd(
-    file: FileArg,
+    file: common.FileArg,
     output: Annotated[Path, typer.Option("-o", "--output", help="Output table (.csv or .parquet): time, observed, filtered (kalman adds smoothed, predicted).")],
     method: Annotated[str, typer.Option("--method", help="kalman (ARMA drift model in Harvey state-space form), iir (zero-phase low-pass) or moving-average.")] = "kalman",
     model: Annotated[str, typer.Option("--model", help="Drift model for --method kalman: auto (run the ARMA selection), AR(1), AR(2), AR(3), ARMA(1,1), ARMA(2,1).")] = "auto",
@@ -44,22 +32,22 @@ def filter_cmd(
     window: Annotated[float | None, typer.Option("--window", help="--method moving-average: window in seconds.")] = None,
     compare_allan: Annotated[bool, typer.Option("--compare-allan", help="Allan deviation and noise terms before and after filtering, side by side (with --plot: the overlay figure).")] = False,
     axis: Annotated[str, typer.Option("--axis", help="Axis to filter (name or index).")] = "0",
-    json_out: JsonOpt = None,
+    json_out: common.JsonOpt = None,
     plot: Annotated[Path | None, typer.Option("--plot", help="Figure (.png, .svg, .pdf): observed/filtered/smoothed for kalman; the before/after Allan overlay with --compare-allan.")] = None,
-    read: ReadSettings = DEFAULT_READ,
+    read: ReadSettings = common.DEFAULT_READ,
 ) -> None:
     """Filter a gyro record: Kalman filter with an ARMA drift model, or a
     zero-phase IIR / moving-average low-pass with a before/after Allan comparison.
     """
     from fogts._validate import check_choice
 
-    with _guard(outputs={"--output": output, "--json": json_out, "--plot": plot},
+    with common.guard(outputs={"--output": output, "--json": json_out, "--plot": plot},
                 inputs={"FILE": [file]}):
         check_choice("--method", method, FILTER_METHODS)
         if method == "kalman":
             noise = _parse_measurement_noise(measurement_noise)
-        run, _ = _read(file, read)
-        pick = _axis_index(run, axis)
+        run, _ = common.read_input(file, read)
+        pick = common.axis_index(run, axis)
         x = run.axis(pick)
         if method == "kalman":
             _kalman_filter(run, x, file, output, model, noise, json_out, plot, method)
@@ -97,15 +85,15 @@ def _kalman_filter(run: Run, x: FloatArray, file: Path, output: Path, model: str
                           "predicted": np.asarray(result.predicted)})
     write_frame_atomic(output, frame)
     fit_dict = fit.to_dict() if hasattr(fit, "to_dict") else {}
-    _emit_json({"input": str(file), "method": method, "units": run.units,
+    common.emit_json({"input": str(file), "method": method, "units": run.units,
                 "model": fit_dict, "kalman": result.to_dict(), "output": str(output)},
                json_out)
     if plot is not None:
         from fogts.report.plots import plot_kalman
 
-        _save_figure(plot_kalman(result, time_s=run.time, units=run.units), plot)
+        common.save_figure(plot_kalman(result, time_s=run.time, units=run.units), plot)
     equation = fit.equation() if hasattr(fit, "equation") else result.model
-    _say([f"drift model ({'selected by AIC' if model == 'auto' else 'given'}): {equation}",
+    common.say([f"drift model ({'selected by AIC' if model == 'auto' else 'given'}): {equation}",
           result.summary(), f"wrote {output} ({run.n} rows)"], json_out)
 
 
@@ -144,13 +132,13 @@ def _lowpass_filter(run: Run, x: FloatArray, file: Path, output: Path, method: s
                                "filter": result.to_dict(), "output": str(output)}
     if comparison is not None:
         payload["compare_allan"] = comparison.to_dict()
-    _emit_json(payload, json_out)
+    common.emit_json(payload, json_out)
     if plot is not None and comparison is not None:
         from fogts.report.plots import plot_allan_comparison
 
-        _save_figure(plot_allan_comparison(comparison), plot)
+        common.save_figure(plot_allan_comparison(comparison), plot)
     lines = [result.summary()]
     if comparison is not None:
         lines += ["", "noise terms before and after filtering:", comparison.summary()]
     lines.append(f"wrote {output} ({run.n} rows)")
-    _say(lines, json_out)
+    common.say(lines, json_out)

@@ -8,18 +8,7 @@ from typing import TYPE_CHECKING, Annotated
 
 import typer
 
-from fogts.cli._common import (
-    DEFAULT_READ,
-    JsonOpt,
-    _emit_json,
-    _guard,
-    _load_thermal_model,
-    _read,
-    _save_figure,
-    _say,
-    app,
-    reads_input,
-)
+from fogts.cli import _common as common
 from fogts.pipeline import ReadSettings
 
 #: Library argument names of ``fogts northfind`` and their options.
@@ -43,7 +32,7 @@ def _position_rates(files: list[Path], *, position_column: str, read: ReadSettin
 
     if len(files) == 1:
         both = f"{read.rate_column or 'rate'},{position_column}"
-        run, _ = _read(files[0], dataclasses.replace(read, rate_column=both), glitches=False)
+        run, _ = common.read_input(files[0], dataclasses.replace(read, rate_column=both), glitches=False)
         if thermal is not None:
             run = compensate(run, thermal, axis=0)
         import pandas as pd
@@ -60,7 +49,7 @@ def _position_rates(files: list[Path], *, position_column: str, read: ReadSettin
     rates = {}
     fs_hz, unit = 0.0, "deg/h"
     for p, path in zip(POSITIONS_DEG, files, strict=True):
-        run, _ = _read(path, read, glitches=False)
+        run, _ = common.read_input(path, read, glitches=False)
         if thermal is not None:
             run = compensate(run, thermal, axis=0)
         rates[p] = run.axis(0)
@@ -68,8 +57,8 @@ def _position_rates(files: list[Path], *, position_column: str, read: ReadSettin
     return rates, None, fs_hz, unit
 
 
-@app.command("northfind")
-@reads_input(nan=False, gaps=False)
+@common.app.command("northfind")
+@common.reads_input(nan=False, gaps=False)
 def northfind_cmd(
     files: Annotated[list[Path] | None, typer.Argument(help="One CSV with position_deg and rate columns, or four files for 0/90/180/270 degrees (omit with --simulate).")] = None,
     latitude: Annotated[float, typer.Option("--latitude", help="Latitude in degrees (|L| <= 89).")] = ...,  # type: ignore[assignment]
@@ -79,9 +68,9 @@ def northfind_cmd(
     bias_sigma: Annotated[float, typer.Option("--bias-sigma", help="1-sigma position-to-position bias variation in deg/h for the error budget.")] = 0.0,
     simulate: Annotated[int | None, typer.Option("--simulate", help="Simulation mode: repeat cold-start north seeking N times, with and without thermal compensation.")] = None,
     seed: Annotated[int, typer.Option("--seed", help="Random seed of the simulation mode.")] = 4,
-    json_out: JsonOpt = None,
+    json_out: common.JsonOpt = None,
     plot: Annotated[Path | None, typer.Option("--plot", help="Simulation mode: azimuth error per trial (.png, .svg, .pdf).")] = None,
-    read: ReadSettings = DEFAULT_READ,
+    read: ReadSettings = common.DEFAULT_READ,
 ) -> None:
     """Four-position north seeking: azimuth of the input axis at position 0,
     clockwise from true north, with its error budget; or, with --simulate N, the cold-start
@@ -89,10 +78,10 @@ def northfind_cmd(
     from fogts.errors import DataError
     from fogts.startup import four_position, simulate_north_seeking
 
-    with _guard(_NORTHFIND_OPTIONS, outputs={"--json": json_out, "--plot": plot},
+    with common.guard(_NORTHFIND_OPTIONS, outputs={"--json": json_out, "--plot": plot},
                 inputs={"FILES": files or [],
                         "--thermal-model": [thermal_model] if thermal_model else []}):
-        thermal = _load_thermal_model(thermal_model) if thermal_model is not None else None
+        thermal = common.load_thermal_model(thermal_model) if thermal_model is not None else None
         if simulate is not None:
             if files:
                 raise DataError("--simulate takes no input files")
@@ -106,12 +95,12 @@ def northfind_cmd(
             study = simulate_north_seeking(simulate, latitude_deg=latitude, model=thermal,
                                            rng=seed)
             payload = {"mode": "simulate", "seed": seed, **study.to_dict(), "notes": notes}
-            _emit_json(payload, json_out)
+            common.emit_json(payload, json_out)
             if plot is not None:
                 from fogts.report.plots import plot_north_seeking
 
-                _save_figure(plot_north_seeking(study), plot)
-            _say([study.summary(), *notes], json_out)
+                common.save_figure(plot_north_seeking(study), plot)
+            common.say([study.summary(), *notes], json_out)
             return
         if not files:
             raise DataError("give one positions file or four files, or --simulate N")
@@ -124,7 +113,7 @@ def northfind_cmd(
         payload = {"input": [str(f) for f in files],
                    "thermal_model": None if thermal_model is None else str(thermal_model),
                    **result.to_dict()}
-        _emit_json(payload, json_out)
+        common.emit_json(payload, json_out)
         if plot is not None:
             raise DataError("--plot is available in --simulate mode only")
-        _say([result.summary()], json_out)
+        common.say([result.summary()], json_out)

@@ -7,38 +7,24 @@ from typing import Annotated
 
 import typer
 
-from fogts.cli._common import (
-    DEFAULT_READ,
-    Criterion,
-    CriterionOpt,
-    Estimator,
-    ExitCode,
-    FileArg,
-    KindOpt,
-    _guard,
-    _read,
-    app,
-    console,
-    err_console,
-    reads_input,
-)
+from fogts.cli import _common as common
 from fogts.pipeline import ReadSettings
 
 
-@app.command("report")
-@reads_input()
+@common.app.command("report")
+@common.reads_input()
 def report_cmd(
-    file: FileArg,
+    file: common.FileArg,
     output: Annotated[Path, typer.Option("--output", "-o", help="HTML file to write (self-contained: figures embedded, no network needed).")],
     title: Annotated[str | None, typer.Option("--title", help="Document title (default: 'Gyro report: <file name>').")] = None,
     outliers: Annotated[float | None, typer.Option("--outliers", help="Replace samples beyond this many robust sigmas before the ARMA analysis.")] = None,
     detrend: Annotated[int | None, typer.Option("--detrend", help="Polynomial order removed before the ARMA analysis.")] = None,
     decimate: Annotated[int | None, typer.Option("--decimate", help="Block-average K samples before the ARMA analysis.")] = None,
-    kind: KindOpt = Estimator.oadev,
+    kind: common.KindOpt = common.Estimator.oadev,
     taus: Annotated[str, typer.Option("--taus", help="Tau grid: octave, decade, dense, all.")] = "octave",
-    criterion: CriterionOpt = Criterion.aic,
+    criterion: common.CriterionOpt = common.Criterion.aic,
     davar_window: Annotated[float | None, typer.Option("--davar-window", help="Dynamic Allan window in seconds (default: a tenth of the record).")] = None,
-    read: ReadSettings = DEFAULT_READ,
+    read: ReadSettings = common.DEFAULT_READ,
 ) -> None:
     """Write one self-contained HTML report of a recording.
 
@@ -48,17 +34,17 @@ def report_cmd(
     """
     from fogts.report.html import build_report, write_report
 
-    with _guard(outputs={"--output": output}, inputs={"FILE": [file]}):
-        run, quality = _read(file, read)
+    with common.guard(outputs={"--output": output}, inputs={"FILE": [file]}):
+        run, quality = common.read_input(file, read)
         rep = build_report(run, quality=quality, title=title, outliers=outliers, detrend=detrend,
                            decimate=decimate, kind=kind, taus=taus, criterion=criterion,
                            davar_window_s=davar_window)
         write_report(output, rep)
         failed = [s for s in rep.sections if s.status != "ok"]
         for s in failed:
-            err_console.print(f"warning: {s.title}: {s.message}", markup=False, soft_wrap=True)
-        console.print(f"wrote {output} ({len(rep.sections)} sections, {rep.n_figures} "
+            common.err_console.print(f"warning: {s.title}: {s.message}", markup=False, soft_wrap=True)
+        common.console.print(f"wrote {output} ({len(rep.sections)} sections, {rep.n_figures} "
                       f"figures)", markup=False, soft_wrap=True)
         for part, why in rep.omitted:
-            console.print(f"not included: {part}: {why}", markup=False, soft_wrap=True)
-    raise typer.Exit(ExitCode.NEGATIVE if failed else ExitCode.OK)
+            common.console.print(f"not included: {part}: {why}", markup=False, soft_wrap=True)
+    raise typer.Exit(common.ExitCode.NEGATIVE if failed else common.ExitCode.OK)

@@ -7,25 +7,7 @@ from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 
-from fogts.cli._common import (
-    DEFAULT_READ,
-    Criterion,
-    CriterionOpt,
-    FileArg,
-    JsonOpt,
-    _axis_index,
-    _check_output_names,
-    _emit_json,
-    _guard,
-    _read,
-    _rich,
-    _save_figure,
-    _say,
-    app,
-    console,
-    err_console,
-    reads_input,
-)
+from fogts.cli import _common as common
 from fogts.pipeline import ReadSettings
 
 if TYPE_CHECKING:
@@ -52,20 +34,20 @@ def _select_params(c: Candidate, units: str | None) -> list[str]:
     return lines
 
 
-@app.command("select")
-@reads_input()
+@common.app.command("select")
+@common.reads_input()
 def select_cmd(
-    file: FileArg,
+    file: common.FileArg,
     axis: Annotated[str | None, typer.Option("--axis", help="Axis to model, by name or index (default: the first).")] = None,
     outliers: Annotated[float | None, typer.Option("--outliers", help="Replace samples beyond this many robust sigmas first.")] = None,
     detrend: Annotated[int | None, typer.Option("--detrend", help="Remove a polynomial trend of this order; 0 removes the mean only (default: remove the mean).")] = None,
     decimate: Annotated[int | None, typer.Option("--decimate", help="Block-average K samples first (e.g. 100 Hz -> 1 Hz with K=100).")] = None,
     candidates: Annotated[str | None, typer.Option("--candidates", help="Models to compare, e.g. 'AR(1),AR(2),ARMA(1,1)' (default: AR(1),AR(2),AR(3),ARMA(1,1),ARMA(2,1)).")] = None,
-    criterion: CriterionOpt = Criterion.aic,
-    json_out: JsonOpt = None,
+    criterion: common.CriterionOpt = common.Criterion.aic,
+    json_out: common.JsonOpt = None,
     plot: Annotated[Path | None, typer.Option("--plot", help="Diagnostics figure (data ACF/PACF, residual ACF, Q-Q, prediction): .png, .svg or .pdf.")] = None,
     predict: Annotated[Path | None, typer.Option("--predict", help="Write the one-step prediction as CSV (time, observed, predicted, residual); .csv, .csv.gz, .tsv or .parquet.")] = None,
-    read: ReadSettings = DEFAULT_READ,
+    read: ReadSettings = common.DEFAULT_READ,
 ) -> None:
     """Select the ARMA model of the drift: fit AR(1), AR(2), AR(3), ARMA(1,1) and ARMA(2,1), check that their residuals are white, rank them and predict one step ahead.
 
@@ -74,24 +56,24 @@ def select_cmd(
     from fogts.arma.select import parse_candidates
     from fogts.pipeline import SelectSettings, analyse_selection
 
-    with _guard(outputs={"--json": json_out, "--plot": plot, "--predict": predict},
+    with common.guard(outputs={"--json": json_out, "--plot": plot, "--predict": predict},
                 inputs={"FILE": [file]}):
         orders = parse_candidates(candidates)
-        _check_output_names(plot=plot, predict=predict)
-        run, quality = _read(file, read)
-        pick = 0 if axis is None else _axis_index(run, axis)
+        common.check_output_names(plot=plot, predict=predict)
+        run, quality = common.read_input(file, read)
+        pick = 0 if axis is None else common.axis_index(run, axis)
         analysis = analyse_selection(run, quality, pick, SelectSettings(
             outliers=outliers, detrend=detrend, decimate=decimate, candidates=orders,
             criterion=criterion), file=str(file))
         sel = analysis.selection
-        _emit_json(analysis.to_dict(), json_out)
+        common.emit_json(analysis.to_dict(), json_out)
         if plot is not None:
             from fogts.report.plots import plot_selection
 
-            _save_figure(plot_selection(sel), plot)
+            common.save_figure(plot_selection(sel), plot)
         written = _write_prediction(analysis, predict) if predict is not None else False
         _print_selection(analysis, json_out)
-        _say([f"wrote     {path}" for path, done in ((json_out, json_out not in (None, "-")),
+        common.say([f"wrote     {path}" for path, done in ((json_out, json_out not in (None, "-")),
                                                     (plot, plot is not None),
                                                     (predict, written)) if done]
              + ([f"not written {predict}: no candidate could be fitted"]
@@ -124,7 +106,7 @@ def _print_selection(analysis: AxisSelection, json_out: str | None) -> None:
     (to stderr when the JSON goes to stdout)."""
     from rich.text import Text
 
-    out = err_console if json_out == "-" else console
+    out = common.err_console if json_out == "-" else common.console
     run, prepared, sel = analysis.run, analysis.prepared, analysis.selection
 
     def say(text: str = "", style: str = "") -> None:
@@ -140,7 +122,7 @@ def _print_selection(analysis: AxisSelection, json_out: str | None) -> None:
     corr = sel.correlogram
     say(f"{'ACF/PACF':<10}ACF {corr.acf_pattern.describe()}, PACF "
         f"{corr.pacf_pattern.describe()} -> {corr.suggestion}")
-    out.print(_rich(sel.candidate_table()))
+    out.print(common.rich_table(sel.candidate_table()))
     best = sel.selected
     if best is not None:
         how = (f"lowest {sel.criterion.upper()} among the white candidates" if best.white

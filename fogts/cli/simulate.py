@@ -8,11 +8,7 @@ from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 
-from fogts.cli._common import (
-    _guard,
-    app,
-    console,
-)
+from fogts.cli import _common as common
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -73,7 +69,7 @@ simulate_app = typer.Typer(
     help="Simulate a static gyro record: 'noise' from IEEE-952 coefficients, 'startup' a cold "
          "start with thermal drift (optionally a four-position north seeking).",
     no_args_is_help=True)
-app.add_typer(simulate_app, name="simulate")
+common.app.add_typer(simulate_app, name="simulate")
 
 OutputOpt = Annotated[Path, typer.Option("--output", "-o", help="Output file: .csv, .csv.gz, .tsv, .txt or .parquet. The true parameters go to OUTPUT.json beside it.")]
 DurationOpt = Annotated[str | None, typer.Option("--duration", help="Record length: 3h, 90min, 600s, 1d, 1h30min or seconds (default 1h).")]
@@ -124,7 +120,7 @@ def simulate_noise_cmd(
     from fogts.units import parse_duration
 
     sidecar_path = Path(f"{output}.json")  # never raises, whatever the user typed
-    with _guard(_SIMULATE_OPTIONS, outputs={"--output": output,
+    with common.guard(_SIMULATE_OPTIONS, outputs={"--output": output,
                                             "--output's sidecar": sidecar_path},
                 inputs={"--from-json": [noise_json] if noise_json else []}):
         _check_simulation_output(output)
@@ -161,10 +157,10 @@ def simulate_noise_cmd(
         write_frame_atomic(output, frame)
         side = output.with_name(output.name + ".json")
         write_text_atomic(side, json_dumps(sidecar) + "\n")
-        console.print(f"wrote {output}: {run.n:,} samples x {run.n_axes} axis(es) at "
+        common.console.print(f"wrote {output}: {run.n:,} samples x {run.n_axes} axis(es) at "
                       f"{run.fs_hz:g} Hz ({run.duration_s:g} s), rate in {run.units}, seed "
                       f"{seed}; true parameters in {side}", markup=False, soft_wrap=True)
-        console.print(spec.summary(), markup=False, soft_wrap=True)
+        common.console.print(spec.summary(), markup=False, soft_wrap=True)
 
 
 def _noise_spec(noise_json: Path | None, given: dict[str, float], *, markov: str | None,
@@ -245,7 +241,7 @@ def simulate_startup_cmd(
     parameters.
     """
     sidecar_path = Path(f"{output}.json")  # never raises, whatever the user typed
-    with _guard(_SIMULATE_OPTIONS, outputs={"--output": output,
+    with common.guard(_SIMULATE_OPTIONS, outputs={"--output": output,
                                             "--output's sidecar": sidecar_path}):
         _check_simulation_output(output)
         cold = {"--ambient-c": ambient_c, "--peak-heating-c-s": peak_heating_c_s,
@@ -364,6 +360,6 @@ def _simulate_startup(output: Path, *, fs: float, duration: str | None,
     write_frame_atomic(output, frame)
     side = output.with_name(output.name + ".json")
     write_text_atomic(side, json_dumps(sidecar) + "\n")
-    console.print(f"wrote {output}: {len(frame):,} samples at {run.fs_hz:g} Hz, rate in {unit}, "
+    common.console.print(f"wrote {output}: {len(frame):,} samples at {run.fs_hz:g} Hz, rate in {unit}, "
                   f"seed {seed}; true parameters in {side}", markup=False, soft_wrap=True)
-    console.print(summary, markup=False, soft_wrap=True)
+    common.console.print(summary, markup=False, soft_wrap=True)
