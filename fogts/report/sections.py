@@ -266,25 +266,30 @@ def _thermal_blocks(ctx: _Context, i: int, notes: list[str]) -> list[Block]:
     notes.extend(res.notes)  # dropped terms arrive as UnidentifiableTermWarning notes
     rows = [[t, TERM_LETTERS[t], model.coefficients[t], model.stderr[t]] for t in model.terms]
     b, a = res.before, res.after
+    verdict = [] if res.significance is None else [
+        Block(kind="verdict", good=res.significance.significant,
+              text=res.significance.verdict[0].upper() + res.significance.verdict[1:] + ".")]
+    after_label = ("after compensation" if res.claims_improvement else
+                   "after compensation (model not significant: no improvement claimed)")
     return [
+        *verdict,
         figure_block(plot_compensation(res), id=f"thermal-{i}",
                      alt=f"thermal compensation of {_axis_label(ctx, i)}",
                      caption="Raw and compensated rate (top) and temperature (bottom)."),
-        Block(kind="pre", caption="Fitted drift model (seed 004, fitted to the raw rate)",
+        Block(kind="pre", caption="Fitted drift model (fitted to the raw rate)",
               text=model.equation()),
         _table("Coefficients", ["term", "letter", "value", "± std. error"], rows,
                numeric=[False, False, True, True]),
         _table(f"Bias stability (1σ of {b.average_s:g} s averages, {b.unit})",
                ["", "bias stability", "windows"],
                [["before compensation", b.value, b.n_windows],
-                ["after compensation", a.value, a.n_windows]],
+                [after_label, a.value, a.n_windows]],
                numeric=[False, True, True]),
         Block(kind="paragraph", text=(
             f"R² = {_num(model.r2)}; residual std {_num(model.residual_std)} {model.units}; "
             f"fitted over T = {_num(model.temperature_range_degC[0])} … "
-            f"{_num(model.temperature_range_degC[1])} °C. For seed 004's full start-up "
-            "pipeline (EMD trend, ARMA Kalman filter, then this fit) run "
-            "'fogts compensate --emd'.")),
+            f"{_num(model.temperature_range_degC[1])} °C. For the full start-up pipeline "
+            "(EMD trend, ARMA Kalman filter, then this fit) run 'fogts compensate --emd'.")),
     ]
 
 

@@ -39,6 +39,7 @@ from fogts.startup.thermal_model import (
     ThermalModel,
     temperature_rate,
 )
+from fogts.startup.thermal_test import ThermalSignificance, thermal_significance
 
 __all__ = ["StartupCompensation", "startup_compensation"]
 
@@ -85,6 +86,13 @@ class StartupCompensation:
     after: BiasStability
     axis: str = ""
     notes: tuple[str, ...] = ()
+    significance: ThermalSignificance | None = None
+
+    @property
+    def claims_improvement(self) -> bool:
+        """Whether the compensation may be called an improvement: the model was tested and
+        found significant, or it was given (a calibrated model applied to a new run)."""
+        return self.significance is None or self.significance.significant
 
     @property
     def improvement(self) -> float:
@@ -109,9 +117,12 @@ class StartupCompensation:
                                   for t, v in model["terms"].items()},
                         "r2": model["r2"], "dropped": model["dropped"],
                         "equation": self.model.equation(), "model": model},
+            "significance": (None if self.significance is None
+                             else self.significance.to_dict()),
             "bias_stability": {"average_s": self.before.average_s, "before": self.before.value,
                                "after": self.after.value, "unit": self.before.unit,
-                               "improvement": self.improvement},
+                               "improvement": self.improvement,
+                               "improvement_claimed": self.claims_improvement},
             "notes": list(self.notes),
         }
 
@@ -133,10 +144,15 @@ class StartupCompensation:
         if self.kalman is not None:
             lines.append(f"Kalman: H = {self.kalman.measurement_noise:.4g} "
                          f"({self.kalman.measurement_noise_source}), {self.kalman.method}")
+        if self.significance is not None:
+            lines.insert(0, f"verdict: {self.significance.verdict}")
         lines.append(self.model.summary())
-        lines.append(f"bias stability ({self.before.average_s:g} s average, 1σ): "
+        stability = (f"bias stability ({self.before.average_s:g} s average, 1σ): "
                      f"before {self.before.value:.4g} {self.before.unit}, after "
-                     f"{self.after.value:.4g} {self.after.unit} ({self.improvement:.2f}x)")
+                     f"{self.after.value:.4g} {self.after.unit}")
+        lines.append(f"{stability} ({self.improvement:.2f}x)" if self.claims_improvement else
+                     f"{stability}; not claimed as an improvement: the model is not "
+                     "significant, so the change is the fit absorbing drift")
         lines += [f"note: {n}" for n in self.notes]
         return "\n".join(lines)
 
@@ -184,6 +200,7 @@ def startup_compensation(
     name = axis if isinstance(axis, str) else run.axes[int(axis)]
     fs = run.fs_hz
     notes: list[str] = []
+    significance = None
     if model is None:
         prepare = partial(_prepare_fit_run, axis=axis, emd=emd, arma_model=arma_model,
                           measurement_noise=measurement_noise)
@@ -191,6 +208,8 @@ def startup_compensation(
         model, fit_notes = _fit_on_runs(run, prep, calibration, prepare, terms=terms,
                                         dT_smoothing_s=dT_smoothing_s, errors=errors)
         notes = [*prep.notes, *fit_notes]
+        significance = thermal_significance(gyro, run.temperature, fs_hz=fs, terms=terms,
+                                            dT_smoothing_s=dT_smoothing_s)
     elif not isinstance(model, ThermalModel):
         raise DataError(f"model must be a ThermalModel or None, got {type(model).__name__}")
     else:
@@ -204,7 +223,8 @@ def startup_compensation(
                                temperature_split=prep.temp_split, kalman=prep.kalman,
                                arma_model=prep.arma, gyro_used=np.asarray(prep.gyro),
                                temperature_used=np.asarray(prep.temp), raw_rate=gyro,
-                               before=before, after=after, axis=name, notes=tuple(notes))
+                               before=before, after=after, axis=name, notes=tuple(notes),
+                               significance=significance)
 
 
 # --------------------------------------------------------------------------- steps 1-5
