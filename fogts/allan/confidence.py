@@ -43,18 +43,9 @@ from fogts.allan.noise_identification import (
 from fogts.allan.taus import KINDS
 from fogts.errors import DataError
 
-__all__ = [
-    "ACF_MIN_POINTS",
-    "ALPHA_METHODS",
-    "B1_MIN_POINTS",
-    "ChiSquaredInterval",
-    "ConfidenceTable",
-    "chi2_interval",
-    "confidence_table",
-    "edf_for",
-    "identify_noise",
-    "totdev_bias",
-]
+__all__ = ["ACF_MIN_POINTS", "ALPHA_METHODS", "B1_MIN_POINTS", "ChiSquaredInterval",
+           "ConfidenceTable", "chi2_interval", "confidence_table", "edf_for", "identify_noise",
+           "totdev_bias"]
 
 
 @dataclass(frozen=True)

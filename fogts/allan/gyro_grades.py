@@ -75,15 +75,8 @@ from dataclasses import dataclass
 
 import pandas as pd
 
-__all__ = [
-    "B_ENVELOPE",
-    "GRADE_BY_KEY",
-    "GYRO_GRADES",
-    "N_ENVELOPE",
-    "GyroGrade",
-    "grade_table",
-    "grades_of",
-]
+__all__ = ["B_ENVELOPE", "GRADE_BY_KEY", "GYRO_GRADES", "N_ENVELOPE", "GyroGrade", "grade_table",
+           "grades_of"]
 
 
 @dataclass(frozen=True)

@@ -46,16 +46,8 @@ from fogts.allan.terms import TERM_UNIT
 from fogts.errors import DataError
 from fogts.units import RATE_UNITS, parse_rate_unit, to_deg_per_hour_factor
 
-__all__ = [
-    "B_ENVELOPE",
-    "GYRO_GRADES",
-    "N_ENVELOPE",
-    "GyroGrade",
-    "PlausibilityReport",
-    "UnitAlternative",
-    "check_plausibility",
-    "grade_table",
-]
+__all__ = ["B_ENVELOPE", "GYRO_GRADES", "N_ENVELOPE", "GyroGrade", "PlausibilityReport",
+           "UnitAlternative", "check_plausibility", "grade_table"]
 
 Verdict = Literal["plausible", "implausible", "not checked"]
 #: A coefficient as callers hold it (None: the term was not fitted).

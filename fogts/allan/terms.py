@@ -30,24 +30,9 @@ import numpy as np
 
 from fogts.errors import DataError
 
-__all__ = [
-    "B_PLATEAU",
-    "C_UNIT",
-    "NOISE_TERMS",
-    "TERMS",
-    "TERM_DESCRIPTION",
-    "TERM_FACTOR",
-    "TERM_POWER",
-    "TERM_SLOPE",
-    "TERM_UNIT",
-    "TO_SECONDS",
-    "NoiseTermInfo",
-    "TermName",
-    "c_from_terms",
-    "from_seconds",
-    "parse_terms",
-    "terms_from_c",
-]
+__all__ = ["B_PLATEAU", "C_UNIT", "NOISE_TERMS", "TERMS", "TERM_DESCRIPTION", "TERM_FACTOR",
+           "TERM_POWER", "TERM_SLOPE", "TERM_UNIT", "TO_SECONDS", "NoiseTermInfo", "TermName",
+           "c_from_terms", "from_seconds", "parse_terms", "terms_from_c"]
 
 TermName = Literal["Q", "N", "B", "K", "R"]
 NOISE_TERMS: tuple[str, ...] = get_args(TermName)

@@ -30,26 +30,7 @@ from fogts.arma.select import (
 )
 from fogts.arma.spec import ArmaSpec
 
-__all__ = [
-    "CRITERIA",
-    "DEFAULT_FIVE",
-    "ArmaFit",
-    "ArmaSpec",
-    "Candidate",
-    "Correlogram",
-    "Prediction",
-    "ResidualDiagnostics",
-    "Roots",
-    "Selection",
-    "arma_roots",
-    "correlogram",
-    "fit_arma",
-    "ljung_box",
-    "one_step_prediction",
-    "parse_candidates",
-    "predict_arma",
-    "residual_diagnostics",
-    "rho_a2",
-    "rho_ax3",
-    "select_arma",
-]
+__all__ = ["CRITERIA", "DEFAULT_FIVE", "ArmaFit", "ArmaSpec", "Candidate", "Correlogram",
+           "Prediction", "ResidualDiagnostics", "Roots", "Selection", "arma_roots", "correlogram",
+           "fit_arma", "ljung_box", "one_step_prediction", "parse_candidates", "predict_arma",
+           "residual_diagnostics", "rho_a2", "rho_ax3", "select_arma"]

@@ -59,21 +59,9 @@ from fogts.errors import (
     NotWhiteWarning,
 )
 
-__all__ = [
-    "CLOSE_CALL",
-    "CRITERIA",
-    "DEFAULT_FIVE",
-    "MAX_ORDER",
-    "MIN_SELECT_SAMPLES",
-    "QUANT_CHECK_SAMPLES",
-    "QUANT_MAX_LEVELS",
-    "SMALL_PREDICTION",
-    "Candidate",
-    "Criterion",
-    "Selection",
-    "parse_candidates",
-    "select_arma",
-]
+__all__ = ["CLOSE_CALL", "CRITERIA", "DEFAULT_FIVE", "MAX_ORDER", "MIN_SELECT_SAMPLES",
+           "QUANT_CHECK_SAMPLES", "QUANT_MAX_LEVELS", "SMALL_PREDICTION", "Candidate", "Criterion",
+           "Selection", "parse_candidates", "select_arma"]
 
 Criterion = Literal["aic", "bic", "hqic", "aicc"]
 CRITERIA: tuple[str, ...] = ("aic", "bic", "hqic", "aicc")

@@ -38,13 +38,8 @@ from fogts._validate import check_positive, to_float_array
 from fogts.errors import DataError
 from fogts.units import earth_rate_component, parse_rate_unit, to_deg_per_hour_factor
 
-__all__ = [
-    "POSITIONS_DEG",
-    "NorthFinding",
-    "angle_error_deg",
-    "four_position",
-    "positions_from_frame",
-]
+__all__ = ["POSITIONS_DEG", "NorthFinding", "angle_error_deg", "four_position",
+           "positions_from_frame"]
 
 #: The four positions, in measuring order.
 POSITIONS_DEG: tuple[int, ...] = (0, 90, 180, 270)

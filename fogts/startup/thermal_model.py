@@ -27,15 +27,8 @@ from fogts._validate import check_positive, to_float_array
 from fogts.errors import DataError
 from fogts.units import parse_rate_unit
 
-__all__ = [
-    "DEFAULT_DT_SMOOTHING_S",
-    "ERROR_MODELS",
-    "TERM_LETTERS",
-    "THERMAL_TERMS",
-    "ThermalModel",
-    "design_matrix",
-    "temperature_rate",
-]
+__all__ = ["DEFAULT_DT_SMOOTHING_S", "ERROR_MODELS", "TERM_LETTERS", "THERMAL_TERMS",
+           "ThermalModel", "design_matrix", "temperature_rate"]
 
 ThermalTerm = Literal["T*dT", "T2", "T", "dT2", "dT", "1"]
 THERMAL_TERMS: tuple[str, ...] = get_args(ThermalTerm)
