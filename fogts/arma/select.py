@@ -47,7 +47,7 @@ from fogts.arma.verdict import (
     QUANT_CHECK_SAMPLES,
     QUANT_MAX_LEVELS,
     SMALL_PREDICTION,
-    quantisation_note,
+    quantization_note,
     write_verdict,
 )
 from fogts.arma.whiteness import residual_diagnostics
@@ -93,7 +93,7 @@ def _unpack(x: Any, fs_hz: float | None) -> _Input:
         run = x.run
         info = {"source": run.source if run is not None else None, "axis": x.axis,
                 "units": x.units, "n_input": x.n_input, "n": x.n, "fs_hz": x.fs_hz}
-        raw = None   # the quantisation check only applies to undecimated data
+        raw = None   # the quantization check only applies to undecimated data
         if run is not None and x.axis in run.axes and x.decimate == 1:
             raw = run.axis(x.axis)
         return _Input(x.x, x.index, x.time, x.fs_hz, x.units, info, x.to_dict(), raw)
@@ -279,7 +279,7 @@ def select_arma(
         # recomputed once, exactly as the fit made them
         sel = ranked[0] = _replace(sel, fit=sel.fit._with_resid())
     all_white_failed = not any(c.white for c in ranked)
-    notes = tuple(n for n in (quantisation_note(inp.raw, inp.units),) if n)
+    notes = tuple(n for n in (quantization_note(inp.raw, inp.units),) if n)
     verdict = " ".join((write_verdict(sel, ranked, criterion, corr), *notes))
     if sel is not None and all_white_failed:
         warnings.warn(f"no candidate leaves white residuals; {sel.model} (best by "
