@@ -1,7 +1,7 @@
 """Gyro grades: the ranges of angle random walk N and bias instability B real gyros span.
 
-N in deg/sqrt(h), B in deg/h (Allan-variance bias instability, the flicker floor / 0.664;
-IEEE Std 952-1997 Annex C, :mod:`fogts.allan.terms`).  Each range is the span of the
+N in deg/sqrt(h), B in deg/h (Allan-variance bias instability, the flicker floor /
+:data:`~fogts.allan.terms.B_PLATEAU`; IEEE Std 952-1997 Annex C).  Each range is the span of the
 published figures quoted beside it, widened by a factor of about 2 to 5 on each side,
 because datasheet figures are specification limits (a unit is often better than its limit)
 and in-run B from an Allan curve is usually below a datasheet's turn-on or repeatability

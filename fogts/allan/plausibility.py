@@ -388,7 +388,8 @@ def check_plausibility(N: Coefficient, B: Coefficient, *, units: str) -> Plausib
         (IEEE Std 952-1997 Annex C: N = C_-1/60 with the rate in deg/h).  None when the term
         was not fitted, 0 when it was fitted to zero: the check then rests on B alone.
     B : float or None
-        Bias instability in deg/h (B = C_0/0.664), same conventions.
+        Bias instability in deg/h (B = C_0 / :data:`~fogts.allan.terms.B_PLATEAU`), same
+        conventions.
     units : str
         The rate unit the recording was read in (``deg/h``, ``deg/s``, ``rad/s``,
         ``arcsec/s`` or an alias :func:`fogts.units.parse_rate_unit` accepts).
