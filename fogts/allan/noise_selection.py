@@ -59,6 +59,9 @@ MIN_COVERED_POINTS = 2
 class TermSelection:
     """The final fit after term selection.
 
+    What :func:`backward_elimination` returns; :func:`term_estimates` turns it into the
+    model's terms.
+
     Attributes
     ----------
     fit : LsqFit

@@ -54,6 +54,8 @@ MIN_TERMS = 2
 class DroppedTau:
     """A requested tau that could not be computed, and why.
 
+    Kept in a result's ``dropped`` field, so that no requested tau disappears silently.
+
     Attributes
     ----------
     tau_s : float

@@ -51,6 +51,9 @@ _SQRT_S_PER_H = 60.0
 class NoiseTermInfo:
     """One IEEE-952 term.
 
+    A row of :data:`TERMS`; the per-term tables (:data:`TERM_UNIT`, :data:`TERM_FACTOR`, ...)
+    are read from the rows.
+
     Attributes
     ----------
     name : str

@@ -126,6 +126,9 @@ def lowpass(
 ) -> FilterResult:
     """Zero-phase IIR low-pass filter (``scipy.signal`` design + ``sosfiltfilt``).
 
+    Filtered forward and backward: no phase lag, and the magnitude response of the single
+    pass squared (module docstring).
+
     Parameters
     ----------
     x : array_like or Series

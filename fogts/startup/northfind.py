@@ -53,6 +53,9 @@ MIN_POSITION_SAMPLES = 3
 class NorthFinding:
     """Result of a four-position north finding.
 
+    What :func:`four_position` returns; ``summary()`` prints it and ``to_dict()`` gives its
+    JSON record.
+
     Attributes
     ----------
     azimuth_deg : float
@@ -228,6 +231,9 @@ def four_position(
     bias_sigma_deg_h: float = 0.0,
 ) -> NorthFinding:
     """Azimuth from the mean rates at four positions (convention in the module docstring).
+
+    ψ = atan2(ω₂₇₀ - ω₉₀, ω₀ - ω₁₈₀), free of the bias and of the scale factor; its error
+    budget needs the latitude (Ω cos L).
 
     Parameters
     ----------
