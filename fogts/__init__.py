@@ -23,53 +23,62 @@ from typing import TYPE_CHECKING, Any
 
 from fogts._version import __version__
 
-# public name -> defining module
-_EXPORTS: dict[str, str] = {
+#: Defining module -> the public names it provides, imported on first use by ``__getattr__``.
+_MODULE_NAMES: dict[str, str] = {
     # errors
-    "FogtsError": "fogts.errors", "DataError": "fogts.errors",
-    "InsufficientDataError": "fogts.errors", "ModelFitError": "fogts.errors",
-    "FogtsWarning": "fogts.errors",
+    "fogts.errors": "FogtsError DataError InsufficientDataError ModelFitError FogtsWarning",
     # reading and preparing
-    "Run": "fogts.io.run", "SamplingReport": "fogts.io.run",
-    "read_run": "fogts.io.reader", "MissingReport": "fogts.io.run",
-    "assess_run": "fogts.preprocess.hygiene", "DataQuality": "fogts.preprocess.hygiene",
-    "detect_glitches": "fogts.preprocess.glitches", "GlitchReport": "fogts.preprocess.glitches",
-    "find_gaps": "fogts.preprocess.gaps", "GapReport": "fogts.preprocess.gaps",
-    "check_plausibility": "fogts.allan.plausibility",
-    "PlausibilityReport": "fogts.allan.plausibility",
-    "prepare": "fogts.preprocess.prepare", "Prepared": "fogts.preprocess.prepare",
-    "convert_rate": "fogts.units", "earth_rate_component": "fogts.units",
+    "fogts.io.run": "Run SamplingReport MissingReport",
+    "fogts.io.reader": "read_run",
+    "fogts.preprocess.hygiene": "assess_run DataQuality",
+    "fogts.preprocess.glitches": "detect_glitches GlitchReport",
+    "fogts.preprocess.gaps": "find_gaps GapReport",
+    "fogts.allan.plausibility": "check_plausibility PlausibilityReport",
+    "fogts.preprocess.prepare": "prepare Prepared",
+    "fogts.units": "convert_rate earth_rate_component",
     # Allan analysis
-    "allan_deviation": "fogts.allan.api",
-    "AllanResult": "fogts.allan.result", "AllanResultSet": "fogts.allan.result",
-    "tau_grid": "fogts.allan.taus", "TauGrid": "fogts.allan.taus",
-    "confidence_table": "fogts.allan.confidence", "totdev_bias": "fogts.allan.confidence",
-    "fit_noise": "fogts.allan.noise", "NoiseModel": "fogts.allan.noise",
-    "NoiseTerm": "fogts.allan.noise",
-    "read_curve": "fogts.allan.readout", "CurveReadout": "fogts.allan.readout",
-    "compare_allan": "fogts.allan.compare", "AllanComparison": "fogts.allan.compare",
-    "dynamic_allan": "fogts.allan.dynamic", "DynamicAllanResult": "fogts.allan.dynamic",
+    "fogts.allan.api": "allan_deviation",
+    "fogts.allan.result": "AllanResult AllanResultSet",
+    "fogts.allan.taus": "tau_grid TauGrid",
+    "fogts.allan.confidence": "confidence_table",
+    "fogts.allan.bias": "totdev_bias",
+    "fogts.allan.noise": "fit_noise",
+    "fogts.allan.noise_model": "NoiseModel NoiseTerm",
+    "fogts.allan.readout": "read_curve CurveReadout",
+    "fogts.allan.compare": "compare_allan AllanComparison",
+    "fogts.allan.dynamic": "dynamic_allan",
+    "fogts.allan.dynamic_result": "DynamicAllanResult",
     # ARMA
-    "fit_arma": "fogts.arma.fit", "ArmaFit": "fogts.arma.fit",
-    "select_arma": "fogts.arma.select", "Selection": "fogts.arma.select",
-    "Candidate": "fogts.arma.select", "Prediction": "fogts.arma.predict",
-    "correlogram": "fogts.arma.diagnostics",
+    "fogts.arma.fit": "fit_arma",
+    "fogts.arma.fit_result": "ArmaFit",
+    "fogts.arma.select": "select_arma",
+    "fogts.arma.selection": "Selection",
+    "fogts.arma.candidate": "Candidate",
+    "fogts.arma.predict": "Prediction",
+    "fogts.arma.identification": "correlogram",
     # models built on the results
-    "simulate_gyro": "fogts.simulate.gyro", "simulate_arma": "fogts.simulate.arma_series",
-    "NoiseSpec": "fogts.simulate.noise_spec", "ArmaSpec": "fogts.arma.spec",
-    "simulate_startup": "fogts.startup.simulator",
-    "lowpass": "fogts.preprocess.filters", "moving_average": "fogts.preprocess.filters",
-    "FilterResult": "fogts.preprocess.filters",
-    "separate_trend": "fogts.startup.emd", "TrendSplit": "fogts.startup.emd",
-    "arma_kalman": "fogts.startup.kalman", "KalmanResult": "fogts.startup.kalman",
-    "fit_thermal": "fogts.startup.thermal_fit", "ThermalModel": "fogts.startup.thermal_model",
-    "compensate": "fogts.startup.compensation", "bias_stability": "fogts.startup.compensation",
-    "startup_compensation": "fogts.startup.startup_workflow",
-    "four_position": "fogts.startup.northfind", "NorthFinding": "fogts.startup.northfind",
-    "simulate_startup_positions": "fogts.startup.northfind_simulation", "StartupPositions": "fogts.startup.northfind_simulation",
+    "fogts.simulate.gyro": "simulate_gyro",
+    "fogts.simulate.arma_series": "simulate_arma",
+    "fogts.simulate.noise_spec": "NoiseSpec",
+    "fogts.arma.spec": "ArmaSpec",
+    "fogts.startup.simulator": "simulate_startup",
+    "fogts.preprocess.filters": "lowpass moving_average FilterResult",
+    "fogts.startup.emd": "separate_trend TrendSplit",
+    "fogts.startup.kalman.api": "arma_kalman",
+    "fogts.startup.kalman.result": "KalmanResult",
+    "fogts.startup.thermal_fit": "fit_thermal",
+    "fogts.startup.thermal_model": "ThermalModel",
+    "fogts.startup.compensation": "compensate bias_stability",
+    "fogts.startup.startup_workflow": "startup_compensation",
+    "fogts.startup.northfind": "four_position NorthFinding",
+    "fogts.startup.northfind_simulation": "simulate_startup_positions StartupPositions",
     # tooling
-    "run_batch": "fogts.batch", "build_report": "fogts.report.html",
-    "write_report": "fogts.report.html",
+    "fogts.batch": "run_batch",
+    "fogts.report.html": "build_report write_report",
+}
+#: Public name -> defining module.
+_EXPORTS: dict[str, str] = {
+    name: module for module, names in _MODULE_NAMES.items() for name in names.split()
 }
 
 __all__ = ["__version__", *sorted(_EXPORTS)]
@@ -96,21 +105,27 @@ def __dir__() -> list[str]:
     return sorted(__all__)
 
 
-if TYPE_CHECKING:  # static names for type checkers and IDEs
+if TYPE_CHECKING:  # the names of _MODULE_NAMES, static for type checkers and IDEs
     from fogts import allan, arma, io, preprocess, report, simulate, startup, units
     from fogts.allan.api import allan_deviation
+    from fogts.allan.bias import totdev_bias
     from fogts.allan.compare import AllanComparison, compare_allan
-    from fogts.allan.confidence import confidence_table, totdev_bias
-    from fogts.allan.dynamic import DynamicAllanResult, dynamic_allan
-    from fogts.allan.noise import NoiseModel, NoiseTerm, fit_noise
+    from fogts.allan.confidence import confidence_table
+    from fogts.allan.dynamic import dynamic_allan
+    from fogts.allan.dynamic_result import DynamicAllanResult
+    from fogts.allan.noise import fit_noise
+    from fogts.allan.noise_model import NoiseModel, NoiseTerm
     from fogts.allan.plausibility import PlausibilityReport, check_plausibility
     from fogts.allan.readout import CurveReadout, read_curve
     from fogts.allan.result import AllanResult, AllanResultSet
     from fogts.allan.taus import TauGrid, tau_grid
-    from fogts.arma.diagnostics import correlogram
-    from fogts.arma.fit import ArmaFit, fit_arma
+    from fogts.arma.candidate import Candidate
+    from fogts.arma.fit import fit_arma
+    from fogts.arma.fit_result import ArmaFit
+    from fogts.arma.identification import correlogram
     from fogts.arma.predict import Prediction
-    from fogts.arma.select import Candidate, Selection, select_arma
+    from fogts.arma.select import select_arma
+    from fogts.arma.selection import Selection
     from fogts.arma.spec import ArmaSpec
     from fogts.batch import run_batch
     from fogts.errors import (
@@ -124,14 +139,9 @@ if TYPE_CHECKING:  # static names for type checkers and IDEs
     from fogts.io.run import MissingReport, Run, SamplingReport
     from fogts.preprocess import hygiene
     from fogts.preprocess.filters import FilterResult, lowpass, moving_average
-    from fogts.preprocess.hygiene import (
-        DataQuality,
-        GapReport,
-        GlitchReport,
-        assess_run,
-        detect_glitches,
-        find_gaps,
-    )
+    from fogts.preprocess.gaps import GapReport, find_gaps
+    from fogts.preprocess.glitches import GlitchReport, detect_glitches
+    from fogts.preprocess.hygiene import DataQuality, assess_run
     from fogts.preprocess.prepare import Prepared, prepare
     from fogts.report import plots
     from fogts.report.html import build_report, write_report
@@ -140,7 +150,8 @@ if TYPE_CHECKING:  # static names for type checkers and IDEs
     from fogts.simulate.noise_spec import NoiseSpec
     from fogts.startup.compensation import bias_stability, compensate
     from fogts.startup.emd import TrendSplit, separate_trend
-    from fogts.startup.kalman import KalmanResult, arma_kalman
+    from fogts.startup.kalman.api import arma_kalman
+    from fogts.startup.kalman.result import KalmanResult
     from fogts.startup.northfind import NorthFinding, four_position
     from fogts.startup.northfind_simulation import StartupPositions, simulate_startup_positions
     from fogts.startup.simulator import simulate_startup

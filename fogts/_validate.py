@@ -16,16 +16,8 @@ import pandas as pd
 from fogts._typing import FloatArray
 from fogts.errors import DataError, InsufficientDataError
 
-__all__ = [
-    "as_rng",
-    "check_choice",
-    "check_fraction",
-    "check_int",
-    "check_positive",
-    "is_pandas",
-    "pandas_index",
-    "to_float_array",
-]
+__all__ = ["as_rng", "check_choice", "check_fraction", "check_int", "check_positive", "is_pandas",
+           "pandas_index", "to_float_array"]
 
 
 def check_positive(name: str, value: Any, *, allow_zero: bool = False) -> float:

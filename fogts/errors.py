@@ -7,17 +7,8 @@ line ``error: ...`` on stderr and exit code 2.
 
 from __future__ import annotations
 
-__all__ = [
-    "ConvergenceWarning",
-    "DataError",
-    "DataQualityWarning",
-    "FogtsError",
-    "FogtsWarning",
-    "InsufficientDataError",
-    "ModelFitError",
-    "NotWhiteWarning",
-    "UnidentifiableTermWarning",
-]
+__all__ = ["ConvergenceWarning", "DataError", "DataQualityWarning", "FogtsError", "FogtsWarning",
+           "InsufficientDataError", "ModelFitError", "NotWhiteWarning", "UnidentifiableTermWarning"]
 
 
 class FogtsError(Exception):

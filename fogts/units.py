@@ -17,16 +17,8 @@ import numpy as np
 from fogts._validate import check_positive
 from fogts.errors import DataError
 
-__all__ = [
-    "EARTH_RATE_RAD_S",
-    "RATE_UNITS",
-    "RateUnit",
-    "convert_rate",
-    "earth_rate_component",
-    "parse_duration",
-    "parse_rate_unit",
-    "to_deg_per_hour_factor",
-]
+__all__ = ["EARTH_RATE_RAD_S", "RATE_UNITS", "RateUnit", "convert_rate", "earth_rate_component",
+           "parse_duration", "parse_rate_unit", "to_deg_per_hour_factor"]
 
 RateUnit = Literal["deg/h", "deg/s", "rad/s", "arcsec/s"]
 RATE_UNITS: tuple[str, ...] = get_args(RateUnit)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import ast
 import dataclasses
 import inspect
 import json
@@ -39,6 +40,21 @@ def test_submodules_are_attributes_and_the_package_is_typed() -> None:
     assert fogts.plots.plot_allan is fogts.report.plots.plot_allan
     assert fogts.preprocess.hygiene.detect_glitches is fogts.detect_glitches
     assert importlib.resources.files("fogts").joinpath("py.typed").is_file()
+
+
+def test_static_imports_match_the_lazy_table() -> None:
+    """The ``if TYPE_CHECKING:`` imports name each public name from the module that
+    ``_EXPORTS`` loads it from, and that module defines it."""
+    tree = ast.parse(Path(fogts.__file__).read_text())
+    block = next(n for n in tree.body if isinstance(n, ast.If)
+                 and isinstance(n.test, ast.Name) and n.test.id == "TYPE_CHECKING")
+    static = {a.name: node.module for node in block.body if isinstance(node, ast.ImportFrom)
+              for a in node.names if node.module and node.module != "fogts"
+              and f"{node.module}.{a.name}" not in fogts._SUBMODULES.values()}
+    assert static == fogts._EXPORTS
+    defined_elsewhere = {name: module for name, module in fogts._EXPORTS.items()
+                         if getattr(getattr(fogts, name), "__module__", module) != module}
+    assert not defined_elsewhere
 
 
 # --- the API surface -------------------------------------------------------------------

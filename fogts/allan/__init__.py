@@ -24,21 +24,6 @@ from fogts.allan.estimators import (
 from fogts.allan.result import AllanResult, AllanResultSet
 from fogts.allan.taus import KINDS, DroppedTau, TauGrid, tau_grid
 
-__all__ = [
-    "ESTIMATORS",
-    "KINDS",
-    "AllanResult",
-    "AllanResultSet",
-    "DroppedTau",
-    "EstimatorOutput",
-    "TauGrid",
-    "adev",
-    "allan_deviation",
-    "hdev",
-    "mdev",
-    "oadev",
-    "ohdev",
-    "tau_grid",
-    "totdev",
-    "totdev_bias",
-]
+__all__ = ["ESTIMATORS", "KINDS", "AllanResult", "AllanResultSet", "DroppedTau", "EstimatorOutput",
+           "TauGrid", "adev", "allan_deviation", "hdev", "mdev", "oadev", "ohdev", "tau_grid",
+           "totdev", "totdev_bias"]

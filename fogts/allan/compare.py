@@ -52,10 +52,8 @@ class TermChange:
     significant: bool
 
     def to_dict(self) -> dict[str, Any]:
-        return {"term": self.term, "unit": self.unit, "before": self.before,
-                "before_stderr": self.before_stderr, "after": self.after,
-                "after_stderr": self.after_stderr, "ratio": self.ratio,
-                "change_pct": self.change_pct, "significant": self.significant}
+        """The fields by name, in field order."""
+        return dataclasses.asdict(self)
 
 
 @dataclass(frozen=True)

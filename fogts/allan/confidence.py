@@ -33,28 +33,17 @@ from fogts._validate import check_choice, check_fraction, check_positive, to_flo
 from fogts.allan._checks import check_m
 from fogts.allan.bias import totdev_bias
 from fogts.allan.edf import edf_for
-from fogts.allan.noise_identification import (
-    ACF_MIN_POINTS,
-    ALPHA_METHODS,
-    B1_MIN_POINTS,
-    identify_noise,
-    identify_with_methods,
-)
+from fogts.allan.noise_identification import ACF_MIN_POINTS as ACF_MIN_POINTS
+from fogts.allan.noise_identification import ALPHA_METHODS as ALPHA_METHODS
+from fogts.allan.noise_identification import B1_MIN_POINTS as B1_MIN_POINTS
+from fogts.allan.noise_identification import identify_noise as identify_noise
+from fogts.allan.noise_identification import identify_with_methods
 from fogts.allan.taus import KINDS
 from fogts.errors import DataError
 
-__all__ = [
-    "ACF_MIN_POINTS",
-    "ALPHA_METHODS",
-    "B1_MIN_POINTS",
-    "ChiSquaredInterval",
-    "ConfidenceTable",
-    "chi2_interval",
-    "confidence_table",
-    "edf_for",
-    "identify_noise",
-    "totdev_bias",
-]
+__all__ = ["ACF_MIN_POINTS", "ALPHA_METHODS", "B1_MIN_POINTS", "ChiSquaredInterval",
+           "ConfidenceTable", "chi2_interval", "confidence_table", "edf_for", "identify_noise",
+           "totdev_bias"]
 
 
 @dataclass(frozen=True)

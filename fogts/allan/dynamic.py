@@ -42,23 +42,14 @@ from fogts._typing import BoolArray, FloatArray
 from fogts._validate import check_choice, check_fraction, check_positive
 from fogts.allan.api import is_multi_axis, unpack_axes
 from fogts.allan.confidence import chi2_interval
-from fogts.allan.dynamic_result import (
-    DynamicAllanResult,
-    DynamicAllanResultSet,
-    Nonstationarity,
-)
+from fogts.allan.dynamic_result import DynamicAllanResult, DynamicAllanResultSet, Nonstationarity
 from fogts.allan.edf import edf_for
 from fogts.allan.noise_identification import identify_noise
 from fogts.allan.taus import KINDS, Kind, n_terms, tau_grid
 from fogts.allan.window_sums import CUMSUM_KINDS, cumsum_devs, kernel_devs
 from fogts.errors import DataError, InsufficientDataError
 
-__all__ = [
-    "DynamicAllanResult",
-    "DynamicAllanResultSet",
-    "Nonstationarity",
-    "dynamic_allan",
-]
+__all__ = ["DynamicAllanResult", "DynamicAllanResultSet", "Nonstationarity", "dynamic_allan"]
 
 #: Family-wise significance level of the stationarity verdict and of the window flags.
 DEFAULT_ALPHA = 0.01

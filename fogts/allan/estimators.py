@@ -43,17 +43,8 @@ from fogts.allan.kernels import (
 from fogts.allan.taus import MIN_TERMS, n_terms
 from fogts.errors import DataError
 
-__all__ = [
-    "ESTIMATORS",
-    "EstimatorOutput",
-    "adev",
-    "hdev",
-    "mdev",
-    "oadev",
-    "ohdev",
-    "phase_from_rate",
-    "totdev",
-]
+__all__ = ["ESTIMATORS", "EstimatorOutput", "adev", "hdev", "mdev", "oadev", "ohdev",
+           "phase_from_rate", "totdev"]
 
 #: Below this many (terms x taus) the thread pool costs more than it saves.
 _PARALLEL_MIN_WORK = 4_000_000

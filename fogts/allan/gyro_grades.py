@@ -1,7 +1,7 @@
 """Gyro grades: the ranges of angle random walk N and bias instability B real gyros span.
 
-N in deg/sqrt(h), B in deg/h (Allan-variance bias instability, the flicker floor / 0.664;
-IEEE Std 952-1997 Annex C, :mod:`fogts.allan.terms`).  Each range is the span of the
+N in deg/sqrt(h), B in deg/h (Allan-variance bias instability, the flicker floor /
+:data:`~fogts.allan.terms.B_PLATEAU`; IEEE Std 952-1997 Annex C).  Each range is the span of the
 published figures quoted beside it, widened by a factor of about 2 to 5 on each side,
 because datasheet figures are specification limits (a unit is often better than its limit)
 and in-run B from an Allan curve is usually below a datasheet's turn-on or repeatability
@@ -75,15 +75,11 @@ from dataclasses import dataclass
 
 import pandas as pd
 
-__all__ = [
-    "B_ENVELOPE",
-    "GRADE_BY_KEY",
-    "GYRO_GRADES",
-    "N_ENVELOPE",
-    "GyroGrade",
-    "grade_table",
-    "grades_of",
-]
+__all__ = ["B_ENVELOPE", "GRADE_BY_KEY", "GYRO_GRADES", "N_ENVELOPE", "Bounds", "GyroGrade",
+           "grade_table", "grades_of"]
+
+#: An inclusive range ``(low, high)``.
+Bounds = tuple[float, float]
 
 
 @dataclass(frozen=True)
@@ -98,10 +94,10 @@ class GyroGrade:
     label : str
         Noun phrase for messages ("tactical-grade gyro").
     technology : str
-    n_range : tuple of float
-        Angle random walk N, deg/sqrt(h), inclusive.
-    b_range : tuple of float
-        Bias instability B, deg/h, inclusive.
+    n_range : Bounds
+        Angle random walk N, deg/sqrt(h).
+    b_range : Bounds
+        Bias instability B, deg/h.
     anchors : str
         The published figures the ranges were widened from (see the module docstring).
     """
@@ -109,8 +105,8 @@ class GyroGrade:
     key: str
     label: str
     technology: str
-    n_range: tuple[float, float]
-    b_range: tuple[float, float]
+    n_range: Bounds
+    b_range: Bounds
     anchors: str
 
     def contains(self, N: float | None, B: float | None) -> bool:
@@ -128,7 +124,7 @@ class GyroGrade:
         return math.sqrt(sum(u * u for u in offsets) / len(offsets))
 
 
-def _offset(value: float, bounds: tuple[float, float]) -> float:
+def _offset(value: float, bounds: Bounds) -> float:
     lo, hi = math.log10(bounds[0]), math.log10(bounds[1])
     return (math.log10(value) - (lo + hi) / 2) / ((hi - lo) / 2)
 
@@ -157,11 +153,11 @@ GYRO_GRADES: tuple[GyroGrade, ...] = (
 )
 
 #: Envelope of N (deg/sqrt(h)) over every grade.
-N_ENVELOPE: tuple[float, float] = (min(g.n_range[0] for g in GYRO_GRADES),
-                                   max(g.n_range[1] for g in GYRO_GRADES))
+N_ENVELOPE: Bounds = (min(g.n_range[0] for g in GYRO_GRADES),
+                      max(g.n_range[1] for g in GYRO_GRADES))
 #: Envelope of B (deg/h) over every grade.
-B_ENVELOPE: tuple[float, float] = (min(g.b_range[0] for g in GYRO_GRADES),
-                                   max(g.b_range[1] for g in GYRO_GRADES))
+B_ENVELOPE: Bounds = (min(g.b_range[0] for g in GYRO_GRADES),
+                      max(g.b_range[1] for g in GYRO_GRADES))
 
 #: Each grade by its key.
 GRADE_BY_KEY: dict[str, GyroGrade] = {g.key: g for g in GYRO_GRADES}

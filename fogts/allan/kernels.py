@@ -24,18 +24,8 @@ import numpy as np
 
 from fogts._typing import FloatArray
 
-__all__ = [
-    "CHUNK",
-    "DOT_BLOCK",
-    "NORMALISATION",
-    "phase_from_rate",
-    "second_difference",
-    "ss_mod",
-    "ss_second",
-    "ss_third",
-    "ss_total",
-    "third_difference",
-]
+__all__ = ["CHUNK", "DOT_BLOCK", "NORMALISATION", "phase_from_rate", "second_difference", "ss_mod",
+           "ss_second", "ss_third", "ss_total", "third_difference"]
 
 #: Elements per chunk of the sum-of-squares loops (256 KiB of float64: stays in L2).
 CHUNK = 1 << 15

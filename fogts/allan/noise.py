@@ -86,22 +86,9 @@ from fogts.errors import (
 )
 from fogts.units import to_deg_per_hour_factor
 
-__all__ = [
-    "COVERAGE_SHARE",
-    "FITTABLE_KINDS",
-    "FIT_METHODS",
-    "MAX_COVARIANCE_POINTS",
-    "MIN_COVERED_POINTS",
-    "NOISE_TERMS",
-    "TERM_UNIT",
-    "NoiseModel",
-    "NoiseTerm",
-    "SlopeReadoff",
-    "c_from_terms",
-    "fit_noise",
-    "parse_terms",
-    "terms_from_c",
-]
+__all__ = ["COVERAGE_SHARE", "FITTABLE_KINDS", "FIT_METHODS", "MAX_COVARIANCE_POINTS",
+           "MIN_COVERED_POINTS", "NOISE_TERMS", "TERM_UNIT", "NoiseModel", "NoiseTerm",
+           "SlopeReadoff", "c_from_terms", "fit_noise", "parse_terms", "terms_from_c"]
 
 
 # Long only by its numpydoc docstring; the steps are the helpers below.

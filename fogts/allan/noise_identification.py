@@ -34,14 +34,8 @@ from fogts.allan._checks import check_m
 from fogts.allan.estimators import mdev, oadev, phase_from_rate
 from fogts.allan.taus import KINDS
 
-__all__ = [
-    "ACF_MIN_POINTS",
-    "ALPHAS",
-    "ALPHA_METHODS",
-    "B1_MIN_POINTS",
-    "identify_noise",
-    "identify_with_methods",
-]
+__all__ = ["ACF_MIN_POINTS", "ALPHAS", "ALPHA_METHODS", "B1_MIN_POINTS", "identify_noise",
+           "identify_with_methods"]
 
 #: Fewest decimated phase points (``n // m + 1``) for the lag-1 autocorrelation method;
 #: SP1065 section 5.2 and Riley & Greenhall (2004) ask for "at least about 30".

@@ -60,16 +60,8 @@ from fogts._typing import FloatArray, IntArray
 from fogts.allan.covariance import CovarianceModel, covariance_basis
 from fogts.allan.noise_input import FitCurve
 
-__all__ = [
-    "FIT_METHODS",
-    "IRLS_MAX_ITER",
-    "MAX_COVARIANCE_POINTS",
-    "FitMethod",
-    "LsqFit",
-    "LsqProblem",
-    "curve_covariance_basis",
-    "octave_density",
-]
+__all__ = ["FIT_METHODS", "IRLS_MAX_ITER", "MAX_COVARIANCE_POINTS", "FitMethod", "LsqFit",
+           "LsqProblem", "curve_covariance_basis", "octave_density"]
 
 FitMethod = Literal["wls", "gls", "ols"]
 FIT_METHODS: tuple[str, ...] = get_args(FitMethod)

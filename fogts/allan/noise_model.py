@@ -252,12 +252,8 @@ class NoiseModel:
 
     def to_dict(self) -> dict[str, Any]:
         return {
-            "method": self.method,
-            "confidence": self.confidence,
-            "kind": self.kind,
-            "units": self.units,
-            "axis": self.axis,
-            "terms": self.noise_dict(),
+            "method": self.method, "confidence": self.confidence, "kind": self.kind,
+            "units": self.units, "axis": self.axis, "terms": self.noise_dict(),
             "readoff": self.readoff.to_dict(),
             "fit": {"n_points": int(self.tau_s.size),
                     "tau_range": [float(self.tau_s[0]), float(self.tau_s[-1])],

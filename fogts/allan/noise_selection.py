@@ -46,14 +46,8 @@ from fogts.allan.noise_lsq import LsqFit, LsqProblem
 from fogts.allan.noise_model import NoiseModel, NoiseTerm
 from fogts.allan.terms import C_UNIT, TERM_DESCRIPTION, TERM_FACTOR, TERM_POWER, TERM_UNIT
 
-__all__ = [
-    "COVERAGE_SHARE",
-    "MIN_COVERED_POINTS",
-    "TermSelection",
-    "backward_elimination",
-    "identify_terms",
-    "term_estimates",
-]
+__all__ = ["COVERAGE_SHARE", "MIN_COVERED_POINTS", "TermSelection", "backward_elimination",
+           "identify_terms", "term_estimates"]
 
 #: A term's region: where it makes up at least this share of the fitted sigma^2.
 COVERAGE_SHARE = 0.25
@@ -64,6 +58,9 @@ MIN_COVERED_POINTS = 2
 @dataclass(frozen=True)
 class TermSelection:
     """The final fit after term selection.
+
+    What :func:`backward_elimination` returns; :func:`term_estimates` turns it into the
+    model's terms.
 
     Attributes
     ----------

@@ -46,16 +46,8 @@ from fogts.allan.terms import TERM_UNIT
 from fogts.errors import DataError
 from fogts.units import RATE_UNITS, parse_rate_unit, to_deg_per_hour_factor
 
-__all__ = [
-    "B_ENVELOPE",
-    "GYRO_GRADES",
-    "N_ENVELOPE",
-    "GyroGrade",
-    "PlausibilityReport",
-    "UnitAlternative",
-    "check_plausibility",
-    "grade_table",
-]
+__all__ = ["B_ENVELOPE", "GYRO_GRADES", "N_ENVELOPE", "GyroGrade", "PlausibilityReport",
+           "UnitAlternative", "check_plausibility", "grade_table"]
 
 Verdict = Literal["plausible", "implausible", "not checked"]
 #: A coefficient as callers hold it (None: the term was not fitted).
@@ -396,7 +388,8 @@ def check_plausibility(N: Coefficient, B: Coefficient, *, units: str) -> Plausib
         (IEEE Std 952-1997 Annex C: N = C_-1/60 with the rate in deg/h).  None when the term
         was not fitted, 0 when it was fitted to zero: the check then rests on B alone.
     B : float or None
-        Bias instability in deg/h (B = C_0/0.664), same conventions.
+        Bias instability in deg/h (B = C_0 / :data:`~fogts.allan.terms.B_PLATEAU`), same
+        conventions.
     units : str
         The rate unit the recording was read in (``deg/h``, ``deg/s``, ``rad/s``,
         ``arcsec/s`` or an alias :func:`fogts.units.parse_rate_unit` accepts).

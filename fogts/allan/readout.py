@@ -5,7 +5,8 @@ The log-log curve of an optical gyro is read in four regions (IEEE Std 952-1997 
 * A: the single-sample noise at the shortest tau;
 * B: the falling part that averaging removes (ARW has slope -1/2, quantization -1);
 * C: the minimum, giving the optimal averaging time and the noise floor (the
-  bias-instability point: B = sigma_min / 0.664 for flicker noise);
+  bias-instability point: B = sigma_min / :data:`~fogts.allan.terms.B_PLATEAU` for flicker
+  noise);
 * D: the rise from slow drift (rate random walk +1/2, rate ramp +1).
 
 :func:`read_curve` returns the minimum with its confidence interval, the log-log slope of
@@ -240,7 +241,7 @@ class SlopeReadoff:
     IEEE Std 952-1997 Annex C and MATLAB's ``allanvar`` example: a line of the term's slope
     is drawn through the curve point whose local log-log slope is closest to it; N is that
     -1/2 line at tau = 1 s (divided by 60 for deg/sqrt(h)), K the +1/2 line at tau = 3 s
-    (times 60 for deg/h^1.5); B is the minimum deviation / 0.664.
+    (times 60 for deg/h^1.5); B is the minimum deviation / :data:`B_PLATEAU`.
 
     Attributes
     ----------
@@ -286,10 +287,10 @@ def slope_readoff(tau: FloatArray, dev: FloatArray, factor: float,
     """The IEEE 952 Annex C / MATLAB ``allanvar`` read-offs of N, K and B.
 
     Lines of slope -1/2 (+1/2) through the point whose local log-log slope is closest to it,
-    read at tau = 1 s (3 s); B = minimum / 0.664.  The minimum is :func:`read_curve`'s: the
-    lowest point among those with at least ``MIN_EDF_FOR_MINIMUM`` degrees of freedom, so
-    that a last point with two terms that happens to fall low is not read as the flicker
-    floor.
+    read at tau = 1 s (3 s); B = minimum / :data:`B_PLATEAU`.  The minimum is
+    :func:`read_curve`'s: the lowest point among those with at least ``MIN_EDF_FOR_MINIMUM``
+    degrees of freedom, so that a last point with two terms that happens to fall low is not
+    read as the flicker floor.
 
     Parameters
     ----------

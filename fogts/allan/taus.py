@@ -43,17 +43,8 @@ KINDS: tuple[str, ...] = get_args(Kind)
 GridName = Literal["octave", "decade", "dense", "all"]
 GRID_NAMES: tuple[str, ...] = get_args(GridName)
 
-__all__ = [
-    "GRID_NAMES",
-    "KINDS",
-    "DroppedTau",
-    "GridName",
-    "Kind",
-    "TauGrid",
-    "max_m",
-    "n_terms",
-    "tau_grid",
-]
+__all__ = ["GRID_NAMES", "KINDS", "DroppedTau", "GridName", "Kind", "TauGrid", "max_m", "n_terms",
+           "tau_grid"]
 
 #: Fewest terms an estimate needs (allantools drops ``ns <= 1``; so does fogts).
 MIN_TERMS = 2
@@ -62,6 +53,8 @@ MIN_TERMS = 2
 @dataclass(frozen=True)
 class DroppedTau:
     """A requested tau that could not be computed, and why.
+
+    Kept in a result's ``dropped`` field, so that no requested tau disappears silently.
 
     Attributes
     ----------

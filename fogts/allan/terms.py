@@ -11,7 +11,8 @@ coefficient of ``tau^n`` (rate in deg/h, tau in s); each term is
 ``value = C_n / (seconds_factor * allan_root)``, i.e. N = C_-1/60, B = C_0/0.664,
 K = 60 sqrt(3) C_1, R = 3600 sqrt(2) C_2 and Q = C_-2/sqrt(3) (DESIGN.md).  B uses IEEE 952's
 rounded plateau factor 0.664 (:data:`B_PLATEAU`) rather than sqrt(2 ln 2/pi) = 0.66428
-(0.04 % apart); fitted curves are computed from the ``C_n`` and are exact.
+(:data:`FLICKER_AVAR` is 2 ln 2/pi; 0.04 % apart); fitted curves are computed from the ``C_n``
+and are exact.
 
 The slope read-offs (IEEE 952 Annex C) read a term's own Allan-deviation line at the tau
 where it equals the coefficient in deg/h-and-seconds units (:attr:`NoiseTermInfo.readoff_tau_s`:
@@ -30,30 +31,18 @@ import numpy as np
 
 from fogts.errors import DataError
 
-__all__ = [
-    "B_PLATEAU",
-    "C_UNIT",
-    "NOISE_TERMS",
-    "TERMS",
-    "TERM_DESCRIPTION",
-    "TERM_FACTOR",
-    "TERM_POWER",
-    "TERM_SLOPE",
-    "TERM_UNIT",
-    "TO_SECONDS",
-    "NoiseTermInfo",
-    "TermName",
-    "c_from_terms",
-    "from_seconds",
-    "parse_terms",
-    "terms_from_c",
-]
+__all__ = ["B_PLATEAU", "C_UNIT", "FLICKER_AVAR", "NOISE_TERMS", "TERMS", "TERM_DESCRIPTION",
+           "TERM_FACTOR", "TERM_POWER", "TERM_SLOPE", "TERM_UNIT", "TO_SECONDS", "NoiseTermInfo",
+           "TermName", "c_from_terms", "from_seconds", "parse_terms", "terms_from_c"]
 
 TermName = Literal["Q", "N", "B", "K", "R"]
 NOISE_TERMS: tuple[str, ...] = get_args(TermName)
 
 #: Flicker floor of the Allan deviation per unit of B (IEEE 952 Annex C, rounded).
 B_PLATEAU = 0.664
+#: Flicker constant of the Allan variance, sigma^2 = FLICKER_AVAR B^2 (IEEE 952 Table C.1);
+#: B_PLATEAU rounds its square root.
+FLICKER_AVAR = 2.0 * math.log(2.0) / math.pi
 #: sqrt(seconds per hour): deg/sqrt(h) = 60 deg/h sqrt(s).
 _SQRT_S_PER_H = 60.0
 
@@ -61,6 +50,9 @@ _SQRT_S_PER_H = 60.0
 @dataclass(frozen=True)
 class NoiseTermInfo:
     """One IEEE-952 term.
+
+    A row of :data:`TERMS`; the per-term tables (:data:`TERM_UNIT`, :data:`TERM_FACTOR`, ...)
+    are read from the rows.
 
     Attributes
     ----------

@@ -18,12 +18,7 @@ import numpy as np
 
 from fogts._typing import FloatArray, IntArray
 from fogts.allan.estimators import ESTIMATORS
-from fogts.allan.kernels import (
-    NORMALISATION,
-    phase_from_rate,
-    second_difference,
-    third_difference,
-)
+from fogts.allan.kernels import NORMALISATION, phase_from_rate, second_difference, third_difference
 
 __all__ = ["CUMSUM_KINDS", "cumsum_devs", "kernel_devs"]
 

@@ -20,6 +20,15 @@ from fogts.errors import ModelFitError
 __all__ = ["Candidate"]
 
 
+def _fit_number(name: str, what: str) -> property:
+    """A :class:`Candidate` property that reads the number ``name`` of its fit."""
+
+    def read(self: Candidate) -> float:
+        return math.nan if self.fit is None else float(getattr(self.fit, name))
+
+    return property(read, doc=f"{what} (``fit.{name}``); NaN for a failed fit.")
+
+
 @dataclass(frozen=True)
 class Candidate:
     """One ARMA(p, q) candidate: its fit, residual checks and redundancy flags.
@@ -85,29 +94,12 @@ class Candidate:
         """Standard errors of ``params``; {} for a failed fit."""
         return {} if self.fit is None else self.fit.bse
 
-    @property
-    def llf(self) -> float:
-        return math.nan if self.fit is None else self.fit.llf
-
-    @property
-    def aic(self) -> float:
-        return math.nan if self.fit is None else self.fit.aic
-
-    @property
-    def bic(self) -> float:
-        return math.nan if self.fit is None else self.fit.bic
-
-    @property
-    def hqic(self) -> float:
-        return math.nan if self.fit is None else self.fit.hqic
-
-    @property
-    def aicc(self) -> float:
-        return math.nan if self.fit is None else self.fit.aicc
-
-    @property
-    def sigma2(self) -> float:
-        return math.nan if self.fit is None else self.fit.sigma2
+    llf = _fit_number("llf", "Log-likelihood")
+    aic = _fit_number("aic", "Akaike information criterion")
+    bic = _fit_number("bic", "Bayesian information criterion")
+    hqic = _fit_number("hqic", "Hannan-Quinn information criterion")
+    aicc = _fit_number("aicc", "Small-sample corrected AIC")
+    sigma2 = _fit_number("sigma2", "Innovation variance (original units squared)")
 
     @property
     def converged(self) -> bool:

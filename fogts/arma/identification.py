@@ -39,6 +39,8 @@ CUTOFF_STEP = 2.0
 class CorrelogramPattern:
     """How one correlation function behaves after lag 0.
 
+    The ``acf_pattern`` and ``pacf_pattern`` of a :class:`Correlogram`.
+
     Attributes
     ----------
     kind : {"none", "cuts off", "tails off"}
@@ -64,7 +66,10 @@ class CorrelogramPattern:
 
 @dataclass(frozen=True)
 class Correlogram:
-    """The data's ACF and PACF with the Box-Jenkins reading of each (see :func:`correlogram`).
+    """The data's ACF and PACF with the Box-Jenkins reading of each.
+
+    What :func:`correlogram` returns; a :class:`~fogts.arma.selection.Selection` carries the
+    correlogram of the data it selected on.
 
     Attributes
     ----------

@@ -39,6 +39,9 @@ __all__ = ["Prediction", "one_step_prediction", "predict_arma"]
 class Prediction:
     """Observed series, its one-step-ahead prediction and the residual (drift paper, Fig. 5).
 
+    What :meth:`Candidate.predict <fogts.arma.candidate.Candidate.predict>` and
+    :func:`predict_arma` return.
+
     Attributes
     ----------
     model : str

@@ -47,7 +47,7 @@ from fogts.arma.verdict import (
     QUANT_CHECK_SAMPLES,
     QUANT_MAX_LEVELS,
     SMALL_PREDICTION,
-    quantisation_note,
+    quantization_note,
     write_verdict,
 )
 from fogts.arma.whiteness import residual_diagnostics
@@ -59,21 +59,9 @@ from fogts.errors import (
     NotWhiteWarning,
 )
 
-__all__ = [
-    "CLOSE_CALL",
-    "CRITERIA",
-    "DEFAULT_FIVE",
-    "MAX_ORDER",
-    "MIN_SELECT_SAMPLES",
-    "QUANT_CHECK_SAMPLES",
-    "QUANT_MAX_LEVELS",
-    "SMALL_PREDICTION",
-    "Candidate",
-    "Criterion",
-    "Selection",
-    "parse_candidates",
-    "select_arma",
-]
+__all__ = ["CLOSE_CALL", "CRITERIA", "DEFAULT_FIVE", "MAX_ORDER", "MIN_SELECT_SAMPLES",
+           "QUANT_CHECK_SAMPLES", "QUANT_MAX_LEVELS", "SMALL_PREDICTION", "Candidate", "Criterion",
+           "Selection", "parse_candidates", "select_arma"]
 
 Criterion = Literal["aic", "bic", "hqic", "aicc"]
 CRITERIA: tuple[str, ...] = ("aic", "bic", "hqic", "aicc")
@@ -105,7 +93,7 @@ def _unpack(x: Any, fs_hz: float | None) -> _Input:
         run = x.run
         info = {"source": run.source if run is not None else None, "axis": x.axis,
                 "units": x.units, "n_input": x.n_input, "n": x.n, "fs_hz": x.fs_hz}
-        raw = None   # the quantisation check only applies to undecimated data
+        raw = None   # the quantization check only applies to undecimated data
         if run is not None and x.axis in run.axes and x.decimate == 1:
             raw = run.axis(x.axis)
         return _Input(x.x, x.index, x.time, x.fs_hz, x.units, info, x.to_dict(), raw)
@@ -291,7 +279,7 @@ def select_arma(
         # recomputed once, exactly as the fit made them
         sel = ranked[0] = _replace(sel, fit=sel.fit._with_resid())
     all_white_failed = not any(c.white for c in ranked)
-    notes = tuple(n for n in (quantisation_note(inp.raw, inp.units),) if n)
+    notes = tuple(n for n in (quantization_note(inp.raw, inp.units),) if n)
     verdict = " ".join((write_verdict(sel, ranked, criterion, corr), *notes))
     if sel is not None and all_white_failed:
         warnings.warn(f"no candidate leaves white residuals; {sel.model} (best by "

@@ -46,7 +46,7 @@ class Selection:
     method : str
         Fit method passed to :func:`fogts.arma.fit.fit_arma`.
     notes : tuple of str
-        Remarks on the data (e.g. a quantised raw rate), also appended to ``verdict``.
+        Remarks on the data (e.g. a quantized raw rate), also appended to ``verdict``.
     """
 
     candidates: tuple[Candidate, ...]

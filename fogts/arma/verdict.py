@@ -11,7 +11,7 @@ from fogts.arma.candidate import Candidate
 from fogts.arma.identification import Correlogram
 
 __all__ = ["CLOSE_CALL", "QUANT_CHECK_SAMPLES", "QUANT_MAX_LEVELS", "SMALL_PREDICTION",
-           "quantisation_note", "write_verdict"]
+           "quantization_note", "write_verdict"]
 
 #: A simpler white candidate within this many criterion units of the selected one is named in
 #: the verdict (Burnham & Anderson, *Model Selection and Multimodel Inference*, 2nd ed.,
@@ -21,13 +21,13 @@ CLOSE_CALL = 2.0
 #: series is nearly white (the model explains almost nothing).
 SMALL_PREDICTION = 0.05
 #: A raw rate with at most this many distinct values (in the first QUANT_CHECK_SAMPLES) is
-#: reported as quantised.
+#: reported as quantized.
 QUANT_MAX_LEVELS = 64
 QUANT_CHECK_SAMPLES = 200_000
 
 
-def quantisation_note(raw: FloatArray | None, units: str | None) -> str | None:
-    """A note if the raw rate takes few distinct values (a quantised gyro output)."""
+def quantization_note(raw: FloatArray | None, units: str | None) -> str | None:
+    """A note if the raw rate takes few distinct values (a quantized gyro output)."""
     if raw is None or raw.size < 100:
         return None
     levels = np.unique(raw[:QUANT_CHECK_SAMPLES])
@@ -36,7 +36,7 @@ def quantisation_note(raw: FloatArray | None, units: str | None) -> str | None:
     step = float(np.min(np.diff(levels))) if levels.size > 1 else 0.0
     unit = f" {units}" if units else ""
     return (f"The raw rate takes only {levels.size} distinct values (step {step:.4g}{unit}): "
-            "it is quantised, so its residuals cannot look Gaussian; block-average it "
+            "it is quantized, so its residuals cannot look Gaussian; block-average it "
             "(decimate) before modelling the drift.")
 
 

@@ -37,17 +37,8 @@ from fogts._validate import check_int, to_float_array
 from fogts.arma.correlation import autocorrelation, dot
 from fogts.errors import DataError
 
-__all__ = [
-    "BAND_Z",
-    "LB_ALPHA",
-    "CorrelationCheck",
-    "LjungBoxLag",
-    "ResidualDiagnostics",
-    "ljung_box",
-    "residual_diagnostics",
-    "rho_a2",
-    "rho_ax3",
-]
+__all__ = ["BAND_Z", "LB_ALPHA", "CorrelationCheck", "LjungBoxLag", "ResidualDiagnostics",
+           "ljung_box", "residual_diagnostics", "rho_a2", "rho_ax3"]
 
 #: Two-sided 95 % normal quantile used for every band and t-test.
 BAND_Z = 1.96

@@ -16,14 +16,5 @@ from fogts.io.reader import read_json, read_run
 from fogts.io.run import MissingReport, Run, SamplingReport
 from fogts.io.writer import atomic_path, write_frame_atomic, write_text_atomic
 
-__all__ = [
-    "MissingReport",
-    "Run",
-    "SamplingReport",
-    "atomic_path",
-    "check_outputs",
-    "read_json",
-    "read_run",
-    "write_frame_atomic",
-    "write_text_atomic",
-]
+__all__ = ["MissingReport", "Run", "SamplingReport", "atomic_path", "check_outputs", "read_json",
+           "read_run", "write_frame_atomic", "write_text_atomic"]

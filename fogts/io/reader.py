@@ -33,12 +33,7 @@ from fogts.errors import DataError, InsufficientDataError
 from fogts.io.arrays import array_table, frame_table, npy_table, npz_table, parquet_table
 from fogts.io.columns import assign_roles, rate_unit, sidecar_unit
 from fogts.io.limits import check_regular_file, read_capped
-from fogts.io.missing import (
-    NAN_POLICIES,
-    apply_missing_drop,
-    interpolate_missing,
-    missing_report,
-)
+from fogts.io.missing import NAN_POLICIES, apply_missing_drop, interpolate_missing, missing_report
 from fogts.io.run import MissingReport, Run
 from fogts.io.table import MIN_SAMPLES, Table, numeric_column
 from fogts.io.text import text_file_table

@@ -23,6 +23,8 @@ __all__ = ["MissingReport", "Run", "SamplingReport"]
 class SamplingReport:
     """How regular the time base is.
 
+    ``Run.sampling``: what :func:`~fogts.io.timebase.sampling_report` found in the time column.
+
     Attributes
     ----------
     median_dt_s : float

@@ -11,17 +11,5 @@ from fogts.preprocess.glitches import GlitchReport, detect_glitches
 from fogts.preprocess.hygiene import GAP_POLICIES, DataQuality, assess_run
 from fogts.preprocess.prepare import Prepared, prepare
 
-__all__ = [
-    "GAP_POLICIES",
-    "DataQuality",
-    "FilterResult",
-    "GapReport",
-    "GlitchReport",
-    "Prepared",
-    "assess_run",
-    "detect_glitches",
-    "find_gaps",
-    "lowpass",
-    "moving_average",
-    "prepare",
-]
+__all__ = ["GAP_POLICIES", "DataQuality", "FilterResult", "GapReport", "GlitchReport", "Prepared",
+           "assess_run", "detect_glitches", "find_gaps", "lowpass", "moving_average", "prepare"]

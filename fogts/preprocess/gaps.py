@@ -38,6 +38,9 @@ class Gap:
 class GapReport:
     """Gaps of a time base (steps longer than 1.5 x the nominal step).
 
+    What :func:`find_gaps` returns; under ``gaps="split"``
+    :func:`~fogts.preprocess.hygiene.assess_run` analyses its longest segment.
+
     Attributes
     ----------
     n_gaps : int

@@ -2,7 +2,7 @@
 
 A one-sample spike, a burst of corrupt samples and a jump to a new level are found; a slow
 drift, a rate random walk and honest white noise are not.  Robust sigmas are
-1.4826 x MAD (Hampel 1974; Rousseeuw & Croux 1993), with fallbacks for quantised data.
+1.4826 x MAD (Hampel 1974; Rousseeuw & Croux 1993), with fallbacks for quantized data.
 """
 
 from __future__ import annotations
@@ -88,7 +88,7 @@ class GlitchReport:
         Robust standard deviations of the rate and of its first difference.
     scale : str
         How the sigmas were estimated (``"MAD"`` or the fallback used for coarsely
-        quantised data).
+        quantized data).
     n_flagged : int
         Samples in all events.
     n_events : int
@@ -136,7 +136,7 @@ class GlitchReport:
 def _robust_sigma(values: FloatArray) -> tuple[float, float, str]:
     """Median and a robust sigma that is never zero unless the data are constant.
 
-    1.4826 MAD first; coarsely quantised sensors (most samples on one grid value) can give
+    1.4826 MAD first; coarsely quantized sensors (most samples on one grid value) can give
     MAD = 0, then half the 15.9..84.1 % inter-quantile range, then the standard deviation
     of the central 98 %, then the plain standard deviation."""
     med = float(np.median(values))
@@ -145,12 +145,12 @@ def _robust_sigma(values: FloatArray) -> tuple[float, float, str]:
         return med, mad, "MAD"
     lo, hi = np.quantile(values, [0.15865525393145707, 0.8413447460685429])
     if hi > lo:
-        return med, float(hi - lo) / 2.0, "inter-quantile range (MAD = 0: quantised data)"
+        return med, float(hi - lo) / 2.0, "inter-quantile range (MAD = 0: quantized data)"
     q01, q99 = np.quantile(values, [0.01, 0.99])
     central = values[(values >= q01) & (values <= q99)]
     if central.size > 1 and np.std(central) > 0:
-        return med, float(np.std(central)), "std of the central 98 % (quantised data)"
-    return med, float(np.std(values)), "standard deviation (quantised data)"
+        return med, float(np.std(central)), "std of the central 98 % (quantized data)"
+    return med, float(np.std(values)), "standard deviation (quantized data)"
 
 
 def _strided(x: FloatArray, limit: int = SCALE_SAMPLES) -> FloatArray:
@@ -215,7 +215,7 @@ def detect_glitches(
     of corrupt samples and a jump to a new level are all found, while a slow drift or a
     rate random walk (far from the median, but by small steps) and honest white noise are
     not.  Robust sigmas are 1.4826 x MAD (Hampel 1974; Rousseeuw & Croux 1993, JASA 88,
-    1273), as in Stable32's MAD outlier screen, with fallbacks for quantised data.
+    1273), as in Stable32's MAD outlier screen, with fallbacks for quantized data.
 
     Parameters
     ----------

@@ -27,18 +27,8 @@ from fogts.io.run import MissingReport, Run
 from fogts.preprocess.gaps import Gap, GapReport, find_gaps, segment_run
 from fogts.preprocess.glitches import GLITCH_SIGMAS, Glitch, GlitchReport, detect_glitches
 
-__all__ = [
-    "GAP_POLICIES",
-    "GLITCH_SIGMAS",
-    "DataQuality",
-    "Gap",
-    "GapReport",
-    "Glitch",
-    "GlitchReport",
-    "assess_run",
-    "detect_glitches",
-    "find_gaps",
-]
+__all__ = ["GAP_POLICIES", "GLITCH_SIGMAS", "DataQuality", "Gap", "GapReport", "Glitch",
+           "GlitchReport", "assess_run", "detect_glitches", "find_gaps"]
 
 GapPolicy = Literal["warn", "error", "split", "ignore"]
 #: What a command may do with a time base that has gaps.

@@ -37,6 +37,8 @@ MIN_PREPARE_SAMPLES = 10
 class OutlierReport:
     """Samples replaced as outliers (Stable32-style MAD sigma factor).
 
+    ``Prepared.outliers`` when :func:`prepare` is given an ``outliers`` sigma factor.
+
     Attributes
     ----------
     sigma_factor : float

@@ -15,7 +15,7 @@ from typing import Any
 import numpy as np
 
 from fogts._typing import FloatArray
-from fogts.allan.terms import NOISE_TERMS, TERM_DESCRIPTION, TERM_UNIT, TO_SECONDS
+from fogts.allan.terms import FLICKER_AVAR, NOISE_TERMS, TERM_DESCRIPTION, TERM_UNIT, TO_SECONDS
 from fogts.errors import DataError
 from fogts.units import parse_rate_unit, to_deg_per_hour_factor
 
@@ -34,7 +34,6 @@ _ALIASES = {"markov_q": "q_c", "qc": "q_c", "markov_t": "T_c", "tc": "T_c",
             "f0": "f_0", "sine_freq_hz": "f_0", "sine_frequency": "f_0"}
 #: Coefficients that may be negative (signs of deterministic terms).
 _SIGNED = ("R", "bias")
-_TWO_LN2_OVER_PI = 2.0 * math.log(2.0) / math.pi
 
 
 @dataclass(frozen=True)
@@ -48,7 +47,8 @@ class NoiseSpec:
     N : float
         Angle random walk in deg/sqrt(h).
     B : float
-        Bias instability in deg/h (the Allan plateau is 0.664 B).
+        Bias instability in deg/h (the Allan plateau is
+        :data:`~fogts.allan.terms.B_PLATEAU` B).
     K : float
         Rate random walk in deg/h^1.5.
     R : float
@@ -162,7 +162,7 @@ class NoiseSpec:
             raise DataError(f"tau_s must be finite and > 0, got {tau_s!r}")
         q, n_, b = self.internal("Q"), self.internal("N"), self.internal("B")
         k, r = self.internal("K"), self.internal("R")
-        av = (3.0 * q * q / tau**2 + n_ * n_ / tau + _TWO_LN2_OVER_PI * b * b
+        av = (3.0 * q * q / tau**2 + n_ * n_ / tau + FLICKER_AVAR * b * b
               + k * k * tau / 3.0 + r * r * tau**2 / 2.0)
         if self.q_c > 0:
             av = av + markov_avar(self.q_c, self.T_c, tau)

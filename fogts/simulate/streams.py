@@ -219,7 +219,7 @@ def flicker_poles(fs_hz: float, duration_s: float) -> tuple[FloatArray, FloatArr
     ``10 x duration``, with q_i^2 = 2 Delta B^2 / (pi T_i) and Delta = ln(10)/3, so that
     sum_i (q_i T_i)^2 / (1 + (2 pi f T_i)^2) ~ B^2 / (2 pi f), the two-sided flicker PSD of
     IEEE 952 Table C.1; the ripple of the sum keeps the Allan plateau within 0.5 % of
-    0.664 B from tau = 1/fs to half the record (Keshner, "1/f noise", Proc. IEEE 70(3), 1982,
+    :data:`~fogts.allan.terms.B_PLATEAU` B from tau = 1/fs to half the record (Keshner, "1/f noise", Proc. IEEE 70(3), 1982,
     for the superposition of Lorentzian spectra).
     """
     dt = 1.0 / fs_hz
@@ -239,8 +239,8 @@ def kasdin_flicker(n: int, b: float, g: np.random.Generator) -> FloatArray:
     83(5), 1995, eq. 116) convolved with white noise of variance b^2 by a zero-padded FFT
     (linear, not circular, convolution), in O(n log n) and with the whole record in memory.
     The samples are sampled rather than interval-averaged flicker: the integral of the
-    discrete spectrum puts the Allan deviation 20 %, 7.4 %, 2.5 % and 0.8 % above 0.664 b at
-    m = 1, 2, 4 and 8 samples.
+    discrete spectrum puts the Allan deviation 20 %, 7.4 %, 2.5 % and 0.8 % above
+    :data:`~fogts.allan.terms.B_PLATEAU` b at m = 1, 2, 4 and 8 samples.
     """
     k = np.arange(1, n, dtype=np.float64)
     h = np.empty(n)

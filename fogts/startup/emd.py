@@ -65,6 +65,8 @@ MIN_EMD_SAMPLES = 16
 class EmdResult:
     """An empirical mode decomposition ``x = sum_i imfs[i] + residue``.
 
+    What :func:`emd` returns; :func:`separate_trend` groups its IMFs into a trend and a rest.
+
     Attributes
     ----------
     imfs : ndarray of float64, shape (n_imfs, n)

@@ -38,13 +38,8 @@ from fogts._validate import check_positive, to_float_array
 from fogts.errors import DataError
 from fogts.units import earth_rate_component, parse_rate_unit, to_deg_per_hour_factor
 
-__all__ = [
-    "POSITIONS_DEG",
-    "NorthFinding",
-    "angle_error_deg",
-    "four_position",
-    "positions_from_frame",
-]
+__all__ = ["POSITIONS_DEG", "NorthFinding", "angle_error_deg", "four_position",
+           "positions_from_frame"]
 
 #: The four positions, in measuring order.
 POSITIONS_DEG: tuple[int, ...] = (0, 90, 180, 270)
@@ -57,6 +52,9 @@ MIN_POSITION_SAMPLES = 3
 @dataclass(frozen=True)
 class NorthFinding:
     """Result of a four-position north finding.
+
+    What :func:`four_position` returns; ``summary()`` prints it and ``to_dict()`` gives its
+    JSON record.
 
     Attributes
     ----------
@@ -233,6 +231,9 @@ def four_position(
     bias_sigma_deg_h: float = 0.0,
 ) -> NorthFinding:
     """Azimuth from the mean rates at four positions (convention in the module docstring).
+
+    ψ = atan2(ω₂₇₀ - ω₉₀, ω₀ - ω₁₈₀), free of the bias and of the scale factor; its error
+    budget needs the latitude (Ω cos L).
 
     Parameters
     ----------

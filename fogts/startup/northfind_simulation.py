@@ -36,13 +36,8 @@ from fogts.startup.startup_workflow import startup_compensation
 from fogts.startup.thermal_model import ThermalModel
 from fogts.units import earth_rate_component
 
-__all__ = [
-    "NorthSeekingStudy",
-    "StartupPositions",
-    "simulate_north_seeking",
-    "simulate_startup_positions",
-    "simulated_calibration",
-]
+__all__ = ["NorthSeekingStudy", "StartupPositions", "simulate_north_seeking",
+           "simulate_startup_positions", "simulated_calibration"]
 
 
 def _samples_per_position(position_s: float, fs: float) -> int:
@@ -54,10 +49,12 @@ def _samples_per_position(position_s: float, fs: float) -> int:
     return m
 
 
-
 @dataclass(frozen=True)
 class StartupPositions:
     """A four-position north-seeking record taken while a simulated gyro warms up.
+
+    What :func:`simulate_startup_positions` returns; :meth:`rates_by_position` gives each
+    position's samples to :func:`~fogts.startup.northfind.four_position`.
 
     Attributes
     ----------

@@ -17,7 +17,7 @@ model:
 * **Noise**: an ARMA(p, q) drift (statsmodels sign convention) plus white rate noise.
 * **Earth rate**: a constant ``earth_rate_deg_h`` (the component the axis senses).
 
-The temperature is quantised to ``temperature_resolution_degC`` like a real sensor.
+The temperature is quantized to ``temperature_resolution_degC`` like a real sensor.
 """
 
 from __future__ import annotations
@@ -79,13 +79,13 @@ class StartupSimulation:
     Attributes
     ----------
     run : Run
-        Rate in °/h (axis ``"gyro"``) and the quantised temperature.
+        Rate in °/h (axis ``"gyro"``) and the quantized temperature.
     drift : ndarray
         True thermal drift D(T, ΔT) (°/h), computed from the exact temperature and rate.
     noise : ndarray
         ARMA + white noise (°/h).
     temperature_true : ndarray
-        Unquantised temperature (°C).
+        Unquantized temperature (°C).
     temperature_rate : ndarray
         Exact dT/dt (°C/s).
     coefficients : dict
@@ -156,7 +156,7 @@ def simulate_startup(
     earth_rate_deg_h : float
         Constant Earth-rate component sensed by the axis.
     temperature_resolution_degC : float
-        Quantisation step of the temperature sensor (0 = none).
+        Quantization step of the temperature sensor (0 = none).
     start_s : float
         Time since switch-on of the first sample (to simulate a later segment).
     rng : Generator, int or None

@@ -18,7 +18,7 @@ import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, replace
 from functools import partial
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import pandas as pd
@@ -40,6 +40,10 @@ from fogts.startup.thermal_model import (
     temperature_rate,
 )
 from fogts.startup.thermal_test import ThermalSignificance, thermal_significance
+
+if TYPE_CHECKING:  # annotations only: EMD and the Kalman filter are imported where they run
+    from fogts.startup.emd import TrendSplit
+    from fogts.startup.kalman.result import KalmanResult
 
 __all__ = ["StartupCompensation", "startup_compensation"]
 
@@ -75,9 +79,9 @@ class StartupCompensation:
 
     run: Run
     model: ThermalModel
-    gyro_split: Any
-    temperature_split: Any
-    kalman: Any
+    gyro_split: TrendSplit | None
+    temperature_split: TrendSplit | None
+    kalman: KalmanResult | None
     arma_model: str
     gyro_used: FloatArray = field(repr=False)
     temperature_used: FloatArray = field(repr=False)
@@ -236,15 +240,15 @@ class _FitInput:
 
     gyro: FloatArray
     temp: FloatArray
-    gyro_split: Any
-    temp_split: Any
-    kalman: Any
+    gyro_split: TrendSplit | None
+    temp_split: TrendSplit | None
+    kalman: KalmanResult | None
     arma: str
     notes: list[str]
 
 
 def _emd_kalman(x: FloatArray, fs: float, arma_model: str,
-                measurement_noise: Any) -> tuple[Any, Any, str, FloatArray]:
+                measurement_noise: Any) -> tuple[TrendSplit, KalmanResult | None, str, FloatArray]:
     """Steps 1-4 on one series: EMD split, ARMA of the rest, Kalman of the rest."""
     from fogts.startup.emd import separate_trend
     from fogts.startup.kalman import arma_kalman, resolve_arma_model

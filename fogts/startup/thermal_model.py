@@ -6,7 +6,7 @@ temperature T (°C) and its rate of change ΔT (°C/s):
     D = a·T·ΔT + b·T² + c·T + d·ΔT² + e·ΔT + f
 
 The temperature rate is the first derivative of a Savitzky–Golay fit (quadratic, window
-``dT_smoothing_s``) of the temperature: temperature sensors are quantised, and a raw
+``dT_smoothing_s``) of the temperature: temperature sensors are quantized, and a raw
 difference is mostly noise.  :func:`~fogts.startup.thermal_fit.fit_thermal` estimates the
 coefficients; :class:`ThermalModel` holds them and evaluates, prints and saves the model.
 """
@@ -27,15 +27,8 @@ from fogts._validate import check_positive, to_float_array
 from fogts.errors import DataError
 from fogts.units import parse_rate_unit
 
-__all__ = [
-    "DEFAULT_DT_SMOOTHING_S",
-    "ERROR_MODELS",
-    "TERM_LETTERS",
-    "THERMAL_TERMS",
-    "ThermalModel",
-    "design_matrix",
-    "temperature_rate",
-]
+__all__ = ["DEFAULT_DT_SMOOTHING_S", "ERROR_MODELS", "TERM_LETTERS", "THERMAL_TERMS",
+           "ThermalModel", "design_matrix", "temperature_rate"]
 
 ThermalTerm = Literal["T*dT", "T2", "T", "dT2", "dT", "1"]
 THERMAL_TERMS: tuple[str, ...] = get_args(ThermalTerm)
@@ -253,7 +246,7 @@ class ThermalModel:
                              "stderr": [self.stderr[t] for t in self.terms]}).set_index("term")
 
     def summary(self) -> str:
-        lines = [f"Thermal drift model (seed 004), n = {self.n}, fs = {self.fs_hz:g} Hz",
+        lines = [f"Thermal drift model, n = {self.n}, fs = {self.fs_hz:g} Hz",
                  "  " + self.equation(),
                  "  term     letter          value         stderr"]
         for t in self.terms:

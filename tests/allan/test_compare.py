@@ -57,7 +57,8 @@ def test_terms_above_cutoff_unchanged(comparison) -> None:  # type: ignore[no-un
 
 def test_full_range_fit_shows_the_artefact() -> None:
     # Fitting the filtered curve at tau < 1/cutoff is what the caveat warns about: the
-    # ARW term "drops" (seed 001's reading) because the filter removed it, not the sensor.
+    # ARW term "drops" (as the Allan-variance review of optical gyros reads its IIR denoising
+    # study) because the filter removed it, not the sensor.
     x = _white_plus_rrw(100_000, 3)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")

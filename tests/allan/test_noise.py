@@ -16,6 +16,7 @@ import pytest
 
 from fogts.allan import AllanResult, allan_deviation
 from fogts.allan.noise import NoiseModel, fit_noise
+from fogts.allan.terms import B_PLATEAU
 from fogts.errors import DataError
 from tests.allan.noise_cases import (
     K_TRUE,
@@ -40,9 +41,9 @@ def test_noise_free_curve_is_recovered_exactly() -> None:
     with warnings.catch_warnings():
         warnings.simplefilter("error")  # every term is identifiable on this grid
         model = fit_noise(res)
-    # B is reported as C_0 / 0.664 (DESIGN.md), while the model's factor is
+    # B is reported as C_0 / B_PLATEAU (0.664, DESIGN.md), while the model's factor is
     # sqrt(2 ln 2 / pi) = 0.66428: a 0.043 % difference by definition
-    expected = {**TRUE, "B": TRUE["B"] * math.sqrt(2 * math.log(2) / math.pi) / 0.664}
+    expected = {**TRUE, "B": TRUE["B"] * math.sqrt(2 * math.log(2) / math.pi) / B_PLATEAU}
     for name, value in expected.items():
         assert model[name].value == pytest.approx(value, rel=1e-7), name
         assert model[name].identifiable and not model[name].at_bound

@@ -2,7 +2,7 @@
 
 Reference numbers are datasheet figures (quoted where used) and the published Allan curves
 in ``../shared/data/allan_curves`` (SMAC-Group/avar and imu_utils), read with the rough
-IEEE 952 read-offs N = adev(1 s)/60 and B = min adev/0.664 (adev in deg/h).
+IEEE 952 read-offs N = adev(1 s)/60 and B = min adev/B_PLATEAU (adev in deg/h).
 """
 
 from __future__ import annotations
@@ -16,6 +16,7 @@ import pandas as pd
 import pytest
 
 from fogts.allan.plausibility import PlausibilityReport, check_plausibility
+from fogts.allan.terms import B_PLATEAU
 from fogts.errors import DataError
 from fogts.units import RATE_UNITS, convert_rate, to_deg_per_hour_factor
 from tests.conftest import shared_path
@@ -129,10 +130,10 @@ def test_fog_0917_short_record_b_dropped() -> None:
 
 
 def _read_off(tau: np.ndarray, adev: np.ndarray, units: str) -> tuple[float, float]:
-    """N = adev(1 s)/60 (log-log interpolation) and B = min adev/0.664, adev in deg/h."""
+    """N = adev(1 s)/60 (log-log interpolation) and B = min adev/B_PLATEAU, adev in deg/h."""
     dph = adev * to_deg_per_hour_factor(units)
     n = math.exp(float(np.interp(0.0, np.log(tau), np.log(dph)))) / 60.0
-    return n, float(dph.min()) / 0.664
+    return n, float(dph.min()) / B_PLATEAU
 
 
 # SMAC-Group/avar: units not documented; inferred from the datasheets (as in

@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from fogts.allan.readout import read_curve, slope_readoff
+from fogts.allan.terms import B_PLATEAU
 from fogts.errors import DataError, InsufficientDataError
 from tests.allan.noise_cases import avar, make_result, quiet_fit
 
@@ -42,7 +43,7 @@ def test_minimum_and_regions_with_ci() -> None:
     i = int(np.argmin(total))
     assert r.tau_min_s == tau[i] and r.dev_min == total[i]
     assert r.dev_min_ci == (lo[i], hi[i])
-    assert r.bias_instability_floor == pytest.approx(total[i] / 0.664)
+    assert r.bias_instability_floor == pytest.approx(total[i] / B_PLATEAU)
     b, c, d = r.regions["B"], r.regions["C"], r.regions["D"]
     assert b is not None and c is not None and d is not None
     assert b[0] == tau[0] and b[1] == c[0] and c[1] == d[0] and d[1] == tau[-1]
@@ -111,21 +112,21 @@ def test_slope_readoffs_follow_the_matlab_definition() -> None:
     assert k_only.readoff.K == pytest.approx(0.4, rel=1e-6)
     mixed = quiet_fit(make_result(tau, np.sqrt(avar(tau, N=0.02, B=0.1, K=0.05))))
     dev = np.sqrt(avar(tau, N=0.02, B=0.1, K=0.05))
-    assert mixed.readoff.B == pytest.approx(dev.min() / 0.664)
+    assert mixed.readoff.B == pytest.approx(dev.min() / B_PLATEAU)
     assert mixed.readoff.tau_B_s == tau[np.argmin(dev)]
     assert "comparison only" in mixed.to_dict()["readoff"]["method"]
 
 
 def test_slope_readoff_of_pure_lines() -> None:
     """N from the -1/2 line at 1 s (/ 60), K from the +1/2 line at 3 s (x 60), B from the
-    minimum / 0.664, in deg/h after the unit factor."""
+    minimum / B_PLATEAU, in deg/h after the unit factor."""
     tau = 2.0 ** np.arange(-4, 8)
     n_line = slope_readoff(tau, 0.6 / np.sqrt(tau), 1.0)
     assert n_line.N == pytest.approx(0.01, rel=1e-12)
     assert n_line.points[0] == ("N", 1.0, pytest.approx(0.6, rel=1e-12))
     k_line = slope_readoff(tau, 0.5 * np.sqrt(tau / 3.0), 2.0)
     assert k_line.K == pytest.approx(60.0, rel=1e-12) and k_line.slope_K == pytest.approx(0.5)
-    assert k_line.B == pytest.approx(2.0 * 0.5 * np.sqrt(tau[0] / 3.0) / 0.664, rel=1e-12)
+    assert k_line.B == pytest.approx(2.0 * 0.5 * np.sqrt(tau[0] / 3.0) / B_PLATEAU, rel=1e-12)
     assert k_line.to_dict()["K"]["read_at_tau"] == 3.0
     single = slope_readoff(tau[:1], np.array([0.3]), 1.0)
     assert single.tau_B_s == tau[0] and np.isnan(single.N)

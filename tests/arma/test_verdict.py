@@ -13,7 +13,7 @@ from fogts.report.text import json_dumps
 from tests.arma.simulated import arma_series
 
 
-def test_quantised_raw_rate_is_noted() -> None:
+def test_quantized_raw_rate_is_noted() -> None:
     from fogts.preprocess.prepare import prepare
 
     x = np.round(arma_series([0.6], [], 3000, 1) * 2.0) / 2.0        # a 0.5 deg/h output step
@@ -21,7 +21,7 @@ def test_quantised_raw_rate_is_noted() -> None:
     assert len(sel.notes) == 1 and "distinct values (step 0.5)" in sel.notes[0]
     assert sel.notes[0] in sel.verdict
     assert json.loads(json_dumps(sel.to_dict()))["notes"] == list(sel.notes)
-    # block-averaged data are no longer quantised: no note
+    # block-averaged data are no longer quantized: no note
     assert select_arma(prepare(x, fs_hz=10.0, decimate=2, stationarity=False)).notes == ()
     assert select_arma(arma_series([0.6], [], 3000, 1)).notes == ()
 

@@ -52,7 +52,7 @@ def test_spike_burst_and_step_are_found_at_their_times() -> None:
                                             "duration_s"]
 
 
-def test_quantised_data_never_give_a_zero_sigma() -> None:
+def test_quantized_data_never_give_a_zero_sigma() -> None:
     rng = np.random.default_rng(3)
     x = np.round(0.3 * rng.standard_normal(100_000) / 0.5) * 0.5  # mostly one grid value
     x[500] = 20.0

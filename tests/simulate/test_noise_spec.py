@@ -9,6 +9,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from fogts.allan.terms import B_PLATEAU
 from fogts.errors import DataError
 from fogts.simulate.gyro import simulate_gyro
 from fogts.simulate.noise_spec import NoiseSpec, markov_avar
@@ -18,13 +19,13 @@ def test_noise_spec_closed_form_matches_design_definitions() -> None:
     """DESIGN.md "Definitions": the C_n of a reference fit convert to N, B, K, R, Q; the
     closed form in deg/h and seconds is sum C_n^2 tau^n."""
     c = {-2: 1.1754e-5, -1: 1.0228e-2, 0: 3.835e-3, 1: 1.196e-3, 2: 1.827e-4}
-    spec = NoiseSpec(Q=c[-2] / math.sqrt(3), N=c[-1] / 60, B=c[0] / 0.664,
+    spec = NoiseSpec(Q=c[-2] / math.sqrt(3), N=c[-1] / 60, B=c[0] / B_PLATEAU,
                      K=60 * math.sqrt(3) * c[1], R=3600 * math.sqrt(2) * c[2])
     assert (spec.N, spec.B, spec.K, spec.R, spec.Q) == pytest.approx(
         (1.704e-4, 5.776e-3, 0.1243, 0.9303, 6.786e-6), rel=1e-3)
     tau = np.array([0.1, 1.0, 10.0, 100.0])
     expected = sum(cn**2 * tau**n for n, cn in c.items())
-    # 0.664 approximates sqrt(2 ln2 / pi) = 0.66428
+    # B_PLATEAU = 0.664 approximates sqrt(2 ln2 / pi) = 0.66428
     np.testing.assert_allclose(spec.avar(tau), expected, rtol=1e-3)
     assert spec.adev([1.0], units="deg/s")[0] == pytest.approx(
         math.sqrt(expected[1]) / 3600, rel=1e-3)

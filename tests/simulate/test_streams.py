@@ -78,7 +78,8 @@ def test_flicker_markov_sum_matches_its_exact_avar_and_plateau() -> None:
 
 
 def test_flicker_plateau_over_a_long_record() -> None:
-    """The designed ripple: 0.664 B within 0.5 % from 1/fs to half of a 3 h record."""
+    """The designed ripple: the plateau sqrt(2 ln2 / pi) B = 0.66428 B within 0.5 % from 1/fs
+    to half of a 3 h record."""
     T, q = flicker_poles(100.0, 10800.0)
     tau = np.logspace(-2, math.log10(5400), 200)
     exact = sum(markov_avar(qi, Ti, tau) for qi, Ti in zip(q, T, strict=True))

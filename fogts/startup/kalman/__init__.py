@@ -23,12 +23,7 @@ Modules: :mod:`~fogts.startup.kalman.state_space` (the Harvey matrices),
 
 from __future__ import annotations
 
-from fogts.startup.kalman.api import (
-    KALMAN_METHODS,
-    MODEL_CHOICES,
-    arma_kalman,
-    resolve_arma_model,
-)
+from fogts.startup.kalman.api import KALMAN_METHODS, MODEL_CHOICES, arma_kalman, resolve_arma_model
 from fogts.startup.kalman.result import KalmanResult
 from fogts.startup.kalman.state_space import ArmaStateSpace, arma_state_space
 
