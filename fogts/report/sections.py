@@ -41,9 +41,10 @@ _HOW = {
     "davar": "The dynamic Allan deviation: the Allan deviation of a window sliding along the "
              "record, as colour over time and τ; horizontal bands mean a stationary gyro, "
              "while colour changing along time shows the noise changing during the run.",
-    "thermal": "The gyro drift modelled as a function of temperature T and its rate ΔT "
-               "(seed 004), and the bias stability before and after removing it; a large "
-               "drop in bias stability means temperature drives the drift.",
+    "thermal": "The gyro drift modelled as a function of temperature T and its rate ΔT, "
+               "the test of that model against a random-walk drift with no temperature "
+               "dependence (read it first), and the bias stability before and after "
+               "removing it, claimed as an improvement only when the model is significant.",
 }
 
 _TITLES = {"input": "Input and preprocessing", "timeseries": "Time series",

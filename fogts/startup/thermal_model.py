@@ -185,7 +185,7 @@ class ThermalModel:
     def to_dict(self) -> dict[str, Any]:
         """JSON-safe dictionary; :meth:`from_dict` restores the model (without the residual)."""
         return {
-            "model": "seed004-thermal",
+            "model": "fogts-thermal-drift",
             "terms": {t: {"value": float(self.coefficients[t]), "stderr": float(self.stderr[t]),
                           "letter": TERM_LETTERS[t]} for t in self.terms},
             "dropped": dict(self.dropped),
