@@ -34,10 +34,8 @@ from fogts.startup.thermal_model import DEFAULT_DT_SMOOTHING_S, design_matrix, t
 
 __all__ = ["MAX_BLOCKS", "MIN_SPAN_DEGC", "ThermalSignificance", "thermal_significance"]
 
-#: Block means the test works on, at most.
-MAX_BLOCKS = 3000
-#: Below this temperature span (°C) the coefficients cannot be told from the offset.
-MIN_SPAN_DEGC = 1.0
+MAX_BLOCKS = 3000  #: block means the test works on, at most
+MIN_SPAN_DEGC = 1.0  #: below this span (°C) the coefficients cannot be told from the offset
 #: Default significance level: strict, because the null model only approximates the
 #: drift's spectrum (flicker noise lies between its white and random-walk parts).
 DEFAULT_ALPHA = 0.001
@@ -45,7 +43,7 @@ DEFAULT_ALPHA = 0.001
 
 @dataclass(frozen=True)
 class ThermalSignificance:
-    """The verdict on a temperature dependence.
+    """The verdict on a temperature dependence, from :func:`thermal_significance`.
 
     Attributes
     ----------
