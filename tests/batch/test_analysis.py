@@ -1,0 +1,69 @@
+"""The default per-file analysis: a batch row is the analysis of that one file, and the
+per-run JSON holds the documents ``fogts allan --json`` and ``fogts select --json`` write."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pandas as pd
+import pytest
+from click.testing import Result
+from typer.testing import CliRunner
+
+from fogts.batch import BatchOptions, analyze_file, run_key
+from fogts.cli import app
+from tests.batch.cases import N_SAMPLES
+
+
+def test_row_equals_single_file_analysis(pool_run: tuple[Path, Result], files: Path) -> None:
+    """The batch row is exactly what the analysis of that one file gives, in this process."""
+    out, _ = pool_run
+    frame = pd.read_csv(out / "summary.csv")
+    target = files / "run_03.csv"
+    row = frame[frame["file"].map(lambda f: Path(f).name) == "run_03.csv"].iloc[0]
+    single = analyze_file(str(target), BatchOptions())
+    assert single.status == "ok"
+    for col in ("N", "N_stderr", "B", "K", "aic"):
+        a, b = single.rows[0][col], row[col]
+        assert (a is None and pd.isna(b)) or a == pytest.approx(float(b), rel=1e-12), col
+    assert single.rows[0]["selected"] == row["selected"]
+    doc = json.loads((out / "json" / run_key(str(target))).read_text())
+    assert doc["info"]["n"] == N_SAMPLES and doc["select"][0]["candidates"]
+
+
+def test_run_json_has_the_shape_of_the_allan_and_select_json(pool_run: tuple[Path, Result],
+                                                             files: Path) -> None:
+    """The per-run JSON holds, under "allan" and "select", documents of the same shape as
+    ``fogts allan --json`` and ``fogts select --json`` on that file."""
+    out, _ = pool_run
+    target = files / "run_03.csv"
+    doc = json.loads((out / "json" / run_key(str(target))).read_text())
+    cli = {}
+    for command in ("allan", "select"):
+        path = out / f"{command}.json"
+        res = CliRunner().invoke(app, [command, str(target), "--json", str(path)])
+        assert res.exit_code in (0, 1), res.stderr
+        cli[command] = json.loads(path.read_text())
+
+    def shape(d: object) -> object:
+        if isinstance(d, dict):
+            return {k: shape(v) for k, v in d.items() if k not in ("stationarity",)}
+        if isinstance(d, list):
+            return [shape(v) for v in d[:1]]
+        return type(d).__name__ if d is not None else None
+
+    assert shape(doc["allan"]) == shape(cli["allan"])
+    # the batch skips the stationarity tests (None): the rest of the preparation is alike
+    assert set(doc["select"][0]) == set(cli["select"])
+    assert doc["select"][0]["candidates"] == cli["select"]["candidates"]
+
+
+def test_unreadable_file_is_one_error_row(files: Path) -> None:
+    """A file that cannot be read: one row with an empty axis, the message, and a document
+    that still records the options."""
+    got = analyze_file(str(files / "bad_text.csv"), BatchOptions(select=False))
+    assert got.status == "error" and "non-numeric" in got.error and got.persist
+    assert len(got.rows) == 1 and got.rows[0]["axis"] == "" and got.rows[0]["error"] == got.error
+    assert got.document["rows"] == [got.rows[0]]
+    assert got.document["options"]["select"] is False
