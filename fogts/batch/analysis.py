@@ -120,9 +120,9 @@ def _analyze_axis(run: Run, quality: DataQuality, axis: int, options: BatchOptio
 
 
 def _selection_fields(sel: Selection) -> dict[str, Any]:
-    """``selected``, ``aic`` and ``white`` of the selected candidate (an error row if every
-    candidate failed: ``sel.best`` is then None)."""
-    best: Any = sel.best
+    """``selected``, ``aic`` and ``white`` of the selected candidate; ModelFitError (an
+    error row naming every candidate's reason) if every candidate failed."""
+    best = sel.require_best()
     return {"selected": best.model, "aic": _finite(best.aic), "white": bool(best.white)}
 
 

@@ -67,3 +67,19 @@ def test_unreadable_file_is_one_error_row(files: Path) -> None:
     assert len(got.rows) == 1 and got.rows[0]["axis"] == "" and got.rows[0]["error"] == got.error
     assert got.document["rows"] == [got.rows[0]]
     assert got.document["options"]["select"] is False
+
+
+def test_an_axis_whose_every_candidate_fails_is_an_error_row_with_the_reasons(
+        files: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Not "internal error (AttributeError)": the row names why the fits failed."""
+    import fogts.arma.select as select_module
+    from fogts.errors import ModelFitError
+
+    def failing_fit(*args: object, **kwargs: object) -> None:
+        raise ModelFitError("optimiser diverged (simulated)")
+
+    monkeypatch.setattr(select_module, "fit_arma", failing_fit)
+    outcome = analyze_file(str(files / "run_03.csv"), BatchOptions())
+    row = outcome.rows[0]
+    assert outcome.status == "error" and row["status"] == "error"
+    assert "AttributeError" not in row["error"] and "optimiser diverged" in row["error"]
