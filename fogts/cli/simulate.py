@@ -104,7 +104,7 @@ def simulate_noise_cmd(
     decimals: DecimalsOpt = None,
 ) -> None:
     """Simulate a static gyro record from IEEE-952 noise coefficients (IEEE Std 952-1997,
-    Annex C; Wang et al. 2016, Table 1).
+    Annex C, Table C.1).
 
     Writes time, rate (rate_x, rate_y, rate_z with --axes 3) and temperature (with a
     profile), and a sidecar JSON OUTPUT.json with the true parameters and the closed-form
@@ -222,7 +222,7 @@ def simulate_startup_cmd(
     units: OutUnitsOpt = "deg/h",
     decimals: DecimalsOpt = None,
     ambient_c: Annotated[float, typer.Option("--ambient-c", help="Ambient (switch-on) temperature in degC.")] = 20.0,
-    peak_heating_c_s: Annotated[float | None, typer.Option("--peak-heating-c-s", help="Peak warm-up rate dT/dt in degC/s (default 0.05, as in Wang et al. 2018).")] = None,
+    peak_heating_c_s: Annotated[float | None, typer.Option("--peak-heating-c-s", help="Peak warm-up rate dT/dt in degC/s (default 0.05, as in the published FOG cold-start record the simulator follows).")] = None,
     time_constants: Annotated[str | None, typer.Option("--time-constants", help="Slow and fast warm-up lags 'SLOW,FAST' (default '400s,40s').")] = None,
     white_deg_h: Annotated[float | None, typer.Option("--white-deg-h", help="1-sigma white rate noise per sample in deg/h (default 0.3; = 60 N sqrt(fs) with N in deg/sqrt(h)).")] = None,
     temperature_resolution_c: Annotated[float | None, typer.Option("--temperature-resolution-c", help="Temperature sensor resolution in degC, 0 = exact (default 0.01).")] = None,
@@ -233,7 +233,7 @@ def simulate_startup_cmd(
     position_time: Annotated[str | None, typer.Option("--position-time", help="Time measured at each position (default 60s).", rich_help_panel="Four-position north seeking")] = None,
     turn_time: Annotated[str | None, typer.Option("--turn-time", help="Time spent turning between positions, left out of the file (default 10s).", rich_help_panel="Four-position north seeking")] = None,
 ) -> None:
-    """Simulate a cold start (Wang et al. 2018): warm-up temperature, thermal drift
+    """Simulate a cold start: warm-up temperature, thermal drift
     (--thermal), ARMA drift and white noise; writes time, rate, temperature for
     'fogts compensate', 'filter' and (with --positions) 'northfind'.
 
