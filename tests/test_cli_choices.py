@@ -9,14 +9,25 @@ from typer.testing import CliRunner
 
 from fogts.allan.taus import KINDS
 from fogts.cli import app
-from fogts.cli._common import Criterion, Estimator, GapPolicy, NanPolicy, NoiseFitMethod
+from fogts.cli._common import (
+    Criterion,
+    Estimator,
+    FilterDesign,
+    FlickerMethod,
+    GapPolicy,
+    NanPolicy,
+    NoiseFitMethod,
+)
 from fogts.io.reader import NAN_POLICIES
+from fogts.preprocess.filters import FILTER_DESIGNS
 from fogts.preprocess.hygiene import GAP_POLICIES
+from fogts.simulate.streams import FLICKER_METHODS
 
 
 @pytest.mark.parametrize(("enum", "library"), [
     (Estimator, KINDS), (NanPolicy, NAN_POLICIES), (GapPolicy, GAP_POLICIES),
     (Criterion, ("aic", "bic", "hqic", "aicc")), (NoiseFitMethod, ("wls", "gls", "ols")),
+    (FilterDesign, FILTER_DESIGNS), (FlickerMethod, FLICKER_METHODS),
 ])
 def test_enum_values_are_the_library_choices(enum: type[StrEnum], library: tuple[str, ...]
                                              ) -> None:

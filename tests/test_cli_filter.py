@@ -54,7 +54,7 @@ def test_filter_auto_runs_the_selection(ar_file: Path, tmp_path: Path) -> None:
 
 
 @pytest.mark.parametrize(("args", "message"), [
-    (["--method", "wiener"], "--method must be one of kalman"),
+    (["--method", "wiener"], "'wiener' is not one of 'kalman', 'iir', 'moving-average'"),
     (["--model", "AR(9)"], "model must be one of auto"),
     (["--measurement-noise", "lots"], "--measurement-noise must be 'estimate' or a variance"),
     (["--measurement-noise", "-1"], "measurement_noise must be a finite number >= 0"),

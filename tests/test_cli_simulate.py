@@ -92,7 +92,7 @@ def test_simulate_from_json_and_random_seed(tmp_path: Path) -> None:
     (["--duration", "10s", "--arma", "ar=2;sigma2=1"], "AR part is not stationary"),
     (["--duration", "10s", "--N", "-1"], "must be >= 0"),
     (["--duration", "10s", "--decimals", "20"], "--decimals must be in 0..15"),
-    (["--duration", "10s", "--flicker", "pink"], "flicker must be one of markov, kasdin"),
+    (["--duration", "10s", "--flicker", "pink"], "'pink' is not one of 'markov', 'kasdin'. (see 'fogts simulate noise --help')"),
     (["--duration", "10s", "--units", "mph"], "units must be one of"),
     (["--duration", "10s", "--fs", "0"], "--fs must be a finite number > 0"),
     (["--duration", "10s", "--sine", "1,80"], "below the Nyquist frequency"),

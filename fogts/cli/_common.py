@@ -57,8 +57,8 @@ class _OneLineErrors(TyperGroup):
             rv = ExitCode.OK
         except _click_exc.ClickException as exc:
             ctx = getattr(exc, "ctx", None)
-            name = ctx.command.name if ctx is not None and ctx.command is not None else None
-            hint = f" (see 'fogts {name} --help')" if name and name != "fogts" else \
+            path = ctx.command_path if ctx is not None else ""
+            hint = f" (see '{path} --help')" if path.startswith("fogts ") else \
                 " (see 'fogts --help')"
             # typer's choice check prefixes its reason with "Value error, ": drop it
             message = exc.format_message().replace(": Value error, ", ": ")
@@ -155,6 +155,29 @@ class NoiseFitMethod(_Choice):
     wls = "wls"
     gls = "gls"
     ols = "ols"
+
+
+class FilterMethod(_Choice):
+    """Filters of ``fogts filter``."""
+
+    kalman = "kalman"
+    iir = "iir"
+    moving_average = "moving-average"
+
+
+class FilterDesign(_Choice):
+    """IIR designs (:data:`fogts.preprocess.filters.FILTER_DESIGNS`)."""
+
+    butter = "butter"
+    cheby1 = "cheby1"
+    ellip = "ellip"
+
+
+class FlickerMethod(_Choice):
+    """Flicker synthesis (:data:`fogts.simulate.streams.FLICKER_METHODS`)."""
+
+    markov = "markov"
+    kasdin = "kasdin"
 
 
 NanOpt = Annotated[NanPolicy, typer.Option("--nan", rich_help_panel="Input", help="Empty, NaN or inf cells: error (name the first one), drop (the rows become gaps) or interpolate (linearly in time).")]

@@ -10,8 +10,6 @@ import typer
 from fogts.cli import _common as common
 from fogts.pipeline import ReadSettings
 
-FILTER_METHODS = ("kalman", "iir", "moving-average")
-
 if TYPE_CHECKING:
     from fogts._typing import FloatArray
     from fogts.io.run import Run
@@ -23,12 +21,12 @@ if TYPE_CHECKING:
 def filter_cmd(
     file: common.FileArg,
     output: Annotated[Path, typer.Option("-o", "--output", help="Output table (.csv or .parquet): time, observed, filtered (kalman adds smoothed, predicted).")],
-    method: Annotated[str, typer.Option("--method", help="kalman (ARMA drift model in Harvey state-space form), iir (zero-phase low-pass) or moving-average.")] = "kalman",
+    method: Annotated[common.FilterMethod, typer.Option("--method", help="kalman (ARMA drift model in Harvey state-space form), iir (zero-phase low-pass) or moving-average.")] = common.FilterMethod.kalman,
     model: Annotated[str, typer.Option("--model", help="Drift model for --method kalman: auto (run the ARMA selection), AR(1), AR(2), AR(3), ARMA(1,1), ARMA(2,1).")] = "auto",
     measurement_noise: Annotated[str, typer.Option("--measurement-noise", help="Kalman measurement-noise variance in (rate unit)^2, or 'estimate' (ML with the ARMA parameters fixed).")] = "estimate",
     cutoff: Annotated[float | None, typer.Option("--cutoff", help="--method iir: cutoff in Hz (zero-phase -3 dB point for butter), below fs/2.")] = None,
     order: Annotated[int, typer.Option("--order", help="--method iir: filter order of one pass.")] = 4,
-    design: Annotated[str, typer.Option("--design", help="--method iir: butter, cheby1 or ellip.")] = "butter",
+    design: Annotated[common.FilterDesign, typer.Option("--design", help="--method iir: the IIR design.")] = common.FilterDesign.butter,
     window: Annotated[float | None, typer.Option("--window", help="--method moving-average: window in seconds.")] = None,
     compare_allan: Annotated[bool, typer.Option("--compare-allan", help="Allan deviation and noise terms before and after filtering, side by side (with --plot: the overlay figure).")] = False,
     axis: Annotated[str, typer.Option("--axis", help="Axis to filter (name or index).")] = "0",
@@ -39,20 +37,17 @@ def filter_cmd(
     """Filter a gyro record: Kalman filter with an ARMA drift model, or a
     zero-phase IIR / moving-average low-pass with a before/after Allan comparison.
     """
-    from fogts._validate import check_choice
-
     with common.guard(outputs={"--output": output, "--json": json_out, "--plot": plot},
                 inputs={"FILE": [file]}):
-        check_choice("--method", method, FILTER_METHODS)
         if method == "kalman":
             noise = _parse_measurement_noise(measurement_noise)
         run, _ = common.read_input(file, read)
         pick = common.axis_index(run, axis)
         x = run.axis(pick)
         if method == "kalman":
-            _kalman_filter(run, x, file, output, model, noise, json_out, plot, method)
+            _kalman_filter(run, x, file, output, model, noise, json_out, plot, method.value)
         else:
-            _lowpass_filter(run, x, file, output, method, cutoff, order, design, window,
+            _lowpass_filter(run, x, file, output, method.value, cutoff, order, design.value, window,
                             compare_allan, json_out, plot)
 
 
