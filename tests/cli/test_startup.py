@@ -29,7 +29,7 @@ from fogts.startup.simulator import DEFAULT_STARTUP_COEFFICIENTS, simulate_start
 from tests.conftest import error_output
 
 runner = CliRunner()
-DATA = Path(__file__).resolve().parents[1] / "data"
+DATA = Path(__file__).resolve().parents[2] / "data"
 BUNDLED = ("startup_cold_1hz.csv", "startup_cold_15c_1hz.csv", "startup_cold_25c_1hz.csv",
            "startup_northfind_1hz.csv")
 
