@@ -9,6 +9,7 @@ from typing import Any
 import pandas as pd
 
 from fogts.arma.candidate import Candidate
+from fogts.arma.gauss_markov import GaussMarkov, gauss_markov
 from fogts.arma.identification import Correlogram
 from fogts.errors import ModelFitError
 from fogts.tables import Column, Table
@@ -108,6 +109,13 @@ class Selection:
             rows.append(row)
         return pd.DataFrame(rows).set_index("model")
 
+    def gauss_markov(self) -> GaussMarkov | None:
+        """The Gauss–Markov equivalent (correlation time, sigma, driving noise) of the selected
+        model's dominant real AR root, in the input unit and in SI; None without one."""
+        if self.selected is None:
+            return None
+        return gauss_markov(self.selected, self.fs_hz, self.units)
+
     def to_dict(self) -> dict[str, Any]:
         """The ``fogts select`` JSON: ``{"input", "preprocessing", "candidates", "selected"}``
         plus ``criterion``, ``lags``, ``correlogram``, ``verdict``, ``all_white_failed``."""
@@ -120,6 +128,8 @@ class Selection:
                         "white": sel.white, "equation": sel.equation(),
                         "params": dict(sel.params), "sigma2": sel.sigma2,
                         "prediction": pred.to_dict()}
+            gm = self.gauss_markov()
+            selected["gauss_markov"] = gm.to_dict() if gm is not None else None
         return {
             "input": dict(self.input),
             "preprocessing": self.preprocessing,

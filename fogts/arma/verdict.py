@@ -63,8 +63,7 @@ def write_verdict(sel: Candidate | None, ranked: Sequence[Candidate], criterion:
                   corr: Correlogram) -> str:
     """One paragraph on the selected candidate ``sel`` (None if every fit failed): whether it
     describes the drift, a simpler white model close in the criterion, the cancelling roots
-    and how much the one-step prediction removes."""
-    crit = criterion.upper()
+    and how much the one-step prediction removes; the candidates that failed are named."""
     if sel is None:
         reasons: dict[str, list[str]] = {}
         for c in ranked:
@@ -72,6 +71,22 @@ def write_verdict(sel: Candidate | None, ranked: Sequence[Candidate], criterion:
         text = "; ".join(r if len(reasons) == 1 else f"{', '.join(m)}: {r}"
                          for r, m in reasons.items())
         return f"No candidate could be fitted: {text}."
+    return _selected_verdict(sel, ranked, criterion, corr) + _failed_sentence(ranked)
+
+
+def _failed_sentence(ranked: Sequence[Candidate]) -> str:
+    """Name the candidates that could not be fitted (never silently left out)."""
+    failed = [c for c in ranked if not c.ok]
+    if not failed:
+        return ""
+    reasons = "; ".join(f"{c.model}: {c.reason}" for c in failed)
+    return (f" Not compared: {', '.join(c.model for c in failed)} could not be fitted "
+            f"({reasons}).")
+
+
+def _selected_verdict(sel: Candidate, ranked: Sequence[Candidate], criterion: str,
+                      corr: Correlogram) -> str:
+    crit = criterion.upper()
     pred = sel.predict()
     removed = 100.0 * pred.variance_removed
     if sel.white:

@@ -131,6 +131,9 @@ def _print_selection(analysis: AxisSelection, json_out: str | None) -> None:
         say(f"  {best.equation()}", "bold")
         for line in _select_params(best, prepared.units):
             say(line)
+        gm = sel.gauss_markov()
+        if gm is not None:
+            say(f"  {gm.summary()}")
         for f in best.flags:
             say(f"  note: {f.message}")
         bp = best.predict()
