@@ -73,7 +73,7 @@ _MODULE_NAMES: dict[str, str] = {
     "fogts.startup.northfind": "four_position NorthFinding",
     "fogts.startup.northfind_simulation": "simulate_startup_positions StartupPositions",
     # tooling
-    "fogts.batch": "run_batch",
+    "fogts.batch.runner": "run_batch",
     "fogts.report.html": "build_report write_report",
 }
 #: Public name -> defining module.
@@ -127,7 +127,7 @@ if TYPE_CHECKING:  # the names of _MODULE_NAMES, static for type checkers and ID
     from fogts.arma.select import select_arma
     from fogts.arma.selection import Selection
     from fogts.arma.spec import ArmaSpec
-    from fogts.batch import run_batch
+    from fogts.batch.runner import run_batch
     from fogts.errors import (
         DataError,
         FogtsError,

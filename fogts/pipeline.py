@@ -21,6 +21,7 @@ if TYPE_CHECKING:
     import os
 
     from fogts.allan.api import TauSpec
+    from fogts.allan.misfit import FitCheck
     from fogts.allan.noise import NoiseModel
     from fogts.allan.plausibility import PlausibilityReport
     from fogts.allan.readout import CurveReadout
@@ -130,6 +131,9 @@ class AxisAllan:
         N and B against the range of real gyros.
     outliers_effect : dict or None
         With ``outliers``: how many samples were replaced and the change in N.
+    fit_check : FitCheck or None
+        Whether the fitted model lies within the points' intervals
+        (:func:`fogts.allan.misfit.check_fit`).
     """
 
     result: AllanResult
@@ -139,6 +143,7 @@ class AxisAllan:
     check: dict[str, Any] | None = None
     plausibility: PlausibilityReport | None = None
     outliers_effect: dict[str, Any] | None = None
+    fit_check: FitCheck | None = None
 
     @property
     def notes(self) -> list[str]:
@@ -184,6 +189,8 @@ class AxisAllan:
             out["outliers_effect"] = self.outliers_effect
         if self.plausibility is not None:
             out["plausibility"] = self.plausibility.to_dict()
+        if self.fit_check is not None:
+            out["fit_check"] = self.fit_check.to_dict()
         return out
 
 
@@ -272,7 +279,19 @@ def analyse_allan_axis(run: Run, axis: int, settings: AllanSettings | None = Non
     return AxisAllan(result=res, model=model, readout=res.readout(model), prepared=prepared,
                      check=check, outliers_effect=effect,
                      plausibility=_plausibility(model, run.units) if model is not None
-                     else None)
+                     else None, fit_check=_fit_check(res, model))
+
+
+def _fit_check(result: AllanResult, model: NoiseModel | None) -> FitCheck | None:
+    """The misfit verdict (a warning when the model misses the curve)."""
+    from fogts.allan.misfit import check_fit
+
+    if model is None or not result.has_ci:
+        return None
+    verdict = check_fit(result, model)
+    if not verdict.ok:
+        warnings.warn(f"axis {result.axis!r}: {verdict.verdict}", FogtsWarning, stacklevel=2)
+    return verdict
 
 
 def _outlier_effect(run: Run, axis: int, prepared: Prepared, model: NoiseModel | None,

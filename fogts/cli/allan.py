@@ -111,6 +111,8 @@ def allan_cmd(
                     common.say([f"{ax.result.axis}: {line}" for line in ax.notes], json_out)
                 _allan_tables(ax.result, ax.model, ax.check, json_out)
                 _curve_table(ax.result, ax.readout, json_out)
+                if ax.fit_check is not None:
+                    common.say([f"fit check: {ax.fit_check.verdict}"], json_out)
 
 
 def _allan_csv(analyses: list[AllanAnalysis], target: Path) -> None:

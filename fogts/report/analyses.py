@@ -24,6 +24,7 @@ from typing import TYPE_CHECKING, Any
 from fogts.io.run import Run
 
 if TYPE_CHECKING:
+    from fogts.allan.misfit import FitCheck
     from fogts.allan.noise_model import NoiseModel
     from fogts.allan.result import AllanResult
     from fogts.arma.selection import Selection
@@ -66,6 +67,9 @@ class _Context:
 
     def get_noise(self, i: int) -> NoiseModel | None:
         return self._allan_axis(i).model
+
+    def get_fit_check(self, i: int) -> FitCheck | None:
+        return self._allan_axis(i).fit_check
 
     def get_prepared(self, i: int) -> Prepared:
         return self._selection(i).prepared

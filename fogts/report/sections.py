@@ -170,6 +170,7 @@ def _allan_blocks(ctx: _Context, i: int, notes: list[str]) -> list[Block]:
                            caption=f"{res.kind} with {pct} confidence intervals; fitted total "
                                    "and each term's own line."),
               table_block(terms), Block(kind="paragraph", text=terms.caption),
+              *_fit_check_blocks(ctx.get_fit_check(i)),
               Block(kind="paragraph", text=model.readoff.describe(_num)),
               table_block(res.points_table())]
     if res.dropped:
@@ -177,6 +178,13 @@ def _allan_blocks(ctx: _Context, i: int, notes: list[str]) -> list[Block]:
                             items=tuple(f"τ = {_num(d.tau_s)} s: {d.reason}"
                                         for d in res.dropped)))
     return blocks
+
+
+def _fit_check_blocks(check: Any) -> list[Block]:
+    if check is None:
+        return []
+    text = check.verdict
+    return [Block(kind="verdict", good=check.ok, text=f"Fit check: {text}.")]
 
 
 def _arma_blocks(ctx: _Context, i: int, notes: list[str]) -> list[Block]:
