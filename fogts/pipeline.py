@@ -104,6 +104,15 @@ class AllanSettings:
     decimate: int | None = None
     check_allantools: bool = False
     workers: int | None = None
+    fit_tau_min: float | None = None
+    fit_tau_max: float | None = None
+
+    @property
+    def fit_range(self) -> tuple[float | None, float | None] | None:
+        """The tau range of the noise fit (None: every point)."""
+        if self.fit_tau_min is None and self.fit_tau_max is None:
+            return None
+        return (self.fit_tau_min, self.fit_tau_max)
 
     @property
     def prepares(self) -> bool:
@@ -133,7 +142,9 @@ class AxisAllan:
         With ``outliers``: how many samples were replaced and the change in N.
     fit_check : FitCheck or None
         Whether the fitted model lies within the points' intervals
-        (:func:`fogts.allan.misfit.check_fit`).
+        (:func:`fogts.allan.misfit.check_fit`), over the fit range.
+    fit_range : (float or None, float or None) or None
+        The tau range the noise terms were fitted over (None: every point).
     """
 
     result: AllanResult
@@ -144,6 +155,7 @@ class AxisAllan:
     plausibility: PlausibilityReport | None = None
     outliers_effect: dict[str, Any] | None = None
     fit_check: FitCheck | None = None
+    fit_range: tuple[float | None, float | None] | None = None
 
     @property
     def notes(self) -> list[str]:
@@ -191,6 +203,8 @@ class AxisAllan:
             out["plausibility"] = self.plausibility.to_dict()
         if self.fit_check is not None:
             out["fit_check"] = self.fit_check.to_dict()
+        if self.fit_range is not None:
+            out["fit_range"] = list(self.fit_range)
         return out
 
 
@@ -230,7 +244,8 @@ def _fit(result: AllanResult, s: AllanSettings) -> NoiseModel | None:
                       f"not fitted to {result.kind}", FogtsWarning, stacklevel=1)
         return None
     return fit_noise(result, terms=s.terms, method=s.method,  # type: ignore[arg-type]
-                     confidence=s.confidence, significance=s.significance)
+                     confidence=s.confidence, significance=s.significance,
+                     tau_range=s.fit_range)
 
 
 def _allan(source: Any, s: AllanSettings, axis: int | None) -> AllanResult:
@@ -279,7 +294,9 @@ def analyse_allan_axis(run: Run, axis: int, settings: AllanSettings | None = Non
     return AxisAllan(result=res, model=model, readout=res.readout(model), prepared=prepared,
                      check=check, outliers_effect=effect,
                      plausibility=_plausibility(model, run.units) if model is not None
-                     else None, fit_check=_fit_check(res, model))
+                     else None, fit_range=s.fit_range,
+                     fit_check=_fit_check(res if s.fit_range is None else res.within(*s.fit_range),
+                                          model))
 
 
 def _fit_check(result: AllanResult, model: NoiseModel | None) -> FitCheck | None:

@@ -46,7 +46,7 @@ from typing import Any
 import numpy as np
 from scipy.stats import norm
 
-from fogts._validate import check_choice, check_fraction
+from fogts._validate import check_choice, check_fraction, check_positive
 from fogts.allan.covariance import CovarianceModel
 from fogts.allan.noise_input import FITTABLE_KINDS, FitCurve, read_fit_curve
 from fogts.allan.noise_lsq import (
@@ -99,6 +99,7 @@ def fit_noise(
     method: FitMethod = "wls",
     confidence: float = 0.683,
     significance: float | None = 0.05,
+    tau_range: tuple[float | None, float | None] | None = None,
 ) -> NoiseModel:
     """Fit the IEEE-952 noise terms to an Allan-deviation curve.
 
@@ -129,6 +130,10 @@ def fit_noise(
         taus, and refits; a model error is kept only if its likelihood-ratio statistic
         exceeds ``z_(1 - significance)^2``.  ``None`` keeps every requested term and the
         unrestricted ML model error.  Not used by ``"ols"``.
+    tau_range : (float or None, float or None), optional
+        Fit only the points with ``tau_min <= tau <= tau_max`` seconds (None: no bound), to
+        leave out a range the five terms do not describe (a sampling filter at the shortest
+        taus, say); needs an :class:`~fogts.allan.result.AllanResult`.
 
     Returns
     -------
@@ -169,6 +174,8 @@ def fit_noise(
     0.008333
     """
     names = parse_terms(terms)
+    if tau_range is not None:
+        allan_result = _within(allan_result, tau_range, len(names))
     method = check_choice("method", method, FIT_METHODS)  # type: ignore[assignment]
     confidence = check_fraction("confidence", confidence)
     significance = _check_significance(significance)
@@ -261,3 +268,22 @@ def _warn(issued: list[str], category: type[Warning], message: str, axis: str = 
     message = f"axis {axis!r}: {message}" if axis else message
     issued.append(message)
     warnings.warn(message, category, stacklevel=3)
+
+
+def _within(res: Any, tau_range: tuple[float | None, float | None], n_terms: int) -> Any:
+    """``res`` restricted to ``tau_range``, with at least ``n_terms + 1`` points left."""
+    from fogts.allan.result import AllanResult
+
+    if not isinstance(res, AllanResult):
+        raise DataError(f"tau_range needs an AllanResult, got {type(res).__name__}")
+    lo, hi = tau_range
+    for name, v in (("tau_min", lo), ("tau_max", hi)):
+        if v is not None:
+            check_positive(name, v)
+    inside = res.within(lo, hi)
+    if inside.tau_s.size < n_terms + 1:
+        raise DataError(f"the fit range tau_min = {lo if lo is not None else 0:g} s .. "
+                        f"tau_max = {hi if hi is not None else float('inf'):g} s holds "
+                        f"{inside.tau_s.size} tau(s); {n_terms} terms need at least "
+                        f"{n_terms + 1}")
+    return inside

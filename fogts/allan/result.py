@@ -6,6 +6,7 @@ Both are frozen dataclasses with ``to_frame()``, ``to_dict()`` (JSON-safe, stabl
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Iterator
 from dataclasses import dataclass
@@ -140,6 +141,26 @@ class AllanResult:
     def has_ci(self) -> bool:
         """True when confidence intervals were computed for at least one point."""
         return bool(np.isfinite(self.ci_low).any())
+
+    def within(self, tau_min_s: float | None = None, tau_max_s: float | None = None
+               ) -> AllanResult:
+        """The points with ``tau_min_s <= tau <= tau_max_s`` (None: no bound), e.g. the range
+        a noise model is fitted over."""
+        lo = -np.inf if tau_min_s is None else float(tau_min_s)
+        hi = np.inf if tau_max_s is None else float(tau_max_s)
+        if not lo < hi:
+            raise DataError(f"the tau range must have tau_min < tau_max, got tau_min = {lo:g} s "
+                            f"and tau_max = {hi:g} s")
+        keep = (self.tau_s >= lo * (1 - 1e-9)) & (self.tau_s <= hi * (1 + 1e-9))
+        n = self.tau_s.size
+        per_tau = {f.name: getattr(self, f.name) for f in dataclasses.fields(self)
+                   if isinstance(getattr(self, f.name), np.ndarray | tuple)
+                   and len(getattr(self, f.name)) == n and f.name != "dropped"}
+        sliced: dict[str, Any] = {
+            k: (v[keep] if isinstance(v, np.ndarray)
+                else tuple(x for x, k2 in zip(v, keep, strict=True) if k2))
+            for k, v in per_tau.items()}
+        return dataclasses.replace(self, **sliced)
 
     def readout(self, noise: Any = None) -> Any:
         """Curve read-outs: minimum with its CI, regions A-D, segment slopes and, given the

@@ -51,6 +51,8 @@ def allan_cmd(
     confidence: Annotated[float, typer.Option("--confidence", help="Confidence level of the deviation and coefficient intervals.")] = 0.683,
     terms: Annotated[str, typer.Option("--terms", help="Noise terms to fit, from Q,N,B,K,R.")] = "Q,N,B,K,R",
     method: Annotated[common.NoiseFitMethod, typer.Option("--method", help="Noise fit: wls (EDF weights), gls (full covariance), ols (unweighted, comparison only).")] = common.NoiseFitMethod.wls,
+    fit_tau_min: Annotated[float | None, typer.Option("--fit-tau-min", help="Fit the noise terms only from this tau (s) on, e.g. to leave out a sampling filter's effect at the shortest taus.")] = None,
+    fit_tau_max: Annotated[float | None, typer.Option("--fit-tau-max", help="Fit the noise terms only up to this tau (s).")] = None,
     keep_all_terms: Annotated[bool, typer.Option("--keep-all-terms", help="Keep every --terms term in the fit even when the data do not support it (default: drop terms that are not significant at 5 % and visible at fewer than two taus).")] = False,
     axis: Annotated[str | None, typer.Option("--axis", help="Analyse one axis (name or index) (default: every axis).")] = None,
     outliers: Annotated[float | None, typer.Option("--outliers", help="Replace samples beyond this many robust sigmas first (default: raw data).")] = None,
@@ -74,7 +76,7 @@ def allan_cmd(
     from fogts.allan.noise import parse_terms
     from fogts.pipeline import AllanSettings, analyse_allan
 
-    with common.guard(outputs={"--json": json_out, "--csv": csv_out, "--plot": plot},
+    with common.guard({"tau_min": "--fit-tau-min", "tau_max": "--fit-tau-max"}, outputs={"--json": json_out, "--csv": csv_out, "--plot": plot},
                 inputs={"FILES": files}):
         tau_spec = common.tau_option(taus)
         term_names = parse_terms(terms)
@@ -84,7 +86,8 @@ def allan_cmd(
                                  significance=None if keep_all_terms else 0.05,
                                  bias_correction=bias_correction, outliers=outliers,
                                  detrend=detrend, decimate=decimate,
-                                 check_allantools=check_allantools)
+                                 check_allantools=check_allantools,
+                                 fit_tau_min=fit_tau_min, fit_tau_max=fit_tau_max)
         analyses = []
         for f in files:
             run, quality = common.read_input(f, read)
