@@ -238,8 +238,10 @@ class NoiseModel:
 
     # -------------------------------------------------------------- exports
     def noise_dict(self) -> dict[str, dict[str, Any]]:
-        """Term name to ``{value, stderr, ci_low, ci_high, unit, ...}`` (the JSON ``noise``)."""
-        return {t.name: t.to_dict() for t in self.terms}
+        """Term name to ``{value, stderr, ci_low, ci_high, unit, ..., upper_limit_95}`` (the
+        JSON ``noise``; ``upper_limit_95`` is :meth:`upper_limit`, null for a fitted term)."""
+        return {t.name: {**t.to_dict(), "upper_limit_95": self.upper_limit(t.name)}
+                for t in self.terms}
 
     def to_frame(self) -> pd.DataFrame:
         """One row per term: value, stderr, CI, unit, C_n, identifiability, status, z."""
@@ -266,6 +268,25 @@ class NoiseModel:
             "warnings": list(self.warnings),
         }
 
+    def upper_limit(self, name: str, level: float = 0.95) -> float:
+        """The one-sided ``level`` upper limit of a term fitted to zero or dropped (its
+        interval ``[0, ci_high]`` rescaled from the model's two-sided ``confidence``: the
+        upper end is ``sqrt(z se)`` of the squared coefficient, so it scales with
+        ``sqrt(z)``); NaN for a fitted term, whose interval says more."""
+        term = self[name]
+        if not term.at_bound:
+            return math.nan
+        z_conf = float(norm.ppf(0.5 + self.confidence / 2))
+        return term.ci_high * math.sqrt(float(norm.ppf(level)) / z_conf)
+
+    def _table_note(self, term: NoiseTerm) -> str:
+        if not term.at_bound:
+            return term.note
+        why = (f"dropped, z = {term.z_score:.2f}" if term.status == "dropped"
+               else "fit at zero")
+        note = f"< {self.upper_limit(term.name):.3g} (95 % upper limit; {why})"
+        return note + ("; not identifiable" if not term.identifiable else "")
+
     def term_table(self) -> Table:
         """The terms with their standard errors, intervals, units, C_n and notes: the one
         definition the summary, the terminal and the HTML report show."""
@@ -275,7 +296,8 @@ class NoiseModel:
                    Column(f"{pct} interval"), Column("unit", numeric=False),
                    Column("C_n"), Column("note", numeric=False))
         rows = [(t.name, TERM_DESCRIPTION.get(t.name, t.name), t.value, t.stderr,
-                 (t.ci_low, t.ci_high), t.unit, t.c_coeff, t.note) for t in self.terms]
+                 (t.ci_low, t.ci_high), t.unit, t.c_coeff, self._table_note(t))
+                for t in self.terms]
         return Table.build(
             f"IEEE-952 noise terms of {self.axis} ({self.method.upper()} fit of {self.kind} "
             f"on {self.tau_s.size} taus {self.tau_s[0]:.4g}..{self.tau_s[-1]:.4g} s, input "

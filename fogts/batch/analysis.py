@@ -110,6 +110,8 @@ def _analyze_axis(run: Run, quality: DataQuality, axis: int, options: BatchOptio
             if term.name in ("N", "B", "K"):
                 fields[term.name] = _finite(term.value)
                 fields[f"{term.name}_stderr"] = _finite(term.stderr)
+                # a term at zero: its one-sided 95 % upper limit, the number to use downstream
+                fields[f"{term.name}_upper"] = _finite(allan.model.upper_limit(term.name))
     selection = None
     if options.select:
         selection = analyse_selection(run, quality, axis, SelectSettings(

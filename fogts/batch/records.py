@@ -29,7 +29,7 @@ __all__ = ["SUMMARY_COLUMNS", "Analysis", "BatchOptions", "BatchProgress", "Batc
 #: Columns of the summary table, in order (one row per run and axis).
 SUMMARY_COLUMNS: tuple[str, ...] = (
     "file", "axis", "n", "fs_hz", "units", "units_source", "n_gaps", "n_glitches",
-    "N", "N_stderr", "B", "B_stderr", "K", "K_stderr",
+    "N", "N_stderr", "N_upper", "B", "B_stderr", "B_upper", "K", "K_stderr", "K_upper",
     "selected", "aic", "white", "status", "error", "json",
 )
 

@@ -83,3 +83,12 @@ def test_an_axis_whose_every_candidate_fails_is_an_error_row_with_the_reasons(
     row = outcome.rows[0]
     assert outcome.status == "error" and row["status"] == "error"
     assert "AttributeError" not in row["error"] and "optimiser diverged" in row["error"]
+
+
+def test_terms_at_zero_carry_their_upper_limit_in_the_row(files: Path) -> None:
+    """White-noise runs: B and K fit to zero, so the row has B_upper and K_upper, and N
+    (fitted) has none."""
+    row = analyze_file(str(files / "run_03.csv"), BatchOptions(select=False)).rows[0]
+    assert row["N_upper"] is None and row["N"] > 0
+    zero = [t for t in ("B", "K") if row[t] == 0.0]
+    assert zero and all(row[f"{t}_upper"] > 0 for t in zero)
