@@ -53,6 +53,8 @@ __all__ = ["DynamicAllanResult", "DynamicAllanResultSet", "Nonstationarity", "dy
 
 #: Family-wise significance level of the stationarity verdict and of the window flags.
 DEFAULT_ALPHA = 0.01
+#: Smallest change of the deviation (relative) that makes a record "not stationary".
+DEFAULT_MIN_CHANGE = 0.10
 #: Fewest windows a dynamic Allan analysis needs.
 MIN_WINDOWS = 2
 #: The power-law noise type of each tau is identified on this many windows' worth of
@@ -78,6 +80,7 @@ def dynamic_allan(
     units: str | None = None,
     method: Method = "auto",
     level: float = DEFAULT_ALPHA,
+    min_change: float = DEFAULT_MIN_CHANGE,
 ) -> DynamicAllanResult | DynamicAllanResultSet:
     """Dynamic Allan deviation: the deviation in a window sliding along the record.
 
@@ -111,6 +114,10 @@ def dynamic_allan(
         ``cumsum``: O(n) per tau from running sums (oadev, mdev, ohdev); ``kernel``: the
         estimator kernel on each window (every kind); ``auto`` picks ``cumsum`` when
         available.
+    min_change : float
+        Smallest change of the deviation, relative (0.1 = 10 %), that makes the record
+        "not stationary": a significant but smaller change is reported as stationary within
+        it (a long record makes tiny changes significant).
     level : float
         Significance level of the stationarity verdict and of the window flags.
 
@@ -143,6 +150,7 @@ def dynamic_allan(
     method = check_choice("method", method, METHODS)  # type: ignore[assignment]
     confidence = check_fraction("confidence", confidence)
     level = check_fraction("level", level)
+    min_change = check_positive("min_change", min_change, allow_zero=True)
     window = check_positive("window_s", window_s)
     step = check_positive("step_s", step_s)
     if method == "cumsum" and kind not in CUMSUM_KINDS:
@@ -150,7 +158,8 @@ def dynamic_allan(
                         f"kind={kind!r} (use method='kernel' or 'auto')")
     series, fs, unit, notes = unpack_axes(x, fs_hz=fs_hz, axis=axis, units=units)
     curves = [_one(s.y, s.name, fs=fs, units=unit, window=window, step=step, kind=kind,
-                   taus=taus, confidence=confidence, method=method, level=level, notes=notes)
+                   taus=taus, confidence=confidence, method=method, level=level, notes=notes,
+                   min_change=min_change)
               for s in series]
     if len(curves) == 1 and (axis is not None or not is_multi_axis(x)):
         return curves[0]
@@ -159,7 +168,7 @@ def dynamic_allan(
 
 def _one(y: FloatArray, name: str, *, fs: float, units: str, window: float, step: float,
          kind: str, taus: Any, confidence: float, method: str, level: float,
-         notes: tuple[str, ...]) -> DynamicAllanResult:
+         notes: tuple[str, ...], min_change: float = 0.0) -> DynamicAllanResult:
     n = y.size
     win_n = round(window * fs)
     step_n = max(1, round(step * fs))
@@ -202,7 +211,7 @@ def _one(y: FloatArray, name: str, *, fs: float, units: str, window: float, step
     outside = _outside(avar, reference**2, edf, level / n_indep)
     times = np.asarray((starts + win_n / 2.0) / fs, dtype=np.float64)
     stat = _nonstationarity(avar, edf, m / fs, times, win_n / fs / 2.0, outside, n_indep,
-                            level)
+                            level, min_change)
     return DynamicAllanResult(
         kind=kind, units=units, axis=name, fs_hz=fs, n_samples=n, window_s=win_n / fs,
         step_s=step_n / fs, window_n=win_n, step_n=step_n, method=use, confidence=confidence,
@@ -226,8 +235,11 @@ def _outside(avar: FloatArray, ref_avar: FloatArray, edf: FloatArray, alpha: flo
 
 
 def _nonstationarity(avar: FloatArray, edf: FloatArray, tau: FloatArray, times: FloatArray,
-                     half_window: float, outside: BoolArray, n_indep: int, level: float
-                     ) -> Nonstationarity:
+                     half_window: float, outside: BoolArray, n_indep: int, level: float,
+                     min_change: float = 0.0) -> Nonstationarity:
+    """The score test (significance) and the size of the most likely single change (the
+    effect); "not stationary" needs both: p < ``level`` and a change of at least
+    ``min_change`` (relative, on the deviation)."""
     with np.errstate(divide="ignore", invalid="ignore"):
         logv = np.log(avar)
         obs = np.var(logv, axis=0, ddof=1)
@@ -239,10 +251,10 @@ def _nonstationarity(avar: FloatArray, edf: FloatArray, tau: FloatArray, times: 
     dof = n_indep - 1
     pvalue = float(scipy.stats.chi2.sf(dof * score, dof)) if math.isfinite(score) else \
         float("nan")
-    stationary = bool(not (pvalue < level))
+    significant = bool(pvalue < level)
     change_time: float | None = None
     change_ratio: float | None = None
-    if not stationary and np.all(np.isfinite(logv[:, j])):
+    if np.all(np.isfinite(logv[:, j])) and logv.shape[0] > 1:
         # split on the variance itself: a window straddling the change holds a linear
         # mixture of the two variances, so the least-squares split of the (linear) ramp
         # falls at its middle, i.e. at the change (log would bias it early)
@@ -255,13 +267,18 @@ def _nonstationarity(avar: FloatArray, edf: FloatArray, tau: FloatArray, times: 
         else:
             diff = np.mean(logv[k:, j]) - np.mean(logv[:k, j])
         change_ratio = float(np.exp(diff / 2.0))
+    effect = abs(change_ratio - 1.0) if change_ratio is not None else 0.0
+    stationary = not (significant and effect >= min_change)
+    if stationary:  # no change to locate; its size stays in ``effect``
+        change_time = change_ratio = None
     flagged = tuple(int(i) for i in np.flatnonzero(outside[:, j]))
     return Nonstationarity(
         tau_s=float(tau[j]), score=score, observed_var=float(obs[j]),
         expected_var=float(exp[j]), edf=float(edf[j]), n_independent=n_indep, pvalue=pvalue,
         level=level, stationary=stationary, change_time_s=change_time,
         change_ratio=change_ratio, flagged_windows=flagged,
-        tau_scores=np.asarray(scores, dtype=np.float64))
+        tau_scores=np.asarray(scores, dtype=np.float64), significant=significant,
+        effect=effect, min_change=min_change)
 
 
 def _best_split(v: FloatArray) -> int:

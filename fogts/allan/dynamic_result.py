@@ -39,7 +39,8 @@ class Nonstationarity:
     level : float
         Significance level of the verdict.
     stationary : bool
-        ``pvalue >= level``.
+        False only when the score is significant (``pvalue < level``) *and* the change is
+        at least ``min_change``.
     change_time_s : float or None
         Most likely single change time (s from the start), when not stationary.
     change_ratio : float or None
@@ -49,6 +50,12 @@ class Nonstationarity:
         (chi-squared at the Bonferroni level ``level / n_independent``).
     tau_scores : ndarray of float64
         The score at every tau of the result.
+    significant : bool
+        ``pvalue < level``.
+    effect : float
+        The size of the change, ``|change_ratio - 1|``.
+    min_change : float
+        The smallest effect called a change.
     """
 
     tau_s: float
@@ -64,6 +71,9 @@ class Nonstationarity:
     change_ratio: float | None
     flagged_windows: tuple[int, ...]
     tau_scores: FloatArray
+    significant: bool = False
+    effect: float = 0.0
+    min_change: float = 0.0
 
     def to_dict(self) -> dict[str, Any]:
         return {
@@ -74,14 +84,23 @@ class Nonstationarity:
             "change_time": self.change_time_s, "change_ratio": self.change_ratio,
             "flagged_windows": list(self.flagged_windows),
             "tau_scores": [_num(v) for v in self.tau_scores],
+            "significant": self.significant, "effect": _num(self.effect),
+            "min_change": self.min_change,
         }
 
     def summary(self) -> str:
-        verdict = "stationary" if self.stationary else "NOT stationary"
+        if not self.stationary:
+            verdict = "NOT stationary"
+        elif self.significant:
+            verdict = (f"stationary within {100 * self.min_change:.3g} % (the change is "
+                       f"significant but only {100 * self.effect:.2g} %)")
+        else:
+            verdict = "stationary"
         text = (f"non-stationarity score {self.score:.3g} at tau = {self.tau_s:g} s "
                 f"(1 = chance; p = {self.pvalue:.3g}, {self.n_independent} independent "
                 f"windows): {verdict}")
-        if self.change_time_s is not None and self.change_ratio is not None:
+        if not self.stationary and self.change_time_s is not None \
+                and self.change_ratio is not None:
             text += (f"; most likely change at t = {self.change_time_s:.6g} s, deviation x "
                      f"{self.change_ratio:.3g}")
         if self.flagged_windows:

@@ -21,6 +21,7 @@ def davar_cmd(
     taus: Annotated[str, typer.Option("--taus", help="Tau grid within the window: octave, decade, dense, all, or taus in s separated by commas.")] = "octave",
     axis: Annotated[str | None, typer.Option("--axis", help="Analyse one axis (name or index) (default: every axis).")] = None,
     confidence: Annotated[float, typer.Option("--confidence", help="Confidence level of each window's interval.")] = 0.683,
+    min_change: Annotated[float, typer.Option("--min-change", help="Smallest relative change of the deviation called non-stationary (0.1 = 10 %); a significant smaller change is reported as stationary within it.")] = 0.10,
     json_out: common.JsonOpt = None,
     plot: Annotated[Path | None, typer.Option("--plot", help="Heat map of log deviation over (time, tau): .png, .svg or .pdf.")] = None,
     read: ReadSettings = common.DEFAULT_READ,
@@ -30,13 +31,15 @@ def davar_cmd(
     from fogts.allan.dynamic import dynamic_allan
     from fogts.units import parse_duration
 
-    with common.guard(outputs={"--json": json_out, "--plot": plot}, inputs={"FILE": [file]}):
+    with common.guard({"min_change": "--min-change"}, outputs={"--json": json_out, "--plot": plot},
+                      inputs={"FILE": [file]}):
         window_s = parse_duration(window, "--window")
         step_s = parse_duration(step, "--step")
         tau_spec = common.tau_option(taus)
         run, quality = common.read_input(file, read)
         pick = None if axis is None else common.axis_index(run, axis)
         result = dynamic_allan(run, window_s=window_s, step_s=step_s, kind=kind,  # type: ignore[arg-type]
+                               min_change=min_change,
                                taus=tau_spec, confidence=confidence, axis=pick)
         payload = {"input": str(file), **result.to_dict(), "data_quality": quality.to_dict()}
         common.emit_json(payload, json_out)
