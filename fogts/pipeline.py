@@ -31,7 +31,8 @@ if TYPE_CHECKING:
     from fogts.preprocess.hygiene import DataQuality
     from fogts.preprocess.prepare import Prepared
 
-__all__ = ["AllanAnalysis", "AllanSettings", "AxisAllan", "AxisSelection", "ReadSettings",
+__all__ = ["AllanAnalysis", "AllanSettings", "AxisAllan", "AxisSelection", "InputColumns",
+           "ReadSettings",
            "SelectSettings", "analyse_allan", "analyse_allan_axis", "analyse_selection",
            "load"]
 
@@ -43,17 +44,24 @@ _DEFAULT_CANDIDATES = ((1, 0), (2, 0), (3, 0), (1, 1), (2, 1))
 
 
 @dataclass(frozen=True)
-class ReadSettings:
-    """How to read a recording: the column choices, sample rate and unit (None: detect),
-    the missing-value and gap policies (:func:`fogts.io.read_run`,
-    :func:`fogts.preprocess.assess_run`).  ``rate_column`` may name several columns
-    separated by commas."""
+class InputColumns:
+    """Which columns hold the rate, time and temperature, the sample rate and the rate unit
+    (None: detect); ``rate_column`` may name several columns separated by commas.  Shared
+    by :class:`ReadSettings` and :class:`fogts.batch.BatchOptions`."""
 
     rate_column: str | None = None
     time_column: str | None = None
     temperature_column: str | None = None
     fs_hz: float | None = None
     units: str | None = None
+
+
+@dataclass(frozen=True)
+class ReadSettings(InputColumns):
+    """How to read a recording: the columns, sample rate and unit (:class:`InputColumns`),
+    the missing-value and gap policies (:func:`fogts.io.read_run`,
+    :func:`fogts.preprocess.assess_run`)."""
+
     nan: str = "error"
     gaps: str = "warn"
     glitches: bool = True

@@ -18,6 +18,7 @@ from fogts._validate import check_choice, check_int
 from fogts.allan.taus import GRID_NAMES, KINDS
 from fogts.arma.select import CRITERIA
 from fogts.io.missing import NAN_POLICIES
+from fogts.pipeline import InputColumns, ReadSettings
 from fogts.preprocess.hygiene import GAP_POLICIES
 
 if TYPE_CHECKING:
@@ -38,7 +39,7 @@ _FLOAT_COLUMNS = ("fs_hz", "N", "N_stderr", "B", "B_stderr", "K", "K_stderr", "a
 
 
 @dataclass(frozen=True)
-class BatchOptions:
+class BatchOptions(InputColumns):
     """What to read and how to analyse each file (picklable; sent to every worker).
 
     Attributes
@@ -66,11 +67,6 @@ class BatchOptions:
         :func:`fogts.preprocess.hygiene.assess_run`).
     """
 
-    rate_column: str | None = None
-    time_column: str | None = None
-    temperature_column: str | None = None
-    fs_hz: float | None = None
-    units: str | None = None
     kind: str = "oadev"
     taus: str = "octave"
     detrend: int | None = None
