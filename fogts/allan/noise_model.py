@@ -23,6 +23,12 @@ from fogts.tables import Column, Table
 __all__ = ["NoiseModel", "NoiseTerm"]
 
 
+#: A fitted term whose Wald z (value over its standard error, on sigma^2) is below this is
+#: reported as an upper limit, not as a measured value: which terms are *measured* then
+#: depends on the information in the data, not on how many taus the grid puts in a region.
+Z_MEASURED = 2.0
+
+
 @dataclass(frozen=True)
 class NoiseTerm:
     """One fitted IEEE-952 term.
@@ -79,6 +85,12 @@ class NoiseTerm:
     region_tau_s: tuple[float, float]
     status: str = "fitted"
     z_score: float = math.nan
+
+    @property
+    def is_limit(self) -> bool:
+        """Whether the value is only an upper limit: fitted to zero, dropped, or fitted with
+        z below :data:`Z_MEASURED`."""
+        return self.at_bound or not self.z_score >= Z_MEASURED
 
     @property
     def note(self) -> str:
@@ -269,21 +281,26 @@ class NoiseModel:
         }
 
     def upper_limit(self, name: str, level: float = 0.95) -> float:
-        """The one-sided ``level`` upper limit of a term fitted to zero or dropped (its
-        interval ``[0, ci_high]`` rescaled from the model's two-sided ``confidence``: the
-        upper end is ``sqrt(z se)`` of the squared coefficient, so it scales with
-        ``sqrt(z)``); NaN for a fitted term, whose interval says more."""
+        """The one-sided ``level`` upper limit of a term that is only a limit
+        (:attr:`NoiseTerm.is_limit`).  At zero: the interval ``[0, ci_high]`` rescaled from
+        the model's two-sided ``confidence`` (its end is ``sqrt(z se)`` of the squared
+        coefficient ``a``, so it scales with ``sqrt(z)``); fitted with a small z:
+        ``sqrt(a + z se(a))`` in the term's units.  NaN for a measured term."""
         term = self[name]
-        if not term.at_bound:
+        if not term.is_limit:
             return math.nan
+        z_level = float(norm.ppf(level))
+        if not term.at_bound:  # a weak fitted term: the one-sided bound of C_n^2 = a
+            return math.sqrt(term.value**2 + 2.0 * z_level * term.value * term.stderr)
         z_conf = float(norm.ppf(0.5 + self.confidence / 2))
-        return term.ci_high * math.sqrt(float(norm.ppf(level)) / z_conf)
+        return term.ci_high * math.sqrt(z_level / z_conf)
 
     def _table_note(self, term: NoiseTerm) -> str:
-        if not term.at_bound:
+        if not term.is_limit:
             return term.note
         why = (f"dropped, z = {term.z_score:.2f}" if term.status == "dropped"
-               else "fit at zero")
+               else "fit at zero" if term.at_bound
+               else f"z = {term.z_score:.2f} < {Z_MEASURED:g}")
         note = f"< {self.upper_limit(term.name):.3g} (95 % upper limit; {why})"
         return note + ("; not identifiable" if not term.identifiable else "")
 
@@ -303,8 +320,8 @@ class NoiseModel:
             f"on {self.tau_s.size} taus {self.tau_s[0]:.4g}..{self.tau_s[-1]:.4g} s, input "
             f"in {self.units})", columns, rows,
             caption="C_n: coefficient of tau^n in sigma^2(tau) = sum C_n tau^n (rate in "
-                    "deg/h, tau in s). Upper limit: the one-sided bound of a term the data do "
-                    "not support. Not identifiable: the term makes up a sizeable share of the "
+                    "deg/h, tau in s). Upper limit: a term at zero, dropped, or fitted with z < 2 "
+                    "is not measured; the note gives its one-sided 95 % bound. Not identifiable: the term makes up a sizeable share of the "
                     "fitted sigma^2 at too few taus of this grid to be measured.")
 
     def summary(self) -> str:

@@ -93,9 +93,10 @@ def _limits(curves: list[Any], model: Any) -> tuple[tuple[float, float], tuple[f
 
 
 def _term_lines(ax: Any, model: Any, fine: Any, ylim: tuple[float, float]) -> None:
-    """Each fitted term's own line, labelled with its slope and value, where it is visible."""
+    """Each measured term's own line, labelled with its slope and value, where it is
+    visible (a term that is only an upper limit is not drawn as a fitted line)."""
     for term in model.terms:
-        if term.value <= 0:
+        if term.value <= 0 or term.is_limit:
             continue
         line = model.term_line(term.name, fine)
         shown = (line >= ylim[0]) & (line <= ylim[1])
