@@ -338,7 +338,7 @@ def test_white_plus_rate_random_walk_fits_near_the_unit_root() -> None:
         ref = ARIMA(x / x.std(), order=(1, 0, 1), trend="n").fit()
     assert fit.aic <= ref.aic + 2 * n * math.log(x.std()) + 0.05  # the selection's acceptance
     assert fit_arma(x, 2, 1).converged
-    for seed in range(5):  # AR(1) with phi = 0.9999: ARMA(2,1) failed in 5 of 10 seeds
+    for seed in range(10):  # AR(1) with phi = 0.9999: ARMA(2,1) failed in 5 of 10 seeds
         y = lfilter([1.0], [1.0, -0.9999], np.random.default_rng(seed).standard_normal(20_000))
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
@@ -359,3 +359,19 @@ def test_every_candidate_fits_white_plus_rate_random_walk(n: int, seeds: range) 
             warnings.simplefilter("ignore")
             sel = select_arma(x)
         assert [c.model for c in sel.candidates if not c.ok] == [], f"seed {seed}"
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_near_unit_root_arma21_is_as_good_as_statsmodels(seed: int) -> None:
+    """AR(1) with phi = 0.9999, n = 2e4: fogts' ARMA(2,1) AIC is no worse than statsmodels'
+    exact ML by more than the selection's 0.05 (10 seeds measured: fogts better by up to
+    0.0024)."""
+    from statsmodels.tsa.arima.model import ARIMA
+
+    y = lfilter([1.0], [1.0, -0.9999], np.random.default_rng(seed).standard_normal(20_000))
+    y = y - y.mean()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        fit = fit_arma(y, 2, 1)
+        ref = ARIMA(y / y.std(), order=(2, 0, 1), trend="n").fit()
+    assert fit.aic <= ref.aic + 2 * y.size * math.log(y.std()) + 0.05
