@@ -43,7 +43,7 @@ ACF_MIN_POINTS = 30
 #: Fewest averaged rate values for the B1 ratio (below it the point is ``"none"``).
 B1_MIN_POINTS = 4
 #: The values of ``alpha_method``.
-ALPHA_METHODS: tuple[str, ...] = ("acf", "b1", "rn", "none")
+ALPHA_METHODS: tuple[str, ...] = ("acf", "b1", "rn", "neighbours", "none")
 #: The power-law exponents that are identified (frequency-noise convention).
 ALPHAS: tuple[int, ...] = (2, 1, 0, -1, -2)
 
@@ -211,7 +211,23 @@ def identify_with_methods(y: FloatArray, m: IntArray, kind: str, oavar_given: Fl
                 alpha[i] = alpha[idx[int(np.argmin(dist))]]
         else:
             alpha[~known] = 0
+    _smooth_isolated(alpha, methods)
     return alpha, tuple(methods)
+
+
+def _smooth_isolated(alpha: IntArray, methods: list[str]) -> None:
+    """An identification that jumps by two or more types at one tau while both neighbours
+    agree is taken from the neighbours (``"neighbours"``), in place.  The power-law type
+    changes slowly with tau; a lone jump (white PM amid white FM, say) is a chance value of
+    the lag-1 autocorrelation, and its EDF would give that one point an interval many times
+    tighter than its neighbours' (Stable32 likewise reads the noise type over a
+    neighbourhood)."""
+    for i in range(1, alpha.size - 1):
+        left, right = int(alpha[i - 1]), int(alpha[i + 1])
+        if left == right and abs(int(alpha[i]) - left) >= 2 \
+                and methods[i - 1] != "none" and methods[i + 1] != "none":
+            alpha[i] = left
+            methods[i] = "neighbours"
 
 
 def identify_noise(y: npt.ArrayLike | pd.Series, m: npt.ArrayLike, *, fs_hz: float,
