@@ -49,7 +49,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any, Literal, get_args
+from typing import Any
 
 import numpy as np
 import numpy.typing as npt
@@ -59,12 +59,11 @@ from scipy.special import gammaln
 from fogts._typing import FloatArray, IntArray
 from fogts.allan.covariance import CovarianceModel, covariance_basis
 from fogts.allan.noise_input import FitCurve
+from fogts.choices import FIT_METHODS, FitMethod
 
 __all__ = ["FIT_METHODS", "IRLS_MAX_ITER", "MAX_COVARIANCE_POINTS", "FitMethod", "LsqFit",
            "LsqProblem", "curve_covariance_basis", "octave_density"]
 
-FitMethod = Literal["wls", "gls", "ols"]
-FIT_METHODS: tuple[str, ...] = get_args(FitMethod)
 #: Largest grid for which the full model covariance of the estimates is computed.
 MAX_COVARIANCE_POINTS = 200
 #: Most reweighting iterations of one IRLS fit.

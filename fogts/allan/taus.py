@@ -34,11 +34,9 @@ import numpy.typing as npt
 
 from fogts._typing import FloatArray, IntArray
 from fogts._validate import check_choice, check_int, check_positive
+from fogts.choices import KINDS, Kind
 from fogts.errors import DataError, InsufficientDataError
 
-#: The Allan-family estimators (:mod:`fogts.allan.estimators`).
-Kind = Literal["adev", "oadev", "mdev", "hdev", "ohdev", "totdev"]
-KINDS: tuple[str, ...] = get_args(Kind)
 #: The named tau grids of :func:`tau_grid`.
 GridName = Literal["octave", "decade", "dense", "all"]
 GRID_NAMES: tuple[str, ...] = get_args(GridName)

@@ -28,7 +28,7 @@ import math
 import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any, Literal
+from typing import Any
 
 import numpy as np
 import pandas as pd
@@ -51,6 +51,7 @@ from fogts.arma.verdict import (
     write_verdict,
 )
 from fogts.arma.whiteness import residual_diagnostics
+from fogts.choices import CRITERIA, Criterion
 from fogts.errors import (
     ConvergenceWarning,
     DataError,
@@ -63,8 +64,6 @@ __all__ = ["CLOSE_CALL", "CRITERIA", "DEFAULT_FIVE", "MAX_ORDER", "MIN_SELECT_SA
            "QUANT_CHECK_SAMPLES", "QUANT_MAX_LEVELS", "SMALL_PREDICTION", "Candidate", "Criterion",
            "Selection", "parse_candidates", "select_arma"]
 
-Criterion = Literal["aic", "bic", "hqic", "aicc"]
-CRITERIA: tuple[str, ...] = ("aic", "bic", "hqic", "aicc")
 #: Fewest samples :func:`select_arma` accepts (also >= 2 x the largest Ljung-Box lag and
 #: each candidate's own minimum).
 MIN_SELECT_SAMPLES = 50

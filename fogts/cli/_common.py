@@ -23,7 +23,6 @@ import sys
 import warnings
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from contextlib import contextmanager
-from enum import StrEnum
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Any, TypeVar
 
@@ -32,6 +31,7 @@ from rich.console import Console
 from rich.table import Table
 from typer.core import TyperGroup
 
+from fogts import choices
 from fogts._version import __version__
 from fogts.pipeline import ReadSettings
 
@@ -100,96 +100,19 @@ JsonOpt = Annotated[str | None, typer.Option("--json", help="Write JSON to PATH,
 
 
 # ---------------------------------------------------------------- choices
-# typer validates an Enum option and lists its values in --help; the values are the
-# library's own (tests/test_cli_choices.py checks them against the library's tuples).
+# The library's own Literal types (fogts.choices): typer validates them and lists their
+# values in --help, and the library's checks quote the same tuples.
 
-
-class _Choice(StrEnum):
-    """A choice option's value; its repr is the value's, so that a library message quoting
-    it (``got kind='oadev'``) reads as the user typed it."""
-
-    def __repr__(self) -> str:
-        return repr(self.value)
-
-
-class Estimator(_Choice):
-    """Allan-family estimators (:data:`fogts.allan.KINDS`)."""
-
-    adev = "adev"
-    oadev = "oadev"
-    mdev = "mdev"
-    hdev = "hdev"
-    ohdev = "ohdev"
-    totdev = "totdev"
-
-
-class Criterion(_Choice):
-    """ARMA ranking criteria (:func:`fogts.select_arma`)."""
-
-    aic = "aic"
-    bic = "bic"
-    hqic = "hqic"
-    aicc = "aicc"
-
-
-class NanPolicy(_Choice):
-    """Empty, NaN or inf cells (:data:`fogts.io.reader.NAN_POLICIES`)."""
-
-    error = "error"
-    drop = "drop"
-    interpolate = "interpolate"
-
-
-class GapPolicy(_Choice):
-    """Gaps in the time base (:data:`fogts.preprocess.hygiene.GAP_POLICIES`)."""
-
-    warn = "warn"
-    error = "error"
-    longest_segment = "split"  # (a member named split would hide str.split)
-    ignore = "ignore"
-
-
-class NoiseFitMethod(_Choice):
-    """Fits of the IEEE-952 terms to the Allan curve (:func:`fogts.fit_noise`)."""
-
-    wls = "wls"
-    gls = "gls"
-    ols = "ols"
-
-
-class FilterMethod(_Choice):
-    """Filters of ``fogts filter``."""
-
-    kalman = "kalman"
-    iir = "iir"
-    moving_average = "moving-average"
-
-
-class FilterDesign(_Choice):
-    """IIR designs (:data:`fogts.preprocess.filters.FILTER_DESIGNS`)."""
-
-    butter = "butter"
-    cheby1 = "cheby1"
-    ellip = "ellip"
-
-
-class FlickerMethod(_Choice):
-    """Flicker synthesis (:data:`fogts.simulate.streams.FLICKER_METHODS`)."""
-
-    markov = "markov"
-    kasdin = "kasdin"
-
-
-NanOpt = Annotated[NanPolicy, typer.Option("--nan", rich_help_panel="Input", help="Empty, NaN or inf cells: error (name the first one), drop (the rows become gaps) or interpolate (linearly in time).")]
-GapsOpt = Annotated[GapPolicy, typer.Option("--gaps", rich_help_panel="Input", help="Gaps in the time base: warn (analyse as if regular, and say so), error, split (analyse the longest regular segment) or ignore (no warning; still in the JSON).")]
+NanOpt = Annotated[choices.NanPolicy, typer.Option("--nan", rich_help_panel="Input", help="Empty, NaN or inf cells: error (name the first one), drop (the rows become gaps) or interpolate (linearly in time).")]
+GapsOpt = Annotated[choices.GapPolicy, typer.Option("--gaps", rich_help_panel="Input", help="Gaps in the time base: warn (analyse as if regular, and say so), error, split (analyse the longest regular segment) or ignore (no warning; still in the JSON).")]
 #: The shared input options: (parameter, annotation, default), in --help order.
 _INPUT_OPTIONS: list[tuple[str, Any, Any]] = [
     ("rate_column", RateColOpt, None), ("time_column", TimeColOpt, None),
     ("temperature_column", TempColOpt, None), ("fs", FsOpt, None), ("units", UnitsOpt, None),
-    ("nan", NanOpt, NanPolicy.error), ("gaps", GapsOpt, GapPolicy.warn),
+    ("nan", NanOpt, "error"), ("gaps", GapsOpt, "warn"),
 ]
-KindOpt = Annotated[Estimator, typer.Option("--kind", help="Allan estimator (noise terms are fitted to adev, oadev and totdev).")]
-CriterionOpt = Annotated[Criterion, typer.Option("--criterion", help="ARMA ranking criterion.")]
+KindOpt = Annotated[choices.Kind, typer.Option("--kind", help="Allan estimator (noise terms are fitted to adev, oadev and totdev).")]
+CriterionOpt = Annotated[choices.Criterion, typer.Option("--criterion", help="ARMA ranking criterion.")]
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure

@@ -7,6 +7,7 @@ from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 
+from fogts import choices
 from fogts.cli import _common as common
 from fogts.pipeline import ReadSettings
 
@@ -46,11 +47,11 @@ def _allan_tables(res: AllanResult, model: NoiseModel | None, check: dict[str, A
 @common.reads_input()
 def allan_cmd(
     files: Annotated[list[Path], typer.Argument(help="Input recording(s). Several files (or a multi-axis file) are overlaid on one --plot for comparing gyros.")],
-    kind: common.KindOpt = common.Estimator.oadev,
+    kind: common.KindOpt = "oadev",
     taus: Annotated[str, typer.Option("--taus", help="Tau grid: octave, decade, dense, all, or taus in s separated by commas.")] = "octave",
     confidence: Annotated[float, typer.Option("--confidence", help="Confidence level of the deviation and coefficient intervals.")] = 0.683,
     terms: Annotated[str, typer.Option("--terms", help="Noise terms to fit, from Q,N,B,K,R.")] = "Q,N,B,K,R",
-    method: Annotated[common.NoiseFitMethod, typer.Option("--method", help="Noise fit: wls (EDF weights), gls (full covariance), ols (unweighted, comparison only).")] = common.NoiseFitMethod.wls,
+    method: Annotated[choices.FitMethod, typer.Option("--method", help="Noise fit: wls (EDF weights), gls (full covariance), ols (unweighted, comparison only).")] = "wls",
     fit_tau_min: Annotated[float | None, typer.Option("--fit-tau-min", help="Fit the noise terms only from this tau (s) on, e.g. to leave out a sampling filter's effect at the shortest taus.")] = None,
     fit_tau_max: Annotated[float | None, typer.Option("--fit-tau-max", help="Fit the noise terms only up to this tau (s).")] = None,
     keep_all_terms: Annotated[bool, typer.Option("--keep-all-terms", help="Keep every --terms term in the fit even when the data do not support it (default: drop terms that are not significant at 5 % and visible at fewer than two taus).")] = False,

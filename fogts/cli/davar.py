@@ -7,6 +7,7 @@ from typing import Annotated
 
 import typer
 
+from fogts import choices
 from fogts.cli import _common as common
 from fogts.pipeline import ReadSettings
 
@@ -17,7 +18,7 @@ def davar_cmd(
     file: common.FileArg,
     window: Annotated[str, typer.Option("--window", help="Window length: 200s, 5min, ....")] = "200s",
     step: Annotated[str, typer.Option("--step", help="Step between windows: 20s, 1min, ...")] = "20s",
-    kind: Annotated[common.Estimator, typer.Option("--kind", help="Estimator per window (oadev, mdev and ohdev are the fast ones).")] = common.Estimator.oadev,
+    kind: Annotated[choices.Kind, typer.Option("--kind", help="Estimator per window (oadev, mdev and ohdev are the fast ones).")] = "oadev",
     taus: Annotated[str, typer.Option("--taus", help="Tau grid within the window: octave, decade, dense, all, or taus in s separated by commas.")] = "octave",
     axis: Annotated[str | None, typer.Option("--axis", help="Analyse one axis (name or index) (default: every axis).")] = None,
     confidence: Annotated[float, typer.Option("--confidence", help="Confidence level of each window's interval.")] = 0.683,

@@ -7,6 +7,7 @@ from typing import TYPE_CHECKING, Annotated, Any, Literal
 
 import typer
 
+from fogts import choices
 from fogts.cli import _common as common
 from fogts.pipeline import ReadSettings
 
@@ -21,12 +22,12 @@ if TYPE_CHECKING:
 def filter_cmd(
     file: common.FileArg,
     output: Annotated[Path, typer.Option("-o", "--output", help="Output table (.csv or .parquet): time, observed, filtered (kalman adds smoothed, predicted).")],
-    method: Annotated[common.FilterMethod, typer.Option("--method", help="kalman (ARMA drift model in Harvey state-space form), iir (zero-phase low-pass) or moving-average.")] = common.FilterMethod.kalman,
+    method: Annotated[choices.FilterMethod, typer.Option("--method", help="kalman (ARMA drift model in Harvey state-space form), iir (zero-phase low-pass) or moving-average.")] = "kalman",
     model: Annotated[str, typer.Option("--model", help="Drift model for --method kalman: auto (run the ARMA selection), AR(1), AR(2), AR(3), ARMA(1,1), ARMA(2,1).")] = "auto",
     measurement_noise: Annotated[str, typer.Option("--measurement-noise", help="Kalman measurement-noise variance in (rate unit)^2, or 'estimate' (ML with the ARMA parameters fixed).")] = "estimate",
     cutoff: Annotated[float | None, typer.Option("--cutoff", help="--method iir: cutoff in Hz (zero-phase -3 dB point for butter), below fs/2.")] = None,
     order: Annotated[int, typer.Option("--order", help="--method iir: filter order of one pass.")] = 4,
-    design: Annotated[common.FilterDesign, typer.Option("--design", help="--method iir: the IIR design.")] = common.FilterDesign.butter,
+    design: Annotated[choices.FilterDesign, typer.Option("--design", help="--method iir: the IIR design.")] = "butter",
     window: Annotated[float | None, typer.Option("--window", help="--method moving-average: window in seconds.")] = None,
     compare_allan: Annotated[bool, typer.Option("--compare-allan", help="Allan deviation and noise terms before and after filtering, side by side (with --plot: the overlay figure).")] = False,
     axis: Annotated[str, typer.Option("--axis", help="Axis to filter (name or index).")] = "0",
@@ -45,9 +46,9 @@ def filter_cmd(
         pick = common.axis_index(run, axis)
         x = run.axis(pick)
         if method == "kalman":
-            _kalman_filter(run, x, file, output, model, noise, json_out, plot, method.value)
+            _kalman_filter(run, x, file, output, model, noise, json_out, plot, method)
         else:
-            _lowpass_filter(run, x, file, output, method.value, cutoff, order, design.value, window,
+            _lowpass_filter(run, x, file, output, method, cutoff, order, design, window,
                             compare_allan, json_out, plot)
 
 

@@ -20,9 +20,9 @@ def report_cmd(
     outliers: Annotated[float | None, typer.Option("--outliers", help="Replace samples beyond this many robust sigmas before the ARMA analysis.")] = None,
     detrend: Annotated[int | None, typer.Option("--detrend", help="Polynomial order removed before the ARMA analysis.")] = None,
     decimate: Annotated[int | None, typer.Option("--decimate", help="Block-average K samples before the ARMA analysis.")] = None,
-    kind: common.KindOpt = common.Estimator.oadev,
+    kind: common.KindOpt = "oadev",
     taus: Annotated[str, typer.Option("--taus", help="Tau grid: octave, decade, dense, all.")] = "octave",
-    criterion: common.CriterionOpt = common.Criterion.aic,
+    criterion: common.CriterionOpt = "aic",
     davar_window: Annotated[float | None, typer.Option("--davar-window", help="Dynamic Allan window in seconds (default: a tenth of the record).")] = None,
     read: ReadSettings = common.DEFAULT_READ,
 ) -> None:

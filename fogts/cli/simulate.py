@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 
+from fogts import choices
 from fogts.cli import _common as common
 
 if TYPE_CHECKING:
@@ -98,7 +99,7 @@ def simulate_noise_cmd(
     axes: Annotated[int, typer.Option("--axes", help="Number of independent axes (rate_x, rate_y, rate_z).")] = 1,
     temperature_profile: Annotated[str | None, typer.Option("--temperature-profile", help="Temperature column: 'constant:T', 'warmup:START,END,TAU' (degC; TAU like 20min) or 'ramp:START,END'.")] = None,
     thermal: ThermalOpt = None,
-    flicker: Annotated[common.FlickerMethod, typer.Option("--flicker", help="Flicker (B) synthesis: markov (sum of Markov processes, chunked) or kasdin (Kasdin-Walter, in memory).")] = common.FlickerMethod.markov,
+    flicker: Annotated[choices.FlickerMethod, typer.Option("--flicker", help="Flicker (B) synthesis: markov (sum of Markov processes, chunked) or kasdin (Kasdin-Walter, in memory).")] = "markov",
     seed: SeedOpt = None,
     units: OutUnitsOpt = "deg/h",
     decimals: DecimalsOpt = None,
@@ -138,13 +139,13 @@ def simulate_noise_cmd(
         run = simulate_gyro(spec, fs_hz=fs, duration_s=duration_s, rng=seed, units=units,
                             n_axes=axes, arma=arma_spec, temperature=profile,
                             thermal_coefficients=coefs,
-                            flicker=flicker.value)  # type: ignore[arg-type]
+                            flicker=flicker)
         frame = _rounded(run.to_frame(), decimals)
         m = 2 ** np.arange(int(np.log2(max(run.n // 4, 1))) + 1)
         sidecar = {
             "generator": f"fogts {version} simulate noise", "output": output.name, "seed": seed,
             "fs_hz": run.fs_hz, "duration_s": run.duration_s, "n": run.n, "units": run.units,
-            "columns": list(frame.columns), "axes": list(run.axes), "flicker": flicker.value,
+            "columns": list(frame.columns), "axes": list(run.axes), "flicker": flicker,
             "decimals": decimals, "noise": spec.to_dict(),
             "arma": arma_spec.to_dict() if arma_spec is not None else None,
             "temperature_profile": profile.to_dict() if profile is not None else None,

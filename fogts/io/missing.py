@@ -14,6 +14,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from fogts._typing import FloatArray, IntArray
+from fogts.choices import NAN_POLICIES
 from fogts.errors import DataError, InsufficientDataError
 from fogts.io.columns import Roles
 from fogts.io.run import MissingReport
@@ -22,8 +23,6 @@ from fogts.io.timebase import is_numeric_time
 
 __all__ = ["NAN_POLICIES", "apply_missing_drop", "interpolate_missing", "missing_report"]
 
-#: What ``read_run(nan=...)`` may do with empty, NaN and infinite cells.
-NAN_POLICIES = ("error", "drop", "interpolate")
 
 
 def apply_missing_drop(table: Table, roles: Roles, policy: str

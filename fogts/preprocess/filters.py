@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Any, Literal, get_args
+from typing import Any
 
 import numpy as np
 import pandas as pd
@@ -29,12 +29,11 @@ from scipy import ndimage, signal
 
 from fogts._typing import FloatArray
 from fogts._validate import check_choice, check_int, check_positive, pandas_index, to_float_array
+from fogts.choices import FILTER_DESIGNS, FilterDesign
 from fogts.errors import DataError
 
 __all__ = ["FILTER_DESIGNS", "FilterResult", "lowpass", "moving_average"]
 
-FilterDesign = Literal["butter", "cheby1", "ellip"]
-FILTER_DESIGNS: tuple[str, ...] = get_args(FilterDesign)
 
 _CAVEAT = ("filtering changes the noise seen at tau shorter than about 1/cutoff; noise "
            "coefficients from filtered data describe the filtered signal, not the sensor")

@@ -17,11 +17,12 @@ Nothing here changes the data except ``gaps="split"``, which is recorded.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any, Literal, get_args
+from typing import Any
 
 import pandas as pd
 
 from fogts._validate import check_choice
+from fogts.choices import GAP_POLICIES, GapPolicy
 from fogts.errors import DataError
 from fogts.io.run import MissingReport, Run
 from fogts.preprocess.gaps import Gap, GapReport, find_gaps, segment_run
@@ -30,9 +31,6 @@ from fogts.preprocess.glitches import GLITCH_SIGMAS, Glitch, GlitchReport, detec
 __all__ = ["GAP_POLICIES", "GLITCH_SIGMAS", "DataQuality", "Gap", "GapReport", "Glitch",
            "GlitchReport", "assess_run", "detect_glitches", "find_gaps"]
 
-GapPolicy = Literal["warn", "error", "split", "ignore"]
-#: What a command may do with a time base that has gaps.
-GAP_POLICIES: tuple[str, ...] = get_args(GapPolicy)
 
 
 @dataclass(frozen=True)

@@ -16,7 +16,6 @@ from __future__ import annotations
 import math
 import warnings
 from collections.abc import Sequence
-from typing import Literal, get_args
 
 import numpy as np
 import scipy.fft
@@ -25,14 +24,13 @@ import scipy.signal
 from fogts._typing import FloatArray
 from fogts._validate import check_int
 from fogts.arma.spec import ArmaSpec
+from fogts.choices import FLICKER_METHODS, FlickerMethod
 from fogts.errors import FogtsWarning
 from fogts.simulate.noise_spec import NoiseSpec
 
 __all__ = ["DEFAULT_CHUNK", "FLICKER_METHODS", "ArmaStream", "FlickerMethod", "axis_streams",
            "flicker_poles", "kasdin_flicker"]
 
-FlickerMethod = Literal["markov", "kasdin"]
-FLICKER_METHODS: tuple[str, ...] = get_args(FlickerMethod)
 
 #: Default number of samples generated per chunk.
 DEFAULT_CHUNK = 1 << 20

@@ -1,37 +1,42 @@
-"""The CLI's choice Enums carry exactly the library's choices, and typer validates them."""
+"""The CLI's choices are the library's Literal types, and typer validates and lists them."""
 
 from __future__ import annotations
 
-from enum import StrEnum
+import typing
 
 import pytest
 from typer.testing import CliRunner
 
+from fogts import choices
+from fogts.allan.noise_lsq import FIT_METHODS
 from fogts.allan.taus import KINDS
+from fogts.arma.select import CRITERIA
 from fogts.cli import app
-from fogts.cli._common import (
-    Criterion,
-    Estimator,
-    FilterDesign,
-    FlickerMethod,
-    GapPolicy,
-    NanPolicy,
-    NoiseFitMethod,
-)
-from fogts.io.reader import NAN_POLICIES
+from fogts.io.missing import NAN_POLICIES
 from fogts.preprocess.filters import FILTER_DESIGNS
 from fogts.preprocess.hygiene import GAP_POLICIES
 from fogts.simulate.streams import FLICKER_METHODS
 
 
-@pytest.mark.parametrize(("enum", "library"), [
-    (Estimator, KINDS), (NanPolicy, NAN_POLICIES), (GapPolicy, GAP_POLICIES),
-    (Criterion, ("aic", "bic", "hqic", "aicc")), (NoiseFitMethod, ("wls", "gls", "ols")),
-    (FilterDesign, FILTER_DESIGNS), (FlickerMethod, FLICKER_METHODS),
+@pytest.mark.parametrize(("library", "name"), [
+    (KINDS, "KINDS"), (FIT_METHODS, "FIT_METHODS"), (CRITERIA, "CRITERIA"),
+    (NAN_POLICIES, "NAN_POLICIES"), (GAP_POLICIES, "GAP_POLICIES"),
+    (FILTER_DESIGNS, "FILTER_DESIGNS"), (FLICKER_METHODS, "FLICKER_METHODS"),
 ])
-def test_enum_values_are_the_library_choices(enum: type[StrEnum], library: tuple[str, ...]
-                                             ) -> None:
-    assert sorted(e.value for e in enum) == sorted(library)
+def test_the_domain_modules_check_against_the_one_definition(library: tuple[str, ...],
+                                                             name: str) -> None:
+    assert library is getattr(choices, name)
+
+
+@pytest.mark.parametrize(("literal", "values"), [
+    (choices.Kind, choices.KINDS), (choices.FitMethod, choices.FIT_METHODS),
+    (choices.Criterion, choices.CRITERIA), (choices.NanPolicy, choices.NAN_POLICIES),
+    (choices.GapPolicy, choices.GAP_POLICIES), (choices.FilterMethod, choices.FILTER_METHODS),
+    (choices.FilterDesign, choices.FILTER_DESIGNS),
+    (choices.FlickerMethod, choices.FLICKER_METHODS),
+])
+def test_each_tuple_lists_its_literal(literal: object, values: tuple[str, ...]) -> None:
+    assert typing.get_args(literal) == values
 
 
 @pytest.mark.parametrize(("command", "option"), [
@@ -50,6 +55,12 @@ def test_a_bad_choice_is_one_error_line_naming_the_option(
     assert "\n" not in err and "Traceback" not in err
 
 
-def test_help_lists_the_choices() -> None:
-    res = CliRunner().invoke(app, ["select", "--help"], env={"COLUMNS": "200"})
-    assert "aic|bic|hqic|aicc" in res.stdout
+@pytest.mark.parametrize(("command", "values"), [
+    (["select"], choices.CRITERIA), (["allan"], choices.KINDS), (["allan"], choices.FIT_METHODS),
+    (["info"], choices.NAN_POLICIES), (["allan"], choices.GAP_POLICIES),
+    (["filter"], choices.FILTER_METHODS), (["filter"], choices.FILTER_DESIGNS),
+    (["simulate", "noise"], choices.FLICKER_METHODS),
+])
+def test_help_lists_the_choices(command: list[str], values: tuple[str, ...]) -> None:
+    res = CliRunner().invoke(app, [*command, "--help"], env={"COLUMNS": "200"})
+    assert "|".join(values) in res.stdout
