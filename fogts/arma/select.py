@@ -83,11 +83,13 @@ class _Input:
 
 def _unpack(x: Any, fs_hz: float | None) -> _Input:
     from fogts.io.run import Run
-    from fogts.preprocess.prepare import Prepared
+    from fogts.preprocess.prepare import Prepared, prepare
 
     if isinstance(x, Run):
-        raise DataError("x is a Run; prepare one axis first: select_arma(prepare(run, "
-                        "detrend=...))")
+        if len(x.axes) > 1:
+            raise DataError(f"x is a Run with {len(x.axes)} axes ({', '.join(x.axes)}); select "
+                            "one: select_arma(prepare(run, axis=...))")
+        x = prepare(x, fs_hz=fs_hz)  # one axis: its mean removed, the step recorded
     if isinstance(x, Prepared):
         run = x.run
         info = {"source": run.source if run is not None else None, "axis": x.axis,
@@ -210,10 +212,11 @@ def select_arma(
 
     Parameters
     ----------
-    x : Prepared, ndarray or Series
+    x : Prepared, Run, ndarray or Series
         The drift series.  A :class:`fogts.preprocess.prepare.Prepared` is used as is (trend and
-        mean already removed, steps recorded); an ndarray or Series has its mean removed
-        here (recorded in ``preprocessing``).
+        mean already removed, steps recorded); a one-axis :class:`fogts.io.run.Run` goes
+        through :func:`~fogts.preprocess.prepare.prepare` with its defaults; an ndarray or
+        Series has its mean removed here (recorded in ``preprocessing``).
     candidates : str or sequence, default DEFAULT_FIVE
         AR(1), AR(2), AR(3), ARMA(1,1), ARMA(2,1) by default; see :func:`parse_candidates`.
     criterion : {"aic", "bic", "hqic", "aicc"}

@@ -17,6 +17,7 @@ import warnings
 import numpy as np
 import pandas as pd
 import pytest
+from scipy.signal import lfilter
 
 import fogts.arma.select as select_mod
 from fogts.arma import select_arma
@@ -28,6 +29,8 @@ from fogts.errors import (
     ModelFitError,
     NotWhiteWarning,
 )
+from fogts.io.run import Run
+from fogts.preprocess.prepare import prepare
 from fogts.report.text import json_dumps
 from tests.arma.simulated import arma_series
 
@@ -136,7 +139,6 @@ def test_frame_has_one_row_per_candidate(ar1_selection: select_mod.Selection) ->
 
 
 def test_prepared_input() -> None:
-    from fogts.preprocess.prepare import prepare
 
     x = arma_series([0.6], [], 4000, 2) + 1e-3 * np.arange(4000)
     prep = prepare(x, fs_hz=10.0, detrend=1, stationarity=False)
@@ -222,7 +224,6 @@ def test_statsmodels_path_gives_the_same_ranking() -> None:
 
 
 def test_bad_input() -> None:
-    from fogts.io.run import Run
 
     x = arma_series([0.5], [], 500, 9)
     with pytest.raises(InsufficientDataError,
@@ -246,10 +247,20 @@ def test_bad_input() -> None:
         select_arma(pd.DataFrame({"a": x}))
     with pytest.raises(DataError, match="fs_hz must be a finite number > 0"):
         select_arma(x, fs_hz=-1.0)
-    run = Run(rate=x, time=np.arange(500) / 10.0, fs_hz=10.0, units="deg/h", axes=("x",),
+    run3 = Run(rate=np.column_stack([x, x, x]), time=np.arange(500) / 10.0, fs_hz=10.0,
+               units="deg/h", axes=("x", "y", "z"), columns=("time", "x", "y", "z"))
+    with pytest.raises(DataError, match=r"x is a Run with 3 axes \(x, y, z\); select one"):
+        select_arma(run3)
+
+
+def test_a_one_axis_run_is_prepared_with_the_defaults() -> None:
+    x = lfilter([1.0], [1.0, -0.6], np.random.default_rng(3).standard_normal(800))
+    run = Run(rate=x, time=np.arange(800) / 10.0, fs_hz=10.0, units="deg/h", axes=("x",),
               columns=("time", "x"))
-    with pytest.raises(DataError, match="x is a Run; prepare one axis first"):
-        select_arma(run)
+    direct, via = select_arma(run), select_arma(prepare(run))
+    assert via.best.model == direct.best.model
+    assert direct.best.aic == pytest.approx(via.best.aic, rel=1e-12)  # the same input
+    assert direct.to_dict()["preprocessing"] == via.to_dict()["preprocessing"]
 
 
 def _stored(fit: ArmaFit) -> bool:
