@@ -11,9 +11,10 @@ from __future__ import annotations
 
 from typing import Literal, get_args
 
-__all__ = ["CRITERIA", "FILTER_DESIGNS", "FILTER_METHODS", "FIT_METHODS", "FLICKER_METHODS",
-           "GAP_POLICIES", "KINDS", "NAN_POLICIES", "Criterion", "FilterDesign",
-           "FilterMethod", "FitMethod", "FlickerMethod", "GapPolicy", "Kind", "NanPolicy"]
+__all__ = ["CRITERIA", "EXPORT_FORMATS", "FILTER_DESIGNS", "FILTER_METHODS", "FIT_METHODS",
+           "FLICKER_METHODS", "GAP_POLICIES", "KINDS", "NAN_POLICIES", "OUTPUT_UNITS",
+           "Criterion", "ExportFormat", "FilterDesign", "FilterMethod", "FitMethod",
+           "FlickerMethod", "GapPolicy", "Kind", "NanPolicy", "OutputUnits"]
 
 #: Allan-family estimators.
 Kind = Literal["adev", "oadev", "mdev", "hdev", "ohdev", "totdev"]
@@ -46,3 +47,11 @@ FILTER_DESIGNS: tuple[str, ...] = get_args(FilterDesign)
 #: Flicker (bias-instability) synthesis: a sum of Markov processes, or Kasdin-Walter.
 FlickerMethod = Literal["markov", "kasdin"]
 FLICKER_METHODS: tuple[str, ...] = get_args(FlickerMethod)
+
+#: Units of the reported noise terms: IEEE-952's degree units, or SI (rad, s, Hz).
+OutputUnits = Literal["deg", "si"]
+OUTPUT_UNITS: tuple[str, ...] = get_args(OutputUnits)
+
+#: Filter-ready exports of the noise terms (``fogts allan --export``).
+ExportFormat = Literal["kalibr", "imu_utils", "json"]
+EXPORT_FORMATS: tuple[str, ...] = get_args(ExportFormat)

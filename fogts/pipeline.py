@@ -195,6 +195,8 @@ class AxisAllan:
             "confidence": res.confidence, "bias_corrected": res.bias_corrected,
             "points": points,
             "noise": model.noise_dict() if model is not None else {},
+            "noise_si": ({t.name: model.in_units(t.name, "si") for t in model.terms}
+                         if model is not None else {}),
             "noise_fit": ({k: v for k, v in model.to_dict().items() if k != "terms"}
                           if model is not None else
                           {"skipped": f"IEEE-952 terms are fitted to adev, oadev or totdev "

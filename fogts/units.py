@@ -15,10 +15,12 @@ from typing import Literal, get_args
 import numpy as np
 
 from fogts._validate import check_positive
+from fogts.choices import OUTPUT_UNITS
 from fogts.errors import DataError
 
-__all__ = ["EARTH_RATE_RAD_S", "RATE_UNITS", "RateUnit", "convert_rate", "earth_rate_component",
-           "parse_duration", "parse_rate_unit", "to_deg_per_hour_factor"]
+__all__ = ["EARTH_RATE_RAD_S", "RATE_UNITS", "TERM_DEG_UNIT", "TERM_SI_FACTOR", "TERM_SI_UNIT", "RateUnit",
+           "convert_rate", "earth_rate_component", "parse_duration", "parse_rate_unit",
+           "term_in_units", "term_unit", "to_deg_per_hour_factor"]
 
 RateUnit = Literal["deg/h", "deg/s", "rad/s", "arcsec/s"]
 RATE_UNITS: tuple[str, ...] = get_args(RateUnit)
@@ -33,6 +35,32 @@ _TO_DEG_PER_HOUR: dict[str, float] = {
     "rad/s": 3600.0 * 180.0 / math.pi,
     "arcsec/s": 1.0,  # 1 arcsec/s = (1/3600) deg/s = 1 deg/h
 }
+
+#: One degree in radians, and one arcsecond.
+_RAD_PER_DEG = math.pi / 180.0
+_S_PER_H = 3600.0
+
+#: Multiply an IEEE-952 term in fogts' degree units (IEEE Std 952-1997 Annex C: Q in arcsec,
+#: N in deg/sqrt(h), B in deg/h, K in deg/h^1.5, R in deg/h^2) by this factor to get SI:
+#: N as a rate noise density in rad/s/sqrt(Hz) (= rad/sqrt(s), the angle random walk), B in
+#: rad/s, K as a rate random walk in rad/s^2/sqrt(Hz) (= rad/s^1.5), R in rad/s^2, Q in rad.
+#: Each factor is the degree-to-radian factor times the hours-to-seconds power of the unit:
+#: deg/sqrt(h) = (pi/180) rad / sqrt(3600 s); deg/h^1.5 = (pi/180) rad / (3600 s)^1.5.  These
+#: are the units of Kalibr's ``gyroscope_noise_density`` and ``gyroscope_random_walk``
+#: (Kalibr wiki, "IMU Noise Model").
+TERM_SI_FACTOR: dict[str, float] = {
+    "Q": _RAD_PER_DEG / _S_PER_H,          # arcsec -> rad
+    "N": _RAD_PER_DEG / math.sqrt(_S_PER_H),
+    "B": _RAD_PER_DEG / _S_PER_H,
+    "K": _RAD_PER_DEG / _S_PER_H**1.5,
+    "R": _RAD_PER_DEG / _S_PER_H**2,
+}
+#: The SI unit of each term (see :data:`TERM_SI_FACTOR`).
+TERM_SI_UNIT: dict[str, str] = {"Q": "rad", "N": "rad/s/sqrt(Hz)", "B": "rad/s",
+                                "K": "rad/s^2/sqrt(Hz)", "R": "rad/s^2"}
+#: The degree unit of each term (IEEE Std 952-1997; DESIGN.md).
+TERM_DEG_UNIT: dict[str, str] = {"Q": "arcsec", "N": "deg/sqrt(h)", "B": "deg/h",
+                                  "K": "deg/h^1.5", "R": "deg/h^2"}
 
 _ALIASES: dict[str, str] = {
     "deg/h": "deg/h", "deg/hr": "deg/h", "dph": "deg/h", "°/h": "deg/h", "degh": "deg/h",
@@ -82,6 +110,34 @@ def convert_rate(x: np.ndarray | float, from_unit: str, to_unit: str) -> np.ndar
     if isinstance(x, np.ndarray):
         return x * factor
     return float(x) * factor
+
+
+def term_in_units(name: str, value: float, units: str) -> float:
+    """An IEEE-952 term given in fogts' degree units, in ``units`` (``"deg"`` or ``"si"``).
+
+    Examples
+    --------
+    >>> f"{term_in_units('N', 0.15, 'si'):.4e}"   # 0.15 deg/sqrt(h) in rad/s/sqrt(Hz)
+    '4.3633e-05'
+    """
+    return float(value) * (TERM_SI_FACTOR[name] if _output_units(units) == "si" else 1.0)
+
+
+def term_unit(name: str, units: str) -> str:
+    """The unit of term ``name`` in ``units`` (``"deg"`` or ``"si"``).
+
+    Examples
+    --------
+    >>> term_unit("K", "deg"), term_unit("K", "si")
+    ('deg/h^1.5', 'rad/s^2/sqrt(Hz)')
+    """
+    return (TERM_SI_UNIT if _output_units(units) == "si" else TERM_DEG_UNIT)[name]
+
+
+def _output_units(units: str) -> str:
+    if units not in OUTPUT_UNITS:
+        raise DataError(f"units must be one of {', '.join(OUTPUT_UNITS)}; got {units!r}")
+    return units
 
 
 def earth_rate_component(latitude_deg: float, *, unit: str = "deg/h",

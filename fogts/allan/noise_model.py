@@ -17,8 +17,10 @@ from scipy.stats import norm
 from fogts._typing import FloatArray
 from fogts.allan.readout import SlopeReadoff
 from fogts.allan.terms import TERM_DESCRIPTION, TERM_POWER
+from fogts.choices import OutputUnits
 from fogts.errors import DataError
 from fogts.tables import Column, Table
+from fogts.units import term_in_units, term_unit
 
 __all__ = ["NoiseModel", "NoiseTerm"]
 
@@ -249,25 +251,39 @@ class NoiseModel:
         return np.sqrt(total)
 
     # -------------------------------------------------------------- exports
-    def noise_dict(self) -> dict[str, dict[str, Any]]:
-        """Term name to ``{value, stderr, ci_low, ci_high, unit, ..., upper_limit_95}`` (the
-        JSON ``noise``; ``upper_limit_95`` is :meth:`upper_limit`, null for a fitted term)."""
-        return {t.name: {**t.to_dict(), "upper_limit_95": self.upper_limit(t.name)}
-                for t in self.terms}
+    def in_units(self, name: str, units: OutputUnits = "deg") -> dict[str, Any]:
+        """Term ``name``'s value, stderr, interval and 95 % upper limit in ``units``:
+        ``"deg"`` (IEEE 952's degree units) or ``"si"`` (:data:`fogts.units.TERM_SI_FACTOR`)."""
+        t = self[name]
+        scale = term_in_units(name, 1.0, units)
+        return {"value": t.value * scale, "stderr": t.stderr * scale,
+                "ci_low": t.ci_low * scale, "ci_high": t.ci_high * scale,
+                "unit": t.unit if units == "deg" else term_unit(name, units),
+                "upper_limit_95": self.upper_limit(name) * scale}
 
-    def to_frame(self) -> pd.DataFrame:
-        """One row per term: value, stderr, CI, unit, C_n, identifiability, status, z."""
-        rows = [{"term": t.name, "value": t.value, "stderr": t.stderr, "ci_low": t.ci_low,
-                 "ci_high": t.ci_high, "unit": t.unit, "c_coeff": t.c_coeff,
-                 "c_stderr": t.c_stderr, "slope": t.slope, "at_bound": t.at_bound,
-                 "identifiable": t.identifiable, "status": t.status, "z": t.z_score}
+    def noise_dict(self, units: OutputUnits = "deg") -> dict[str, dict[str, Any]]:
+        """Term name to ``{value, stderr, ci_low, ci_high, unit, ..., upper_limit_95}`` in
+        ``units`` (the JSON ``noise``; ``upper_limit_95`` is :meth:`upper_limit`, null for a
+        fitted term; ``c_coeff`` stays in deg/h-and-seconds units)."""
+        return {t.name: {**t.to_dict(), **self.in_units(t.name, units)} for t in self.terms}
+
+    def to_frame(self, units: OutputUnits = "deg") -> pd.DataFrame:
+        """One row per term: value, stderr, CI and unit in ``units`` (``"deg"`` or ``"si"``),
+        C_n, identifiability, status, z."""
+        rows = [{"term": t.name, **{k: v for k, v in self.in_units(t.name, units).items()
+                                    if k != "upper_limit_95"},
+                 "c_coeff": t.c_coeff, "c_stderr": t.c_stderr, "slope": t.slope,
+                 "at_bound": t.at_bound, "identifiable": t.identifiable, "status": t.status,
+                 "z": t.z_score}
                 for t in self.terms]
         return pd.DataFrame(rows).set_index("term")
 
-    def to_dict(self) -> dict[str, Any]:
+    def to_dict(self, units: OutputUnits = "deg") -> dict[str, Any]:
+        """The JSON ``noise`` block; ``units="si"`` gives the terms in SI (``output_units``)."""
         return {
             "method": self.method, "confidence": self.confidence, "kind": self.kind,
-            "units": self.units, "axis": self.axis, "terms": self.noise_dict(),
+            "units": self.units, "axis": self.axis, "output_units": units,
+            "terms": self.noise_dict(units),
             "readoff": self.readoff.to_dict(),
             "fit": {"n_points": int(self.tau_s.size),
                     "tau_range": [float(self.tau_s[0]), float(self.tau_s[-1])],
@@ -295,25 +311,29 @@ class NoiseModel:
         z_conf = float(norm.ppf(0.5 + self.confidence / 2))
         return term.ci_high * math.sqrt(z_level / z_conf)
 
-    def _table_note(self, term: NoiseTerm) -> str:
+    def _table_note(self, term: NoiseTerm, units: OutputUnits = "deg") -> str:
         if not term.is_limit:
             return term.note
         why = (f"dropped, z = {term.z_score:.2f}" if term.status == "dropped"
                else "fit at zero" if term.at_bound
                else f"z = {term.z_score:.2f} < {Z_MEASURED:g}")
-        note = f"< {self.upper_limit(term.name):.3g} (95 % upper limit; {why})"
+        limit = self.in_units(term.name, units)["upper_limit_95"]
+        note = f"< {limit:.3g} (95 % upper limit; {why})"
         return note + ("; not identifiable" if not term.identifiable else "")
 
-    def term_table(self) -> Table:
-        """The terms with their standard errors, intervals, units, C_n and notes: the one
-        definition the summary, the terminal and the HTML report show."""
+    def term_table(self, units: OutputUnits = "deg") -> Table:
+        """The terms with their standard errors, intervals, units (``"deg"`` or ``"si"``),
+        C_n and notes: the one definition the summary, the terminal and the HTML report
+        show."""
         pct = f"{100 * self.confidence:.1f} %"
         columns = (Column("term", numeric=False), Column("name", numeric=False),
                    Column("value"), Column("± stderr", digits=3),
                    Column(f"{pct} interval"), Column("unit", numeric=False),
                    Column("C_n"), Column("note", numeric=False))
-        rows = [(t.name, TERM_DESCRIPTION.get(t.name, t.name), t.value, t.stderr,
-                 (t.ci_low, t.ci_high), t.unit, t.c_coeff, self._table_note(t))
+        shown = {t.name: self.in_units(t.name, units) for t in self.terms}
+        rows = [(t.name, TERM_DESCRIPTION.get(t.name, t.name), shown[t.name]["value"],
+                 shown[t.name]["stderr"], (shown[t.name]["ci_low"], shown[t.name]["ci_high"]),
+                 shown[t.name]["unit"], t.c_coeff, self._table_note(t, units))
                 for t in self.terms]
         return Table.build(
             f"IEEE-952 noise terms of {self.axis} ({self.method.upper()} fit of {self.kind} "

@@ -19,6 +19,7 @@ from fogts._typing import FloatArray, IntArray
 from fogts.allan.taus import DroppedTau
 from fogts.errors import DataError
 from fogts.tables import Column, Table
+from fogts.units import convert_rate, parse_rate_unit
 
 __all__ = ["KIND_LABELS", "AllanResult", "AllanResultSet", "AxisIndexed"]
 
@@ -206,16 +207,19 @@ class AllanResult:
                 "points": points,
                 "dropped": [d.to_dict() for d in self.dropped], "notes": list(self.notes)}
 
-    def points_table(self) -> Table:
-        """The points: tau, averaging factor, number of terms, deviation, interval, EDF."""
+    def points_table(self, rate_units: str | None = None) -> Table:
+        """The points: tau, averaging factor, number of terms, deviation, interval, EDF;
+        the deviations in ``rate_units`` (default: the input's unit)."""
         pct = f"{100 * self.confidence:.1f} % CI" if math.isfinite(self.confidence) \
             else "no CI"
         corrected = ", bias-corrected (Howe 1999)" if self.bias_corrected else ""
+        unit = self.units if rate_units is None else parse_rate_unit(rate_units, "rate_units")
+        scale = float(convert_rate(1.0, self.units, unit)) if unit != self.units else 1.0
         rows = list(zip(self.tau_s.tolist(), self.m.tolist(), self.n.tolist(),
-                        self.dev.tolist(), self.ci_low.tolist(), self.ci_high.tolist(),
-                        self.edf.tolist(), strict=True))
+                        (self.dev * scale).tolist(), (self.ci_low * scale).tolist(),
+                        (self.ci_high * scale).tolist(), self.edf.tolist(), strict=True))
         return Table.build(
-            f"{self.kind} of {self.axis} ({self.units}), {pct}{corrected}",
+            f"{self.kind} of {self.axis} ({unit}), {pct}{corrected}",
             (Column("tau (s)", digits=6), Column("m"), Column("terms"), Column("dev", digits=5),
              Column("ci_low", digits=5), Column("ci_high", digits=5), Column("edf")), rows)
 

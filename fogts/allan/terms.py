@@ -30,6 +30,7 @@ from typing import Any, Literal, get_args
 import numpy as np
 
 from fogts.errors import DataError
+from fogts.units import TERM_DEG_UNIT
 
 __all__ = ["B_PLATEAU", "C_UNIT", "FLICKER_AVAR", "NOISE_TERMS", "TERMS", "TERM_DESCRIPTION",
            "TERM_FACTOR", "TERM_POWER", "TERM_SLOPE", "TERM_UNIT", "TO_SECONDS", "NoiseTermInfo",
@@ -107,13 +108,13 @@ class NoiseTermInfo:
 
 #: The five terms in the order Q, N, B, K, R.
 TERMS: dict[str, NoiseTermInfo] = {t.name: t for t in (
-    NoiseTermInfo("Q", "quantization", -2, "arcsec", "deg/h*s", 0, math.sqrt(3.0)),
-    NoiseTermInfo("N", "angle random walk", -1, "deg/sqrt(h)", "deg/h*sqrt(s)", -1, 1.0,
+    NoiseTermInfo("Q", "quantization", -2, TERM_DEG_UNIT["Q"], "deg/h*s", 0, math.sqrt(3.0)),
+    NoiseTermInfo("N", "angle random walk", -1, TERM_DEG_UNIT["N"], "deg/h*sqrt(s)", -1, 1.0,
                   readoff_tau_s=1.0),
-    NoiseTermInfo("B", "bias instability", 0, "deg/h", "deg/h", 0, B_PLATEAU),
-    NoiseTermInfo("K", "rate random walk", 1, "deg/h^1.5", "deg/h/sqrt(s)", 1,
+    NoiseTermInfo("B", "bias instability", 0, TERM_DEG_UNIT["B"], "deg/h", 0, B_PLATEAU),
+    NoiseTermInfo("K", "rate random walk", 1, TERM_DEG_UNIT["K"], "deg/h/sqrt(s)", 1,
                   1.0 / math.sqrt(3.0), readoff_tau_s=3.0),
-    NoiseTermInfo("R", "rate ramp", 2, "deg/h^2", "deg/h/s", 2, 1.0 / math.sqrt(2.0)),
+    NoiseTermInfo("R", "rate ramp", 2, TERM_DEG_UNIT["R"], "deg/h/s", 2, 1.0 / math.sqrt(2.0)),
 )}
 
 #: Power of tau of each term's basis function in sigma^2(tau) = sum a_n tau^n.

@@ -21,17 +21,18 @@ if TYPE_CHECKING:
 
 
 def _allan_tables(res: AllanResult, model: NoiseModel | None, check: dict[str, Any] | None,
-                  quiet_json: str | None) -> None:
+                  quiet_json: str | None, units: choices.OutputUnits = "deg") -> None:
     import math
 
     def g(v: float, digits: int = 5) -> str:
         return "-" if v is None or not math.isfinite(v) else f"{v:.{digits}g}"
 
-    common.print_out(common.rich_table(res.points_table()), quiet_json=quiet_json)
+    rate_units = "rad/s" if units == "si" else None
+    common.print_out(common.rich_table(res.points_table(rate_units)), quiet_json=quiet_json)
     for d in res.dropped:
         common.say([f"dropped tau = {d.tau_s:g} s (m = {d.m}): {d.reason}"], quiet_json)
     if model is not None:
-        common.print_out(common.rich_table(model.term_table()), quiet_json=quiet_json)
+        common.print_out(common.rich_table(model.term_table(units)), quiet_json=quiet_json)
         common.say([model.readoff.describe()], quiet_json)
         common.say([f"fit: chi2 = {model.chi2:.4g} on {model.dof:.4g} dof, model error "
               f"{model.model_error:.3g}; standard errors: {model.stderr_method}"], quiet_json)
@@ -63,6 +64,8 @@ def allan_cmd(
     csv_out: Annotated[Path | None, typer.Option("--csv", help="Write the points (and the fitted curve) to PATH (.csv, .tsv, .parquet).")] = None,
     plot: Annotated[Path | None, typer.Option("--plot", help="Log-log figure with CIs, the fit and its term lines (several inputs: an overlay): .png, .svg or .pdf.")] = None,
     check_allantools: Annotated[bool, typer.Option("--check-allantools", help="Recompute with allantools on the same data and taus; print the largest relative difference.")] = False,
+    output_units: Annotated[choices.OutputUnits, typer.Option("--output-units", help="Units of the printed tables: deg (IEEE 952: deg/sqrt(h), deg/h, deg/h^1.5; the deviations in the input unit) or si (rad/s/sqrt(Hz), rad/s, rad/s^2/sqrt(Hz); deviations in rad/s). The JSON has both (noise, noise_si).")] = "deg",
+    export: Annotated[tuple[str, Path] | None, typer.Option("--export", metavar="FORMAT PATH", help="Write the filter-ready noise parameters (N and K in SI; a term not measured as its 95 % upper limit, marked): kalibr (imu.yaml), imu_utils (OpenCV YAML) or json.")] = None,
     bias_correction: Annotated[bool, typer.Option("--bias-correction", help="--kind totdev: divide TOTVAR by its bias at flicker- and random-walk-FM taus (Howe 1999), as Stable32 does.")] = False,
     read: ReadSettings = common.DEFAULT_READ,
 ) -> None:
@@ -77,8 +80,12 @@ def allan_cmd(
     from fogts.allan.noise import parse_terms
     from fogts.pipeline import AllanSettings, analyse_allan
 
-    with common.guard({"tau_min": "--fit-tau-min", "tau_max": "--fit-tau-max"}, outputs={"--json": json_out, "--csv": csv_out, "--plot": plot},
-                inputs={"FILES": files}):
+    export_path = export[1] if export is not None else None
+    with common.guard({"tau_min": "--fit-tau-min", "tau_max": "--fit-tau-max"},
+                      outputs={"--json": json_out, "--csv": csv_out, "--plot": plot,
+                               "--export": export_path},
+                      inputs={"FILES": files}):
+        export_format = _export_format(export, files)
         tau_spec = common.tau_option(taus)
         term_names = parse_terms(terms)
         common.check_output_names(plot=plot, csv=csv_out)
@@ -99,6 +106,11 @@ def allan_cmd(
                 if warning is not None:
                     common.err_console.print(f"warning: {warning}", markup=False, soft_wrap=True)
             analyses.append(analysis)
+        export_text = None
+        if export_format is not None:  # built first: a failing export writes nothing
+            from fogts.report.export import noise_export_text
+
+            export_text = noise_export_text(analyses[0], export_format)
         payload = (analyses[0].to_dict() if len(analyses) == 1
                    else {"inputs": [a.to_dict() for a in analyses]})
         common.emit_json(payload, json_out)
@@ -106,6 +118,10 @@ def allan_cmd(
             _allan_csv(analyses, csv_out)
         if plot is not None:
             common.save_figure(_allan_figure(analyses), plot)
+        if export_text is not None and export_path is not None:
+            from fogts.io.writer import write_text_atomic
+
+            write_text_atomic(export_path, export_text)
         for done in analyses:
             run = done.run
             common.say([f"{run.source}: {run.n} samples at {run.fs_hz:.6g} Hz "
@@ -113,10 +129,26 @@ def allan_cmd(
             for ax in done.axes:
                 if ax.notes:
                     common.say([f"{ax.result.axis}: {line}" for line in ax.notes], json_out)
-                _allan_tables(ax.result, ax.model, ax.check, json_out)
+                _allan_tables(ax.result, ax.model, ax.check, json_out, output_units)
                 _curve_table(ax.result, ax.readout, json_out)
                 if ax.fit_check is not None:
                     common.say([f"fit check: {ax.fit_check.verdict}"], json_out)
+
+
+def _export_format(export: tuple[str, Path] | None, files: list[Path]
+                   ) -> choices.ExportFormat | None:
+    """The --export format, checked: one of the formats, and one input file."""
+    from fogts.errors import DataError
+
+    if export is None:
+        return None
+    fmt = export[0]
+    if fmt not in choices.EXPORT_FORMATS:
+        raise DataError(f"--export FORMAT must be one of {', '.join(choices.EXPORT_FORMATS)}; "
+                        f"got {fmt!r}")
+    if len(files) > 1:
+        raise DataError(f"--export describes one sensor: give one input file, not {len(files)}")
+    return fmt  # type: ignore[return-value]
 
 
 def _allan_csv(analyses: list[AllanAnalysis], target: Path) -> None:

@@ -208,3 +208,54 @@ def test_unsupported_terms_are_dropped_unless_kept(gyro_npy: Path) -> None:
     assert payload["noise_fit"]["fit"]["dropped"] == []
     assert {t["status"] for t in payload["noise"].values()} <= {"fitted", "at_bound"}
     assert payload["noise"]["N"]["value"] == pytest.approx(N_TRUE, rel=0.03)
+
+
+# ------------------------------------------------------------------ SI units and exports
+def test_si_tables_and_a_kalibr_export_that_reads_back(tmp_path: Path) -> None:
+    import yaml
+
+    from fogts.units import TERM_SI_FACTOR
+
+    adis = shared_path("imu", "adis_16405_imu1_gyro.npz")
+    out, js = tmp_path / "imu.yaml", tmp_path / "a.json"
+    code, stdout, _ = _run([adis, "--output-units", "si", "--export", "kalibr", out,
+                            "--json", js])
+    assert code == 0
+    assert "rad/s^2/sqrt(Hz)" in stdout and "of Gyro. X (rad/s)" in stdout
+    doc = json.loads(js.read_text())
+    exported = yaml.safe_load(out.read_text())
+    n_axes, k_axes = [], []
+    for block in doc["axes"]:
+        noise, si = block["noise"], block["noise_si"]
+        for name in ("N", "K"):
+            assert si[name]["value"] == pytest.approx(
+                noise[name]["value"] * TERM_SI_FACTOR[name], rel=1e-12, abs=0.0)
+        n_axes.append(si["N"]["value"])
+        k = si["K"]
+        k_axes.append(k["upper_limit_95"] if noise["K"]["upper_limit_95"] is not None
+                      else k["value"])
+    assert exported["gyroscope_noise_density"] == pytest.approx(max(n_axes), rel=1e-12)
+    assert exported["gyroscope_random_walk"] == pytest.approx(max(k_axes), rel=1e-12)
+    assert exported["update_rate"] == pytest.approx(100.0, rel=1e-15)
+
+
+@pytest.mark.parametrize(("args", "message"), [
+    (["--export", "ros", "OUT"], "--export FORMAT must be one of kalibr, imu_utils, json; "
+                                 "got 'ros'"),
+    (["--export", "kalibr", "OUT", "SECOND"], "--export describes one sensor: give one input "
+                                              "file, not 2"),
+    (["--export", "kalibr", "OUT", "--kind", "mdev"], "the export needs the noise terms"),
+    (["--export", "kalibr", "OUT", "--terms", "N,B"], "K was not fitted"),
+    (["--export", "kalibr", "INPUT"], "fogts never replaces an input"),
+    (["--output-units", "rad"], "Invalid value for '--output-units'"),
+])
+def test_export_and_unit_errors_are_one_line(gyro_npy: Path, tmp_path: Path,
+                                             args: list[str], message: str) -> None:
+    second = tmp_path / "second.npy"
+    second.write_bytes(gyro_npy.read_bytes())
+    swap = {"OUT": str(tmp_path / "imu.yaml"), "SECOND": str(second), "INPUT": str(gyro_npy)}
+    code, _, err = _run([gyro_npy, "--fs", "100", *[swap.get(a, a) for a in args]])
+    assert code == 2
+    line = error_output(err)
+    assert message in line and line.startswith("error:") and "\n" not in line
+    assert not (tmp_path / "imu.yaml").exists()

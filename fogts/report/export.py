@@ -1,0 +1,177 @@
+"""Filter-ready noise parameters: Kalibr's ``imu.yaml``, imu_utils' parameter file, JSON.
+
+A visual-inertial or INS filter wants, per gyro, the white rate noise density and the rate
+random walk in SI units.  These are fogts' IEEE-952 terms N and K converted by
+:data:`fogts.units.TERM_SI_FACTOR`:
+
+* ``gyroscope_noise_density`` (Kalibr) = ``gyr_n`` (imu_utils) = N in rad/s/sqrt(Hz);
+* ``gyroscope_random_walk`` (Kalibr) = ``gyr_w`` (imu_utils) = K in rad/s^2/sqrt(Hz).
+
+These are the definitions of the Kalibr wiki ("IMU Noise Model": sigma^2(tau) =
+sigma_g^2 / tau for the white noise and sigma_bg^2 tau / 3 for the random walk, which are
+IEEE 952's N^2/tau and K^2 tau/3).  imu_utils itself writes the Allan minimum (a bias
+instability) as ``gyr_w``; the file written here carries K there, as the filters that read
+the file expect, and says so in a comment.
+
+A term that the data do not measure (at zero, dropped, or z < 2) is exported as its
+one-sided 95 % upper limit and marked as such in a comment: a filter then gets a
+conservative value, never a zero.  Kalibr wants one value per sensor: the largest axis is
+written (conservative), every axis in a comment.  fogts analyses gyro axes only, so the
+accelerometer pair is not written; a comment says so.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import yaml
+
+from fogts._version import __version__
+from fogts.choices import EXPORT_FORMATS, ExportFormat
+from fogts.errors import DataError
+from fogts.pipeline import AllanAnalysis, AxisAllan
+from fogts.units import TERM_SI_UNIT
+
+__all__ = ["ExportedTerm", "export_noise", "exported_terms", "noise_export_text"]
+
+#: The terms a filter needs, in the order written.
+_FILTER_TERMS = ("N", "K")
+
+
+@dataclass(frozen=True)
+class ExportedTerm:
+    """One term of one axis as exported: its SI value and whether it is only a limit.
+
+    Attributes
+    ----------
+    axis : str
+        Axis name.
+    term : str
+        ``"N"`` or ``"K"``.
+    value_si : float
+        The fitted value, or for a term that is only a limit its 95 % upper limit, in SI.
+    is_limit : bool
+        True when ``value_si`` is the 95 % upper limit.
+    unit : str
+        SI unit (:data:`fogts.units.TERM_SI_UNIT`).
+    """
+
+    axis: str
+    term: str
+    value_si: float
+    is_limit: bool
+    unit: str
+
+    @property
+    def comment(self) -> str:
+        """``fitted`` or ``95 % upper limit, not measured``."""
+        return "95 % upper limit, not measured" if self.is_limit else "fitted"
+
+
+def exported_terms(axis: AxisAllan) -> dict[str, ExportedTerm]:
+    """N and K of one analysed axis, in SI, each the fitted value or its upper limit."""
+    model, name = axis.model, axis.result.axis
+    if model is None:
+        raise DataError(f"the export needs the noise terms, and {name} has none (fitted to "
+                        "--kind adev, oadev or totdev only)")
+    out = {}
+    for term in _FILTER_TERMS:
+        if term not in model.names:
+            raise DataError(f"the export needs N and K; {term} was not fitted (--terms "
+                            "must include N and K)")
+        shown = model.in_units(term, "si")
+        limit = model[term].is_limit
+        value = shown["upper_limit_95"] if limit else shown["value"]
+        if not math.isfinite(value):
+            raise DataError(f"{name}: {term} has no finite value or upper limit to export")
+        out[term] = ExportedTerm(name, term, float(value), limit, TERM_SI_UNIT[term])
+    return out
+
+
+def noise_export_text(analysis: AllanAnalysis, fmt: ExportFormat) -> str:
+    """The text of the export in format ``fmt`` (``kalibr``, ``imu_utils`` or ``json``)."""
+    if fmt not in EXPORT_FORMATS:
+        raise DataError(f"export format must be one of {', '.join(EXPORT_FORMATS)}; got "
+                        f"{fmt!r}")
+    terms = {ax.result.axis: exported_terms(ax) for ax in analysis.axes}
+    return _WRITERS[fmt](analysis, terms)
+
+
+def export_noise(analysis: AllanAnalysis, fmt: ExportFormat, path: str | Path) -> Path:
+    """Write the export atomically to ``path`` and return it."""
+    from fogts.io.writer import write_text_atomic
+
+    return write_text_atomic(Path(path), noise_export_text(analysis, fmt))
+
+
+# ------------------------------------------------------------------ the formats
+def _header(analysis: AllanAnalysis, what: str) -> list[str]:
+    run = analysis.run
+    return [f"# {what}, written by fogts {__version__} from {Path(run.source).name}",
+            f"# ({run.n} samples at {run.fs_hz:g} Hz; rate read in {run.units})"]
+
+
+def _axis_comments(terms: dict[str, dict[str, ExportedTerm]]) -> list[str]:
+    return [f"#   {axis}: " + "; ".join(f"{t.term} = {t.value_si:.6e} {t.unit} ({t.comment})"
+                                        for t in by_term.values())
+            for axis, by_term in terms.items()]
+
+
+def _kalibr(analysis: AllanAnalysis, terms: dict[str, dict[str, ExportedTerm]]) -> str:
+    worst = {term: max((by_term[term] for by_term in terms.values()),
+                       key=lambda t: t.value_si) for term in _FILTER_TERMS}
+    body = {"rostopic": "/imu0", "update_rate": float(analysis.run.fs_hz),
+            "gyroscope_noise_density": worst["N"].value_si,
+            "gyroscope_random_walk": worst["K"].value_si}
+    marks = {"gyroscope_noise_density": worst["N"], "gyroscope_random_walk": worst["K"]}
+    lines = _header(analysis, "Kalibr IMU noise model (imu.yaml)")
+    lines += ["# gyroscope_noise_density: N in rad/s/sqrt(Hz); gyroscope_random_walk: K in "
+              "rad/s^2/sqrt(Hz); the largest axis of:"]
+    lines += _axis_comments(terms)
+    lines += ["# accelerometer_noise_density and accelerometer_random_walk are not written: "
+              "fogts analysed gyro axes only; add them from the accelerometer's analysis."]
+    for line in yaml.safe_dump(body, sort_keys=False).splitlines():
+        key = line.split(":", 1)[0]
+        mark = marks.get(key)
+        lines.append(line + (f"  # {mark.axis}, {mark.comment}" if mark is not None else ""))
+    return "\n".join(lines) + "\n"
+
+
+def _imu_utils(analysis: AllanAnalysis, terms: dict[str, dict[str, ExportedTerm]]) -> str:
+    axes = list(terms)
+    keys = ([f"{c}-axis" for c in "xyz"] if len(axes) == 3
+            else [f"{a}-axis" for a in axes])
+    mean = {term: sum(terms[a][term].value_si for a in axes) / len(axes)
+            for term in _FILTER_TERMS}
+    gyr: dict[str, Any] = {"unit": " rad/s",
+                           "avg-axis": {"gyr_n": mean["N"], "gyr_w": mean["K"]}}
+    for key, axis in zip(keys, axes, strict=True):
+        gyr[key] = {"gyr_n": terms[axis]["N"].value_si, "gyr_w": terms[axis]["K"].value_si}
+    body = {"type": "IMU", "name": Path(analysis.run.source).stem, "Gyr": gyr}
+    lines = ["%YAML:1.0", "---"]
+    lines += _header(analysis, "imu_utils IMU parameters (OpenCV YAML)")
+    lines += ["# gyr_n: N in rad/s/sqrt(Hz); gyr_w: K (rate random walk) in rad/s^2/sqrt(Hz), "
+              "where imu_utils writes the Allan minimum; avg-axis: the mean of the axes"]
+    lines += [f"# {key} is {axis}" for key, axis in zip(keys, axes, strict=True)]
+    lines += _axis_comments(terms)
+    lines += yaml.safe_dump(body, sort_keys=False, indent=3).splitlines()
+    return "\n".join(lines) + "\n"
+
+
+def _json(analysis: AllanAnalysis, terms: dict[str, dict[str, ExportedTerm]]) -> str:
+    doc = {"format": "fogts-imu-noise", "version": 1, "fogts_version": __version__,
+           "source": analysis.run.source, "update_rate_hz": float(analysis.run.fs_hz),
+           "axes": {axis: {t.term: {"value": t.value_si, "unit": t.unit,
+                                    "upper_limit": t.is_limit}
+                           for t in by_term.values()}
+                    for axis, by_term in terms.items()}}
+    return json.dumps(doc, indent=2) + "\n"
+
+
+_WRITERS: dict[str, Callable[[AllanAnalysis, dict[str, dict[str, ExportedTerm]]], str]] = {
+    "kalibr": _kalibr, "imu_utils": _imu_utils, "json": _json}
