@@ -19,7 +19,8 @@ from fogts.errors import DataError
 from fogts.io.limits import check_npy, check_npz, max_input_bytes
 from fogts.io.table import Table
 
-__all__ = ["array_table", "frame_table", "npy_table", "npz_table", "parquet_table"]
+__all__ = ["array_table", "frame_table", "named_arrays_frame", "npy_table", "npz_table",
+           "parquet_table"]
 
 
 def frame_table(frame: pd.DataFrame, source: str) -> Table:
@@ -104,19 +105,28 @@ def npz_table(path: Path) -> Table:
     if not numeric:
         raise DataError(f"{str(path)!r} holds no numeric 1-D or 2-D array; keys are: "
                         f"{', '.join(arrays) or '(none)'}")
-    frame_cols: dict[str, np.ndarray] = {}
     length = {v.shape[0] for v in numeric.values()}
     if len(length) > 1:
         raise DataError(f"{str(path)!r}: arrays have different lengths "
                         f"{ {k: v.shape[0] for k, v in numeric.items()} }")
-    for key, arr in numeric.items():
-        if arr.ndim == 1:
-            frame_cols[key] = arr
-        else:
-            labels = ([str(c) for c in names_arr] if names_arr is not None
-                      and len(numeric) == 1 and len(names_arr) == arr.shape[1]
-                      else [f"{key}_{i}" for i in range(arr.shape[1])])
-            for i, label in enumerate(labels):
-                frame_cols[label] = arr[:, i]
-    frame = pd.DataFrame(frame_cols)
+    labels = ([str(c) for c in names_arr] if names_arr is not None and len(numeric) == 1
+              else None)
+    frame = named_arrays_frame(numeric, labels)
     return Table(frame, str(path), None, (), fs_hz, None, True, unit_hint=next(iter(numeric)))
+
+
+def named_arrays_frame(arrays: dict[str, np.ndarray],
+                       labels: Sequence[str] | None = None) -> pd.DataFrame:
+    """Named 1-D and 2-D (samples x channels) arrays of one length as frame columns: a 1-D
+    array keeps its name, a 2-D one gives ``name_0``, ``name_1``, ... (or ``labels``, for
+    a single 2-D array with as many columns)."""
+    columns: dict[str, np.ndarray] = {}
+    for key, arr in arrays.items():
+        if arr.ndim == 1:
+            columns[key] = arr
+            continue
+        names = (list(labels) if labels is not None and len(labels) == arr.shape[1]
+                 else [f"{key}_{i}" for i in range(arr.shape[1])])
+        for i, name in enumerate(names):
+            columns[name] = arr[:, i]
+    return pd.DataFrame(columns)

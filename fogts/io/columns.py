@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import json
 import re
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -22,7 +22,7 @@ _TIME_NAMES = {"time", "t", "timestamp", "time_s", "times", "time_sec", "sec", "
 _TEMP_NAMES = {"temp", "temperature", "tmp", "temp_c", "temperature_c", "temp_degc",
                "temperature_degc", "t_degc"}
 _RATE_NAMES = {"rate", "gyro", "fog", "omega", "w", "wx", "wy", "wz", "gx", "gy", "gz",
-               "angular_rate", "rate_x", "rate_y", "rate_z", "gyr", "gyro_rate"}
+               "angular_rate", "rate_x", "rate_y", "rate_z", "gyr", "gyro_rate", "x", "y", "z"}
 _RATE_PREFIXES = ("gyro", "gyr_", "fog", "rate", "omega", "angular_rate", "w_", "gx_", "gy_",
                   "gz_")
 
@@ -42,16 +42,28 @@ def _norm(name: str) -> str:
     return re.sub(r"[\s.\-()\[\]/]+", "_", name.strip().lower()).strip("_")
 
 
+def _struct_field(test: Callable[[str], bool]) -> Callable[[str], bool]:
+    """``test`` applied to the name, and for a struct path such as ``imu.gyro`` (a MATLAB
+    struct field) also to its last part."""
+    def judged(name: str) -> bool:
+        return test(name) or ("." in name and test(name.rsplit(".", 1)[-1]))
+    judged.__doc__ = test.__doc__
+    return judged
+
+
+@_struct_field
 def _is_time_name(name: str) -> bool:
     n = _norm(name)
     return (name != "T" and n in _TIME_NAMES) or n.startswith("time")
 
 
+@_struct_field
 def _is_temp_name(name: str) -> bool:
     n = _norm(name)
     return name == "T" or n in _TEMP_NAMES or n.startswith(("temp", "temperature"))
 
 
+@_struct_field
 def _is_rate_name(name: str) -> bool:
     n = _norm(name)
     if n in ("sample_rate", "rate_hz", "fs", "fs_hz"):

@@ -4,7 +4,8 @@ Input files are opened only here and in the format families this module dispatch
 Supported inputs:
 
 * delimited text, optionally gzip-compressed (:mod:`fogts.io.text`);
-* Parquet, NumPy ``.npy``/``.npz`` (:mod:`fogts.io.arrays`);
+* Parquet, NumPy ``.npy``/``.npz`` (:mod:`fogts.io.arrays`), MATLAB ``.mat``
+  (:mod:`fogts.io.matlab`);
 * a pandas DataFrame or Series (a DatetimeIndex or TimedeltaIndex gives the time base),
   or a plain array with ``fs_hz``.
 
@@ -33,6 +34,7 @@ from fogts.errors import DataError, InsufficientDataError
 from fogts.io.arrays import array_table, frame_table, npy_table, npz_table, parquet_table
 from fogts.io.columns import assign_roles, rate_unit, sidecar_unit
 from fogts.io.limits import check_regular_file, read_capped
+from fogts.io.matlab import mat_table
 from fogts.io.missing import NAN_POLICIES, apply_missing_drop, interpolate_missing, missing_report
 from fogts.io.run import MissingReport, Run
 from fogts.io.table import MIN_SAMPLES, Table, numeric_column
@@ -44,12 +46,13 @@ __all__ = ["MIN_SAMPLES", "read_json", "read_run"]
 
 #: Readers of binary formats by (lower-case) last file suffix; any other file is read as
 #: text.  Each takes the path of a regular file and returns a Table.  Further formats (a
-#: MATLAB ``.mat`` reader, a ROS bag reader) plug in here the same way.
+#: ROS bag reader) plug in here the same way.
 FILE_READERS: dict[str, Callable[[Path], Table]] = {
     ".parquet": parquet_table,
     ".pq": parquet_table,
     ".npy": npy_table,
     ".npz": npz_table,
+    ".mat": mat_table,
 }
 
 
