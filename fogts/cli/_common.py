@@ -96,6 +96,7 @@ TimeColOpt = Annotated[str | None, typer.Option("--time-column", rich_help_panel
 TempColOpt = Annotated[str | None, typer.Option("--temperature-column", rich_help_panel="Input", help="Temperature column; default: auto-detect.")]
 FsOpt = Annotated[float | None, typer.Option("--fs", rich_help_panel="Input", help="Sample rate in Hz (overrides the time column).")]
 UnitsOpt = Annotated[str | None, typer.Option("--units", rich_help_panel="Input", help="Rate unit of the input: deg/h, deg/s, rad/s, arcsec/s (default: from a unit in the column name such as gyro_x_deg_s, else deg/h).")]
+TopicOpt = Annotated[str | None, typer.Option("--topic", rich_help_panel="Input", help="ROS bags: the sensor_msgs/Imu topic (needed when the bag has several).")]
 JsonOpt = Annotated[str | None, typer.Option("--json", help="Write JSON to PATH, or '-' for stdout.")]
 
 
@@ -109,7 +110,7 @@ GapsOpt = Annotated[choices.GapPolicy, typer.Option("--gaps", rich_help_panel="I
 _INPUT_OPTIONS: list[tuple[str, Any, Any]] = [
     ("rate_column", RateColOpt, None), ("time_column", TimeColOpt, None),
     ("temperature_column", TempColOpt, None), ("fs", FsOpt, None), ("units", UnitsOpt, None),
-    ("nan", NanOpt, "error"), ("gaps", GapsOpt, "warn"),
+    ("topic", TopicOpt, None), ("nan", NanOpt, "error"), ("gaps", GapsOpt, "warn"),
 ]
 KindOpt = Annotated[choices.Kind, typer.Option("--kind", help="Allan estimator (noise terms are fitted to adev, oadev and totdev).")]
 CriterionOpt = Annotated[choices.Criterion, typer.Option("--criterion", help="ARMA ranking criterion.")]
@@ -222,7 +223,7 @@ def reads_input(*, nan: bool = True, gaps: bool = True
             read = ReadSettings(
                 rate_column=given["rate_column"], time_column=given["time_column"],
                 temperature_column=given["temperature_column"], fs_hz=given["fs"],
-                units=given["units"], nan=str(given.get("nan", "error")),
+                units=given["units"], topic=given["topic"], nan=str(given.get("nan", "error")),
                 gaps=str(given.get("gaps", "warn")))
             return command(*args, read=read, **kwargs)
 

@@ -23,8 +23,8 @@ _TEMP_NAMES = {"temp", "temperature", "tmp", "temp_c", "temperature_c", "temp_de
                "temperature_degc", "t_degc"}
 _RATE_NAMES = {"rate", "gyro", "fog", "omega", "w", "wx", "wy", "wz", "gx", "gy", "gz",
                "angular_rate", "rate_x", "rate_y", "rate_z", "gyr", "gyro_rate", "x", "y", "z"}
-_RATE_PREFIXES = ("gyro", "gyr_", "fog", "rate", "omega", "angular_rate", "w_", "gx_", "gy_",
-                  "gz_")
+_RATE_PREFIXES = ("gyro", "gyr_", "fog", "rate", "omega", "angular_rate", "angular_velocity",
+                  "w_", "gx_", "gy_", "gz_")
 
 # Unit hints in column names, e.g. ``gyro_x_deg_s`` or ``rate[dph]``.
 _UNIT_HINTS: tuple[tuple[str, str], ...] = (

@@ -36,6 +36,7 @@ from fogts.io.columns import assign_roles, rate_unit, sidecar_unit
 from fogts.io.limits import check_regular_file, read_capped
 from fogts.io.matlab import mat_table
 from fogts.io.missing import NAN_POLICIES, apply_missing_drop, interpolate_missing, missing_report
+from fogts.io.rosbag import is_ros2_bag, rosbag_table
 from fogts.io.run import MissingReport, Run
 from fogts.io.table import MIN_SAMPLES, Table, numeric_column
 from fogts.io.text import text_file_table
@@ -65,13 +66,15 @@ def read_run(
     fs_hz: float | None = None,
     units: str | None = None,
     nan: str = "error",
+    topic: str | None = None,
 ) -> Run:
     """Read a static gyro recording.
 
     Parameters
     ----------
     source : path, DataFrame, Series or ndarray
-        A file (text, ``.gz``, Parquet, ``.npy``/``.npz``), a frame, a Series or an array.
+        A file (text, ``.gz``, Parquet, ``.npy``/``.npz``, MATLAB ``.mat``, a ROS 1
+        ``.bag``), a ROS 2 bag directory, a frame, a Series or an array.
     rate_column : str or sequence of str, optional
         Rate column(s).  Default: detected by name (``rate``, ``gyro*``, ``fog``, ``omega``,
         ``w``, ...).  Several rate columns give a multi-axis Run.
@@ -91,6 +94,8 @@ def read_run(
         dropped (with a time column they become gaps; without one the time base keeps the
         row numbers, so they are gaps too), or interpolated linearly in time.  What was
         done is recorded in ``Run.missing``.  Non-numeric text is always an error.
+    topic : str, optional
+        ROS bags: the ``sensor_msgs/Imu`` topic (needed when the bag has several).
 
     Returns
     -------
@@ -115,8 +120,8 @@ def read_run(
     unit = parse_rate_unit(units) if units is not None else None
     if nan not in NAN_POLICIES:
         raise DataError(f"nan must be one of {', '.join(NAN_POLICIES)}; got {nan!r}")
-    table = _load_table(source)
-    if isinstance(source, str | os.PathLike):
+    table = _load_table(source, topic)
+    if isinstance(source, str | os.PathLike) and table.sidecar_unit is None:
         table = dataclasses.replace(table, sidecar_unit=sidecar_unit(Path(source)))
     options: dict[str, Any] = {"rate_column": rate_column, "time_column": time_column,
                                "temperature_column": temperature_column, "fs_hz": fs_hz,
@@ -153,7 +158,7 @@ def read_json(path: str | os.PathLike[str], what: str = "JSON file") -> Any:
         raise DataError(f"{what} {str(source)!r} is not valid JSON: {exc}") from None
 
 
-def _load_table(source: Any) -> Table:
+def _load_table(source: Any, topic: str | None = None) -> Table:
     if isinstance(source, pd.Series):
         name = str(source.name) if source.name is not None else "rate"
         return frame_table(source.to_frame(name=name), "<Series>")
@@ -162,14 +167,21 @@ def _load_table(source: Any) -> Table:
     if isinstance(source, np.ndarray):
         return array_table(source, "<array>", fs_hz=None)
     if isinstance(source, str | os.PathLike):
-        return _file_table(Path(source))
+        return _file_table(Path(source), topic)
     raise DataError(f"source must be a file path, DataFrame, Series or ndarray; "
                     f"got {type(source).__name__}")
 
 
-def _file_table(path: Path) -> Table:
-    """Read a file by its last suffix (:data:`FILE_READERS`, else text); only regular
-    files, within the input limits (:mod:`fogts.io.limits`)."""
+def _file_table(path: Path, topic: str | None = None) -> Table:
+    """Read a file by its last suffix (:data:`FILE_READERS`, else text), or a ROS bag
+    (:mod:`fogts.io.rosbag`); only regular files (and ROS 2 bag directories), within the
+    input limits (:mod:`fogts.io.limits`)."""
+    if is_ros2_bag(path) or path.suffix.lower() == ".bag":
+        if not path.is_dir():
+            check_regular_file(path)
+        return rosbag_table(path, topic)
+    if topic is not None:
+        raise DataError(f"topic is for ROS bags; {str(path)!r} is not one")
     check_regular_file(path)
     suffixes = [s.lower() for s in path.suffixes]
     read = FILE_READERS.get(suffixes[-1] if suffixes else "", text_file_table)
