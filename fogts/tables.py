@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING, Any
 if TYPE_CHECKING:
     import pandas as pd
 
-__all__ = ["Column", "Table", "format_cell"]
+__all__ = ["Column", "Table", "TableView", "format_cell"]
 
 #: What an empty, NaN or infinite cell shows.
 MISSING = "–"
@@ -115,8 +115,47 @@ class Table:
             out.append(self.caption)
         return "\n".join(out)
 
+    def to_html(self) -> str:
+        """A compact HTML table (escaped text; numeric columns right-aligned), the title as
+        its caption and the caption as a note under it: a result's notebook view."""
+        from html import escape
+
+        def cell(tag: str, text: str, numeric: bool) -> str:
+            align = ' style="text-align:right"' if numeric else ""
+            return f"<{tag}{align}>{escape(text)}</{tag}>"
+
+        head = "".join(cell("th", c.title, c.numeric) for c in self.columns)
+        body = "".join("<tr>" + "".join(cell("td", v, c.numeric)
+                                        for v, c in zip(row, self.columns, strict=True))
+                       + "</tr>" for row in self.cells())
+        note = f"<p><small>{escape(self.caption)}</small></p>" if self.caption else ""
+        return (f"<table><caption>{escape(self.title)}</caption><thead><tr>{head}</tr>"
+                f"</thead><tbody>{body}</tbody></table>{note}")
+
     def to_frame(self) -> pd.DataFrame:
         """The raw values with the column titles as columns."""
         import pandas as pd
 
         return pd.DataFrame([list(r) for r in self.rows], columns=self.titles)
+
+
+class TableView:
+    """A result's short ``repr`` and its notebook view, both from its main table.
+
+    A result class (a frozen dataclass declared with ``repr=False``) defines
+    :meth:`_view_table` and :meth:`_view_headline`; the ``repr`` is one line
+    ``<ClassName: headline>`` instead of every field, and Jupyter shows the table
+    (``_repr_html_``).
+    """
+
+    def _view_table(self) -> Table:
+        raise NotImplementedError
+
+    def _view_headline(self) -> str:
+        raise NotImplementedError
+
+    def __repr__(self) -> str:
+        return f"<{type(self).__name__}: {self._view_headline()}>"
+
+    def _repr_html_(self) -> str:
+        return self._view_table().to_html()
