@@ -67,6 +67,12 @@ class FitCheck:
     confidence: float
 
     @property
+    def residual(self) -> FloatArray:
+        """The residual of the data from the fit per tau, ``(dev - fit)`` in half-widths of
+        the point's interval: ``-z`` (positive where the data lie above the fit)."""
+        return -self.z
+
+    @property
     def ok(self) -> bool:
         return not self.misses
 

@@ -62,7 +62,7 @@ def allan_cmd(
     decimate: Annotated[int | None, typer.Option("--decimate", help="Block-average K samples first (default: raw data).")] = None,
     json_out: common.JsonOpt = None,
     csv_out: Annotated[Path | None, typer.Option("--csv", help="Write the points (and the fitted curve) to PATH (.csv, .tsv, .parquet).")] = None,
-    plot: Annotated[Path | None, typer.Option("--plot", help="Log-log figure with CIs, the fit and its term lines (several inputs: an overlay): .png, .svg or .pdf.")] = None,
+    plot: Annotated[Path | None, typer.Option("--plot", help="Log-log figure with CIs, the fit, its term lines, the fit range shaded and the residuals (data - fit)/CI half-width underneath (several inputs: an overlay): .png, .svg or .pdf.")] = None,
     check_allantools: Annotated[bool, typer.Option("--check-allantools", help="Recompute with allantools on the same data and taus; print the largest relative difference.")] = False,
     output_units: Annotated[choices.OutputUnits, typer.Option("--output-units", help="Units of the printed tables: deg (IEEE 952: deg/sqrt(h), deg/h, deg/h^1.5; the deviations in the input unit) or si (rad/s/sqrt(Hz), rad/s, rad/s^2/sqrt(Hz); deviations in rad/s). The JSON has both (noise, noise_si).")] = "deg",
     export: Annotated[tuple[str, Path] | None, typer.Option("--export", metavar="FORMAT PATH", help="Write the filter-ready noise parameters (N and K in SI; a term not measured as its 95 % upper limit, marked): kalibr (imu.yaml), imu_utils (OpenCV YAML) or json.")] = None,
@@ -178,7 +178,7 @@ def _allan_figure(analyses: list[AllanAnalysis]) -> Figure:
     if len(analyses) == 1:
         axes = analyses[0].axes
         if len(axes) == 1:
-            return plot_allan(axes[0].result, axes[0].model)
+            return plot_allan(axes[0].result, axes[0].model, fit_range=axes[0].fit_range)
         models = [ax.model for ax in axes]
         return plot_allan(AllanResultSet(curves=tuple(ax.result for ax in axes)),
                           models if all(m is not None for m in models) else None)

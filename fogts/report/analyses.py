@@ -71,6 +71,9 @@ class _Context:
     def get_fit_check(self, i: int) -> FitCheck | None:
         return self._allan_axis(i).fit_check
 
+    def get_fit_range(self, i: int) -> tuple[float | None, float | None] | None:
+        return self._allan_axis(i).fit_range
+
     def get_prepared(self, i: int) -> Prepared:
         return self._selection(i).prepared
 

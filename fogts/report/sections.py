@@ -163,12 +163,14 @@ def _allan_blocks(ctx: _Context, i: int, notes: list[str]) -> list[Block]:
     if model is None:
         raise DataError(f"the IEEE-952 terms are fitted to adev, oadev or totdev curves only, "
                         f"not {res.kind}")
-    fig = plot_allan(res, model)
+    fig = plot_allan(res, model, fit_range=ctx.get_fit_range(i))
     pct = f"{100 * model.confidence:.1f} %"
     terms = model.term_table()
     blocks = [figure_block(fig, id=f"allan-{i}", alt=f"Allan deviation of {_axis_label(ctx, i)}",
                            caption=f"{res.kind} with {pct} confidence intervals; fitted total "
-                                   "and each term's own line."),
+                                   "and each term's own line; the fit range shaded. Below: "
+                                   "each point's residual (data − fit) in half-widths of its "
+                                   "interval; beyond ±3 the fit misses the point."),
               table_block(terms), Block(kind="paragraph", text=terms.caption),
               *_fit_check_blocks(ctx.get_fit_check(i)),
               Block(kind="paragraph", text=model.readoff.describe(_num)),

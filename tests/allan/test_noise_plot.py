@@ -17,7 +17,8 @@ def test_plot_allan_single_curve(tmp_path: object) -> None:
     fig = plot_allan(res, model)
     ax = fig.axes[0]
     assert ax.get_xscale() == "log" and ax.get_yscale() == "log"
-    assert "τ [s]" in ax.get_xlabel() and "[deg/s]" in ax.get_ylabel()
+    assert len(fig.axes) == 2  # the residual panel underneath carries the tau label
+    assert "τ [s]" in fig.axes[1].get_xlabel() and "[deg/s]" in ax.get_ylabel()
     labels = [t.get_text() for t in ax.get_legend().get_texts()]
     assert any(lbl.startswith("N: slope −1/2") for lbl in labels)
     assert any(lbl.startswith("K: slope +1/2") for lbl in labels)

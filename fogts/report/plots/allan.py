@@ -9,6 +9,13 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from fogts.report.plots._common import _mpl_text, _num_tex, _time_unit, _value_pm_tex
+from fogts.report.plots.allan_fit import (
+    draw_outside_points,
+    draw_residuals,
+    fit_span,
+    inside_span,
+    shade_fit_range,
+)
 
 __all__ = ["plot_allan", "plot_allan_comparison", "plot_allan_overlay"]
 
@@ -29,13 +36,20 @@ _KIND_SYMBOL: dict[str, str] = {
 _READOFF_MARKER = {"N": "v", "K": "^", "B": "s"}
 
 
-def _allan_curve(ax: Any, res: Any, colour: str, label: str) -> None:
-    """The curve's points, with their confidence intervals as error bars where known."""
+def _allan_curve(ax: Any, res: Any, colour: str, label: str,
+                 span: tuple[float, float] | None = None) -> None:
+    """The curve's points, with their confidence intervals as error bars where known; with
+    a fit ``span``, the points outside it are drawn faded."""
     tau = np.asarray(res.tau_s, dtype=np.float64)
     dev = np.asarray(res.dev, dtype=np.float64)
     lo = np.asarray(getattr(res, "ci_low", np.full_like(dev, np.nan)), dtype=np.float64)
     hi = np.asarray(getattr(res, "ci_high", np.full_like(dev, np.nan)), dtype=np.float64)
     ok = np.isfinite(dev) & (dev > 0)
+    if span is not None:
+        outside = ok & ~inside_span(tau, span)
+        if outside.any():
+            draw_outside_points(ax, tau[outside], dev[outside], lo[outside], hi[outside])
+        ok &= ~outside
     has_ci = ok & np.isfinite(lo) & np.isfinite(hi) & (lo > 0)
     level = float(getattr(res, "confidence", np.nan))
     if has_ci.any():
@@ -143,21 +157,26 @@ def _readoff_points(ax: Any, res: Any, model: Any, xlim: tuple[float, float],
 
 
 def _draw_curves(ax: Any, curves: list[Any], models: list[Any], xlim: tuple[float, float],
-                 ylim: tuple[float, float]) -> None:
+                 ylim: tuple[float, float], span: tuple[float, float] | None) -> None:
     """Every curve with its fitted total; a single curve also gets its term lines and the
-    read-off points."""
+    read-off points, and with a fit ``span`` its total is dotted outside it."""
     single = len(curves) == 1
     fine = np.logspace(np.log10(xlim[0]), np.log10(xlim[1]), 400)
     for i, (res, model) in enumerate(zip(curves, models, strict=True)):
         colour = "0.15" if single else f"C{i}"
         label = _KIND_SYMBOL.get(res.kind, res.kind) if single else _mpl_text(res.axis)
-        _allan_curve(ax, res, colour, label)
+        _allan_curve(ax, res, colour, label, span if single else None)
         if model is None:
             continue
         fit_label = (f"fitted total ({model.method.upper()})" if single
                      else f"{_mpl_text(res.axis)}: fit")
-        ax.plot(fine, model.curve(fine), "-", color="0.15" if single else colour, lw=1.8,
-                alpha=0.9, label=fit_label, zorder=5)
+        fitted = inside_span(fine, span) if single and span is not None else fine > 0
+        ax.plot(fine[fitted], model.curve(fine[fitted]), "-",
+                color="0.15" if single else colour, lw=1.8, alpha=0.9, label=fit_label,
+                zorder=5)
+        if not fitted.all():
+            ax.plot(fine, np.where(fitted, np.nan, model.curve(fine)), ":", color="0.15",
+                    lw=1.2, alpha=0.8, label="fitted total, extrapolated", zorder=5)
         if single:
             _term_lines(ax, model, fine, ylim)
             _readoff_points(ax, res, model, xlim, ylim)
@@ -185,14 +204,20 @@ def _decorate(ax: Any, curves: list[Any], xlim: tuple[float, float],
     ax.legend(loc="best", fontsize="small", framealpha=0.85)
 
 
-def plot_allan(result: Any, noise: Any = None, *, ax: Any = None) -> Figure:
-    """Allan deviation on log-log axes, with the IEEE-952 fit and its term lines.
+def plot_allan(result: Any, noise: Any = None, *, ax: Any = None,
+               fit_range: tuple[float | None, float | None] | None = None,
+               residuals: bool = True) -> Figure:
+    """Allan deviation on log-log axes, with the IEEE-952 fit, its term lines and residuals.
 
     Draws each point with its confidence interval, the fitted total curve, each fitted
     term's own line labelled with its slope (-1 Q, -1/2 N, 0 B, +1/2 K, +1 R; IEEE Std
     952-1997 Annex C, Fig. C.10) and value, and the classic slope read-off points
     (comparison only): the -1/2 line at tau = 1 s (N), the +1/2 line at tau = 3 s (K)
-    and the minimum (B = minimum / 0.664).
+    and the minimum (B = minimum / 0.664).  One curve with its fit also gets the fit range
+    shaded (the points outside it faded, the total dotted there) and, when the curve has
+    confidence intervals, a residual panel underneath: each point's
+    ``(data - fit) / CI half-width`` (:attr:`fogts.allan.misfit.FitCheck.residual`) with
+    the +-1 and +-3 bands (:mod:`fogts.report.plots.allan_fit`).
 
     Parameters
     ----------
@@ -202,7 +227,13 @@ def plot_allan(result: Any, noise: Any = None, *, ax: Any = None) -> Figure:
     noise : NoiseModel or sequence of NoiseModel, optional
         The fit (one per curve for a result set).
     ax : matplotlib Axes, optional
-        Draw into this Axes (its Figure is returned); by default a new Figure is made.
+        Draw into this Axes (its Figure is returned; no residual panel); by default a new
+        Figure is made.
+    fit_range : (float or None, float or None), optional
+        The ``tau_range`` the model was fitted with (None ends: the first and last tau the
+        model used); by default the model's own taus.
+    residuals : bool
+        Draw the residual panel (one curve with its fit and intervals, new Figure only).
 
     Returns
     -------
@@ -224,19 +255,34 @@ def plot_allan(result: Any, noise: Any = None, *, ax: Any = None) -> Figure:
     >>> with warnings.catch_warnings():
     ...     warnings.simplefilter("ignore")
     ...     fig = plot_allan(res, fit_noise(res))
-    >>> fig.axes[0].get_xscale(), fig.axes[0].get_yscale()
-    ('log', 'log')
+    >>> fig.axes[0].get_xscale(), fig.axes[0].get_yscale(), len(fig.axes)
+    ('log', 'log', 2)
     """
     curves = list(getattr(result, "curves", [result]))
     models = _noise_models(curves, noise)
-    if ax is None:
+    model = models[0] if len(curves) == 1 else None
+    span = fit_span(model, fit_range) if model is not None else None
+    ci_low = np.asarray(getattr(curves[0], "ci_low", [np.nan]), dtype=np.float64)
+    with_residuals = (residuals and ax is None and model is not None
+                      and bool(np.isfinite(ci_low).any()))
+    rax = None
+    if ax is not None:
+        fig = ax.figure
+    elif with_residuals:
+        fig = Figure(figsize=(8.0, 7.4), layout="constrained")
+        ax, rax = fig.subplots(2, 1, sharex=True, height_ratios=[3.0, 1.15])
+    else:
         fig = Figure(figsize=(8.0, 5.6), layout="constrained")
         ax = fig.add_subplot()
-    else:
-        fig = ax.figure
-    xlim, ylim = _limits(curves, models[0] if len(curves) == 1 else None)
-    _draw_curves(ax, curves, models, xlim, ylim)
+    xlim, ylim = _limits(curves, model)
+    if span is not None:
+        shade_fit_range(ax, span, label=True)
+    _draw_curves(ax, curves, models, xlim, ylim, span)
     _decorate(ax, curves, xlim, ylim)
+    if rax is not None and span is not None:
+        draw_residuals(rax, curves[0], model, span)
+        rax.set_xlabel(ax.get_xlabel())
+        ax.set_xlabel("")
     return fig
 
 
