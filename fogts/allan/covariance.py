@@ -314,8 +314,12 @@ class CovarianceModel:
                     "the oadev estimates")
         return f"the model covariance of the {self.kind} estimates"
 
+    def raw(self, a: FloatArray) -> FloatArray:
+        """The model covariance of the adev or oadev estimates for the coefficients ``a``."""
+        return model_covariance(self.basis, a, self.powers)
+
     def __call__(self, a: FloatArray, mu: FloatArray, edf: FloatArray) -> FloatArray:
-        cov = model_covariance(self.basis, a, self.powers)
+        cov = self.raw(a)
         if self.kind != "totdev":
             return cov
         sd = np.sqrt(np.maximum(np.diag(cov), 0.0))

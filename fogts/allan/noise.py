@@ -48,6 +48,8 @@ from scipy.stats import norm
 
 from fogts._validate import check_choice, check_fraction, check_positive
 from fogts.allan.covariance import CovarianceModel
+from fogts.allan.markov import split_terms
+from fogts.allan.noise_extra import fit_extra_terms
 from fogts.allan.noise_input import FITTABLE_KINDS, FitCurve, read_fit_curve
 from fogts.allan.noise_lsq import (
     FIT_METHODS,
@@ -114,7 +116,12 @@ def fit_noise(
         ideally, ``edf``, ``m``, ``n_samples`` and ``fs_hz``.  Pick one curve of a
         multi-axis result set first.
     terms : sequence of str or str
-        Which of ``"Q", "N", "B", "K", "R"`` to fit (a comma-separated string works too).
+        Which of ``"Q", "N", "B", "K", "R"`` to fit (a comma-separated string works too),
+        and optionally ``"M"`` (first-order Markov noise: correlation time ``T_c`` and
+        driving noise ``q_c``) and ``"S"`` (a sinusoid: ``f_0`` and ``Omega_0``), fitted
+        with their nonlinear parameter profiled and a likelihood-ratio test of whether
+        adding each is significant (:mod:`fogts.allan.noise_extra`; results in
+        ``NoiseModel.extra_terms``).
     method : {"wls", "gls", "ols"}
         ``"wls"``: weights from each point's EDF (default).  ``"gls"``: generalized least
         squares with the full covariance of the estimates (:mod:`fogts.allan.noise_lsq`;
@@ -173,17 +180,19 @@ def fit_noise(
     >>> round(model["N"].value, 6)    # N = C_-1 / 60 in deg/sqrt(h)
     0.008333
     """
-    names = parse_terms(terms)
+    names, extras = split_terms(terms)
     if tau_range is not None:
         allan_result = _within(allan_result, tau_range, len(names))
     method = check_choice("method", method, FIT_METHODS)  # type: ignore[assignment]
     confidence = check_fraction("confidence", confidence)
     significance = _check_significance(significance)
     curve = read_fit_curve(allan_result)
-    if curve.tau.size < len(names):
+    n_params = len(names) + 2 * len(extras)  # M and S: an amplitude and a parameter each
+    if curve.tau.size < n_params:
         raise InsufficientDataError(
-            f"allan_result has {curve.tau.size} usable taus, fewer than the {len(names)} "
-            f"terms requested ({', '.join(names)}); use more taus or fewer terms")
+            f"allan_result has {curve.tau.size} usable taus, fewer than the {n_params} "
+            + ("terms" if not extras else "parameters of the terms")
+            + f" requested ({', '.join(names + extras)}); use more taus or fewer terms")
     issued: list[str] = []
     if curve.excluded:
         _warn(issued, DataQualityWarning, _excluded_message(curve.excluded), curve.axis)
@@ -197,12 +206,20 @@ def fit_noise(
               f"m, n_samples and fs_hz of at most {MAX_COVARIANCE_POINTS} taus; fitted "
               "with method='wls' instead", curve.axis)
     selection = backward_elimination(problem, z_crit)
+    extra_fit = None
+    if extras:  # the optional Markov / sinusoid terms (fogts.allan.noise_extra)
+        extra_fit = fit_extra_terms(curve, problem, selection, extras, z_crit,
+                                    significance if significance is not None else 0.05,
+                                    to_deg_per_hour_factor(curve.units))
+        problem, selection = extra_fit.problem, extra_fit.selection
     if not selection.fit.converged:
         _warn(issued, ConvergenceWarning,
               f"the noise-fit reweighting did not converge in {IRLS_MAX_ITER} iterations; "
               "the coefficients are from the last iteration", curve.axis)
     model = _noise_model(curve, names, problem, selection, confidence,
                          significance if z_crit is not None else None)
+    if extra_fit is not None:
+        model = dataclasses.replace(model, extra_terms=extra_fit.terms)
     identified, messages = identify_terms(model, curve.tau)
     for message in messages:
         _warn(issued, UnidentifiableTermWarning, message, curve.axis)
@@ -260,7 +277,7 @@ def _noise_model(curve: FitCurve, names: tuple[str, ...], problem: LsqProblem,
         iterations=fit.iterations, converged=fit.converged,
         readoff=slope_readoff(curve.tau, curve.dev, factor, curve.edf),
         excluded_tau_s=tuple(curve.excluded), significance=significance,
-        _a=tuple(float(v) * problem.scale for v in selection.a))
+        _a=tuple(float(v) * problem.scale for v in selection.a[:len(names)]))
 
 
 def _warn(issued: list[str], category: type[Warning], message: str, axis: str = "") -> None:

@@ -15,6 +15,7 @@ import pandas as pd
 from scipy.stats import norm
 
 from fogts._typing import FloatArray
+from fogts.allan.markov import ExtraTerm
 from fogts.allan.readout import SlopeReadoff
 from fogts.allan.terms import TERM_DESCRIPTION, TERM_POWER
 from fogts.choices import OutputUnits
@@ -166,6 +167,9 @@ class NoiseModel:
         kept and the model error is the unrestricted ML estimate; always None for ols).
     warnings : tuple of str
         Every warning emitted by the fit.
+    extra_terms : tuple of ExtraTerm
+        The optional first-order Markov (``M``) and sinusoid (``S``) terms, when asked
+        for (:mod:`fogts.allan.markov`); :meth:`curve` includes them.
     """
 
     terms: tuple[NoiseTerm, ...]
@@ -192,6 +196,7 @@ class NoiseModel:
     warnings: tuple[str, ...] = ()
     significance: float | None = None
     _a: tuple[float, ...] = field(default=(), repr=False)
+    extra_terms: tuple[ExtraTerm, ...] = ()
 
     # -------------------------------------------------------------- access
     def __getitem__(self, name: str) -> NoiseTerm:
@@ -248,6 +253,8 @@ class NoiseModel:
         total = np.zeros_like(tau)
         for name, a in zip(self.names, self._a, strict=True):
             total += a * tau ** float(TERM_POWER[name])
+        for extra in self.extra_terms:
+            total += extra.avar(tau)
         return np.sqrt(total)
 
     # -------------------------------------------------------------- exports
@@ -294,6 +301,8 @@ class NoiseModel:
                     "significance": self.significance, "dropped": list(self.dropped)},
             "excluded_tau": list(self.excluded_tau_s),
             "warnings": list(self.warnings),
+            **({"extra_terms": {e.name: e.to_dict() for e in self.extra_terms}}
+               if self.extra_terms else {}),
         }
 
     def upper_limit(self, name: str, level: float = 0.95) -> float:
@@ -356,6 +365,7 @@ class NoiseModel:
             lines.append(f"term selection: one-sided tests at {100 * self.significance:g} % "
                          f"(drop if z < {norm.ppf(1 - self.significance):.3f}); dropped: "
                          + (", ".join(self.dropped) or "none"))
+        lines += [e.describe() for e in self.extra_terms]
         lines += [f"warning: {w}" for w in self.warnings]
         return "\n".join(lines)
 

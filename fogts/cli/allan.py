@@ -36,6 +36,7 @@ def _allan_tables(res: AllanResult, model: NoiseModel | None, check: dict[str, A
         common.say([model.readoff.describe()], quiet_json)
         common.say([f"fit: chi2 = {model.chi2:.4g} on {model.dof:.4g} dof, model error "
               f"{model.model_error:.3g}; standard errors: {model.stderr_method}"], quiet_json)
+        common.say([e.describe() for e in model.extra_terms], quiet_json)
     if check is not None:
         worst = check["max_rel_diff"]
         common.say([f"allantools check ({check['peer']}): largest relative difference "
@@ -51,7 +52,7 @@ def allan_cmd(
     kind: common.KindOpt = "oadev",
     taus: Annotated[str, typer.Option("--taus", help="Tau grid: octave, decade, dense, all, or taus in s separated by commas.")] = "octave",
     confidence: Annotated[float, typer.Option("--confidence", help="Confidence level of the deviation and coefficient intervals.")] = 0.683,
-    terms: Annotated[str, typer.Option("--terms", help="Noise terms to fit, from Q,N,B,K,R.")] = "Q,N,B,K,R",
+    terms: Annotated[str, typer.Option("--terms", help="Noise terms to fit, from Q,N,B,K,R; add M (first-order Markov noise: T_c and q_c) and/or S (a sinusoid: f_0 and Omega_0), each with a likelihood-ratio test of whether adding it is significant.")] = "Q,N,B,K,R",
     method: Annotated[choices.FitMethod, typer.Option("--method", help="Noise fit: wls (EDF weights), gls (full covariance), ols (unweighted, comparison only).")] = "wls",
     fit_tau_min: Annotated[float | None, typer.Option("--fit-tau-min", help="Fit the noise terms only from this tau (s) on, e.g. to leave out a sampling filter's effect at the shortest taus.")] = None,
     fit_tau_max: Annotated[float | None, typer.Option("--fit-tau-max", help="Fit the noise terms only up to this tau (s).")] = None,
@@ -77,7 +78,7 @@ def allan_cmd(
     adds "axes" (one such block per axis; the top level repeats the first axis). Several
     files give {"inputs": [one such object per file]}.
     """
-    from fogts.allan.noise import parse_terms
+    from fogts.allan.markov import split_terms
     from fogts.pipeline import AllanSettings, analyse_allan
 
     export_path = export[1] if export is not None else None
@@ -87,7 +88,8 @@ def allan_cmd(
                       inputs={"FILES": files}):
         export_format = _export_format(export, files)
         tau_spec = common.tau_option(taus)
-        term_names = parse_terms(terms)
+        five, extras = split_terms(terms)
+        term_names = five + extras
         common.check_output_names(plot=plot, csv=csv_out)
         settings = AllanSettings(kind=kind, taus=tau_spec, confidence=confidence,
                                  terms=term_names, method=method,

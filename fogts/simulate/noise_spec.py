@@ -15,6 +15,7 @@ from typing import Any
 import numpy as np
 
 from fogts._typing import FloatArray
+from fogts.allan.markov import markov_avar, sinusoid_avar
 from fogts.allan.terms import FLICKER_AVAR, NOISE_TERMS, TERM_DESCRIPTION, TERM_UNIT, TO_SECONDS
 from fogts.errors import DataError
 from fogts.units import parse_rate_unit, to_deg_per_hour_factor
@@ -167,8 +168,7 @@ class NoiseSpec:
         if self.q_c > 0:
             av = av + markov_avar(self.q_c, self.T_c, tau)
         if self.Omega_0 > 0:
-            x = math.pi * self.f_0 * tau
-            av = av + self.Omega_0**2 * np.sin(x) ** 4 / x**2
+            av = av + sinusoid_avar(self.Omega_0, self.f_0, tau).reshape(np.shape(av))
         scale = 1.0 / to_deg_per_hour_factor(parse_rate_unit(units))
         return np.asarray(av * scale * scale, dtype=np.float64)
 
@@ -243,25 +243,3 @@ def _term_value(raw: Any) -> float | None:
     except (TypeError, ValueError):
         raise DataError(f"noise term values must be numbers, got {raw!r}") from None
     return None if math.isnan(v) else v
-
-
-def markov_avar(q_c: float, T_c: float, tau_s: Any) -> FloatArray:
-    """Allan variance of the interval-averaged first-order Markov process (IEEE 952 Table C.1).
-
-    sigma^2(tau) = (q_c T_c)^2 / tau [1 - T_c/(2 tau) (3 - 4 e^{-tau/T_c} + e^{-2 tau/T_c})],
-    evaluated with a Taylor series for tau < 0.01 T_c (where the bracket cancels).
-
-    Examples
-    --------
-    >>> round(float(markov_avar(1.0, 10.0, 1e4)[0]) * 1e4, 3)   # tau >> T_c: (q_c T_c)^2/tau
-    99.85
-    """
-    tau = np.atleast_1d(np.asarray(tau_s, dtype=np.float64))
-    h = tau / T_c
-    num = np.empty_like(h)
-    small = h < 1e-2
-    hs = h[small]
-    num[small] = 2 * hs**3 / 3 - hs**4 / 2 + 7 * hs**5 / 30 - hs**6 / 12
-    hl = h[~small]
-    num[~small] = 2 * hl - 3 + 4 * np.exp(-hl) - np.exp(-2 * hl)
-    return np.asarray((q_c * T_c) ** 2 / tau * num / (2 * h), dtype=np.float64)
