@@ -151,8 +151,8 @@ def split_terms(terms: Sequence[str] | str) -> tuple[tuple[str, ...], tuple[str,
         try:
             items = list(terms)
         except TypeError:
-            raise DataError(f"terms must be a sequence of Q, N, B, K, R, M, S, got "
-                            f"{terms!r}") from None
+            raise DataError(f"terms must be a sequence of Q, N, B, K, R, got {terms!r} "
+                            "(M and S may be added)") from None
     extras = [str(t).strip().upper() for t in items
               if isinstance(t, str) and t.strip().upper() in EXTRA_TERMS]
     if len(set(extras)) != len(extras):
