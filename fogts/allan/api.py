@@ -26,7 +26,7 @@ from fogts.allan.taus import KINDS, Kind, tau_grid
 from fogts.errors import DataError
 from fogts.io.run import Run
 from fogts.preprocess.prepare import Prepared
-from fogts.units import parse_rate_unit
+from fogts.units import parse_sensor_unit
 
 __all__ = ["allan_deviation"]
 
@@ -128,7 +128,7 @@ def allan_deviation(
         confidence = check_fraction("confidence", confidence)
     _check_bias_correction(bias_correction, kind, confidence)
     if units is not None:
-        units = parse_rate_unit(units)
+        units = parse_sensor_unit(units)
     series, fs, unit, notes = unpack_axes(x, fs_hz=fs_hz, axis=axis, units=units)
     curves = [_one_curve(s, fs_hz=fs, units=unit, kind=kind, taus=taus, confidence=confidence,
                          per_decade=per_decade, workers=workers, notes=notes,

@@ -31,6 +31,7 @@ import pandas as pd
 from fogts._typing import IntArray
 from fogts._validate import check_positive
 from fogts.errors import DataError, InsufficientDataError
+from fogts.io.accel import accel_unit
 from fogts.io.arrays import array_table, frame_table, npy_table, npz_table, parquet_table
 from fogts.io.columns import assign_roles, rate_unit, sidecar_unit
 from fogts.io.limits import check_regular_file, read_capped
@@ -41,7 +42,7 @@ from fogts.io.run import MissingReport, Run
 from fogts.io.table import MIN_SAMPLES, Table, numeric_column
 from fogts.io.text import text_file_table
 from fogts.io.timebase import sample_rate, sampling_report, time_base
-from fogts.units import parse_rate_unit
+from fogts.units import parse_accel_unit, parse_rate_unit
 
 __all__ = ["MIN_SAMPLES", "read_json", "read_run"]
 
@@ -67,6 +68,8 @@ def read_run(
     units: str | None = None,
     nan: str = "error",
     topic: str | None = None,
+    accel_column: str | Sequence[str] | None = None,
+    accel_units: str | None = None,
 ) -> Run:
     """Read a static gyro recording.
 
@@ -96,6 +99,14 @@ def read_run(
         done is recorded in ``Run.missing``.  Non-numeric text is always an error.
     topic : str, optional
         ROS bags: the ``sensor_msgs/Imu`` topic (needed when the bag has several).
+    accel_column : str or sequence of str, optional
+        Accelerometer column(s), analysed as further axes after the rate axes.  Default:
+        detected by name (``acc*``, ``ax``, ``linear_acceleration_*``; see
+        :mod:`fogts.io.accel`) when ``rate_column`` is not given; ``[]`` reads none.
+    accel_units : str, optional
+        Their unit (``m/s^2``, ``g``, ``mg``, ``ug``).  Default: from a hint in the names
+        (``acc_x_mps2``, ``accel_g``), else from the length of the mean vector (gravity),
+        else m/s^2 (``Run.accel_units_source`` says which).
 
     Returns
     -------
@@ -118,6 +129,7 @@ def read_run(
     if fs_hz is not None:
         fs_hz = check_positive("fs_hz", fs_hz)
     unit = parse_rate_unit(units) if units is not None else None
+    acc_unit = parse_accel_unit(accel_units, "accel_units") if accel_units is not None else None
     if nan not in NAN_POLICIES:
         raise DataError(f"nan must be one of {', '.join(NAN_POLICIES)}; got {nan!r}")
     table = _load_table(source, topic)
@@ -125,7 +137,8 @@ def read_run(
         table = dataclasses.replace(table, sidecar_unit=sidecar_unit(Path(source)))
     options: dict[str, Any] = {"rate_column": rate_column, "time_column": time_column,
                                "temperature_column": temperature_column, "fs_hz": fs_hz,
-                               "units": unit, "nan": nan}
+                               "units": unit, "nan": nan, "accel_column": accel_column,
+                               "accel_units": acc_unit}
     try:
         return _table_to_run(table, **options)
     except DataError:
@@ -193,8 +206,10 @@ def _file_table(path: Path, topic: str | None = None) -> Table:
 
 def _table_to_run(table: Table, *, rate_column: str | Sequence[str] | None,
                   time_column: str | None, temperature_column: str | None,
-                  fs_hz: float | None, units: str | None, nan: str = "error") -> Run:
-    roles = assign_roles(table, rate_column, time_column, temperature_column)
+                  fs_hz: float | None, units: str | None, nan: str = "error",
+                  accel_column: str | Sequence[str] | None = None,
+                  accel_units: str | None = None) -> Run:
+    roles = assign_roles(table, rate_column, time_column, temperature_column, accel_column)
     n = table.frame.shape[0]
     if n < MIN_SAMPLES:
         raise InsufficientDataError(f"{table.source} has {n} data row(s); at least "
@@ -230,7 +245,11 @@ def _table_to_run(table: Table, *, rate_column: str | Sequence[str] | None,
             raise DataError(f"rate column {name!r} is constant (every value is {col[0]:g}); a "
                             "gyro record must vary: check the column or the logger")
     rate = rate_cols[0] if len(rate_cols) == 1 else np.column_stack(rate_cols)
-    unit, unit_source = rate_unit(units, roles.rate, table.unit_hint, table.sidecar_unit)
+    unit, unit_source = rate_unit(units, roles.gyro, table.unit_hint, table.sidecar_unit)
+    axis_units, acc_source = _axis_units(roles, unit, rate_cols, accel_units,
+                                         table.accel_unit)
+    if not roles.gyro:
+        unit, unit_source = axis_units[0], acc_source
     return Run(
         rate=np.ascontiguousarray(rate, dtype=np.float64),
         time=time,
@@ -245,4 +264,17 @@ def _table_to_run(table: Table, *, rate_column: str | Sequence[str] | None,
         comments=table.comments,
         units_source=unit_source,
         missing=missing,
+        axis_units=axis_units,
+        accel_units_source=acc_source,
     )
+
+
+def _axis_units(roles: Any, gyro_unit: str, columns: list[Any], given: str | None,
+                recorded: str | None) -> tuple[tuple[str, ...], str]:
+    """Per-axis units (empty without accelerometer columns) and the accelerometer unit's
+    source."""
+    if not roles.accel:
+        return (), ""
+    acc = [c for c, name in zip(columns, roles.rate, strict=True) if name in roles.accel]
+    unit, source = accel_unit(given, roles.accel, acc, recorded)
+    return tuple(unit if name in roles.accel else gyro_unit for name in roles.rate), source

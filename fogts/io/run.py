@@ -148,6 +148,14 @@ class Run:
         convention; every command then warns).
     missing : MissingReport or None
         Empty/NaN/inf cells dropped or interpolated on reading (None: there were none).
+    axis_units : tuple of str
+        The unit of each axis when they differ (an IMU file: the gyro axes in a rate unit,
+        the accelerometer axes, after them, in a specific-force unit such as m/s^2 or g;
+        :func:`fogts.io.accel.accel_unit`); empty: every axis is in ``units``.  See
+        :meth:`unit_of`.
+    accel_units_source : str
+        Where the accelerometer unit came from (``"given"``, ``"column name"``,
+        ``"gravity magnitude"``, ``"assumed"``); empty without accelerometer axes.
     """
 
     rate: FloatArray
@@ -163,6 +171,19 @@ class Run:
     comments: tuple[str, ...] = field(default=())
     units_source: str = "given"
     missing: MissingReport | None = None
+    axis_units: tuple[str, ...] = ()
+    accel_units_source: str = ""
+
+    def unit_of(self, name_or_index: str | int = 0) -> str:
+        """The unit of one axis (``units`` unless ``axis_units`` says otherwise)."""
+        if not self.axis_units:
+            return self.units
+        i = (self.axes.index(name_or_index) if isinstance(name_or_index, str)
+             and name_or_index in self.axes else name_or_index)
+        if not isinstance(i, int):
+            raise DataError(f"axis {name_or_index!r} not found; axes are: "
+                            f"{', '.join(self.axes)}")
+        return self.axis_units[i]
 
     @property
     def units_assumed(self) -> bool:
