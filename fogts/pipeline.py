@@ -55,6 +55,8 @@ class InputColumns:
     fs_hz: float | None = None
     units: str | None = None
     topic: str | None = None
+    input: str | None = None
+    accel_units: str | None = None
 
 
 @dataclass(frozen=True)
@@ -86,7 +88,8 @@ def load(path: str | os.PathLike[str], settings: ReadSettings | None = None
     s = settings or ReadSettings()
     run = read_run(path, rate_column=s.rate_columns, time_column=s.time_column,
                    temperature_column=s.temperature_column, fs_hz=s.fs_hz, units=s.units,
-                   nan=s.nan, topic=s.topic)  # type: ignore[arg-type]
+                   nan=s.nan, topic=s.topic, input=s.input,
+                   accel_units=s.accel_units)  # type: ignore[arg-type]
     return assess_run(run, gaps=s.gaps, glitches=s.glitches)  # type: ignore[arg-type]
 
 

@@ -13,6 +13,7 @@ from pathlib import Path
 
 from fogts.errors import DataError
 from fogts.io.accel import is_accel_name
+from fogts.io.angle import is_angle_name
 from fogts.io.table import Table
 from fogts.units import parse_rate_unit
 
@@ -69,7 +70,7 @@ def _is_rate_name(name: str) -> bool:
     n = _norm(name)
     if n in ("sample_rate", "rate_hz", "fs", "fs_hz"):
         return False
-    return n in _RATE_NAMES or n.startswith(_RATE_PREFIXES)
+    return n in _RATE_NAMES or n.startswith(_RATE_PREFIXES) or is_angle_name(name)
 
 
 def _resolve(columns: list[str], name: str, role: str) -> str:

@@ -156,6 +156,14 @@ class Run:
     accel_units_source : str
         Where the accelerometer unit came from (``"given"``, ``"column name"``,
         ``"gravity magnitude"``, ``"assumed"``); empty without accelerometer axes.
+    input_kind : str
+        What the file held: ``"rate"``, ``"increment"`` (angle per sample) or ``"angle"``
+        (integrated angle); see :mod:`fogts.io.angle`.
+    angle : ndarray of float64 or None
+        For angle and increment input: the angle itself, relative to the first, in
+        ``units`` x seconds, shape ``(n + 1,)`` or ``(n + 1, n_axes)`` (the rate is its
+        difference times ``fs_hz``).  The Allan estimators use it as the phase; None for
+        rate input, and dropped by anything that changes the rate.
     """
 
     rate: FloatArray
@@ -173,6 +181,14 @@ class Run:
     missing: MissingReport | None = None
     axis_units: tuple[str, ...] = ()
     accel_units_source: str = ""
+    input_kind: str = "rate"
+    angle: FloatArray | None = field(default=None, repr=False)
+
+    def axis_angle(self, i: int) -> FloatArray | None:
+        """The angle of axis ``i`` (None for rate input)."""
+        if self.angle is None:
+            return None
+        return self.angle if self.angle.ndim == 1 else np.ascontiguousarray(self.angle[:, i])
 
     def unit_of(self, name_or_index: str | int = 0) -> str:
         """The unit of one axis (``units`` unless ``axis_units`` says otherwise)."""

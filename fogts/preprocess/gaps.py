@@ -130,12 +130,13 @@ def find_gaps(time_s: Any, *, fs_hz: float, sampling: SamplingReport | None = No
 
 
 def segment_run(run: Run, start: int, stop: int) -> Run:
-    """``run`` restricted to rows ``[start, stop)``, its time rebased to zero."""
+    """``run`` restricted to rows ``[start, stop)``, its time (and angle) rebased to zero."""
     time = run.time[start:stop] - run.time[start]
+    angle = None if run.angle is None else run.angle[start:stop + 1] - run.angle[start]
     dt = np.diff(time) if stop - start > 1 else None
     fs_source = run.sampling.fs_source if run.sampling is not None else "given"
     return dataclasses.replace(
         run, rate=run.rate[start:stop], time=time,
         temperature=None if run.temperature is None else run.temperature[start:stop],
         sampling=sampling_report(dt, run.fs_hz, fs_source),
-        source=run.source)
+        source=run.source, angle=angle)
