@@ -53,7 +53,7 @@ NanPolicy = Literal["error", "drop", "interpolate"]
 NAN_POLICIES: tuple[str, ...] = get_args(NanPolicy)
 
 #: What the analysis does with gaps in the time base.
-GapPolicy = Literal["warn", "error", "split", "ignore"]
+GapPolicy = Literal["warn", "error", "split", "ignore", "nan"]
 GAP_POLICIES: tuple[str, ...] = get_args(GapPolicy)
 
 #: What the sensor columns hold: rate, angle increments per sample, or integrated angle.

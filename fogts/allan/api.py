@@ -9,6 +9,7 @@ and attaches noise identification, EDF and chi-squared intervals
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 from typing import Any, Literal
 
@@ -20,9 +21,10 @@ from fogts._typing import FloatArray, IntArray
 from fogts._validate import check_choice, check_fraction, check_positive, to_float_array
 from fogts.allan.bias import totdev_bias
 from fogts.allan.confidence import confidence_table
-from fogts.allan.estimators import ESTIMATORS, estimate_from_angle
+from fogts.allan.estimators import ESTIMATORS, EstimatorOutput, estimate_from_angle
+from fogts.allan.gradev import gradev
 from fogts.allan.result import AllanResult, AllanResultSet
-from fogts.allan.taus import KINDS, Kind, tau_grid
+from fogts.allan.taus import KINDS, DroppedTau, Kind, TauGrid, tau_grid
 from fogts.choices import INPUT_KINDS, InputKind
 from fogts.errors import DataError
 from fogts.io.run import Run
@@ -173,12 +175,49 @@ def _check_bias_correction(bias_correction: Any, kind: str, confidence: float | 
                         "confidence level, not confidence=None")
 
 
+def _with_gaps(s: AxisSeries, kind: str) -> bool:
+    """Whether a Run's axis holds NaN for missing samples (``gaps="nan"``); inf is refused."""
+    finite = np.isfinite(s.y)
+    if finite.all():
+        return False
+    if np.isinf(s.y).any():
+        raise DataError(f"axis {s.name!r} holds inf; rate data must be finite")
+    if kind != "oadev":
+        raise DataError(f"axis {s.name!r} has missing samples (NaN, gaps='nan'); only "
+                        f"kind='oadev' has a gap-robust estimator, got kind={kind!r}")
+    return True
+
+
+def _gap_robust(y: FloatArray, fs_hz: float, grid: TauGrid) -> tuple[TauGrid, EstimatorOutput]:
+    """:func:`gradev` on the grid, without the taus left with fewer than two terms free of
+    missing samples (listed in ``dropped``)."""
+    est = gradev(y, fs_hz=fs_hz, m=grid.m)
+    keep = est.n >= 2
+    if keep.all():
+        return grid, est
+    lost = tuple(DroppedTau(float(t), int(m), "fewer than 2 terms free of missing samples")
+                 for t, m in zip(grid.tau_s[~keep], grid.m[~keep], strict=True))
+    grid = dataclasses.replace(grid, m=grid.m[keep], tau_s=grid.tau_s[keep],
+                               dropped=(*grid.dropped, *lost))
+    return grid, dataclasses.replace(est, m=est.m[keep], tau_s=est.tau_s[keep],
+                                     dev=est.dev[keep], n=est.n[keep])
+
+
 def _one_curve(s: AxisSeries, *, fs_hz: float, units: str, kind: str, taus: Any,
                confidence: float | None, per_decade: int, workers: int | None,
                notes: tuple[str, ...], bias_correction: bool = False) -> AllanResult:
     grid = tau_grid(taus, fs_hz=fs_hz, n_samples=s.y.size, kind=kind, per_decade=per_decade)
-    est = (ESTIMATORS[kind](s.y, fs_hz=fs_hz, m=grid.m, workers=workers) if s.angle is None
-           else estimate_from_angle(kind, s.angle, fs_hz=fs_hz, m=grid.m, workers=workers))
+    gaps = _with_gaps(s, kind)
+    if gaps:  # Sesia & Tavella (2008): only the terms that touch no missing sample
+        grid, est = _gap_robust(s.y, fs_hz, grid)
+        notes = (*notes, f"{int(np.count_nonzero(np.isnan(s.y)))} missing samples (NaN): "
+                 "gap-robust overlapping ADEV (Sesia & Tavella 2008); noise type and EDF "
+                 "from the samples present")
+        s = AxisSeries(s.y[np.isfinite(s.y)], s.name)
+    else:
+        est = (ESTIMATORS[kind](s.y, fs_hz=fs_hz, m=grid.m, workers=workers)
+               if s.angle is None
+               else estimate_from_angle(kind, s.angle, fs_hz=fs_hz, m=grid.m, workers=workers))
     size = grid.m.size
     nan = np.full(size, np.nan)
     ci_low, ci_high, edf = nan, nan, nan
@@ -253,11 +292,11 @@ def unpack_axes(x: Any, *, fs_hz: float | None, axis: int | str | None, units: s
             i = names.index(axis) if isinstance(axis, str) and axis in names else axis
             picked = x.axis(axis)
             name = axis if isinstance(axis, str) else names[int(axis)]
-            series = [AxisSeries(to_float_array(picked, name), name,
+            series = [AxisSeries(to_float_array(picked, name, allow_nonfinite=True), name,
                                  x.axis_angle(int(i)) if x.angle is not None else None)]
         else:
-            series = [AxisSeries(to_float_array(x.axis(i), n), n, x.axis_angle(i))
-                      for i, n in enumerate(names)]
+            series = [AxisSeries(to_float_array(x.axis(i), n, allow_nonfinite=True), n,
+                                 x.axis_angle(i)) for i, n in enumerate(names)]
         return series, fs or x.fs_hz, units or x.units, ()
     if fs is None:
         raise DataError("fs_hz is required for array input (or pass a Run, a Prepared, or a "

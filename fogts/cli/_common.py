@@ -107,7 +107,7 @@ JsonOpt = Annotated[str | None, typer.Option("--json", help="Write JSON to PATH,
 # values in --help, and the library's checks quote the same tuples.
 
 NanOpt = Annotated[choices.NanPolicy, typer.Option("--nan", rich_help_panel="Input", help="Empty, NaN or inf cells: error (name the first one), drop (the rows become gaps) or interpolate (linearly in time).")]
-GapsOpt = Annotated[choices.GapPolicy, typer.Option("--gaps", rich_help_panel="Input", help="Gaps in the time base: warn (analyse as if regular, and say so), error, split (analyse the longest regular segment) or ignore (no warning; still in the JSON).")]
+GapsOpt = Annotated[choices.GapPolicy, typer.Option("--gaps", rich_help_panel="Input", help="Gaps in the time base: warn (analyse as if regular, and say so), error, split (analyse the longest regular segment), nan (the whole record on its regular grid, missing samples as NaN, gap-robust overlapping ADEV after Sesia & Tavella 2008; --kind oadev only) or ignore (no warning; still in the JSON).")]
 #: The shared input options: (parameter, annotation, default), in --help order.
 _INPUT_OPTIONS: list[tuple[str, Any, Any]] = [
     ("rate_column", RateColOpt, None), ("time_column", TimeColOpt, None),
