@@ -11,10 +11,30 @@ from __future__ import annotations
 
 from typing import Literal, get_args
 
-__all__ = ["CRITERIA", "EXPORT_FORMATS", "FILTER_DESIGNS", "FILTER_METHODS", "FIT_METHODS",
-           "FLICKER_METHODS", "GAP_POLICIES", "KINDS", "NAN_POLICIES", "OUTPUT_UNITS",
-           "Criterion", "ExportFormat", "FilterDesign", "FilterMethod", "FitMethod",
-           "FlickerMethod", "GapPolicy", "Kind", "NanPolicy", "OutputUnits"]
+__all__ = [
+           "CRITERIA",
+           "EXPORT_FORMATS",
+           "FILTER_DESIGNS",
+           "FILTER_METHODS",
+           "FIT_METHODS",
+           "FLICKER_METHODS",
+           "GAP_POLICIES",
+           "INPUT_KINDS",
+           "KINDS",
+           "NAN_POLICIES",
+           "OUTPUT_UNITS",
+           "Criterion",
+           "ExportFormat",
+           "FilterDesign",
+           "FilterMethod",
+           "FitMethod",
+           "FlickerMethod",
+           "GapPolicy",
+           "InputKind",
+           "Kind",
+           "NanPolicy",
+           "OutputUnits",
+]
 
 #: Allan-family estimators.
 Kind = Literal["adev", "oadev", "mdev", "hdev", "ohdev", "totdev"]
@@ -33,8 +53,12 @@ NanPolicy = Literal["error", "drop", "interpolate"]
 NAN_POLICIES: tuple[str, ...] = get_args(NanPolicy)
 
 #: What the analysis does with gaps in the time base.
-GapPolicy = Literal["warn", "error", "split", "ignore"]
+GapPolicy = Literal["warn", "error", "split", "ignore", "nan"]
 GAP_POLICIES: tuple[str, ...] = get_args(GapPolicy)
+
+#: What the sensor columns hold: rate, angle increments per sample, or integrated angle.
+InputKind = Literal["rate", "increment", "angle"]
+INPUT_KINDS: tuple[str, ...] = get_args(InputKind)
 
 #: Filters of ``fogts filter``.
 FilterMethod = Literal["kalman", "iir", "moving-average"]

@@ -55,6 +55,8 @@ class InputColumns:
     fs_hz: float | None = None
     units: str | None = None
     topic: str | None = None
+    input: str | None = None
+    accel_units: str | None = None
 
 
 @dataclass(frozen=True)
@@ -86,7 +88,8 @@ def load(path: str | os.PathLike[str], settings: ReadSettings | None = None
     s = settings or ReadSettings()
     run = read_run(path, rate_column=s.rate_columns, time_column=s.time_column,
                    temperature_column=s.temperature_column, fs_hz=s.fs_hz, units=s.units,
-                   nan=s.nan, topic=s.topic)  # type: ignore[arg-type]
+                   nan=s.nan, topic=s.topic, input=s.input,
+                   accel_units=s.accel_units)  # type: ignore[arg-type]
     return assess_run(run, gaps=s.gaps, glitches=s.glitches)  # type: ignore[arg-type]
 
 
@@ -259,13 +262,14 @@ def _fit(result: AllanResult, s: AllanSettings) -> NoiseModel | None:
                      tau_range=s.fit_range)
 
 
-def _allan(source: Any, s: AllanSettings, axis: int | None) -> AllanResult:
+def _allan(source: Any, s: AllanSettings, axis: int | None, units: str | None = None
+           ) -> AllanResult:
     from fogts.allan.api import allan_deviation
     from fogts.allan.result import AllanResult
 
     res = allan_deviation(source, kind=s.kind, taus=s.taus,  # type: ignore[arg-type]
                           confidence=s.confidence, axis=axis, workers=s.workers,
-                          bias_correction=s.bias_correction)
+                          bias_correction=s.bias_correction, units=units)
     assert isinstance(res, AllanResult)
     return res
 
@@ -290,9 +294,9 @@ def analyse_allan_axis(run: Run, axis: int, settings: AllanSettings | None = Non
     if s.prepares:
         prepared = prepare(run, axis=axis, outliers=s.outliers, detrend=s.detrend,
                            decimate=s.decimate, stationarity=False)
-        res = _allan(prepared, s, None)
+        res = _allan(prepared, s, None, run.unit_of(axis))
     else:
-        res = _allan(run, s, axis)
+        res = _allan(run, s, axis, run.unit_of(axis))
     model = _fit(res, s)
     check = None
     if s.check_allantools:
@@ -304,8 +308,9 @@ def analyse_allan_axis(run: Run, axis: int, settings: AllanSettings | None = Non
         effect = _outlier_effect(run, axis, prepared, model, s)
     return AxisAllan(result=res, model=model, readout=res.readout(model), prepared=prepared,
                      check=check, outliers_effect=effect,
-                     plausibility=_plausibility(model, run.units) if model is not None
-                     else None, fit_range=s.fit_range,
+                     plausibility=_plausibility(model, run.units)
+                     if model is not None and model.quantity == "rate" else None,
+                     fit_range=s.fit_range,
                      fit_check=_fit_check(res if s.fit_range is None else res.within(*s.fit_range),
                                           model))
 
@@ -340,9 +345,10 @@ def _outlier_effect(run: Run, axis: int, prepared: Prepared, model: NoiseModel |
         return out
     if s.detrend is not None or s.decimate is not None:
         raw = _allan(prepare(run, axis=axis, outliers=None, detrend=s.detrend,
-                             decimate=s.decimate, stationarity=False), s, None)
+                             decimate=s.decimate, stationarity=False), s, None,
+                     run.unit_of(axis))
     else:
-        raw = _allan(run, s, axis)
+        raw = _allan(run, s, axis, run.unit_of(axis))
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # the unscreened fit's own warnings are not news
         raw_model = _fit(raw, s)

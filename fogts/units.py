@@ -1,9 +1,17 @@
-"""Angular-rate and angle units, and the Earth-rate component.
+"""Angular-rate, angle and specific-force units, and the Earth-rate component.
 
 Internally fogts analyses rate in the unit it was read in; this module converts between
 the four rate units a gyro engineer meets: deg/h, deg/s, rad/s and arcsec/s.  The noise
 coefficients of IEEE Std 952-1997 are reported in deg/h-based units (see DESIGN.md), so
 :func:`to_deg_per_hour_factor` is the bridge used by :mod:`fogts.allan.noise`.
+
+Accelerometers measure specific force in m/s^2, g, mg or ug (:data:`ACCEL_UNITS`; one g is
+standard gravity, 9.80665 m/s^2 exactly: CGPM 1901, ISO 80000-3).  Their terms are reported
+as users of accelerometer datasheets expect (:data:`ACCEL_TERM_UNIT`): velocity random walk
+in m/s/sqrt(h), bias instability in ug, acceleration random walk in m/s/h^1.5; SI gives the
+noise density in m/s^2/sqrt(Hz) (= m/s/sqrt(s)) and the random walk in m/s^3/sqrt(Hz), the
+units of Kalibr's ``accelerometer_noise_density`` and ``accelerometer_random_walk``.
+:func:`parse_sensor_unit` accepts either family and :func:`quantity_of` tells them apart.
 """
 
 from __future__ import annotations
@@ -18,12 +26,27 @@ from fogts._validate import check_positive
 from fogts.choices import OUTPUT_UNITS
 from fogts.errors import DataError
 
-__all__ = ["EARTH_RATE_RAD_S", "RATE_UNITS", "TERM_DEG_UNIT", "TERM_SI_FACTOR", "TERM_SI_UNIT", "RateUnit",
-           "convert_rate", "earth_rate_component", "parse_duration", "parse_rate_unit",
-           "term_in_units", "term_unit", "to_deg_per_hour_factor"]
+__all__ = ["ACCEL_TERM_SI_FACTOR", "ACCEL_TERM_SI_UNIT", "ACCEL_TERM_UNIT", "ACCEL_UNITS",
+           "EARTH_RATE_RAD_S", "QUANTITIES", "RATE_UNITS", "STANDARD_GRAVITY_MPS2",
+           "TERM_DEG_UNIT", "TERM_SI_FACTOR", "TERM_SI_UNIT", "AccelUnit", "Quantity",
+           "RateUnit", "base_unit_factor", "convert_rate", "convert_sensor",
+           "earth_rate_component", "parse_accel_unit", "parse_duration", "parse_rate_unit",
+           "parse_sensor_unit", "quantity_of", "si_unit", "term_in_units", "term_unit",
+           "to_deg_per_hour_factor"]
 
 RateUnit = Literal["deg/h", "deg/s", "rad/s", "arcsec/s"]
 RATE_UNITS: tuple[str, ...] = get_args(RateUnit)
+
+AccelUnit = Literal["m/s^2", "g", "mg", "ug"]
+ACCEL_UNITS: tuple[str, ...] = get_args(AccelUnit)
+
+#: What a sensor axis measures: angular rate (gyro) or specific force (accelerometer).
+Quantity = Literal["rate", "accel"]
+QUANTITIES: tuple[str, ...] = get_args(Quantity)
+
+#: Standard gravity in m/s^2 (exact by definition: 3rd CGPM 1901; ISO 80000-3), the g of
+#: the accelerometer units g, mg and ug.
+STANDARD_GRAVITY_MPS2 = 9.80665
 
 #: Earth's sidereal rotation rate in rad/s (WGS-84 value, 7.292115e-5 rad/s).
 EARTH_RATE_RAD_S = 7.292115e-5
@@ -62,6 +85,40 @@ TERM_SI_UNIT: dict[str, str] = {"Q": "rad", "N": "rad/s/sqrt(Hz)", "B": "rad/s",
 TERM_DEG_UNIT: dict[str, str] = {"Q": "arcsec", "N": "deg/sqrt(h)", "B": "deg/h",
                                   "K": "deg/h^1.5", "R": "deg/h^2"}
 
+#: One unit of specific force in m/s^2.
+_TO_MPS2: dict[str, float] = {"m/s^2": 1.0, "g": STANDARD_GRAVITY_MPS2,
+                              "mg": STANDARD_GRAVITY_MPS2 * 1e-3,
+                              "ug": STANDARD_GRAVITY_MPS2 * 1e-6}
+
+#: The engineering unit of each accelerometer term (the specific-force analogues of
+#: IEEE 952's degree units): Q velocity quantization in m/s, N velocity random walk in
+#: m/s/sqrt(h), B bias instability in ug, K acceleration random walk in m/s/h^1.5, R
+#: acceleration ramp in m/s/h^2.
+ACCEL_TERM_UNIT: dict[str, str] = {"Q": "m/s", "N": "m/s/sqrt(h)", "B": "ug",
+                                   "K": "m/s/h^1.5", "R": "m/s/h^2"}
+#: Multiply an accelerometer term in :data:`ACCEL_TERM_UNIT` by this factor to get SI
+#: (:data:`ACCEL_TERM_SI_UNIT`): 1 m/s/sqrt(h) = 1 m/s / sqrt(3600 s) = (1/60) m/s/sqrt(s);
+#: 1 ug = 9.80665e-6 m/s^2; 1 m/s/h^1.5 = 1 m/s / (3600 s)^1.5; 1 m/s/h^2 = 1 m/s / (3600 s)^2.
+ACCEL_TERM_SI_FACTOR: dict[str, float] = {
+    "Q": 1.0,
+    "N": 1.0 / math.sqrt(_S_PER_H),
+    "B": _TO_MPS2["ug"],
+    "K": 1.0 / _S_PER_H**1.5,
+    "R": 1.0 / _S_PER_H**2,
+}
+#: The SI unit of each accelerometer term: N as a noise density in m/s^2/sqrt(Hz)
+#: (= m/s/sqrt(s), Kalibr's ``accelerometer_noise_density``), K in m/s^3/sqrt(Hz)
+#: (= m/s^2.5, Kalibr's ``accelerometer_random_walk``).
+ACCEL_TERM_SI_UNIT: dict[str, str] = {"Q": "m/s", "N": "m/s^2/sqrt(Hz)", "B": "m/s^2",
+                                      "K": "m/s^3/sqrt(Hz)", "R": "m/s^3"}
+
+_ACCEL_ALIASES: dict[str, str] = {
+    "m/s^2": "m/s^2", "m/s2": "m/s^2", "m/s**2": "m/s^2", "m/s/s": "m/s^2", "mps2": "m/s^2",
+    "m/s²": "m/s^2", "ms2": "m/s^2", "ms^-2": "m/s^2", "m s^-2": "m/s^2", "m_s2": "m/s^2",
+    "g": "g", "g0": "g", "mg": "mg", "milli-g": "mg", "ug": "ug", "µg": "ug", "μg": "ug",
+    "micro-g": "ug", "microg": "ug",
+}
+
 _ALIASES: dict[str, str] = {
     "deg/h": "deg/h", "deg/hr": "deg/h", "dph": "deg/h", "°/h": "deg/h", "degh": "deg/h",
     "deg/s": "deg/s", "dps": "deg/s", "°/s": "deg/s", "degs": "deg/s", "deg/sec": "deg/s",
@@ -85,6 +142,90 @@ def parse_rate_unit(unit: str, name: str = "units") -> str:
     if key not in _ALIASES:
         raise DataError(f"{name} must be one of {', '.join(RATE_UNITS)}, got {unit!r}")
     return _ALIASES[key]
+
+
+def parse_accel_unit(unit: str, name: str = "units") -> str:
+    """Return the canonical spelling of a specific-force unit (``m/s^2``, ``g``, ``mg``,
+    ``ug``; aliases such as ``mps2``, ``m/s2``, ``µg``), case-insensitively except that
+    ``mg``/``ug`` are never read as grams.
+
+    Examples
+    --------
+    >>> parse_accel_unit("mps2"), parse_accel_unit("µg")
+    ('m/s^2', 'ug')
+    """
+    key = str(unit).strip().lower()
+    if key not in _ACCEL_ALIASES:
+        raise DataError(f"{name} must be one of {', '.join(ACCEL_UNITS)}, got {unit!r}")
+    return _ACCEL_ALIASES[key]
+
+
+def parse_sensor_unit(unit: str, name: str = "units") -> str:
+    """A rate unit (:func:`parse_rate_unit`) or a specific-force unit
+    (:func:`parse_accel_unit`), canonically spelt.
+
+    Examples
+    --------
+    >>> parse_sensor_unit("dps"), parse_sensor_unit("G")
+    ('deg/s', 'g')
+    """
+    key = str(unit).strip().lower()
+    if key in _ALIASES:
+        return _ALIASES[key]
+    if key in _ACCEL_ALIASES:
+        return _ACCEL_ALIASES[key]
+    raise DataError(f"{name} must be a rate unit ({', '.join(RATE_UNITS)}) or a specific-force "
+                    f"unit ({', '.join(ACCEL_UNITS)}), got {unit!r}")
+
+
+def quantity_of(unit: str) -> str:
+    """``"rate"`` for an angular-rate unit, ``"accel"`` for a specific-force unit.
+
+    Examples
+    --------
+    >>> quantity_of("deg/s"), quantity_of("mg")
+    ('rate', 'accel')
+    """
+    return "accel" if parse_sensor_unit(unit) in _TO_MPS2 else "rate"
+
+
+def base_unit_factor(unit: str) -> float:
+    """Multiply a value in ``unit`` by this to get the unit the terms are computed from:
+    deg/h for a rate (:func:`to_deg_per_hour_factor`), m/s^2 for a specific force.
+
+    Examples
+    --------
+    >>> base_unit_factor("deg/s"), base_unit_factor("mg")
+    (3600.0, 0.00980665)
+    """
+    canonical = parse_sensor_unit(unit)
+    return _TO_MPS2[canonical] if canonical in _TO_MPS2 else _TO_DEG_PER_HOUR[canonical]
+
+
+def si_unit(unit: str) -> str:
+    """The SI unit of a sensor unit's quantity: rad/s or m/s^2.
+
+    Examples
+    --------
+    >>> si_unit("deg/h"), si_unit("g")
+    ('rad/s', 'm/s^2')
+    """
+    return "m/s^2" if quantity_of(unit) == "accel" else "rad/s"
+
+
+def convert_sensor(x: np.ndarray | float, from_unit: str, to_unit: str) -> np.ndarray | float:
+    """Convert a rate or a specific force between units of the same quantity.
+
+    Examples
+    --------
+    >>> round(float(convert_sensor(1.0, "g", "m/s^2")), 5)
+    9.80665
+    """
+    if quantity_of(from_unit) != quantity_of(to_unit):
+        raise DataError(f"cannot convert {from_unit!r} to {to_unit!r}: one is an angular rate "
+                        "and the other a specific force")
+    factor = base_unit_factor(from_unit) / base_unit_factor(to_unit)
+    return x * factor if isinstance(x, np.ndarray) else float(x) * factor
 
 
 def to_deg_per_hour_factor(unit: str) -> float:
@@ -112,26 +253,44 @@ def convert_rate(x: np.ndarray | float, from_unit: str, to_unit: str) -> np.ndar
     return float(x) * factor
 
 
-def term_in_units(name: str, value: float, units: str) -> float:
-    """An IEEE-952 term given in fogts' degree units, in ``units`` (``"deg"`` or ``"si"``).
+def term_in_units(name: str, value: float, units: str, quantity: str = "rate") -> float:
+    """An IEEE-952 term given in fogts' engineering units (degree units for a gyro,
+    :data:`ACCEL_TERM_UNIT` for an accelerometer), in ``units`` (``"deg"`` or ``"si"``).
 
     Examples
     --------
     >>> f"{term_in_units('N', 0.15, 'si'):.4e}"   # 0.15 deg/sqrt(h) in rad/s/sqrt(Hz)
     '4.3633e-05'
+    >>> f"{term_in_units('N', 0.06, 'si', 'accel'):.4e}"   # 0.06 m/s/sqrt(h) in m/s^2/sqrt(Hz)
+    '1.0000e-03'
     """
-    return float(value) * (TERM_SI_FACTOR[name] if _output_units(units) == "si" else 1.0)
+    if _output_units(units) != "si":
+        return float(value)
+    table = ACCEL_TERM_SI_FACTOR if _quantity(quantity) == "accel" else TERM_SI_FACTOR
+    return float(value) * table[name]
 
 
-def term_unit(name: str, units: str) -> str:
-    """The unit of term ``name`` in ``units`` (``"deg"`` or ``"si"``).
+def term_unit(name: str, units: str, quantity: str = "rate") -> str:
+    """The unit of term ``name`` in ``units`` (``"deg"`` or ``"si"``) for a ``quantity``
+    (``"rate"``: a gyro; ``"accel"``: an accelerometer).
 
     Examples
     --------
     >>> term_unit("K", "deg"), term_unit("K", "si")
     ('deg/h^1.5', 'rad/s^2/sqrt(Hz)')
+    >>> term_unit("N", "deg", "accel"), term_unit("B", "deg", "accel")
+    ('m/s/sqrt(h)', 'ug')
     """
-    return (TERM_SI_UNIT if _output_units(units) == "si" else TERM_DEG_UNIT)[name]
+    si = _output_units(units) == "si"
+    if _quantity(quantity) == "accel":
+        return (ACCEL_TERM_SI_UNIT if si else ACCEL_TERM_UNIT)[name]
+    return (TERM_SI_UNIT if si else TERM_DEG_UNIT)[name]
+
+
+def _quantity(quantity: str) -> str:
+    if quantity not in QUANTITIES:
+        raise DataError(f"quantity must be one of {', '.join(QUANTITIES)}; got {quantity!r}")
+    return quantity
 
 
 def _output_units(units: str) -> str:

@@ -59,3 +59,45 @@ def test_bad_latitude(lat: float) -> None:
 def test_bad_axis() -> None:
     with pytest.raises(DataError, match="axis must be one of vertical, north; got 'east'"):
         earth_rate_component(10.0, axis="east")  # type: ignore[arg-type]
+
+
+# --------------------------------------------------------------------------- accelerometers
+
+def test_accelerometer_si_factors_from_first_principles() -> None:
+    """Each factor rebuilt from its definition: an hour is 3600 s, one g is standard gravity
+    9.80665 m/s^2 exactly (3rd CGPM 1901), so 1 m/s/sqrt(h) = 1/60 m/s/sqrt(s), 1 ug =
+    9.80665e-6 m/s^2, 1 m/s/h^1.5 = 1/216000 m/s^2.5, 1 m/s/h^2 = 1/12960000 m/s^3."""
+    from fogts.units import ACCEL_TERM_SI_FACTOR, STANDARD_GRAVITY_MPS2, term_in_units
+
+    assert STANDARD_GRAVITY_MPS2 == 9.80665
+    expected = {"Q": 1.0, "N": 1 / 60, "B": 9.80665e-6, "K": 1 / 216_000, "R": 1 / 12_960_000}
+    for name, value in expected.items():
+        assert ACCEL_TERM_SI_FACTOR[name] == pytest.approx(value, rel=1e-15)
+        assert term_in_units(name, 2.0, "si", "accel") == pytest.approx(2 * value, rel=1e-15)
+        assert term_in_units(name, 2.0, "deg", "accel") == 2.0
+
+
+def test_accelerometer_units_and_conversions() -> None:
+    from fogts.units import base_unit_factor, convert_sensor, parse_sensor_unit, quantity_of
+
+    assert [parse_sensor_unit(u) for u in ("mps2", "m/s²", "G", "mg", "µg", "dps")] == \
+        ["m/s^2", "m/s^2", "g", "mg", "ug", "deg/s"]
+    assert quantity_of("ug") == "accel" and quantity_of("rad/s") == "rate"
+    assert base_unit_factor("mg") == pytest.approx(9.80665e-3, rel=1e-15)
+    assert convert_sensor(1000.0, "mg", "g") == pytest.approx(1.0, rel=1e-15)
+    assert convert_sensor(1.0, "g", "ug") == pytest.approx(1e6, rel=1e-15)
+
+
+def test_accelerometer_unit_errors() -> None:
+    from fogts.units import convert_sensor, parse_accel_unit, parse_sensor_unit, term_unit
+
+    with pytest.raises(DataError, match=r"accel_units must be one of m/s\^2, g, mg, ug, got "
+                                        "'kg'"):
+        parse_accel_unit("kg", "accel_units")
+    with pytest.raises(DataError, match=r"units must be a rate unit \(deg/h, .*\) or a "
+                                        r"specific-force unit \(m/s\^2, .*\), got 'psi'"):
+        parse_sensor_unit("psi")
+    with pytest.raises(DataError, match="cannot convert 'g' to 'rad/s'"):
+        convert_sensor(1.0, "g", "rad/s")
+    with pytest.raises(DataError, match="quantity must be one of rate, accel; got 'mag'"):
+        term_unit("N", "si", "mag")

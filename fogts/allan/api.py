@@ -9,6 +9,7 @@ and attaches noise identification, EDF and chi-squared intervals
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 from typing import Any, Literal
 
@@ -20,13 +21,15 @@ from fogts._typing import FloatArray, IntArray
 from fogts._validate import check_choice, check_fraction, check_positive, to_float_array
 from fogts.allan.bias import totdev_bias
 from fogts.allan.confidence import confidence_table
-from fogts.allan.estimators import ESTIMATORS
+from fogts.allan.estimators import ESTIMATORS, EstimatorOutput, estimate_from_angle
+from fogts.allan.gradev import gradev
 from fogts.allan.result import AllanResult, AllanResultSet
-from fogts.allan.taus import KINDS, Kind, tau_grid
+from fogts.allan.taus import KINDS, DroppedTau, Kind, TauGrid, tau_grid
+from fogts.choices import INPUT_KINDS, InputKind
 from fogts.errors import DataError
 from fogts.io.run import Run
 from fogts.preprocess.prepare import Prepared
-from fogts.units import parse_rate_unit
+from fogts.units import parse_sensor_unit
 
 __all__ = ["allan_deviation"]
 
@@ -39,6 +42,7 @@ class AxisSeries:
 
     y: FloatArray
     name: str
+    angle: FloatArray | None = None  # the integral of y (n + 1 points), used as the phase
 
 
 # Long only by its docstring: the public entry point documents every option.
@@ -54,6 +58,7 @@ def allan_deviation(
     per_decade: int = 20,
     workers: int | None = None,
     bias_correction: bool = False,
+    input: InputKind = "rate",
 ) -> AllanResult | AllanResultSet:
     """Allan-family deviation of gyro rate data, with confidence intervals.
 
@@ -98,6 +103,14 @@ def allan_deviation(
         low at long tau, which biases K fitted from it.  The correction is only as good as
         the noise type identified at each tau, which is uncertain at the last few taus.
         The default (False) is the plain estimator that allantools also computes.
+    input : {"rate", "increment", "angle"}
+        What array/Series/DataFrame input holds: rate, angle increments per sample (the
+        rate is ``x fs``) or integrated angle (``n + 1`` angles for ``n`` rates).  Angle
+        and increments are used as the phase of the estimators directly (NIST SP1065
+        sec. 5.2), never differenced and integrated back
+        (:func:`fogts.allan.estimators.estimate_from_angle`); the deviations are in the
+        rate unit (``units`` of an angle in deg is ``deg/s``).  A Run read from such a file
+        carries its angle (:attr:`fogts.io.run.Run.angle`) and is used the same way.
 
     Returns
     -------
@@ -128,8 +141,9 @@ def allan_deviation(
         confidence = check_fraction("confidence", confidence)
     _check_bias_correction(bias_correction, kind, confidence)
     if units is not None:
-        units = parse_rate_unit(units)
-    series, fs, unit, notes = unpack_axes(x, fs_hz=fs_hz, axis=axis, units=units)
+        units = parse_sensor_unit(units)
+    input = check_choice("input", input, INPUT_KINDS)  # type: ignore[assignment]
+    series, fs, unit, notes = unpack_axes(x, fs_hz=fs_hz, axis=axis, units=units, input=input)
     curves = [_one_curve(s, fs_hz=fs, units=unit, kind=kind, taus=taus, confidence=confidence,
                          per_decade=per_decade, workers=workers, notes=notes,
                          bias_correction=bias_correction)
@@ -161,11 +175,49 @@ def _check_bias_correction(bias_correction: Any, kind: str, confidence: float | 
                         "confidence level, not confidence=None")
 
 
+def _with_gaps(s: AxisSeries, kind: str) -> bool:
+    """Whether a Run's axis holds NaN for missing samples (``gaps="nan"``); inf is refused."""
+    finite = np.isfinite(s.y)
+    if finite.all():
+        return False
+    if np.isinf(s.y).any():
+        raise DataError(f"axis {s.name!r} holds inf; rate data must be finite")
+    if kind != "oadev":
+        raise DataError(f"axis {s.name!r} has missing samples (NaN, gaps='nan'); only "
+                        f"kind='oadev' has a gap-robust estimator, got kind={kind!r}")
+    return True
+
+
+def _gap_robust(y: FloatArray, fs_hz: float, grid: TauGrid) -> tuple[TauGrid, EstimatorOutput]:
+    """:func:`gradev` on the grid, without the taus left with fewer than two terms free of
+    missing samples (listed in ``dropped``)."""
+    est = gradev(y, fs_hz=fs_hz, m=grid.m)
+    keep = est.n >= 2
+    if keep.all():
+        return grid, est
+    lost = tuple(DroppedTau(float(t), int(m), "fewer than 2 terms free of missing samples")
+                 for t, m in zip(grid.tau_s[~keep], grid.m[~keep], strict=True))
+    grid = dataclasses.replace(grid, m=grid.m[keep], tau_s=grid.tau_s[keep],
+                               dropped=(*grid.dropped, *lost))
+    return grid, dataclasses.replace(est, m=est.m[keep], tau_s=est.tau_s[keep],
+                                     dev=est.dev[keep], n=est.n[keep])
+
+
 def _one_curve(s: AxisSeries, *, fs_hz: float, units: str, kind: str, taus: Any,
                confidence: float | None, per_decade: int, workers: int | None,
                notes: tuple[str, ...], bias_correction: bool = False) -> AllanResult:
     grid = tau_grid(taus, fs_hz=fs_hz, n_samples=s.y.size, kind=kind, per_decade=per_decade)
-    est = ESTIMATORS[kind](s.y, fs_hz=fs_hz, m=grid.m, workers=workers)
+    gaps = _with_gaps(s, kind)
+    if gaps:  # Sesia & Tavella (2008): only the terms that touch no missing sample
+        grid, est = _gap_robust(s.y, fs_hz, grid)
+        notes = (*notes, f"{int(np.count_nonzero(np.isnan(s.y)))} missing samples (NaN): "
+                 "gap-robust overlapping ADEV (Sesia & Tavella 2008); noise type and EDF "
+                 "from the samples present")
+        s = AxisSeries(s.y[np.isfinite(s.y)], s.name)
+    else:
+        est = (ESTIMATORS[kind](s.y, fs_hz=fs_hz, m=grid.m, workers=workers)
+               if s.angle is None
+               else estimate_from_angle(kind, s.angle, fs_hz=fs_hz, m=grid.m, workers=workers))
     size = grid.m.size
     nan = np.full(size, np.nan)
     ci_low, ci_high, edf = nan, nan, nan
@@ -195,7 +247,7 @@ def _one_curve(s: AxisSeries, *, fs_hz: float, units: str, kind: str, taus: Any,
 
 
 def run_from_pandas(x: pd.Series | pd.DataFrame, *, fs_hz: float | None,
-                    units: str | None) -> Run:
+                    units: str | None, input: str | None = None) -> Run:
     """A Series or DataFrame as a :class:`~fogts.io.run.Run`, read by
     :func:`fogts.io.reader.read_run` (sample rate from a Datetime/Timedelta index unless
     ``fs_hz`` is given; time, temperature and rate columns recognised by name; a frame
@@ -207,18 +259,24 @@ def run_from_pandas(x: pd.Series | pd.DataFrame, *, fs_hz: float | None,
 
     if isinstance(x, pd.Series):
         return read_run(x, rate_column=str(x.name) if x.name is not None else None,
-                        fs_hz=fs_hz, units=units)
+                        fs_hz=fs_hz, units=units, input=input)
     frame = x.set_axis([str(c) for c in x.columns], axis=1)
     try:
-        return read_run(frame, fs_hz=fs_hz, units=units)
+        return read_run(frame, fs_hz=fs_hz, units=units, input=input)
     except DataError:  # no recognisable rate column: every column is an axis
-        return read_run(frame, rate_column=list(frame.columns), fs_hz=fs_hz, units=units)
+        return read_run(frame, rate_column=list(frame.columns), fs_hz=fs_hz, units=units,
+                        input=input)
 
 
-def unpack_axes(x: Any, *, fs_hz: float | None, axis: int | str | None, units: str | None
+def unpack_axes(x: Any, *, fs_hz: float | None, axis: int | str | None, units: str | None,
+                input: str = "rate",
                 ) -> tuple[list[AxisSeries], float, str, tuple[str, ...]]:
-    """Split the input into 1-D float64 series, and find the sample rate and unit."""
+    """Split the input into 1-D float64 series (with their angle, for angle input), and
+    find the sample rate and unit."""
     fs = check_positive("fs_hz", fs_hz) if fs_hz is not None else None
+    if input != "rate" and isinstance(x, Run | Prepared):
+        raise DataError(f"input={input!r} is for arrays and frames; a Run carries its own "
+                        "(read_run(..., input=...))")
     if isinstance(x, Prepared):
         if axis is not None and axis not in (0, x.axis):
             raise DataError(f"axis {axis!r} not found; the Prepared series is axis {x.axis!r}")
@@ -226,22 +284,27 @@ def unpack_axes(x: Any, *, fs_hz: float | None, axis: int | str | None, units: s
         return ([AxisSeries(to_float_array(x.x, "x"), x.axis)], fs or x.fs_hz, units or x.units,
                 notes)
     if isinstance(x, pd.Series | pd.DataFrame):
-        x = run_from_pandas(x, fs_hz=fs, units=units)
+        x = run_from_pandas(x, fs_hz=fs, units=units, input=input)
         fs = None  # already applied
     if isinstance(x, Run):
         names = x.axes
         if axis is not None:
+            i = names.index(axis) if isinstance(axis, str) and axis in names else axis
             picked = x.axis(axis)
             name = axis if isinstance(axis, str) else names[int(axis)]
-            series = [AxisSeries(to_float_array(picked, name), name)]
+            series = [AxisSeries(to_float_array(picked, name, allow_nonfinite=True), name,
+                                 x.axis_angle(int(i)) if x.angle is not None else None)]
         else:
-            series = [AxisSeries(to_float_array(x.axis(i), n), n) for i, n in enumerate(names)]
+            series = [AxisSeries(to_float_array(x.axis(i), n, allow_nonfinite=True), n,
+                                 x.axis_angle(i)) for i, n in enumerate(names)]
         return series, fs or x.fs_hz, units or x.units, ()
     if fs is None:
         raise DataError("fs_hz is required for array input (or pass a Run, a Prepared, or a "
                         "Series with a DatetimeIndex)")
     arr = to_float_array(x, "x", ndim=2)
     unit = units or "deg/h"
+    if input != "rate":
+        return _angle_axes(arr, fs, axis, input), fs, unit, ()
     if arr.ndim == 1:
         if axis is not None and axis not in (0, "rate"):
             raise DataError(f"axis {axis!r} not found; a 1-D array has one axis (0)")
@@ -259,3 +322,24 @@ def unpack_axes(x: Any, *, fs_hz: float | None, axis: int | str | None, units: s
         if not -len(names) <= i < len(names):
             raise DataError(f"axis index must be in [0, {len(names) - 1}], got {i}")
     return [AxisSeries(np.ascontiguousarray(arr[:, i]), names[i % len(names)])], fs, unit, ()
+
+
+def _angle_axes(arr: FloatArray, fs: float, axis: int | str | None, input: str
+                ) -> list[AxisSeries]:
+    """Array input of angle increments or angle as axes with their angle (the phase)."""
+    from fogts.io.angle import to_rate
+
+    cols = [arr] if arr.ndim == 1 else [np.ascontiguousarray(arr[:, i])
+                                         for i in range(arr.shape[1])]
+    rates, angle = to_rate(input, cols, fs)
+    names = ("rate",) if arr.ndim == 1 else tuple(f"rate_{i}" for i in range(arr.shape[1]))
+    assert angle is not None
+    angles = [angle] if angle.ndim == 1 else [np.ascontiguousarray(angle[:, i])
+                                              for i in range(angle.shape[1])]
+    series = [AxisSeries(r, n, a) for r, n, a in zip(rates, names, angles, strict=True)]
+    if axis is None:
+        return series
+    picked = names.index(axis) if isinstance(axis, str) and axis in names else axis
+    if not isinstance(picked, int) or not -len(names) <= picked < len(names):
+        raise DataError(f"axis {axis!r} not found; axes are: {', '.join(names)}")
+    return [series[picked]]

@@ -34,6 +34,7 @@ from fogts._typing import FloatArray, IntArray
 from fogts._validate import check_int, check_positive, to_float_array
 from fogts.allan.kernels import (
     NORMALISATION,
+    phase_from_angle,
     phase_from_rate,
     ss_mod,
     ss_second,
@@ -43,8 +44,8 @@ from fogts.allan.kernels import (
 from fogts.allan.taus import MIN_TERMS, n_terms
 from fogts.errors import DataError
 
-__all__ = ["ESTIMATORS", "EstimatorOutput", "adev", "hdev", "mdev", "oadev", "ohdev",
-           "phase_from_rate", "totdev"]
+__all__ = ["ESTIMATORS", "EstimatorOutput", "adev", "estimate_from_angle", "hdev", "mdev",
+           "oadev", "ohdev", "phase_from_rate", "totdev"]
 
 #: Below this many (terms x taus) the thread pool costs more than it saves.
 _PARALLEL_MIN_WORK = 4_000_000
@@ -135,11 +136,15 @@ def _prepare(kind: str, y: Any, fs_hz: float, m: npt.ArrayLike
     return arr, fs, mm, terms
 
 
-def _run(kind: str, y: Any, fs_hz: float, m: npt.ArrayLike, workers: int | None
-         ) -> EstimatorOutput:
-    """Estimator ``kind`` at every averaging factor, the taus spread over ``workers``."""
+def _run(kind: str, y: Any, fs_hz: float, m: npt.ArrayLike, workers: int | None,
+         angle: FloatArray | None = None) -> EstimatorOutput:
+    """Estimator ``kind`` at every averaging factor, the taus spread over ``workers``;
+    ``angle`` (the integral of ``y``, one point more) gives the phase directly."""
     arr, fs, mm, terms = _prepare(kind, y, fs_hz, m)
-    x = phase_from_rate(arr)
+    if angle is not None and angle.shape != (arr.size + 1,):
+        raise DataError(f"angle must have one point more than the rate ({arr.size + 1}), "
+                        f"got shape {angle.shape}")
+    x = phase_from_rate(arr) if angle is None else phase_from_angle(angle, fs)
     nw = _workers(workers, mm.size, int(terms.sum()))
     sumsq, norm = _SUM_OF_SQUARES[kind], NORMALISATION[kind]
 
@@ -157,6 +162,29 @@ def _run(kind: str, y: Any, fs_hz: float, m: npt.ArrayLike, workers: int | None
         devs = [res[i] for i in range(mm.size)]
     return EstimatorOutput(kind=kind, m=mm, tau_s=mm / fs,
                            dev=np.asarray(devs, dtype=np.float64), n=terms)
+
+
+def estimate_from_angle(kind: str, angle: npt.ArrayLike, *, fs_hz: float, m: npt.ArrayLike,
+                        workers: int | None = None) -> EstimatorOutput:
+    """Estimator ``kind`` (one of :data:`ESTIMATORS`) of an angle record, used as the phase.
+
+    ``angle`` holds ``n + 1`` angles in rate-unit x seconds (deg for a rate in deg/s); the
+    deviations are in the rate unit and equal those of the rate ``diff(angle) fs`` up to
+    rounding, without forming that difference (:func:`~fogts.allan.kernels.phase_from_angle`).
+
+    Examples
+    --------
+    >>> y = np.random.default_rng(0).normal(size=1000)
+    >>> theta = np.r_[0.0, np.cumsum(y)] / 10.0
+    >>> a, b = estimate_from_angle("oadev", theta, fs_hz=10.0, m=[1, 10]), oadev(y, fs_hz=10.0, m=[1, 10])
+    >>> bool(np.allclose(a.dev, b.dev, rtol=1e-12, atol=0)), a.n.tolist() == b.n.tolist()
+    (True, True)
+    """
+    theta = to_float_array(angle, "angle", min_length=3)
+    fs = check_positive("fs_hz", fs_hz)
+    if kind not in _SUM_OF_SQUARES:
+        raise DataError(f"kind must be one of {', '.join(_SUM_OF_SQUARES)}; got {kind!r}")
+    return _run(kind, np.diff(theta) * fs, fs, m, workers, angle=theta)
 
 
 _Estimator = TypeVar("_Estimator", bound=Callable[..., EstimatorOutput])

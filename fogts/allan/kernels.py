@@ -35,6 +35,26 @@ CHUNK = 1 << 15
 DOT_BLOCK = 8192
 
 
+def phase_from_angle(theta: FloatArray, fs_hz: float) -> FloatArray:
+    """The phase of :func:`phase_from_rate` taken from an angle record directly.
+
+    ``theta`` (``n + 1`` points, angle in rate-unit x seconds, e.g. deg for a rate in
+    deg/s) is the integral of the rate, so no rate is formed by differencing:
+    ``x_k = (theta_k - theta_0) fs - k mean`` with ``mean = (theta_n - theta_0) fs / n``,
+    the same line removed as :func:`phase_from_rate` removes (NIST SP1065 sec. 5.2: phase
+    data enter the Allan estimators as they are).
+
+    Examples
+    --------
+    >>> phase_from_angle(np.array([0.0, 1.0, 4.0, 6.0]), 1.0).tolist()
+    [0.0, -1.0, 0.0, 0.0]
+    """
+    n = theta.size - 1
+    scaled = (theta - theta[0]) * fs_hz
+    mean = float(scaled[-1]) / n
+    return scaled - mean * np.arange(n + 1, dtype=np.float64)
+
+
 def phase_from_rate(y: FloatArray) -> FloatArray:
     """Integrate the mean-removed rate once: ``x_0 = 0``, ``x_k = sum_{j<k} (y_j - mean)``.
 

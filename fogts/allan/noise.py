@@ -86,7 +86,7 @@ from fogts.errors import (
     InsufficientDataError,
     UnidentifiableTermWarning,
 )
-from fogts.units import to_deg_per_hour_factor
+from fogts.units import base_unit_factor, quantity_of
 
 __all__ = ["COVERAGE_SHARE", "FITTABLE_KINDS", "FIT_METHODS", "MAX_COVARIANCE_POINTS",
            "MIN_COVERED_POINTS", "NOISE_TERMS", "TERM_UNIT", "NoiseModel", "NoiseTerm",
@@ -193,6 +193,10 @@ def fit_noise(
             f"allan_result has {curve.tau.size} usable taus, fewer than the {n_params} "
             + ("terms" if not extras else "parameters of the terms")
             + f" requested ({', '.join(names + extras)}); use more taus or fewer terms")
+    if extras and quantity_of(curve.units) != "rate":
+        raise DataError(f"terms {', '.join(extras)} (Markov, sinusoid) are fitted to gyro "
+                        f"rate curves only; this curve is in {curve.units!r} (an "
+                        "accelerometer); use terms from Q, N, B, K, R")
     issued: list[str] = []
     if curve.excluded:
         _warn(issued, DataQualityWarning, _excluded_message(curve.excluded), curve.axis)
@@ -210,7 +214,7 @@ def fit_noise(
     if extras:  # the optional Markov / sinusoid terms (fogts.allan.noise_extra)
         extra_fit = fit_extra_terms(curve, problem, selection, extras, z_crit,
                                     significance if significance is not None else 0.05,
-                                    to_deg_per_hour_factor(curve.units))
+                                    base_unit_factor(curve.units))
         problem, selection = extra_fit.problem, extra_fit.selection
     if not selection.fit.converged:
         _warn(issued, ConvergenceWarning,
@@ -265,19 +269,22 @@ def _noise_model(curve: FitCurve, names: tuple[str, ...], problem: LsqProblem,
                  ) -> NoiseModel:
     """The fit as a NoiseModel in the curve's units (identifiability not yet assessed)."""
     fit = selection.fit
-    factor = to_deg_per_hour_factor(curve.units)
-    scale = math.sqrt(problem.scale) * factor  # sqrt of scaled sigma^2 -> deg/h
+    quantity = quantity_of(curve.units)
+    factor = base_unit_factor(curve.units)
+    scale = math.sqrt(problem.scale) * factor  # sqrt of scaled sigma^2 -> deg/h (or m/s^2)
     return NoiseModel(
-        terms=term_estimates(names, selection, confidence, scale), confidence=confidence,
+        terms=term_estimates(names, selection, confidence, scale, quantity),
+        confidence=confidence,
         method=problem.method, kind=curve.kind, units=curve.units, axis=curve.axis,
         deg_per_hour_factor=factor, tau_s=curve.tau, dev=curve.dev,
         fitted_dev=np.sqrt(fit.mu * problem.scale), weight=fit.w / np.max(fit.w),
         edf=curve.edf, edf_source=curve.edf_source, chi2=fit.chi2, dof=fit.dof,
         model_error=fit.model_error, stderr_method=fit.stderr_method,
         iterations=fit.iterations, converged=fit.converged,
-        readoff=slope_readoff(curve.tau, curve.dev, factor, curve.edf),
+        readoff=slope_readoff(curve.tau, curve.dev, factor, curve.edf, quantity),
         excluded_tau_s=tuple(curve.excluded), significance=significance,
-        _a=tuple(float(v) * problem.scale for v in selection.a[:len(names)]))
+        _a=tuple(float(v) * problem.scale for v in selection.a[:len(names)]),
+        quantity=quantity)
 
 
 def _warn(issued: list[str], category: type[Warning], message: str, axis: str = "") -> None:

@@ -15,7 +15,7 @@ import numpy as np
 
 from fogts._typing import FloatArray, IntArray
 from fogts.errors import DataError
-from fogts.units import parse_rate_unit
+from fogts.units import parse_sensor_unit
 
 __all__ = ["FITTABLE_KINDS", "FitCurve", "read_fit_curve"]
 
@@ -36,7 +36,7 @@ class FitCurve:
     edf_source : str
         ``"result"``, ``"ieee952"`` (N/m - 1) or ``"mixed"``.
     units, kind, axis : str
-        Canonical rate unit, Allan kind and axis name of the curve.
+        Canonical rate (or specific-force) unit, Allan kind and axis name of the curve.
     excluded : list of float
         Taus set aside for a non-finite or zero deviation.
     m : ndarray of int or None
@@ -111,7 +111,7 @@ def _checked_arrays(res: Any) -> tuple[str, str, FloatArray, FloatArray]:
     if kind not in FITTABLE_KINDS:
         raise DataError(f"allan_result.kind must be one of {', '.join(FITTABLE_KINDS)} (the "
                         f"IEEE-952 tau laws hold for the Allan variance), got {kind!r}")
-    units = parse_rate_unit(str(res.units), "allan_result.units")
+    units = parse_sensor_unit(str(res.units), "allan_result.units")
     tau = np.asarray(res.tau_s, dtype=np.float64)
     dev = np.asarray(res.dev, dtype=np.float64)
     if tau.ndim != 1 or tau.shape != dev.shape:

@@ -17,7 +17,7 @@ from scipy.stats import norm
 from fogts._typing import FloatArray
 from fogts.allan.markov import ExtraTerm
 from fogts.allan.readout import SlopeReadoff
-from fogts.allan.terms import TERM_DESCRIPTION, TERM_POWER
+from fogts.allan.terms import TERM_POWER, term_rows
 from fogts.choices import OutputUnits
 from fogts.errors import DataError
 from fogts.tables import Column, Table
@@ -136,7 +136,8 @@ class NoiseModel:
     kind, units, axis : str
         From the Allan result; ``units`` is the rate unit of the curve.
     deg_per_hour_factor : float
-        Multiply the curve's deviations by this to get deg/h.
+        Multiply the curve's deviations by this to get deg/h (m/s^2 for an accelerometer:
+        the unit the terms are computed from).
     tau_s, dev, fitted_dev, weight : ndarray
         The points used in the fit, the fitted deviation there and each point's final
         diagonal weight relative to the largest (all 1 for ``ols``; for ``gls`` the
@@ -170,6 +171,9 @@ class NoiseModel:
     extra_terms : tuple of ExtraTerm
         The optional first-order Markov (``M``) and sinusoid (``S``) terms, when asked
         for (:mod:`fogts.allan.markov`); :meth:`curve` includes them.
+    quantity : str
+        ``"rate"`` (a gyro; terms in IEEE 952's degree units) or ``"accel"`` (an
+        accelerometer; terms in :data:`fogts.units.ACCEL_TERM_UNIT`), from ``units``.
     """
 
     terms: tuple[NoiseTerm, ...]
@@ -197,6 +201,7 @@ class NoiseModel:
     significance: float | None = None
     _a: tuple[float, ...] = field(default=(), repr=False)
     extra_terms: tuple[ExtraTerm, ...] = ()
+    quantity: str = "rate"
 
     # -------------------------------------------------------------- access
     def __getitem__(self, name: str) -> NoiseTerm:
@@ -260,12 +265,13 @@ class NoiseModel:
     # -------------------------------------------------------------- exports
     def in_units(self, name: str, units: OutputUnits = "deg") -> dict[str, Any]:
         """Term ``name``'s value, stderr, interval and 95 % upper limit in ``units``:
-        ``"deg"`` (IEEE 952's degree units) or ``"si"`` (:data:`fogts.units.TERM_SI_FACTOR`)."""
+        ``"deg"`` (IEEE 952's degree units; an accelerometer's engineering units) or ``"si"``
+        (:data:`fogts.units.TERM_SI_FACTOR`, :data:`fogts.units.ACCEL_TERM_SI_FACTOR`)."""
         t = self[name]
-        scale = term_in_units(name, 1.0, units)
+        scale = term_in_units(name, 1.0, units, self.quantity)
         return {"value": t.value * scale, "stderr": t.stderr * scale,
                 "ci_low": t.ci_low * scale, "ci_high": t.ci_high * scale,
-                "unit": t.unit if units == "deg" else term_unit(name, units),
+                "unit": t.unit if units == "deg" else term_unit(name, units, self.quantity),
                 "upper_limit_95": self.upper_limit(name) * scale}
 
     def noise_dict(self, units: OutputUnits = "deg") -> dict[str, dict[str, Any]]:
@@ -290,6 +296,7 @@ class NoiseModel:
         return {
             "method": self.method, "confidence": self.confidence, "kind": self.kind,
             "units": self.units, "axis": self.axis, "output_units": units,
+            **({"quantity": self.quantity} if self.quantity != "rate" else {}),
             "terms": self.noise_dict(units),
             "readoff": self.readoff.to_dict(),
             "fit": {"n_points": int(self.tau_s.size),
@@ -340,7 +347,8 @@ class NoiseModel:
                    Column(f"{pct} interval"), Column("unit", numeric=False),
                    Column("C_n"), Column("note", numeric=False))
         shown = {t.name: self.in_units(t.name, units) for t in self.terms}
-        rows = [(t.name, TERM_DESCRIPTION.get(t.name, t.name), shown[t.name]["value"],
+        described = term_rows(self.quantity)
+        rows = [(t.name, described[t.name].description, shown[t.name]["value"],
                  shown[t.name]["stderr"], (shown[t.name]["ci_low"], shown[t.name]["ci_high"]),
                  shown[t.name]["unit"], t.c_coeff, self._table_note(t, units))
                 for t in self.terms]
@@ -348,8 +356,9 @@ class NoiseModel:
             f"IEEE-952 noise terms of {self.axis} ({self.method.upper()} fit of {self.kind} "
             f"on {self.tau_s.size} taus {self.tau_s[0]:.4g}..{self.tau_s[-1]:.4g} s, input "
             f"in {self.units})", columns, rows,
-            caption="C_n: coefficient of tau^n in sigma^2(tau) = sum C_n tau^n (rate in "
-                    "deg/h, tau in s). Upper limit: a term at zero, dropped, or fitted with z < 2 "
+            caption="C_n: coefficient of tau^n in sigma^2(tau) = sum C_n tau^n ("
+                    + ("specific force in m/s^2" if self.quantity == "accel" else "rate in deg/h")
+                    + ", tau in s). Upper limit: a term at zero, dropped, or fitted with z < 2 "
                     "is not measured; the note gives its one-sided 95 % bound. Not identifiable: the term makes up a sizeable share of the "
                     "fitted sigma^2 at too few taus of this grid to be measured.")
 

@@ -44,7 +44,7 @@ from scipy.stats import norm
 from fogts._typing import FloatArray
 from fogts.allan.noise_lsq import LsqFit, LsqProblem
 from fogts.allan.noise_model import NoiseModel, NoiseTerm
-from fogts.allan.terms import C_UNIT, TERM_DESCRIPTION, TERM_FACTOR, TERM_POWER, TERM_UNIT
+from fogts.allan.terms import TERM_POWER, term_rows
 
 __all__ = ["COVERAGE_SHARE", "MIN_COVERED_POINTS", "TermSelection", "backward_elimination",
            "identify_terms", "term_estimates"]
@@ -119,10 +119,12 @@ def z_scores(fit: LsqFit, a: FloatArray) -> dict[int, float]:
 
 
 def term_estimates(names: tuple[str, ...], selection: TermSelection, confidence: float,
-                   scale: float) -> tuple[NoiseTerm, ...]:
+                   scale: float, quantity: str = "rate") -> tuple[NoiseTerm, ...]:
     """Each term's value, standard error and interval (an upper limit at zero).
 
-    ``scale`` turns the square root of a scaled coefficient into ``C_n`` in deg/h units.
+    ``scale`` turns the square root of a scaled coefficient into ``C_n`` in deg/h units
+    (m/s^2 units for ``quantity="accel"``; the terms then follow
+    :data:`~fogts.allan.terms.ACCEL_TERMS`).
     Identifiability is filled in later by :func:`identify_terms`.
     """
     fit, a, dropped_z = selection.fit, selection.a, selection.dropped_z
@@ -132,6 +134,7 @@ def term_estimates(names: tuple[str, ...], selection: TermSelection, confidence:
     idx_active = np.flatnonzero(active)
     var_active = np.diag(fit.cov(idx_active)) if idx_active.size else np.zeros(0)
     out: list[NoiseTerm] = []
+    rows = term_rows(quantity)
     for j, name in enumerate(names):
         if active[j]:
             se_a = math.sqrt(max(float(var_active[int(np.searchsorted(idx_active, j))]), 0.0))
@@ -146,12 +149,12 @@ def term_estimates(names: tuple[str, ...], selection: TermSelection, confidence:
             lo_a, hi_a = 0.0, z * se_bound
             status = "dropped" if j in dropped_z else "at_bound"
             z_score = dropped_z.get(j, 0.0)
-        tf = TERM_FACTOR[name]
+        tf = rows[name].factor
         out.append(NoiseTerm(
             name=name, value=tf * c * scale, stderr=tf * c_se * scale,
             ci_low=tf * math.sqrt(lo_a) * scale, ci_high=tf * math.sqrt(hi_a) * scale,
-            unit=TERM_UNIT[name], c_coeff=c * scale, c_stderr=c_se * scale,
-            c_unit=C_UNIT[name], power=TERM_POWER[name], at_bound=not bool(active[j]),
+            unit=rows[name].unit, c_coeff=c * scale, c_stderr=c_se * scale,
+            c_unit=rows[name].c_unit, power=TERM_POWER[name], at_bound=not bool(active[j]),
             identifiable=True, n_covered=0, region_tau_s=(math.nan, math.nan), status=status,
             z_score=z_score))
     return tuple(out)
@@ -191,7 +194,8 @@ def _unidentifiable_message(model: NoiseModel, term: NoiseTerm, tau: FloatArray,
         why = f"it never reaches {pct} of the fitted curve"
     else:
         why = f"it would reach {pct} only at tau {region[0]:.3g}..{region[1]:.3g} s"
-    return (f"noise term {term.name} ({TERM_DESCRIPTION[term.name]}, slope "
+    description = term_rows(model.quantity)[term.name].description
+    return (f"noise term {term.name} ({description}, slope "
             f"{term.slope:+g}) is not identifiable from taus {tau[0]:.4g}..{tau[-1]:.4g}"
             f" s: it makes up at least {pct} of the fitted sigma^2 at {n_cov} of "
             f"{tau.size} taus ({why}); treat its value as an upper limit")

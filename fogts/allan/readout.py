@@ -27,7 +27,7 @@ import numpy as np
 import pandas as pd
 
 from fogts._typing import FloatArray
-from fogts.allan.terms import B_PLATEAU, TERM_SLOPE, TERM_UNIT, TERMS, from_seconds
+from fogts.allan.terms import B_PLATEAU, TERM_SLOPE, TERMS, from_seconds, term_rows
 from fogts.errors import DataError, InsufficientDataError
 from fogts.tables import Column, Table
 
@@ -263,27 +263,32 @@ class SlopeReadoff:
     slope_K: float
     # the read-off points in the curve's own units, for plotting: (tau_s, dev)
     points: tuple[tuple[str, float, float], ...] = ()
+    #: "rate" (units of TERMS) or "accel" (units of ACCEL_TERMS)
+    quantity: str = "rate"
+
+    def _unit(self, name: str) -> str:
+        return term_rows(self.quantity)[name].unit
 
     def to_dict(self) -> dict[str, Any]:
         return {"method": "slope read-off (IEEE 952 Annex C / MATLAB allanvar example); "
                           "comparison only, not the fit",
-                "N": {"value": self.N, "unit": TERM_UNIT["N"], "tau": self.tau_N_s,
+                "N": {"value": self.N, "unit": self._unit("N"), "tau": self.tau_N_s,
                       "local_slope": self.slope_N, "read_at_tau": TERMS["N"].readoff_tau_s},
-                "K": {"value": self.K, "unit": TERM_UNIT["K"], "tau": self.tau_K_s,
+                "K": {"value": self.K, "unit": self._unit("K"), "tau": self.tau_K_s,
                       "local_slope": self.slope_K, "read_at_tau": TERMS["K"].readoff_tau_s},
-                "B": {"value": self.B, "unit": TERM_UNIT["B"], "tau": self.tau_B_s}}
+                "B": {"value": self.B, "unit": self._unit("B"), "tau": self.tau_B_s}}
 
     def describe(self, number: Callable[[float], str] = lambda v: f"{v:.4g}") -> str:
         """The read-offs as one sentence (``number`` formats the values)."""
         return (f"slope read-offs (comparison only, not the fit): "
-                f"N = {number(self.N)} {TERM_UNIT['N']} (-1/2 line at tau = "
-                f"{TERMS['N'].readoff_tau_s:g} s), K = {number(self.K)} {TERM_UNIT['K']} "
+                f"N = {number(self.N)} {self._unit('N')} (-1/2 line at tau = "
+                f"{TERMS['N'].readoff_tau_s:g} s), K = {number(self.K)} {self._unit('K')} "
                 f"(+1/2 line at tau = {TERMS['K'].readoff_tau_s:g} s), B = {number(self.B)} "
-                f"{TERM_UNIT['B']} (minimum / {B_PLATEAU:g})")
+                f"{self._unit('B')} (minimum / {B_PLATEAU:g})")
 
 
 def slope_readoff(tau: FloatArray, dev: FloatArray, factor: float,
-                  edf: FloatArray | None = None) -> SlopeReadoff:
+                  edf: FloatArray | None = None, quantity: str = "rate") -> SlopeReadoff:
     """The IEEE 952 Annex C / MATLAB ``allanvar`` read-offs of N, K and B.
 
     Lines of slope -1/2 (+1/2) through the point whose local log-log slope is closest to it,
@@ -297,9 +302,12 @@ def slope_readoff(tau: FloatArray, dev: FloatArray, factor: float,
     tau, dev : ndarray
         The curve (increasing tau, positive deviations).
     factor : float
-        Multiplies ``dev`` to give deg/h.
+        Multiplies ``dev`` to give deg/h (m/s^2 for ``quantity="accel"``).
     edf : ndarray, optional
         Equivalent degrees of freedom per point.
+    quantity : {"rate", "accel"}
+        Gyro (:data:`~fogts.allan.terms.TERMS`) or accelerometer
+        (:data:`~fogts.allan.terms.ACCEL_TERMS`) units.
 
     Returns
     -------
@@ -331,8 +339,9 @@ def slope_readoff(tau: FloatArray, dev: FloatArray, factor: float,
     else:
         b_dev, tau_b = float(dev[0]), float(tau[0])
     return SlopeReadoff(
-        N=from_seconds("N", n_dev * factor), K=from_seconds("K", k_dev * factor),
-        B=b_dev * factor / B_PLATEAU, tau_N_s=tau_n, tau_K_s=tau_k, tau_B_s=tau_b,
+        N=from_seconds("N", n_dev * factor, quantity),
+        K=from_seconds("K", k_dev * factor, quantity),
+        B=from_seconds("B", b_dev * factor / B_PLATEAU, quantity), tau_N_s=tau_n, tau_K_s=tau_k, tau_B_s=tau_b,
         slope_N=slope_n, slope_K=slope_k,
         points=(("N", TERMS["N"].readoff_tau_s, n_dev), ("K", TERMS["K"].readoff_tau_s, k_dev),
-                ("B", tau_b, b_dev)))
+                ("B", tau_b, b_dev)), quantity=quantity)

@@ -19,7 +19,7 @@ from fogts._typing import FloatArray, IntArray
 from fogts.allan.taus import DroppedTau
 from fogts.errors import DataError
 from fogts.tables import Column, Table
-from fogts.units import convert_rate, parse_rate_unit
+from fogts.units import convert_sensor, parse_sensor_unit
 
 __all__ = ["KIND_LABELS", "AllanResult", "AllanResultSet", "AxisIndexed"]
 
@@ -213,8 +213,8 @@ class AllanResult:
         pct = f"{100 * self.confidence:.1f} % CI" if math.isfinite(self.confidence) \
             else "no CI"
         corrected = ", bias-corrected (Howe 1999)" if self.bias_corrected else ""
-        unit = self.units if rate_units is None else parse_rate_unit(rate_units, "rate_units")
-        scale = float(convert_rate(1.0, self.units, unit)) if unit != self.units else 1.0
+        unit = self.units if rate_units is None else parse_sensor_unit(rate_units, "rate_units")
+        scale = float(convert_sensor(1.0, self.units, unit)) if unit != self.units else 1.0
         rows = list(zip(self.tau_s.tolist(), self.m.tolist(), self.n.tolist(),
                         (self.dev * scale).tolist(), (self.ci_low * scale).tolist(),
                         (self.ci_high * scale).tolist(), self.edf.tolist(), strict=True))

@@ -18,6 +18,14 @@ The slope read-offs (IEEE 952 Annex C) read a term's own Allan-deviation line at
 where it equals the coefficient in deg/h-and-seconds units (:attr:`NoiseTermInfo.readoff_tau_s`:
 1 s for N, 3 s for K) and convert it with :func:`from_seconds`; B is the plateau divided by
 :data:`B_PLATEAU`.
+
+Accelerometers obey the same Allan-variance model with the specific force (m/s^2) in place
+of the rate (IEEE Std 1293-2018, the accelerometer counterpart of IEEE 952).
+:data:`ACCEL_TERMS` is the same table with the accelerometer's names and engineering units
+(:data:`fogts.units.ACCEL_TERM_UNIT`): ``C_n`` in m/s^2-and-seconds units, N = 60 C_-1 in
+m/s/sqrt(h) (velocity random walk), B = C_0 / 0.664 / 9.80665e-6 in ug, K = 60^3 sqrt(3) C_1
+in m/s/h^1.5 (acceleration random walk), R = 60^4 sqrt(2) C_2 in m/s/h^2, Q = C_-2/sqrt(3)
+in m/s.  :func:`term_rows` picks the table of a quantity (``"rate"`` or ``"accel"``).
 """
 
 from __future__ import annotations
@@ -30,11 +38,11 @@ from typing import Any, Literal, get_args
 import numpy as np
 
 from fogts.errors import DataError
-from fogts.units import TERM_DEG_UNIT
+from fogts.units import ACCEL_TERM_UNIT, STANDARD_GRAVITY_MPS2, TERM_DEG_UNIT
 
-__all__ = ["B_PLATEAU", "C_UNIT", "FLICKER_AVAR", "NOISE_TERMS", "TERMS", "TERM_DESCRIPTION",
+__all__ = ["ACCEL_TERMS", "B_PLATEAU", "C_UNIT", "FLICKER_AVAR", "NOISE_TERMS", "TERMS", "TERM_DESCRIPTION",
            "TERM_FACTOR", "TERM_POWER", "TERM_SLOPE", "TERM_UNIT", "TO_SECONDS", "NoiseTermInfo",
-           "TermName", "c_from_terms", "from_seconds", "parse_terms", "terms_from_c"]
+           "TermName", "c_from_terms", "from_seconds", "parse_terms", "term_rows", "terms_from_c"]
 
 TermName = Literal["Q", "N", "B", "K", "R"]
 NOISE_TERMS: tuple[str, ...] = get_args(TermName)
@@ -77,6 +85,9 @@ class NoiseTermInfo:
         Tau (s) at which the term's own Allan-deviation line equals its coefficient in
         deg/h-and-seconds units (the IEEE 952 slope read-off); NaN for terms not read off
         that way.
+    value_scale : float
+        Further factor of the value after the hours conversion (1 but for an
+        accelerometer's B: m/s^2 -> ug is 1 / 9.80665e-6).
     """
 
     name: str
@@ -87,6 +98,7 @@ class NoiseTermInfo:
     hour_power: int
     allan_root: float
     readoff_tau_s: float = math.nan
+    value_scale: float = 1.0
 
     @property
     def slope(self) -> float:
@@ -96,9 +108,9 @@ class NoiseTermInfo:
     @property
     def seconds_factor(self) -> float:
         """Multiplies the value to give the coefficient in deg/h-and-seconds units."""
-        if self.hour_power <= 0:
-            return _SQRT_S_PER_H ** -self.hour_power
-        return 1.0 / _SQRT_S_PER_H ** self.hour_power
+        hours = (_SQRT_S_PER_H ** -self.hour_power if self.hour_power <= 0
+                 else 1.0 / _SQRT_S_PER_H ** self.hour_power)
+        return hours if self.value_scale == 1.0 else hours / self.value_scale
 
     @property
     def factor(self) -> float:
@@ -117,6 +129,39 @@ TERMS: dict[str, NoiseTermInfo] = {t.name: t for t in (
     NoiseTermInfo("R", "rate ramp", 2, TERM_DEG_UNIT["R"], "deg/h/s", 2, 1.0 / math.sqrt(2.0)),
 )}
 
+#: The accelerometer's five terms (module docstring): the rows of :data:`TERMS` with the
+#: specific force in m/s^2 as the rate, so the hours conversion differs (the coefficient is
+#: in m/s^2 and seconds, the engineering unit per hour) and B is reported in ug.
+ACCEL_TERMS: dict[str, NoiseTermInfo] = {t.name: t for t in (
+    NoiseTermInfo("Q", "velocity quantization", -2, ACCEL_TERM_UNIT["Q"], "m/s^2*s", 0,
+                  math.sqrt(3.0)),
+    NoiseTermInfo("N", "velocity random walk", -1, ACCEL_TERM_UNIT["N"], "m/s^2*sqrt(s)", 1,
+                  1.0, readoff_tau_s=1.0),
+    NoiseTermInfo("B", "bias instability", 0, ACCEL_TERM_UNIT["B"], "m/s^2", 0, B_PLATEAU,
+                  value_scale=1e6 / STANDARD_GRAVITY_MPS2),
+    NoiseTermInfo("K", "acceleration random walk", 1, ACCEL_TERM_UNIT["K"], "m/s^2/sqrt(s)",
+                  3, 1.0 / math.sqrt(3.0), readoff_tau_s=3.0),
+    NoiseTermInfo("R", "acceleration ramp", 2, ACCEL_TERM_UNIT["R"], "m/s^2/s", 4,
+                  1.0 / math.sqrt(2.0)),
+)}
+
+
+def term_rows(quantity: str = "rate") -> dict[str, NoiseTermInfo]:
+    """The term table of a ``quantity``: :data:`TERMS` (``"rate"``, a gyro) or
+    :data:`ACCEL_TERMS` (``"accel"``, an accelerometer).
+
+    Examples
+    --------
+    >>> term_rows("accel")["N"].description, round(term_rows("accel")["N"].factor, 6)
+    ('velocity random walk', 60.0)
+    """
+    if quantity == "rate":
+        return TERMS
+    if quantity == "accel":
+        return ACCEL_TERMS
+    raise DataError(f"quantity must be one of rate, accel; got {quantity!r}")
+
+
 #: Power of tau of each term's basis function in sigma^2(tau) = sum a_n tau^n.
 TERM_POWER: dict[str, int] = {n: t.power for n, t in TERMS.items()}
 #: Log-log slope of each term's Allan-deviation line (-1, -1/2, 0, 1/2, 1).
@@ -133,28 +178,35 @@ TERM_DESCRIPTION: dict[str, str] = {n: t.description for n, t in TERMS.items()}
 TO_SECONDS: dict[str, float] = {n: t.seconds_factor for n, t in TERMS.items()}
 
 
-def from_seconds(name: str, coefficient: float) -> float:
-    """A term's value from its coefficient in deg/h-and-seconds units.
+def from_seconds(name: str, coefficient: float, quantity: str = "rate") -> float:
+    """A term's value from its coefficient in rate-and-seconds units (deg/h and s for a
+    gyro, m/s^2 and s for an accelerometer).
 
     Examples
     --------
     >>> from_seconds("N", 0.6), from_seconds("K", 0.01)
     (0.01, 0.6)
+    >>> from_seconds("N", 0.001, "accel")     # 1e-3 m/s/sqrt(s) = 0.06 m/s/sqrt(h)
+    0.06
     """
-    p = TERMS[name].hour_power
-    return coefficient * _SQRT_S_PER_H ** p if p >= 0 else coefficient / _SQRT_S_PER_H ** -p
+    row = term_rows(quantity)[name]
+    p = row.hour_power
+    value = coefficient * _SQRT_S_PER_H ** p if p >= 0 else coefficient / _SQRT_S_PER_H ** -p
+    return value if row.value_scale == 1.0 else value * row.value_scale
 
 
 # --------------------------------------------------------------------------- conversions
 
 
-def terms_from_c(c: Mapping[str | int, float]) -> dict[str, float]:
+def terms_from_c(c: Mapping[str | int, float], quantity: str = "rate") -> dict[str, float]:
     """Convert coefficients ``C_n`` (rate in deg/h, tau in s) to IEEE-952 terms.
 
     Parameters
     ----------
     c : mapping
         ``C_n`` keyed by the power ``n`` (-2..2) or by the term name (``"Q"`` .. ``"R"``).
+    quantity : {"rate", "accel"}
+        ``"accel"``: ``C_n`` in m/s^2 and seconds, terms in :data:`ACCEL_TERMS`' units.
 
     Returns
     -------
@@ -167,20 +219,24 @@ def terms_from_c(c: Mapping[str | int, float]) -> dict[str, float]:
     >>> f"{t['B']:.3e} {t['K']:.4f} {t['Q']:.3e}"
     '5.776e-03 0.1243 6.786e-06'
     """
-    out = {name: TERM_FACTOR[name] * v
+    rows = term_rows(quantity)
+    out = {name: rows[name].factor * v
            for name, v in _checked(c, lambda key: f"C coefficient {key!r}").items()}
     return {n: out[n] for n in NOISE_TERMS if n in out}
 
 
-def c_from_terms(terms: Mapping[str, float]) -> dict[int, float]:
+def c_from_terms(terms: Mapping[str, float], quantity: str = "rate") -> dict[int, float]:
     """Inverse of :func:`terms_from_c`: IEEE-952 terms to ``C_n`` keyed by the power n.
 
     Examples
     --------
     >>> round(c_from_terms({"N": 0.01})[-1], 6)
     0.6
+    >>> round(c_from_terms({"B": 1.0}, "accel")[0] / 0.664, 11)   # 1 ug in m/s^2
+    9.80665e-06
     """
-    out = {TERM_POWER[name]: v / TERM_FACTOR[name]
+    rows = term_rows(quantity)
+    out = {TERM_POWER[name]: v / rows[name].factor
            for name, v in _checked(terms, lambda key: f"term {key!r}").items()}
     return dict(sorted(out.items()))
 

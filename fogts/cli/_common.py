@@ -97,6 +97,8 @@ TempColOpt = Annotated[str | None, typer.Option("--temperature-column", rich_hel
 FsOpt = Annotated[float | None, typer.Option("--fs", rich_help_panel="Input", help="Sample rate in Hz (overrides the time column).")]
 UnitsOpt = Annotated[str | None, typer.Option("--units", rich_help_panel="Input", help="Rate unit of the input: deg/h, deg/s, rad/s, arcsec/s (default: from a unit in the column name such as gyro_x_deg_s, else deg/h).")]
 TopicOpt = Annotated[str | None, typer.Option("--topic", rich_help_panel="Input", help="ROS bags: the sensor_msgs/Imu topic (needed when the bag has several).")]
+InputOpt = Annotated[choices.InputKind | None, typer.Option("--input", rich_help_panel="Input", help="What the rate columns hold: rate, increment (angle per sample, e.g. dtheta) or angle (integrated angle); angle and increments feed the Allan estimators as phase, without differencing. Default: from the names (dtheta, delta_angle, angle_deg, theta), else rate.")]
+AccelUnitsOpt = Annotated[str | None, typer.Option("--accel-units", rich_help_panel="Input", help="Unit of the accelerometer columns (acc*, ax.., linear_acceleration_*): m/s^2, g, mg, ug (default: from the names such as acc_x_mps2, else from the gravity magnitude, else m/s^2).")]
 JsonOpt = Annotated[str | None, typer.Option("--json", help="Write JSON to PATH, or '-' for stdout.")]
 
 
@@ -105,12 +107,13 @@ JsonOpt = Annotated[str | None, typer.Option("--json", help="Write JSON to PATH,
 # values in --help, and the library's checks quote the same tuples.
 
 NanOpt = Annotated[choices.NanPolicy, typer.Option("--nan", rich_help_panel="Input", help="Empty, NaN or inf cells: error (name the first one), drop (the rows become gaps) or interpolate (linearly in time).")]
-GapsOpt = Annotated[choices.GapPolicy, typer.Option("--gaps", rich_help_panel="Input", help="Gaps in the time base: warn (analyse as if regular, and say so), error, split (analyse the longest regular segment) or ignore (no warning; still in the JSON).")]
+GapsOpt = Annotated[choices.GapPolicy, typer.Option("--gaps", rich_help_panel="Input", help="Gaps in the time base: warn (analyse as if regular, and say so), error, split (analyse the longest regular segment), nan (the whole record on its regular grid, missing samples as NaN, gap-robust overlapping ADEV after Sesia & Tavella 2008; --kind oadev only) or ignore (no warning; still in the JSON).")]
 #: The shared input options: (parameter, annotation, default), in --help order.
 _INPUT_OPTIONS: list[tuple[str, Any, Any]] = [
     ("rate_column", RateColOpt, None), ("time_column", TimeColOpt, None),
     ("temperature_column", TempColOpt, None), ("fs", FsOpt, None), ("units", UnitsOpt, None),
-    ("topic", TopicOpt, None), ("nan", NanOpt, "error"), ("gaps", GapsOpt, "warn"),
+    ("topic", TopicOpt, None), ("input", InputOpt, None), ("accel_units", AccelUnitsOpt, None),
+    ("nan", NanOpt, "error"), ("gaps", GapsOpt, "warn"),
 ]
 KindOpt = Annotated[choices.Kind, typer.Option("--kind", help="Allan estimator (noise terms are fitted to adev, oadev and totdev).")]
 CriterionOpt = Annotated[choices.Criterion, typer.Option("--criterion", help="ARMA ranking criterion.")]
@@ -223,7 +226,8 @@ def reads_input(*, nan: bool = True, gaps: bool = True
             read = ReadSettings(
                 rate_column=given["rate_column"], time_column=given["time_column"],
                 temperature_column=given["temperature_column"], fs_hz=given["fs"],
-                units=given["units"], topic=given["topic"], nan=str(given.get("nan", "error")),
+                units=given["units"], topic=given["topic"], input=given["input"],
+                accel_units=given["accel_units"], nan=str(given.get("nan", "error")),
                 gaps=str(given.get("gaps", "warn")))
             return command(*args, read=read, **kwargs)
 

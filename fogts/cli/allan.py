@@ -24,10 +24,12 @@ def _allan_tables(res: AllanResult, model: NoiseModel | None, check: dict[str, A
                   quiet_json: str | None, units: choices.OutputUnits = "deg") -> None:
     import math
 
+    from fogts.units import si_unit
+
     def g(v: float, digits: int = 5) -> str:
         return "-" if v is None or not math.isfinite(v) else f"{v:.{digits}g}"
 
-    rate_units = "rad/s" if units == "si" else None
+    rate_units = si_unit(res.units) if units == "si" else None
     common.print_out(common.rich_table(res.points_table(rate_units)), quiet_json=quiet_json)
     for d in res.dropped:
         common.say([f"dropped tau = {d.tau_s:g} s (m = {d.m}): {d.reason}"], quiet_json)
@@ -65,7 +67,7 @@ def allan_cmd(
     csv_out: Annotated[Path | None, typer.Option("--csv", help="Write the points (and the fitted curve) to PATH (.csv, .tsv, .parquet).")] = None,
     plot: Annotated[Path | None, typer.Option("--plot", help="Log-log figure with CIs, the fit, its term lines, the fit range shaded and the residuals (data - fit)/CI half-width underneath (several inputs: an overlay): .png, .svg or .pdf.")] = None,
     check_allantools: Annotated[bool, typer.Option("--check-allantools", help="Recompute with allantools on the same data and taus; print the largest relative difference.")] = False,
-    output_units: Annotated[choices.OutputUnits, typer.Option("--output-units", help="Units of the printed tables: deg (IEEE 952: deg/sqrt(h), deg/h, deg/h^1.5; the deviations in the input unit) or si (rad/s/sqrt(Hz), rad/s, rad/s^2/sqrt(Hz); deviations in rad/s). The JSON has both (noise, noise_si).")] = "deg",
+    output_units: Annotated[choices.OutputUnits, typer.Option("--output-units", help="Units of the printed tables: deg (IEEE 952: deg/sqrt(h), deg/h, deg/h^1.5; the deviations in the input unit) or si (rad/s/sqrt(Hz), rad/s, rad/s^2/sqrt(Hz); deviations in rad/s). Accelerometer axes: m/s/sqrt(h), ug, m/s/h^1.5, or in si m/s^2/sqrt(Hz), m/s^2, m/s^3/sqrt(Hz). The JSON has both (noise, noise_si).")] = "deg",
     export: Annotated[tuple[str, Path] | None, typer.Option("--export", metavar="FORMAT PATH", help="Write the filter-ready noise parameters (N and K in SI; a term not measured as its 95 % upper limit, marked): kalibr (imu.yaml), imu_utils (OpenCV YAML) or json.")] = None,
     bias_correction: Annotated[bool, typer.Option("--bias-correction", help="--kind totdev: divide TOTVAR by its bias at flicker- and random-walk-FM taus (Howe 1999), as Stable32 does.")] = False,
     read: ReadSettings = common.DEFAULT_READ,

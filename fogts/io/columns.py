@@ -12,6 +12,8 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from fogts.errors import DataError
+from fogts.io.accel import is_accel_name
+from fogts.io.angle import is_angle_name
 from fogts.io.table import Table
 from fogts.units import parse_rate_unit
 
@@ -68,7 +70,7 @@ def _is_rate_name(name: str) -> bool:
     n = _norm(name)
     if n in ("sample_rate", "rate_hz", "fs", "fs_hz"):
         return False
-    return n in _RATE_NAMES or n.startswith(_RATE_PREFIXES)
+    return n in _RATE_NAMES or n.startswith(_RATE_PREFIXES) or is_angle_name(name)
 
 
 def _resolve(columns: list[str], name: str, role: str) -> str:
@@ -84,18 +86,28 @@ def _resolve(columns: list[str], name: str, role: str) -> str:
 
 @dataclass(frozen=True)
 class Roles:
-    """The time column (None: no time base in the columns), the rate columns (one per
-    axis) and the temperature column (None: none)."""
+    """The time column (None: no time base in the columns), the sensor columns (one per
+    axis: the rate columns, then the accelerometer columns), the temperature column (None:
+    none) and which of the sensor columns are accelerometers."""
 
     time: str | None
     rate: tuple[str, ...]
     temperature: str | None
+    accel: tuple[str, ...] = ()
+
+    @property
+    def gyro(self) -> tuple[str, ...]:
+        """The sensor columns that are not accelerometers."""
+        return tuple(c for c in self.rate if c not in self.accel)
 
 
 def assign_roles(table: Table, rate_column: str | Sequence[str] | None,
-                 time_column: str | None, temperature_column: str | None) -> Roles:
+                 time_column: str | None, temperature_column: str | None,
+                 accel_column: str | Sequence[str] | None = None) -> Roles:
     """Given columns (by name, case-insensitive name or position) first, then detection by
-    name; a column cannot be both a rate and the time or temperature."""
+    name; a column cannot be both a rate and the time or temperature.  Accelerometer
+    columns (:func:`fogts.io.accel.is_accel_name`) are detected only when no rate column
+    is given; ``accel_column`` names them (an empty list: none)."""
     cols = list(table.frame.columns)
     time = _resolve(cols, time_column, "time") if time_column else None
     temp = _resolve(cols, temperature_column, "temperature") if temperature_column else None
@@ -103,22 +115,40 @@ def assign_roles(table: Table, rate_column: str | Sequence[str] | None,
         time = next((c for c in cols if _is_time_name(c)), None)
     if temp is None:
         temp = next((c for c in cols if _is_temp_name(c) and c != time), None)
+    accel = _accel_columns(cols, accel_column, rate_column, time, temp)
     if rate_column is not None:
         names = [rate_column] if isinstance(rate_column, str) else list(rate_column)
         rate = tuple(_resolve(cols, n, "rate") for n in names)
     else:
-        rate = _detect_rate(table, cols, time, temp)
+        rate = _detect_rate(table, [c for c in cols if c not in accel], time, temp,
+                            bool(accel))
+    both = set(rate) & set(accel)
+    if both:
+        raise DataError(f"column {sorted(both)[0]!r} cannot be both a rate and an "
+                        "accelerometer column")
+    rate = (*rate, *accel)
     clash = {time, temp} & set(rate)
     if clash - {None}:
         raise DataError(f"column {sorted(c for c in clash if c)[0]!r} cannot be both a rate "
                         "and a time/temperature column")
-    return Roles(time, rate, temp)
+    return Roles(time, rate, temp, accel)
+
+
+def _accel_columns(cols: list[str], accel_column: str | Sequence[str] | None,
+                   rate_column: str | Sequence[str] | None, time: str | None,
+                   temp: str | None) -> tuple[str, ...]:
+    if accel_column is not None:
+        names = [accel_column] if isinstance(accel_column, str) else list(accel_column)
+        return tuple(_resolve(cols, n, "accelerometer") for n in names)
+    if rate_column is not None:
+        return ()
+    return tuple(c for c in cols if c not in (time, temp) and is_accel_name(c))
 
 
 def _detect_rate(table: Table, cols: list[str], time: str | None,
-                 temp: str | None) -> tuple[str, ...]:
+                 temp: str | None, have_accel: bool = False) -> tuple[str, ...]:
     named = tuple(c for c in cols if c not in (time, temp) and _is_rate_name(c))
-    if named:
+    if named or have_accel:
         return named
     rest = [c for c in cols if c not in (time, temp)]
     if not table.header:

@@ -31,6 +31,8 @@ import pandas as pd
 from fogts._typing import IntArray
 from fogts._validate import check_positive
 from fogts.errors import DataError, InsufficientDataError
+from fogts.io.accel import accel_unit
+from fogts.io.angle import ANGLE_UNIT_RATE, input_kind, rate_unit_of_angle, to_rate
 from fogts.io.arrays import array_table, frame_table, npy_table, npz_table, parquet_table
 from fogts.io.columns import assign_roles, rate_unit, sidecar_unit
 from fogts.io.limits import check_regular_file, read_capped
@@ -41,7 +43,7 @@ from fogts.io.run import MissingReport, Run
 from fogts.io.table import MIN_SAMPLES, Table, numeric_column
 from fogts.io.text import text_file_table
 from fogts.io.timebase import sample_rate, sampling_report, time_base
-from fogts.units import parse_rate_unit
+from fogts.units import parse_accel_unit, parse_rate_unit
 
 __all__ = ["MIN_SAMPLES", "read_json", "read_run"]
 
@@ -67,6 +69,9 @@ def read_run(
     units: str | None = None,
     nan: str = "error",
     topic: str | None = None,
+    accel_column: str | Sequence[str] | None = None,
+    accel_units: str | None = None,
+    input: str | None = None,
 ) -> Run:
     """Read a static gyro recording.
 
@@ -96,6 +101,18 @@ def read_run(
         done is recorded in ``Run.missing``.  Non-numeric text is always an error.
     topic : str, optional
         ROS bags: the ``sensor_msgs/Imu`` topic (needed when the bag has several).
+    accel_column : str or sequence of str, optional
+        Accelerometer column(s), analysed as further axes after the rate axes.  Default:
+        detected by name (``acc*``, ``ax``, ``linear_acceleration_*``; see
+        :mod:`fogts.io.accel`) when ``rate_column`` is not given; ``[]`` reads none.
+    accel_units : str, optional
+        Their unit (``m/s^2``, ``g``, ``mg``, ``ug``).  Default: from a hint in the names
+        (``acc_x_mps2``, ``accel_g``), else from the length of the mean vector (gravity),
+        else m/s^2 (``Run.accel_units_source`` says which).
+    input : {"rate", "increment", "angle"}, optional
+        What the rate columns hold (:mod:`fogts.io.angle`).  Default: from the names
+        (``dtheta``, ``delta_angle``: increments; ``angle``, ``theta``: angle), else rate.
+        For angles ``units`` may be an angle unit (``deg``, ``rad``, ``arcsec``).
 
     Returns
     -------
@@ -117,7 +134,10 @@ def read_run(
     """
     if fs_hz is not None:
         fs_hz = check_positive("fs_hz", fs_hz)
+    if units is not None:
+        units = ANGLE_UNIT_RATE.get(str(units).strip().lower(), units)
     unit = parse_rate_unit(units) if units is not None else None
+    acc_unit = parse_accel_unit(accel_units, "accel_units") if accel_units is not None else None
     if nan not in NAN_POLICIES:
         raise DataError(f"nan must be one of {', '.join(NAN_POLICIES)}; got {nan!r}")
     table = _load_table(source, topic)
@@ -125,7 +145,8 @@ def read_run(
         table = dataclasses.replace(table, sidecar_unit=sidecar_unit(Path(source)))
     options: dict[str, Any] = {"rate_column": rate_column, "time_column": time_column,
                                "temperature_column": temperature_column, "fs_hz": fs_hz,
-                               "units": unit, "nan": nan}
+                               "units": unit, "nan": nan, "accel_column": accel_column,
+                               "accel_units": acc_unit, "input": input}
     try:
         return _table_to_run(table, **options)
     except DataError:
@@ -193,8 +214,15 @@ def _file_table(path: Path, topic: str | None = None) -> Table:
 
 def _table_to_run(table: Table, *, rate_column: str | Sequence[str] | None,
                   time_column: str | None, temperature_column: str | None,
-                  fs_hz: float | None, units: str | None, nan: str = "error") -> Run:
-    roles = assign_roles(table, rate_column, time_column, temperature_column)
+                  fs_hz: float | None, units: str | None, nan: str = "error",
+                  accel_column: str | Sequence[str] | None = None,
+                  accel_units: str | None = None, input: str | None = None) -> Run:
+    roles = assign_roles(table, rate_column, time_column, temperature_column, accel_column)
+    kind = input_kind(input, roles.gyro)
+    if kind != "rate" and roles.accel:
+        raise DataError(f"input={kind!r} applies to angle columns; the accelerometer columns "
+                        f"{', '.join(roles.accel)} cannot be read with them: pass "
+                        "accel_column=[] (or read them separately)")
     n = table.frame.shape[0]
     if n < MIN_SAMPLES:
         raise InsufficientDataError(f"{table.source} has {n} data row(s); at least "
@@ -225,12 +253,22 @@ def _table_to_run(table: Table, *, rate_column: str | Sequence[str] | None,
         missing = missing_report(nan, roles.rate, [m for _, m in filled], temperature)
         if temperature is not None:
             temperature = interpolate_missing(temperature, time, str(roles.temperature))[0]
+    rate_cols, angle = to_rate(kind, rate_cols, float(fs))
+    if kind == "angle":  # n angles give n - 1 rates, each timed at the start of its step
+        time, dt = time[:-1], dt[:-1] if dt is not None else None
+        temperature = temperature[:-1] if temperature is not None else None
     for name, col in zip(roles.rate, rate_cols, strict=True):
         if np.ptp(col) == 0:
             raise DataError(f"rate column {name!r} is constant (every value is {col[0]:g}); a "
                             "gyro record must vary: check the column or the logger")
     rate = rate_cols[0] if len(rate_cols) == 1 else np.column_stack(rate_cols)
-    unit, unit_source = rate_unit(units, roles.rate, table.unit_hint, table.sidecar_unit)
+    angle_unit = rate_unit_of_angle(None, roles.gyro) if kind != "rate" and not units else None
+    unit, unit_source = ((angle_unit, "column name") if angle_unit is not None else
+                         rate_unit(units, roles.gyro, table.unit_hint, table.sidecar_unit))
+    axis_units, acc_source = _axis_units(roles, unit, rate_cols, accel_units,
+                                         table.accel_unit)
+    if not roles.gyro:
+        unit, unit_source = axis_units[0], acc_source
     return Run(
         rate=np.ascontiguousarray(rate, dtype=np.float64),
         time=time,
@@ -245,4 +283,19 @@ def _table_to_run(table: Table, *, rate_column: str | Sequence[str] | None,
         comments=table.comments,
         units_source=unit_source,
         missing=missing,
+        axis_units=axis_units,
+        accel_units_source=acc_source,
+        input_kind=kind,
+        angle=angle,
     )
+
+
+def _axis_units(roles: Any, gyro_unit: str, columns: list[Any], given: str | None,
+                recorded: str | None) -> tuple[tuple[str, ...], str]:
+    """Per-axis units (empty without accelerometer columns) and the accelerometer unit's
+    source."""
+    if not roles.accel:
+        return (), ""
+    acc = [c for c, name in zip(columns, roles.rate, strict=True) if name in roles.accel]
+    unit, source = accel_unit(given, roles.accel, acc, recorded)
+    return tuple(unit if name in roles.accel else gyro_unit for name in roles.rate), source

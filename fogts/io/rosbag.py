@@ -66,7 +66,8 @@ def rosbag_table(path: Path, topic: str | None = None) -> Table:
         frame[f"linear_acceleration_{axis}"] = accel[order, i]
     comments = (f"topic {connections[0].topic}; first header stamp {first_ns // 10**9}."
                 f"{first_ns % 10**9:09d} s",)
-    return Table(frame, str(bag), None, comments, None, None, True, sidecar_unit="rad/s")
+    return Table(frame, str(bag), None, comments, None, None, True, sidecar_unit="rad/s",
+                 accel_unit="m/s^2")
 
 
 def _check_size(bag: Path) -> None:

@@ -148,6 +148,22 @@ class Run:
         convention; every command then warns).
     missing : MissingReport or None
         Empty/NaN/inf cells dropped or interpolated on reading (None: there were none).
+    axis_units : tuple of str
+        The unit of each axis when they differ (an IMU file: the gyro axes in a rate unit,
+        the accelerometer axes, after them, in a specific-force unit such as m/s^2 or g;
+        :func:`fogts.io.accel.accel_unit`); empty: every axis is in ``units``.  See
+        :meth:`unit_of`.
+    accel_units_source : str
+        Where the accelerometer unit came from (``"given"``, ``"column name"``,
+        ``"gravity magnitude"``, ``"assumed"``); empty without accelerometer axes.
+    input_kind : str
+        What the file held: ``"rate"``, ``"increment"`` (angle per sample) or ``"angle"``
+        (integrated angle); see :mod:`fogts.io.angle`.
+    angle : ndarray of float64 or None
+        For angle and increment input: the angle itself, relative to the first, in
+        ``units`` x seconds, shape ``(n + 1,)`` or ``(n + 1, n_axes)`` (the rate is its
+        difference times ``fs_hz``).  The Allan estimators use it as the phase; None for
+        rate input, and dropped by anything that changes the rate.
     """
 
     rate: FloatArray
@@ -163,6 +179,27 @@ class Run:
     comments: tuple[str, ...] = field(default=())
     units_source: str = "given"
     missing: MissingReport | None = None
+    axis_units: tuple[str, ...] = ()
+    accel_units_source: str = ""
+    input_kind: str = "rate"
+    angle: FloatArray | None = field(default=None, repr=False)
+
+    def axis_angle(self, i: int) -> FloatArray | None:
+        """The angle of axis ``i`` (None for rate input)."""
+        if self.angle is None:
+            return None
+        return self.angle if self.angle.ndim == 1 else np.ascontiguousarray(self.angle[:, i])
+
+    def unit_of(self, name_or_index: str | int = 0) -> str:
+        """The unit of one axis (``units`` unless ``axis_units`` says otherwise)."""
+        if not self.axis_units:
+            return self.units
+        i = (self.axes.index(name_or_index) if isinstance(name_or_index, str)
+             and name_or_index in self.axes else name_or_index)
+        if not isinstance(i, int):
+            raise DataError(f"axis {name_or_index!r} not found; axes are: "
+                            f"{', '.join(self.axes)}")
+        return self.axis_units[i]
 
     @property
     def units_assumed(self) -> bool:

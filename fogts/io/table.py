@@ -41,6 +41,7 @@ class Table:
     header: bool
     unit_hint: str = ""  # e.g. an .npz key such as ``gyro_deg_s``
     sidecar_unit: str | None = None  # from a ``<file>.json`` written by fogts simulate
+    accel_unit: str | None = None  # fixed by the format (a ROS Imu message: m/s^2)
     # For text parsed by the fast path: re-parse line by line (for error messages that
     # name the file line).
     reparse: Callable[[], Table] | None = None

@@ -17,7 +17,7 @@ from fogts._validate import check_positive
 from fogts.io.run import Run, SamplingReport
 from fogts.io.timebase import GAP_FACTOR, sampling_report
 
-__all__ = ["Gap", "GapReport", "find_gaps", "segment_run"]
+__all__ = ["Gap", "GapReport", "fill_gaps_nan", "find_gaps", "segment_run"]
 
 #: Time steps examined at a time (bounds the temporary memory on 1e8-sample records).
 CHUNK = 4_000_000
@@ -130,12 +130,42 @@ def find_gaps(time_s: Any, *, fs_hz: float, sampling: SamplingReport | None = No
 
 
 def segment_run(run: Run, start: int, stop: int) -> Run:
-    """``run`` restricted to rows ``[start, stop)``, its time rebased to zero."""
+    """``run`` restricted to rows ``[start, stop)``, its time (and angle) rebased to zero."""
     time = run.time[start:stop] - run.time[start]
+    angle = None if run.angle is None else run.angle[start:stop + 1] - run.angle[start]
     dt = np.diff(time) if stop - start > 1 else None
     fs_source = run.sampling.fs_source if run.sampling is not None else "given"
     return dataclasses.replace(
         run, rate=run.rate[start:stop], time=time,
         temperature=None if run.temperature is None else run.temperature[start:stop],
         sampling=sampling_report(dt, run.fs_hz, fs_source),
-        source=run.source)
+        source=run.source, angle=angle)
+
+
+def fill_gaps_nan(run: Run) -> Run:
+    """``run`` on its regular grid ``k / fs`` (each sample at its nearest grid point), NaN
+    where no sample fell: the input of the gap-robust ADEV (:func:`fogts.allan.gradev.
+    gradev`).  Temperature gets NaN there too; an angle record's angle is dropped.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from fogts.io.run import Run
+    >>> t = np.r_[0.0, 0.1, 0.2, 0.5, 0.6]
+    >>> run = Run(rate=np.arange(5.0), time=t, fs_hz=10.0, units="deg/h", axes=("rate",))
+    >>> fill_gaps_nan(run).rate.tolist()
+    [0.0, 1.0, 2.0, nan, nan, 3.0, 4.0]
+    """
+    slot = np.rint(run.time * run.fs_hz).astype(np.int64)
+    size = int(slot[-1]) + 1
+    shape = (size,) if run.rate.ndim == 1 else (size, run.rate.shape[1])
+    rate = np.full(shape, np.nan)
+    rate[slot] = run.rate
+    temperature = None
+    if run.temperature is not None:
+        temperature = np.full(size, np.nan)
+        temperature[slot] = run.temperature
+    time = np.arange(size, dtype=np.float64) / run.fs_hz
+    return dataclasses.replace(
+        run, rate=rate, time=time, temperature=temperature, angle=None,
+        sampling=sampling_report(np.diff(time), run.fs_hz, "given"))

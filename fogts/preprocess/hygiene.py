@@ -7,11 +7,14 @@ answer wrong is printed before the answer, and recorded in the JSON:
 * empty/NaN cells were dropped or interpolated (:class:`fogts.io.run.MissingReport`);
 * the time base has gaps (:class:`~fogts.preprocess.gaps.GapReport`), handled by the gap
   policy: ``warn`` (analyse as if regular and say so), ``error``, ``split`` (the longest
-  regular segment) or ``ignore`` (no warning; still recorded);
+  regular segment), ``nan`` (the whole record on the regular grid, NaN where samples are
+  missing, for the gap-robust ADEV :func:`fogts.allan.gradev.gradev`) or ``ignore`` (no
+  warning; still recorded);
 * glitches: samples far outside the noise that arrive by a jump
   (:func:`~fogts.preprocess.glitches.detect_glitches`).
 
-Nothing here changes the data except ``gaps="split"``, which is recorded.
+Nothing here changes the data except ``gaps="split"`` and ``gaps="nan"``, which are
+recorded.
 """
 
 from __future__ import annotations
@@ -25,7 +28,7 @@ from fogts._validate import check_choice
 from fogts.choices import GAP_POLICIES, GapPolicy
 from fogts.errors import DataError
 from fogts.io.run import MissingReport, Run
-from fogts.preprocess.gaps import Gap, GapReport, find_gaps, segment_run
+from fogts.preprocess.gaps import Gap, GapReport, fill_gaps_nan, find_gaps, segment_run
 from fogts.preprocess.glitches import GLITCH_SIGMAS, Glitch, GlitchReport, detect_glitches
 
 __all__ = ["GAP_POLICIES", "GLITCH_SIGMAS", "DataQuality", "Gap", "GapReport", "Glitch",
@@ -89,6 +92,10 @@ class DataQuality:
             return [] if self.gap_policy == "ignore" or g.jitter_rel < 0.01 or g.burst_logged \
                 else [f"time steps jitter by {100 * g.jitter_rel:.3g} % of the nominal step; "
                       "analysed as if regular"]
+        if self.gap_policy == "nan":
+            return [f"{g.summary()}; --gaps nan: the whole record on the regular grid, "
+                    "missing samples as NaN, gap-robust overlapping ADEV (Sesia & Tavella "
+                    "2008)"]
         if self.segment is not None:
             a, b = self.segment
             return [f"{g.summary()}; --gaps split: analysing the longest regular segment, "
@@ -168,6 +175,8 @@ def assess_run(run: Run, *, gaps: GapPolicy = "warn", glitches: bool = True,
     found = tuple(detect_glitches(run.axis(i), time_s=run.time, threshold=glitch_threshold,
                                   axis=name, units=run.units)
                   for i, name in enumerate(run.axes)) if glitches else ()
+    if gaps == "nan" and report.n_gaps:
+        run = fill_gaps_nan(run)
     quality = DataQuality(run.source, run.units, run.units_source, run.axes, run.missing,
                           gaps, report, segment, n_input, run.fs_hz, found)
     return run, quality

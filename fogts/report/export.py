@@ -13,11 +13,16 @@ IEEE 952's N^2/tau and K^2 tau/3).  imu_utils itself writes the Allan minimum (a
 instability) as ``gyr_w``; the file written here carries K there, as the filters that read
 the file expect, and says so in a comment.
 
+Accelerometer axes (:mod:`fogts.io.accel`) give the accelerometer pair the same way, from
+their N and K in SI (:data:`fogts.units.ACCEL_TERM_SI_FACTOR`):
+``accelerometer_noise_density`` = ``acc_n`` = N in m/s^2/sqrt(Hz) and
+``accelerometer_random_walk`` = ``acc_w`` = K in m/s^3/sqrt(Hz).
+
 A term that the data do not measure (at zero, dropped, or z < 2) is exported as its
 one-sided 95 % upper limit and marked as such in a comment: a filter then gets a
 conservative value, never a zero.  Kalibr wants one value per sensor: the largest axis is
-written (conservative), every axis in a comment.  fogts analyses gyro axes only, so the
-accelerometer pair is not written; a comment says so.
+written (conservative), every axis in a comment.  A record without accelerometer axes
+leaves the accelerometer pair out, and a comment says so.
 """
 
 from __future__ import annotations
@@ -35,7 +40,7 @@ from fogts._version import __version__
 from fogts.choices import EXPORT_FORMATS, ExportFormat
 from fogts.errors import DataError
 from fogts.pipeline import AllanAnalysis, AxisAllan
-from fogts.units import TERM_SI_UNIT
+from fogts.units import term_unit
 
 __all__ = ["ExportedTerm", "export_noise", "exported_terms", "noise_export_text"]
 
@@ -53,12 +58,14 @@ class ExportedTerm:
         Axis name.
     term : str
         ``"N"`` or ``"K"``.
+    quantity : str
+        ``"rate"`` (a gyro axis) or ``"accel"`` (an accelerometer axis).
     value_si : float
         The fitted value, or for a term that is only a limit its 95 % upper limit, in SI.
     is_limit : bool
         True when ``value_si`` is the 95 % upper limit.
     unit : str
-        SI unit (:data:`fogts.units.TERM_SI_UNIT`).
+        SI unit (:data:`fogts.units.TERM_SI_UNIT`, :data:`fogts.units.ACCEL_TERM_SI_UNIT`).
     """
 
     axis: str
@@ -66,6 +73,7 @@ class ExportedTerm:
     value_si: float
     is_limit: bool
     unit: str
+    quantity: str = "rate"
 
     @property
     def comment(self) -> str:
@@ -89,7 +97,8 @@ def exported_terms(axis: AxisAllan) -> dict[str, ExportedTerm]:
         value = shown["upper_limit_95"] if limit else shown["value"]
         if not math.isfinite(value):
             raise DataError(f"{name}: {term} has no finite value or upper limit to export")
-        out[term] = ExportedTerm(name, term, float(value), limit, TERM_SI_UNIT[term])
+        out[term] = ExportedTerm(name, term, float(value), limit,
+                                 term_unit(term, "si", model.quantity), model.quantity)
     return out
 
 
@@ -122,19 +131,43 @@ def _axis_comments(terms: dict[str, dict[str, ExportedTerm]]) -> list[str]:
             for axis, by_term in terms.items()]
 
 
+def _of(terms: dict[str, dict[str, ExportedTerm]], quantity: str
+        ) -> dict[str, dict[str, ExportedTerm]]:
+    """The axes of one quantity (``"rate"`` or ``"accel"``)."""
+    return {axis: by_term for axis, by_term in terms.items()
+            if by_term["N"].quantity == quantity}
+
+
+def _worst(terms: dict[str, dict[str, ExportedTerm]]) -> dict[str, ExportedTerm]:
+    return {term: max((by_term[term] for by_term in terms.values()), key=lambda t: t.value_si)
+            for term in _FILTER_TERMS}
+
+
+_KALIBR_KEYS = {"rate": ("gyroscope_noise_density", "gyroscope_random_walk"),
+                "accel": ("accelerometer_noise_density", "accelerometer_random_walk")}
+
+
 def _kalibr(analysis: AllanAnalysis, terms: dict[str, dict[str, ExportedTerm]]) -> str:
-    worst = {term: max((by_term[term] for by_term in terms.values()),
-                       key=lambda t: t.value_si) for term in _FILTER_TERMS}
-    body = {"rostopic": "/imu0", "update_rate": float(analysis.run.fs_hz),
-            "gyroscope_noise_density": worst["N"].value_si,
-            "gyroscope_random_walk": worst["K"].value_si}
-    marks = {"gyroscope_noise_density": worst["N"], "gyroscope_random_walk": worst["K"]}
+    body: dict[str, Any] = {"rostopic": "/imu0", "update_rate": float(analysis.run.fs_hz)}
+    marks: dict[str, ExportedTerm] = {}
     lines = _header(analysis, "Kalibr IMU noise model (imu.yaml)")
-    lines += ["# gyroscope_noise_density: N in rad/s/sqrt(Hz); gyroscope_random_walk: K in "
-              "rad/s^2/sqrt(Hz); the largest axis of:"]
-    lines += _axis_comments(terms)
-    lines += ["# accelerometer_noise_density and accelerometer_random_walk are not written: "
-              "fogts analysed gyro axes only; add them from the accelerometer's analysis."]
+    for quantity, (density, walk) in _KALIBR_KEYS.items():
+        group = _of(terms, quantity)
+        if not group:
+            continue
+        worst = _worst(group)
+        body[density], body[walk] = worst["N"].value_si, worst["K"].value_si
+        marks[density], marks[walk] = worst["N"], worst["K"]
+        lines += [f"# {density}: N in {worst['N'].unit}; {walk}: K in {worst['K'].unit}; "
+                  "the largest axis of:"]
+        lines += _axis_comments(group)
+    if not _of(terms, "accel"):
+        lines += ["# accelerometer_noise_density and accelerometer_random_walk are not "
+                  "written: the record has no accelerometer axes; add them from the "
+                  "accelerometer's analysis."]
+    if not _of(terms, "rate"):
+        lines += ["# gyroscope_noise_density and gyroscope_random_walk are not written: the "
+                  "record has no gyro axes."]
     for line in yaml.safe_dump(body, sort_keys=False).splitlines():
         key = line.split(":", 1)[0]
         mark = marks.get(key)
@@ -142,22 +175,40 @@ def _kalibr(analysis: AllanAnalysis, terms: dict[str, dict[str, ExportedTerm]]) 
     return "\n".join(lines) + "\n"
 
 
-def _imu_utils(analysis: AllanAnalysis, terms: dict[str, dict[str, ExportedTerm]]) -> str:
+def _imu_utils_block(terms: dict[str, dict[str, ExportedTerm]], prefix: str, unit: str
+                     ) -> tuple[dict[str, Any], list[str]]:
+    """One imu_utils sensor block (``Gyr`` or ``Acc``) and the comments naming its axes."""
     axes = list(terms)
     keys = ([f"{c}-axis" for c in "xyz"] if len(axes) == 3
             else [f"{a}-axis" for a in axes])
     mean = {term: sum(terms[a][term].value_si for a in axes) / len(axes)
             for term in _FILTER_TERMS}
-    gyr: dict[str, Any] = {"unit": " rad/s",
-                           "avg-axis": {"gyr_n": mean["N"], "gyr_w": mean["K"]}}
+    block: dict[str, Any] = {"unit": unit,
+                             "avg-axis": {f"{prefix}_n": mean["N"], f"{prefix}_w": mean["K"]}}
     for key, axis in zip(keys, axes, strict=True):
-        gyr[key] = {"gyr_n": terms[axis]["N"].value_si, "gyr_w": terms[axis]["K"].value_si}
-    body = {"type": "IMU", "name": Path(analysis.run.source).stem, "Gyr": gyr}
+        block[key] = {f"{prefix}_n": terms[axis]["N"].value_si,
+                      f"{prefix}_w": terms[axis]["K"].value_si}
+    label = "" if prefix == "gyr" else "Acc "
+    return block, [f"# {label}{key} is {axis}" for key, axis in zip(keys, axes, strict=True)]
+
+
+def _imu_utils(analysis: AllanAnalysis, terms: dict[str, dict[str, ExportedTerm]]) -> str:
+    body: dict[str, Any] = {"type": "IMU", "name": Path(analysis.run.source).stem}
     lines = ["%YAML:1.0", "---"]
     lines += _header(analysis, "imu_utils IMU parameters (OpenCV YAML)")
-    lines += ["# gyr_n: N in rad/s/sqrt(Hz); gyr_w: K (rate random walk) in rad/s^2/sqrt(Hz), "
-              "where imu_utils writes the Allan minimum; avg-axis: the mean of the axes"]
-    lines += [f"# {key} is {axis}" for key, axis in zip(keys, axes, strict=True)]
+    naming: list[str] = []
+    if _of(terms, "rate"):
+        body["Gyr"], names = _imu_utils_block(_of(terms, "rate"), "gyr", " rad/s")
+        naming += names
+        lines += ["# gyr_n: N in rad/s/sqrt(Hz); gyr_w: K (rate random walk) in "
+                  "rad/s^2/sqrt(Hz), where imu_utils writes the Allan minimum; avg-axis: the "
+                  "mean of the axes"]
+    if _of(terms, "accel"):
+        body["Acc"], names = _imu_utils_block(_of(terms, "accel"), "acc", " m/s^2")
+        naming += names
+        lines += ["# acc_n: N in m/s^2/sqrt(Hz); acc_w: K (acceleration random walk) in "
+                  "m/s^3/sqrt(Hz), where imu_utils writes the Allan minimum"]
+    lines += naming
     lines += _axis_comments(terms)
     lines += yaml.safe_dump(body, sort_keys=False, indent=3).splitlines()
     return "\n".join(lines) + "\n"

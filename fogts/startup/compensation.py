@@ -125,7 +125,7 @@ def compensate(run: Run, model: ThermalModel, *, axis: int | str = 0,
             raise DataError(f"axis {axis!r} not found; axes are: {', '.join(run.axes)}")
         run.axis(i)  # validates the index
         rate[:, i] -= drift
-    return replace(run, rate=rate, source=f"{run.source} (thermally compensated)")
+    return replace(run, rate=rate, source=f"{run.source} (thermally compensated)", angle=None)
 
 
 # --------------------------------------------------------------------------- bias stability

@@ -286,8 +286,9 @@ def test_bad_arguments_raise(rate: np.ndarray) -> None:
         allan_deviation(rate, fs_hz=FS, kind="tdev")  # type: ignore[arg-type]
     with pytest.raises(DataError, match=r"confidence must be in \(0, 1\), got 1.5"):
         allan_deviation(rate, fs_hz=FS, confidence=1.5)
-    with pytest.raises(DataError, match=r"units must be one of deg/h, deg/s, rad/s, arcsec/s, "
-                                        r"got 'furlong/s'"):
+    with pytest.raises(DataError, match=r"units must be a rate unit \(deg/h, deg/s, rad/s, "
+                                        r"arcsec/s\) or a specific-force unit \(m/s\^2, g, "
+                                        r"mg, ug\), got 'furlong/s'"):
         allan_deviation(rate, fs_hz=FS, units="furlong/s")
     with pytest.raises(DataError, match=r"fs_hz must be a finite number > 0, got -1"):
         allan_deviation(rate, fs_hz=-1)

@@ -128,3 +128,14 @@ def test_too_few_taus_for_the_extra_parameters() -> None:
                        match="3 usable taus, fewer than the 5 parameters of the terms "
                              r"requested \(N, B, K, M\)"):
         fogts.fit_noise(res, terms="N,B,K,M")
+
+
+def test_markov_and_sinusoid_terms_are_refused_on_an_accelerometer_curve() -> None:
+    """The M and S closed forms and their units are those of a gyro's rate (deg/h)."""
+    import numpy as np
+
+    x = 1e-3 * np.random.default_rng(1).standard_normal(20_000)
+    curve = fogts.allan_deviation(x, fs_hz=100.0, units="m/s^2")
+    with pytest.raises(fogts.DataError, match=r"terms M .* gyro rate curves only; this curve "
+                                              r"is in 'm/s\^2'"):
+        fogts.fit_noise(curve, terms="N,B,K,M")

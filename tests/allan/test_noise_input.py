@@ -59,7 +59,7 @@ def test_input_errors() -> None:
     bad_kind = make_result(good.tau_s, good.dev, kind="mdev")
     with pytest.raises(DataError, match=r"kind must be one of adev, oadev, totdev .* got 'mdev'"):
         fit_noise(bad_kind)
-    with pytest.raises(DataError, match="allan_result.units must be one of"):
+    with pytest.raises(DataError, match="allan_result.units must be a rate unit"):
         fit_noise(_Fake(units="furlong/s"))
     with pytest.raises(DataError, match="1-D of equal length"):
         fit_noise(_Fake(dev=np.ones(3)))

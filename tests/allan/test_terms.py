@@ -93,3 +93,35 @@ def test_conversion_errors(func: object, arg: dict, match: str) -> None:
 def test_parse_terms() -> None:
     assert parse_terms(" r, q ,N") == ("Q", "N", "R")
     assert parse_terms(("K",)) == ("K",)
+
+
+# --------------------------------------------------------------------------- accelerometers
+
+
+def test_accelerometer_table_shares_the_gyro_laws() -> None:
+    """Same powers and Allan constants as IEEE 952; only names, units and the hour scaling
+    differ (the coefficient is in m/s^2 and seconds)."""
+    from fogts.allan.terms import ACCEL_TERMS, TERMS
+
+    for name, row in ACCEL_TERMS.items():
+        assert (row.power, row.allan_root) == (TERMS[name].power, TERMS[name].allan_root)
+    # N = 60 C_-1 (m/s/sqrt(s) -> m/s/sqrt(h)); B = C_0 / 0.664 / 9.80665e-6 (ug);
+    # K = 60^3 sqrt(3) C_1 (m/s^2.5 -> m/s/h^1.5); R = 60^4 sqrt(2) C_2; Q = C_-2 / sqrt(3)
+    c = {-2: 1e-4, -1: 1e-3, 0: 2e-4, 1: 5e-6, 2: 1e-8}
+    t = terms_from_c(c, "accel")
+    assert t["N"] == pytest.approx(0.06, rel=1e-14)
+    assert t["B"] == pytest.approx(2e-4 / 0.664 / 9.80665e-6, rel=1e-14)
+    assert t["K"] == pytest.approx(216_000 * math.sqrt(3) * 5e-6, rel=1e-14)
+    assert t["R"] == pytest.approx(60**4 * math.sqrt(2) * 1e-8, rel=1e-14)
+    assert t["Q"] == pytest.approx(1e-4 / math.sqrt(3), rel=1e-14)
+    back = c_from_terms(t, "accel")
+    assert all(back[k] == pytest.approx(v, rel=1e-14) for k, v in c.items())
+    assert ACCEL_TERMS["N"].description == "velocity random walk"
+    assert ACCEL_TERMS["K"].description == "acceleration random walk"
+
+
+def test_unknown_quantity() -> None:
+    from fogts.allan.terms import term_rows
+
+    with pytest.raises(DataError, match="quantity must be one of rate, accel; got 'mag'"):
+        term_rows("mag")

@@ -100,7 +100,7 @@ def test_gaps_split_and_error(gappy_csv: Path, tmp_path: Path) -> None:
     res = runner.invoke(app, ["davar", str(gappy_csv), "--gaps", "sometimes"])
     assert res.exit_code == 2 and error_output(res.stderr) == (
         "error: Invalid value for '--gaps': 'sometimes' is not one of 'warn', 'error', "
-        "'split', 'ignore'. (see 'fogts davar --help')")
+        "'split', 'ignore', 'nan'. (see 'fogts davar --help')")
 
 
 def test_select_and_davar_report_gaps_in_json(gappy_csv: Path, tmp_path: Path) -> None:

@@ -27,10 +27,15 @@ def test_v5_matrix_columns_are_axes_and_fs_is_read(tmp_path: Path) -> None:
     scipy.io.savemat(path, {"gyroReading": gyro, "accReading": acc, "fs": FS,
                             "calib": np.eye(3)})
     run = read_run(path, units="deg/s")
-    assert run.axes == ("gyroReading_0", "gyroReading_1", "gyroReading_2")
+    # accReading is recognised as the accelerometer: three more axes after the gyro's
+    assert run.axes == ("gyroReading_0", "gyroReading_1", "gyroReading_2",
+                        "accReading_0", "accReading_1", "accReading_2")
     assert run.fs_hz == pytest.approx(FS, rel=1e-15)
-    np.testing.assert_array_equal(run.rate, gyro)   # read, not computed: exact
+    np.testing.assert_array_equal(run.rate, np.hstack([gyro, acc]))  # read, not computed
     assert run.units == "deg/s"
+    assert run.axis_units[:3] == ("deg/s",) * 3
+    gyro_only = read_run(path, units="deg/s", accel_column=[])
+    np.testing.assert_array_equal(gyro_only.rate, gyro)
 
 
 def test_v5_struct_fields_and_a_time_vector(tmp_path: Path) -> None:
@@ -98,5 +103,10 @@ def test_ch104_reads_directly() -> None:
                                         "fs_hz="):
         read_run(path)  # the file stores no sample rate: the error says what to pass
     run = read_run(path, units="deg/s", fs_hz=100.0)
-    assert run.axes == ("gyroReading_0", "gyroReading_1", "gyroReading_2")
+    assert run.axes == ("gyroReading_0", "gyroReading_1", "gyroReading_2",
+                        "accReading_0", "accReading_1", "accReading_2")
+    # accReading's mean vector is 1.007 long: g (within GRAVITY_TOLERANCE of 1 g, 9.8 % of
+    # the next candidate m/s^2)
+    assert run.axis_units == ("deg/s",) * 3 + ("g",) * 3
+    assert run.accel_units_source == "gravity magnitude"
     assert run.n == 321_253

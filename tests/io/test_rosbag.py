@@ -72,22 +72,27 @@ def _write_ros1(path: Path) -> tuple[np.ndarray, np.ndarray]:
 
 
 def test_ros2_bag_gives_three_rate_axes_in_rad_s(tmp_path: Path) -> None:
-    gyro, _ = _write_ros2(tmp_path / "bag")
+    gyro, accel = _write_ros2(tmp_path / "bag")
     run = read_run(tmp_path / "bag")
-    assert run.axes == ("angular_velocity_x", "angular_velocity_y", "angular_velocity_z")
+    assert run.axes == ("angular_velocity_x", "angular_velocity_y", "angular_velocity_z",
+                        "linear_acceleration_x", "linear_acceleration_y",
+                        "linear_acceleration_z")
     assert run.units == "rad/s" and run.units_source == "file metadata"
+    # the message fixes m/s^2 for linear_acceleration: three accelerometer axes
+    assert run.axis_units == ("rad/s",) * 3 + ("m/s^2",) * 3
+    assert run.accel_units_source == "file metadata"
     assert run.fs_hz == pytest.approx(FS, rel=1e-9)
-    np.testing.assert_array_equal(run.rate, gyro)  # read, not computed
+    np.testing.assert_array_equal(run.rate, np.hstack([gyro, accel]))  # read, not computed
     assert run.time[0] == 0.0
     # The storage file names the same bag.
     db3 = next((tmp_path / "bag").glob("*.db3"))
-    np.testing.assert_array_equal(read_run(db3).rate, gyro)
+    np.testing.assert_array_equal(read_run(db3).rate[:, :3], gyro)
 
 
 def test_ros1_bag(tmp_path: Path) -> None:
     gyro, _ = _write_ros1(tmp_path / "run.bag")
     run = read_run(tmp_path / "run.bag")
-    np.testing.assert_array_equal(run.rate, gyro)
+    np.testing.assert_array_equal(run.rate[:, :3], gyro)
     assert run.fs_hz == pytest.approx(FS, rel=1e-9)
 
 
@@ -96,7 +101,7 @@ def test_several_imu_topics_need_a_topic(tmp_path: Path) -> None:
     with pytest.raises(DataError, match=r"several IMU topics \(/imu0, /imu1\); choose one "
                                         r"with topic= \(CLI --topic\)"):
         read_run(tmp_path / "two")
-    np.testing.assert_array_equal(read_run(tmp_path / "two", topic="/imu1").rate, gyro)
+    np.testing.assert_array_equal(read_run(tmp_path / "two", topic="/imu1").rate[:, :3], gyro)
     with pytest.raises(DataError, match="topic '/cam' is not an IMU topic .* IMU topics are: "
                                         "/imu0, /imu1"):
         read_run(tmp_path / "two", topic="/cam")
