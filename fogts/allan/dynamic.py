@@ -332,10 +332,16 @@ def _transient(avar: FloatArray, outside: BoolArray, starts: FloatArray, window:
         first -= 1
     while last < same.size - 1 and same[last + 1]:
         last += 1
-    clear = (starts + window <= starts[first]) | (starts >= starts[last] + window)
-    if not clear.any():
+    # against the windows clear of it on each side, the side nearer in level: an event
+    # stands out from both neighbours, a step's half from one only (and a run reaching an
+    # end of the record cannot be told from a step)
+    before = starts + window <= starts[first]
+    after = starts >= starts[last] + window
+    if not (before.any() and after.any()):
         return None
-    ratio = math.exp((np.mean(logv[first:last + 1]) - np.mean(logv[clear])) / 2.0)
+    inside = np.mean(logv[first:last + 1])
+    diff = min(inside - np.mean(logv[before]), inside - np.mean(logv[after]), key=abs)
+    ratio = math.exp(diff / 2.0)
     a, b = float(starts[last]), float(starts[first] + window)
     lo, hi = min(a, b), max(a, b)
     near = tuple(g for g in glitches if lo - step <= g.time_s <= hi + step)

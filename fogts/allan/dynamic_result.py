@@ -35,8 +35,9 @@ class Transient:
     start_s, end_s : float
         Where the event lies (s from the start), as above.
     ratio : float
-        Deviation in the run's windows over the deviation in the windows clear of them
-        (geometric means of the variances, at the headline tau).
+        Deviation in the run's windows over the deviation in the windows clear of them on
+        one side, the side whose level is nearer (geometric means of the variances, at the
+        headline tau): an event stands out from both sides, half of a step from one only.
     n_windows : int
         Windows in the run.
     peak_time_s : float
@@ -121,7 +122,7 @@ class Nonstationarity:
         The smallest effect called a change.
     transient : Transient or None
         The largest excursion of single windows (None when no window is outside the
-        stationary interval).  The record is also not stationary when it is at least
+        stationary interval, or the run of windows reaches an end of the record).  The record is also not stationary when it is at least
         ``min_change`` (its windows are significant on their own, at the Bonferroni level).
     units : str
         Unit of the glitch values named in the text.

@@ -123,14 +123,16 @@ def test_glitches_from_a_report_or_a_list_and_of_other_axes() -> None:
 
 
 def test_a_step_stays_the_named_change_over_its_windows() -> None:
-    """A 20 % step also moves single windows from the pooled value, by about 10 %; the step
-    (20 %) is the larger change and is named first."""
+    """A 20 % step also moves single windows from the pooled value, by about 10 %, but the
+    windows of each half match their own side: the step is named, no transient."""
     ns = fogts.dynamic_allan(_white(1, 1.2), fs_hz=FS, window_s=WINDOW_S, step_s=75.0
                              ).nonstationarity
     assert ns.change_time_s is not None
+    assert ns.transient is None or ns.transient.effect < 0.05  # a step's half is no event
     text = ns.summary()
-    assert text.index("most likely change at t") < text.find("transient") or \
-        "transient" not in text.split("most likely change")[0]
+    assert "most likely change at t" in text
+    if "transient" in text:  # named after the larger step
+        assert text.index("most likely change at t") < text.index("transient")
 
 
 def test_the_heat_map_marks_the_glitches() -> None:
@@ -148,7 +150,8 @@ def test_the_heat_map_marks_the_glitches() -> None:
 def test_adis16405_run4_names_its_glitch_on_x_and_no_change_elsewhere() -> None:
     """Run 4 has a glitch near t = 4046 s (-17 deg/s on X, -47 robust sigmas): the windows
     holding it are 19 % above the rest at tau = 0.01 s; Y (a -13 sigma echo of it) and Z
-    change by under 3 %.  Measured: X transient t = 4040-4060 s, x1.19; Y x1.03; Z x0.976."""
+    change by under 3 %.  Measured: X transient t = 4040-4060 s, x1.19; Y x1.03; Z a 1.7 %
+    step."""
     run, quality = fogts.assess_run(fogts.read_run(
         shared_path("imu", "adis_16405_imu4_gyro.npz"), units="deg/s"))
     res = fogts.dynamic_allan(run, window_s=200, step_s=20, glitches=quality)
@@ -159,8 +162,8 @@ def test_adis16405_run4_names_its_glitch_on_x_and_no_change_elsewhere() -> None:
     assert any(abs(g.time_s - 4046.07) < 0.05 for g in x.transient.glitches)
     assert "t = 4046.07 s" in x.summary() and "3090" not in x.summary()
     assert y.stationary and z.stationary
-    for ns in (y, z):
-        assert ns.transient is not None and ns.transient.effect < 0.03
+    assert y.transient is not None and y.transient.effect < 0.05
+    assert z.transient is None  # its flagged windows open the record: no event
 
 
 def test_cli_davar_names_the_glitch_of_run4() -> None:
