@@ -9,10 +9,12 @@ import typer
 
 from fogts import choices
 from fogts.cli import _common as common
+from fogts.cli.progress import shows_progress
 from fogts.pipeline import ReadSettings
 
 
 @common.app.command("davar")
+@shows_progress()
 @common.reads_input()
 def davar_cmd(
     file: common.FileArg,
