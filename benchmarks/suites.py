@@ -67,6 +67,8 @@ SUITES: tuple[Suite, ...] = (
           "select_arma against the statsmodels ARIMA loop"),
     Suite("davar", "benchmarks.bench_davar:metrics",
           "dynamic Allan deviation against looping allantools.oadev"),
+    Suite("progress", "benchmarks.bench_progress:metrics",
+          "cost of the progress reports: disabled, stubbed out, and the rich bar"),
     Suite("simulate", "benchmarks.bench_simulate:metrics",
           "simulate_gyro speed and memory, against allantools' Kasdin noise"),
     Suite("io", "benchmarks.bench_io:metrics",

@@ -1,7 +1,7 @@
 """Data flows one way: no module of fogts imports a module of a higher layer.
 
 Layers, lowest first: the leaf modules (errors, choices, units, tables, _typing, _validate,
-_version) ->
+_version, progress) ->
 io -> preprocess -> allan, arma -> startup -> simulate -> pipeline -> report -> batch ->
 cli (the simulator draws thermal drift from the start-up domain's thermal model).  The package facade ``fogts/__init__.py`` (lazy re-exports) and ``__main__`` are
 above everything.  Imports under ``if TYPE_CHECKING:`` count too: a type a lower layer
@@ -19,6 +19,7 @@ PACKAGE = Path(__file__).resolve().parents[1] / "fogts"
 
 LAYERS: dict[str, int] = {
     "errors": 0, "choices": 0, "units": 0, "tables": 0, "_typing": 0, "_validate": 0, "_version": 0,
+    "progress": 0,
     "io": 1, "preprocess": 2, "allan": 3, "arma": 3, "startup": 4, "simulate": 5,
     "pipeline": 6, "report": 7, "batch": 8, "cli": 9, "__main__": 10, "__init__": 10,
 }

@@ -26,11 +26,16 @@ most likely single change time is the split of the window sequence that minimise
 within-segment sum of squares of the window variances (binary segmentation, one step; on
 the variance rather than its log, because a window straddling the change holds a linear
 mixture of the two levels, so the split falls in the middle of the transition); the
-deviation ratio compares the windows entirely before and after it.
+deviation ratio compares the windows entirely before and after it.  A short event (a
+glitch, a burst) is no step: it raises the windows that hold it, so the largest excursion
+is also located, as the run of flagged windows around the window farthest from the pooled
+value (:class:`~fogts.allan.dynamic_result.Transient`), and matched with the glitches the
+reader found.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from typing import Any, Literal, get_args
 
@@ -42,14 +47,21 @@ from fogts._typing import BoolArray, FloatArray
 from fogts._validate import check_choice, check_fraction, check_positive
 from fogts.allan.api import is_multi_axis, unpack_axes
 from fogts.allan.confidence import chi2_interval
-from fogts.allan.dynamic_result import DynamicAllanResult, DynamicAllanResultSet, Nonstationarity
+from fogts.allan.dynamic_result import (
+    DynamicAllanResult,
+    DynamicAllanResultSet,
+    Nonstationarity,
+    Transient,
+)
 from fogts.allan.edf import edf_for
 from fogts.allan.noise_identification import identify_noise
 from fogts.allan.taus import KINDS, Kind, n_terms, tau_grid
 from fogts.allan.window_sums import CUMSUM_KINDS, cumsum_devs, kernel_devs
 from fogts.errors import DataError, InsufficientDataError
+from fogts.preprocess.glitches import Glitch
 
-__all__ = ["DynamicAllanResult", "DynamicAllanResultSet", "Nonstationarity", "dynamic_allan"]
+__all__ = ["DynamicAllanResult", "DynamicAllanResultSet", "Nonstationarity", "Transient",
+           "dynamic_allan"]
 
 #: Family-wise significance level of the stationarity verdict and of the window flags.
 DEFAULT_ALPHA = 0.01
@@ -81,6 +93,7 @@ def dynamic_allan(
     method: Method = "auto",
     level: float = DEFAULT_ALPHA,
     min_change: float = DEFAULT_MIN_CHANGE,
+    glitches: Any = None,
 ) -> DynamicAllanResult | DynamicAllanResultSet:
     """Dynamic Allan deviation: the deviation in a window sliding along the record.
 
@@ -120,6 +133,10 @@ def dynamic_allan(
         it (a long record makes tiny changes significant).
     level : float
         Significance level of the stationarity verdict and of the window flags.
+    glitches : DataQuality, GlitchReport or sequence of GlitchReport, optional
+        Glitches the reader found (:func:`fogts.preprocess.hygiene.assess_run`), matched to
+        the axes by name: those inside the largest transient are named as its likely cause,
+        and all are marked on the heat map.
 
     Returns
     -------
@@ -159,7 +176,7 @@ def dynamic_allan(
     series, fs, unit, notes = unpack_axes(x, fs_hz=fs_hz, axis=axis, units=units)
     curves = [_one(s.y, s.name, fs=fs, units=unit, window=window, step=step, kind=kind,
                    taus=taus, confidence=confidence, method=method, level=level, notes=notes,
-                   min_change=min_change)
+                   min_change=min_change, glitches=_axis_glitches(glitches, s.name))
               for s in series]
     if len(curves) == 1 and (axis is not None or not is_multi_axis(x)):
         return curves[0]
@@ -168,7 +185,8 @@ def dynamic_allan(
 
 def _one(y: FloatArray, name: str, *, fs: float, units: str, window: float, step: float,
          kind: str, taus: Any, confidence: float, method: str, level: float,
-         notes: tuple[str, ...], min_change: float = 0.0) -> DynamicAllanResult:
+         notes: tuple[str, ...], min_change: float = 0.0,
+         glitches: tuple[Glitch, ...] = ()) -> DynamicAllanResult:
     n = y.size
     win_n = round(window * fs)
     step_n = max(1, round(step * fs))
@@ -212,13 +230,17 @@ def _one(y: FloatArray, name: str, *, fs: float, units: str, window: float, step
     times = np.asarray((starts + win_n / 2.0) / fs, dtype=np.float64)
     stat = _nonstationarity(avar, edf, m / fs, times, win_n / fs / 2.0, outside, n_indep,
                             level, min_change)
+    j = int(np.argmin(np.abs(m / fs - stat.tau_s)))  # the headline tau
+    stat = dataclasses.replace(stat, units=units, transient=_transient(
+        avar[:, j], outside[:, j], starts / fs, win_n / fs, step_n / fs, glitches))
+    stat = dataclasses.replace(stat, stationary=stat.stationary and not stat.transient_is_change)
     return DynamicAllanResult(
         kind=kind, units=units, axis=name, fs_hz=fs, n_samples=n, window_s=win_n / fs,
         step_s=step_n / fs, window_n=win_n, step_n=step_n, method=use, confidence=confidence,
         tau_s=grid.tau_s, m=m, n=terms, times_s=times, start_s=starts / fs, dev=dev,
         ci_low=low, ci_high=high,
         edf=edf, alpha=alpha, reference_dev=reference, outside=outside, nonstationarity=stat,
-        dropped=grid.dropped, notes=(*grid.notes, *notes))
+        dropped=grid.dropped, notes=(*grid.notes, *notes), glitches=glitches)
 
 
 # --------------------------------------------------------------------------- statistics
@@ -269,7 +291,7 @@ def _nonstationarity(avar: FloatArray, edf: FloatArray, tau: FloatArray, times: 
         change_ratio = float(np.exp(diff / 2.0))
     effect = abs(change_ratio - 1.0) if change_ratio is not None else 0.0
     stationary = not (significant and effect >= min_change)
-    if stationary:  # no change to locate; its size stays in ``effect``
+    if stationary:  # no step to locate; its size stays in ``effect``
         change_time = change_ratio = None
     flagged = tuple(int(i) for i in np.flatnonzero(outside[:, j]))
     return Nonstationarity(
@@ -290,3 +312,49 @@ def _best_split(v: FloatArray) -> int:
     left = c2[k - 1] - c1[k - 1] ** 2 / k
     right = (c2[-1] - c2[k - 1]) - (c1[-1] - c1[k - 1]) ** 2 / (size - k)
     return int(k[np.argmin(left + right)])
+
+
+def _transient(avar: FloatArray, outside: BoolArray, starts: FloatArray, window: float,
+               step: float, glitches: tuple[Glitch, ...]) -> Transient | None:
+    """The run of flagged windows around the one farthest from the pooled variance, where
+    it lies, and its deviation against the windows clear of it (None when no window is
+    flagged or none is clear)."""
+    if not outside.any() or not np.all(np.isfinite(avar)) or np.any(avar <= 0):
+        return None
+    logv = np.log(avar)
+    off = logv - np.log(np.mean(avar))
+    peak = int(np.argmax(np.where(outside, np.abs(off), -np.inf)))
+    # the run: flagged windows on the peak's side (a large event lifts the pooled value,
+    # so the quiet windows next to it can be flagged on the other side)
+    same = outside & (np.sign(off) == np.sign(off[peak]))
+    first = last = peak
+    while first > 0 and same[first - 1]:
+        first -= 1
+    while last < same.size - 1 and same[last + 1]:
+        last += 1
+    # against the windows clear of it on each side, the side nearer in level: an event
+    # stands out from both neighbours, a step's half from one only (and a run reaching an
+    # end of the record cannot be told from a step)
+    before = starts + window <= starts[first]
+    after = starts >= starts[last] + window
+    if not (before.any() and after.any()):
+        return None
+    inside = np.mean(logv[first:last + 1])
+    diff = min(inside - np.mean(logv[before]), inside - np.mean(logv[after]), key=abs)
+    ratio = math.exp(diff / 2.0)
+    a, b = float(starts[last]), float(starts[first] + window)
+    lo, hi = min(a, b), max(a, b)
+    near = tuple(g for g in glitches if lo - step <= g.time_s <= hi + step)
+    return Transient(start_s=lo, end_s=hi, ratio=ratio, n_windows=last - first + 1,
+                     peak_time_s=float(starts[peak] + window / 2.0), glitches=near)
+
+
+def _axis_glitches(glitches: Any, axis: str) -> tuple[Glitch, ...]:
+    """The glitch events of ``axis`` from a DataQuality, a GlitchReport or a sequence of
+    them (empty when None)."""
+    if glitches is None:
+        return ()
+    reports = getattr(glitches, "glitches", glitches)
+    if hasattr(reports, "events"):
+        reports = [reports]
+    return tuple(e for r in reports if r.axis == axis for e in r.events)

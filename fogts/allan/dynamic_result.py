@@ -13,8 +13,72 @@ import pandas as pd
 from fogts._typing import BoolArray, FloatArray, IntArray
 from fogts.allan.result import AxisIndexed
 from fogts.allan.taus import DroppedTau
+from fogts.preprocess.glitches import Glitch
 
-__all__ = ["DynamicAllanResult", "DynamicAllanResultSet", "Nonstationarity"]
+__all__ = ["DynamicAllanResult", "DynamicAllanResultSet", "Nonstationarity", "Transient"]
+
+
+@dataclass(frozen=True)
+class Transient:
+    """The largest excursion of the window deviations: the run of consecutive windows,
+    outside the stationary interval, around the window farthest from the pooled value.
+
+    A short event (a glitch, a burst) raises the deviation of every window that holds it,
+    so the windows of the run share the event: it lies where they overlap, from the start
+    of the last window to the end of the first.  An event longer than a window leaves no
+    common part; it then lies between the end of the first window and the start of the
+    last.  Both cases give ``[min(a, b), max(a, b)]`` with ``a`` the start of the last
+    window and ``b`` the end of the first.
+
+    Attributes
+    ----------
+    start_s, end_s : float
+        Where the event lies (s from the start), as above.
+    ratio : float
+        Deviation in the run's windows over the deviation in the windows clear of them on
+        one side, the side whose level is nearer (geometric means of the variances, at the
+        headline tau): an event stands out from both sides, half of a step from one only.
+    n_windows : int
+        Windows in the run.
+    peak_time_s : float
+        Centre of the window farthest from the pooled deviation.
+    glitches : tuple of Glitch
+        Glitches found by the reader (:func:`fogts.preprocess.glitches.detect_glitches`)
+        within one step of ``[start_s, end_s]``: the likely cause.
+    """
+
+    start_s: float
+    end_s: float
+    ratio: float
+    n_windows: int
+    peak_time_s: float
+    glitches: tuple[Glitch, ...] = ()
+
+    @property
+    def effect(self) -> float:
+        """``|ratio - 1|``."""
+        return abs(self.ratio - 1.0)
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"start": self.start_s, "end": self.end_s, "ratio": _num(self.ratio),
+                "effect": _num(self.effect), "n_windows": self.n_windows,
+                "peak_time": self.peak_time_s,
+                "glitch_times": [g.time_s for g in self.glitches]}
+
+    def describe(self, units: str) -> str:
+        """``"transient at t = 4040-4060 s: deviation x1.19 in the 10 windows holding it
+        (glitch at ...)"``."""
+        where = (f"t = {self.start_s:.6g}-{self.end_s:.6g} s" if self.end_s > self.start_s
+                 else f"t = {self.start_s:.6g} s")
+        text = (f"transient at {where}: deviation x{self.ratio:.3g} in the {self.n_windows} "
+                f"window(s) holding it")
+        if self.glitches:
+            largest = sorted(self.glitches, key=lambda g: -abs(g.sigmas))[:2]
+            text += (f" (glitch{'es' if len(self.glitches) > 1 else ''} found by the reader: "
+                     + "; ".join(g.describe(units) for g in largest)
+                     + (f"; and {len(self.glitches) - 2} more" if len(self.glitches) > 2
+                        else "") + ")")
+        return text
 
 
 @dataclass(frozen=True)
@@ -53,9 +117,15 @@ class Nonstationarity:
     significant : bool
         ``pvalue < level``.
     effect : float
-        The size of the change, ``|change_ratio - 1|``.
+        The size of the step change, ``|change_ratio - 1|``.
     min_change : float
         The smallest effect called a change.
+    transient : Transient or None
+        The largest excursion of single windows (None when no window is outside the
+        stationary interval, or the run of windows reaches an end of the record).  The record is also not stationary when it is at least
+        ``min_change`` (its windows are significant on their own, at the Bonferroni level).
+    units : str
+        Unit of the glitch values named in the text.
     """
 
     tau_s: float
@@ -74,6 +144,18 @@ class Nonstationarity:
     significant: bool = False
     effect: float = 0.0
     min_change: float = 0.0
+    transient: Transient | None = None
+    units: str = ""
+
+    @property
+    def step_is_change(self) -> bool:
+        """The step change is significant and at least ``min_change``."""
+        return self.significant and self.effect >= self.min_change
+
+    @property
+    def transient_is_change(self) -> bool:
+        """The transient is at least ``min_change``."""
+        return self.transient is not None and self.transient.effect >= self.min_change
 
     def to_dict(self) -> dict[str, Any]:
         return {
@@ -86,9 +168,11 @@ class Nonstationarity:
             "tau_scores": [_num(v) for v in self.tau_scores],
             "significant": self.significant, "effect": _num(self.effect),
             "min_change": self.min_change,
+            "transient": self.transient.to_dict() if self.transient is not None else None,
         }
 
     def summary(self) -> str:
+        """The verdict, then the changes it rests on, the largest first."""
         if not self.stationary:
             verdict = "NOT stationary"
         elif self.significant:
@@ -99,12 +183,18 @@ class Nonstationarity:
         text = (f"non-stationarity score {self.score:.3g} at tau = {self.tau_s:g} s "
                 f"(1 = chance; p = {self.pvalue:.3g}, {self.n_independent} independent "
                 f"windows): {verdict}")
-        if not self.stationary and self.change_time_s is not None \
+        changes = []  # (effect, text): every change at least min_change, largest first
+        if self.step_is_change and self.change_time_s is not None \
                 and self.change_ratio is not None:
-            text += (f"; most likely change at t = {self.change_time_s:.6g} s, deviation x "
-                     f"{self.change_ratio:.3g}")
+            changes.append((self.effect, f"most likely change at t = {self.change_time_s:.6g} "
+                                         f"s, deviation x {self.change_ratio:.3g}"))
+        if self.transient is not None and self.transient_is_change:
+            changes.append((self.transient.effect, self.transient.describe(self.units)))
+        text += "".join(f"; {t}" for _, t in sorted(changes, key=lambda c: -c[0]))
         if self.flagged_windows:
             text += f"; {len(self.flagged_windows)} window(s) outside the stationary interval"
+            if self.transient is not None and not self.transient_is_change:
+                text += f", the largest a {self.transient.describe(self.units)}"
         return text
 
 
@@ -151,6 +241,9 @@ class DynamicAllanResult:
     nonstationarity : Nonstationarity
     dropped : tuple of DroppedTau
     notes : tuple of str
+    glitches : tuple of Glitch
+        Glitches the reader found on this axis (given to :func:`dynamic_allan`), marked on
+        the heat map.
     """
 
     kind: str
@@ -179,6 +272,7 @@ class DynamicAllanResult:
     nonstationarity: Nonstationarity
     dropped: tuple[DroppedTau, ...] = ()
     notes: tuple[str, ...] = ()
+    glitches: tuple[Glitch, ...] = ()
 
     @property
     def shape(self) -> tuple[int, int]:

@@ -30,6 +30,7 @@ from typing import Any, TypeVar
 import numpy as np
 import numpy.typing as npt
 
+from fogts import progress
 from fogts._typing import FloatArray, IntArray
 from fogts._validate import check_int, check_positive, to_float_array
 from fogts.allan.kernels import (
@@ -152,13 +153,21 @@ def _run(kind: str, y: Any, fs_hz: float, m: npt.ArrayLike, workers: int | None,
         mi, ti = int(mm[i]), int(terms[i])
         return float(np.sqrt(sumsq(x, mi, ti) / norm(mi, ti)))
 
+    tick = progress.ticker(f"{kind}: {mm.size} taus", mm.size)
     if nw == 1:
-        devs = [one(i) for i in range(mm.size)]
+        devs = []
+        for i in range(mm.size):
+            devs.append(one(i))
+            tick(i + 1)
     else:
-        # Largest jobs first so that the pool ends evenly.
-        order = np.argsort(-terms, kind="stable")
+        # Largest jobs first so that the pool ends evenly; progress is reported from this
+        # thread as the results arrive in order.
+        order = np.argsort(-terms, kind="stable").tolist()
+        res = {}
         with ThreadPoolExecutor(max_workers=nw) as pool:
-            res = dict(zip(order.tolist(), pool.map(one, order.tolist()), strict=True))
+            for k, (i, dev) in enumerate(zip(order, pool.map(one, order), strict=True)):
+                res[i] = dev
+                tick(k + 1)
         devs = [res[i] for i in range(mm.size)]
     return EstimatorOutput(kind=kind, m=mm, tau_s=mm / fs,
                            dev=np.asarray(devs, dtype=np.float64), n=terms)

@@ -16,6 +16,7 @@ from collections.abc import Callable
 
 import numpy as np
 
+from fogts import progress
 from fogts._typing import FloatArray, IntArray
 from fogts.allan.estimators import ESTIMATORS
 from fogts.allan.kernels import NORMALISATION, phase_from_rate, second_difference, third_difference
@@ -35,8 +36,11 @@ def kernel_devs(y: FloatArray, *, kind: str, m: IntArray, starts: IntArray, win_
     """The estimator of :mod:`fogts.allan.estimators` on every window, ``(n_win, n_tau)``."""
     fn = ESTIMATORS[kind]
     out = np.empty((starts.size, m.size), dtype=np.float64)
-    for i, s in enumerate(starts.tolist()):
-        out[i] = fn(y[s:s + win_n], fs_hz=fs, m=m, workers=1).dev
+    tick = progress.ticker(f"dynamic {kind}: {starts.size} windows", starts.size)
+    with progress.reporting(None):  # one step per window, not per tau of each window
+        for i, s in enumerate(starts.tolist()):
+            out[i] = fn(y[s:s + win_n], fs_hz=fs, m=m, workers=1).dev
+            tick(i + 1)
     return out
 
 
@@ -54,9 +58,11 @@ def cumsum_devs(y: FloatArray, *, kind: str, m: IntArray, terms: IntArray,
     x = phase_from_rate(y)
     squared, normalisation = _SQUARED_TERMS[kind], NORMALISATION[kind]
     out = np.empty((starts.size, m.size), dtype=np.float64)
+    tick = progress.ticker(f"dynamic {kind}: {m.size} taus", m.size)
     for j, (mj, tj) in enumerate(zip(m.tolist(), terms.tolist(), strict=True)):
         sums = _window_sums(squared(x, mj), starts, tj, chunk=max(_CHUNK, mj))
         out[:, j] = np.sqrt(np.maximum(sums, 0.0) / normalisation(mj, tj))
+        tick(j + 1)
     return out
 
 

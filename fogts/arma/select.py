@@ -33,6 +33,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from fogts import progress
 from fogts._typing import FloatArray
 from fogts._validate import check_choice, check_int, check_positive, pandas_index, to_float_array
 from fogts.arma.candidate import Candidate
@@ -269,7 +270,11 @@ def select_arma(
     inp = _unpack(x, fs_hz)
     _check_data(inp.x, orders, lag_t)
     corr = correlogram(inp.x)
-    evaluated = [_evaluate(p, q, inp, criterion, lag_t, method) for p, q in orders]
+    tick = progress.ticker(f"ARMA: {len(orders)} candidates", len(orders))
+    evaluated = []
+    for p, q in orders:
+        evaluated.append(_evaluate(p, q, inp, criterion, lag_t, method))
+        tick(len(evaluated))
     for c in evaluated:
         if c.ok and not c.converged:
             warnings.warn(f"{c.model}: the optimiser did not converge; its likelihood may be "

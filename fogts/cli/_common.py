@@ -245,8 +245,10 @@ def read_input(path: Path, read: ReadSettings, *, glitches: bool = True
     missing cells, gaps and glitches are printed at once as ``warning:`` lines naming the
     file, before any analysis output.  Returns the Run (restricted to the longest regular
     segment with ``--gaps split``) and its DataQuality."""
+    from fogts import progress
     from fogts.pipeline import load
 
+    progress.ticker(f"reading {path.name}", None)
     run, quality = load(path, dataclasses.replace(read, glitches=glitches))
     for line in quality.warnings():
         err_console.print(f"warning: {Path(run.source).name}: {line}", markup=False,

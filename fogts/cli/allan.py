@@ -9,6 +9,7 @@ import typer
 
 from fogts import choices
 from fogts.cli import _common as common
+from fogts.cli.progress import shows_progress
 from fogts.pipeline import ReadSettings
 
 if TYPE_CHECKING:
@@ -48,6 +49,7 @@ def _allan_tables(res: AllanResult, model: NoiseModel | None, check: dict[str, A
 
 
 @common.app.command("allan")
+@shows_progress()
 @common.reads_input()
 def allan_cmd(
     files: Annotated[list[Path], typer.Argument(help="Input recording(s). Several files (or a multi-axis file) are overlaid on one --plot for comparing gyros.")],

@@ -10,10 +10,12 @@ import typer
 from rich.table import Table
 
 from fogts.cli import _common as common
+from fogts.cli.progress import bar_enabled, shows_progress
 from fogts.pipeline import ReadSettings
 
 
 @common.app.command("batch")
+@shows_progress(library=False)
 @common.reads_input()
 def batch_cmd(
     patterns: Annotated[list[str], typer.Argument(help="Input files or glob patterns (quote them to let fogts expand '**').")],
@@ -59,7 +61,8 @@ def batch_cmd(
                        TextColumn("failed {task.fields[failed]}, remaining "
                                   "{task.fields[remaining]}"),
                        TimeElapsedColumn(), TextColumn("ETA"), TimeRemainingColumn(),
-                       console=common.err_console, transient=False)
+                       console=common.err_console, transient=False,
+                       disable=not bar_enabled())
         task_id: list[Any] = []
 
         def on_progress(p: BatchProgress) -> None:

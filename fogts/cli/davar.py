@@ -9,10 +9,12 @@ import typer
 
 from fogts import choices
 from fogts.cli import _common as common
+from fogts.cli.progress import shows_progress
 from fogts.pipeline import ReadSettings
 
 
 @common.app.command("davar")
+@shows_progress()
 @common.reads_input()
 def davar_cmd(
     file: common.FileArg,
@@ -40,7 +42,7 @@ def davar_cmd(
         run, quality = common.read_input(file, read)
         pick = None if axis is None else common.axis_index(run, axis)
         result = dynamic_allan(run, window_s=window_s, step_s=step_s, kind=kind,  # type: ignore[arg-type]
-                               min_change=min_change,
+                               min_change=min_change, glitches=quality,
                                taus=tau_spec, confidence=confidence, axis=pick)
         payload = {"input": str(file), **result.to_dict(), "data_quality": quality.to_dict()}
         common.emit_json(payload, json_out)

@@ -8,10 +8,12 @@ from typing import Annotated
 import typer
 
 from fogts.cli import _common as common
+from fogts.cli.progress import shows_progress
 from fogts.pipeline import ReadSettings
 
 
 @common.app.command("report")
+@shows_progress()
 @common.reads_input()
 def report_cmd(
     file: common.FileArg,

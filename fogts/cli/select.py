@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING, Annotated, Any
 import typer
 
 from fogts.cli import _common as common
+from fogts.cli.progress import shows_progress
 from fogts.pipeline import ReadSettings
 
 if TYPE_CHECKING:
@@ -35,6 +36,7 @@ def _select_params(c: Candidate, units: str | None) -> list[str]:
 
 
 @common.app.command("select")
+@shows_progress()
 @common.reads_input()
 def select_cmd(
     file: common.FileArg,

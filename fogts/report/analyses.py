@@ -91,7 +91,7 @@ class _Context:
             kind = self.options["kind"] if self.options["kind"] in ("oadev", "mdev", "ohdev") \
                 else "oadev"
             res = dynamic_allan(self.run, axis=i, window_s=window, step_s=step,
-                                kind=kind)  # type: ignore[arg-type]
+                                kind=kind, glitches=self.quality)  # type: ignore[arg-type]
             assert isinstance(res, DynamicAllanResult)  # one axis was asked for
             self.dynamic[i] = res
         return self.dynamic[i]

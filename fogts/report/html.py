@@ -39,6 +39,7 @@ from functools import partial
 from pathlib import Path
 from typing import Any
 
+from fogts import progress
 from fogts.errors import DataError
 from fogts.io.run import Run
 from fogts.report.analyses import _analyses, _Context
@@ -166,9 +167,10 @@ def _collect_sections(ctx: _Context, wanted: Sequence[str]
     the reason."""
     sections: list[Section] = []
     omitted: list[tuple[str, str]] = []
-    for part in PARTS:
-        if part not in wanted:
-            continue
+    parts = [part for part in PARTS if part in wanted]
+    tick = progress.ticker(f"report: {len(parts)} parts", len(parts))
+    for done, part in enumerate(parts):
+        tick(done)
         if part in _RUN_BUILDERS:
             sections.append(_section(part, part, _TITLES[part],
                                      partial(_RUN_BUILDERS[part], ctx)))
@@ -178,6 +180,7 @@ def _collect_sections(ctx: _Context, wanted: Sequence[str]
             omitted.append((_TITLES[part], reason))
         else:
             sections.extend(_axis_sections(ctx, part))
+    tick(len(parts))
     return sections, omitted
 
 

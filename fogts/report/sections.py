@@ -296,12 +296,26 @@ def _thermal_blocks(ctx: _Context, i: int, notes: list[str]) -> list[Block]:
                [["before compensation", b.value, b.n_windows],
                 [after_label, a.value, a.n_windows]],
                numeric=[False, True, True]),
+        *_out_of_sample_blocks(res),
         Block(kind="paragraph", text=(
             f"R² = {_num(model.r2)}; residual std {_num(model.residual_std)} {model.units}; "
             f"fitted over T = {_num(model.temperature_range_degC[0])} … "
             f"{_num(model.temperature_range_degC[1])} °C. For the full start-up pipeline "
             "(EMD trend, ARMA Kalman filter, then this fit) run 'fogts compensate --emd'.")),
     ]
+
+
+def _out_of_sample_blocks(res: Any) -> list[Block]:
+    """The cross-validated gain: a table of the folds and the summary sentence."""
+    cv = res.out_of_sample
+    if cv is None:
+        return []
+    rows = [[f.label + ("" if f.scored else " (not scored: extrapolates)"), f.before, f.after,
+             f.ratio] for f in cv.folds]
+    return [_table(f"Bias stability out of sample ({cv.scheme}, {cv.average_s:g} s averages, "
+                   "deg/h)", ["held out", "before", "after", "before / after"], rows,
+                   numeric=[False, True, True, True]),
+            Block(kind="paragraph", text=cv.summary()[0].upper() + cv.summary()[1:] + ".")]
 
 
 #: Builders of the sections that show the whole run, by part.

@@ -6,6 +6,8 @@ when the temperature settles.
 * :mod:`~fogts.startup.thermal_model`: the temperature-drift model and the temperature rate;
 * :mod:`~fogts.startup.thermal_fit`: its least-squares fit and standard errors;
 * :mod:`~fogts.startup.compensation`: thermal compensation of a run and bias stability;
+* :mod:`~fogts.startup.thermal_test`: is there a temperature dependence to compensate;
+* :mod:`~fogts.startup.thermal_cv`: the out-of-sample gain (held-out runs or time blocks);
 * :mod:`~fogts.startup.startup_workflow`: EMD, Kalman, fit and compensation on one run;
 * :mod:`~fogts.startup.northfind`: four-position north seeking;
 * :mod:`~fogts.startup.northfind_simulation`: north seeking during simulated cold starts;
@@ -27,6 +29,7 @@ from fogts.startup.northfind_simulation import (
 )
 from fogts.startup.simulator import simulate_startup
 from fogts.startup.startup_workflow import StartupCompensation, startup_compensation
+from fogts.startup.thermal_cv import ThermalCrossValidation, thermal_cross_validation
 from fogts.startup.thermal_fit import fit_thermal
 from fogts.startup.thermal_model import (
     TERM_LETTERS,
@@ -37,8 +40,10 @@ from fogts.startup.thermal_model import (
 )
 
 __all__ = ["TERM_LETTERS", "THERMAL_TERMS", "BiasStability", "KalmanResult", "NorthFinding",
-           "NorthSeekingStudy", "StartupCompensation", "StartupPositions", "ThermalModel",
+           "NorthSeekingStudy", "StartupCompensation", "StartupPositions",
+           "ThermalCrossValidation", "ThermalModel",
            "TrendSplit", "angle_error_deg", "arma_kalman", "bias_stability", "compensate",
            "design_matrix", "fit_thermal", "four_position", "separate_trend",
            "simulate_north_seeking", "simulate_startup", "simulate_startup_positions",
-           "simulated_calibration", "startup_compensation", "temperature_rate"]
+           "simulated_calibration", "startup_compensation", "temperature_rate",
+           "thermal_cross_validation"]

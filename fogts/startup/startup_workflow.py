@@ -9,7 +9,10 @@
 6. fit of D = a·T·ΔT + b·T² + c·T + d·ΔT² + e·ΔT + f
    (:func:`~fogts.startup.thermal_fit.fit_thermal`);
 7. compensation (:func:`~fogts.startup.compensation.compensate`) and bias stability before
-   and after.
+   and after;
+8. when the model is significant, the same gain out of sample
+   (:func:`~fogts.startup.thermal_cv.thermal_cross_validation`): on held-out runs when
+   calibration runs are given, else on contiguous time blocks of the run.
 """
 
 from __future__ import annotations
@@ -32,6 +35,7 @@ from fogts.startup.compensation import (
     compensate,
     require_temperature,
 )
+from fogts.startup.thermal_cv import ThermalCrossValidation, thermal_cross_validation
 from fogts.startup.thermal_fit import fit_thermal
 from fogts.startup.thermal_model import (
     DEFAULT_DT_SMOOTHING_S,
@@ -72,9 +76,13 @@ class StartupCompensation:
     raw_rate : ndarray
         The input rate of the compensated axis.
     before, after : BiasStability
-        Bias stability of the raw and of the compensated rate.
+        Bias stability of the raw and of the compensated rate (in sample).
     axis : str
     notes : tuple of str
+    significance : ThermalSignificance or None
+        The test against "no temperature dependence" (None for a given model).
+    out_of_sample : ThermalCrossValidation or None
+        The gain on held-out runs or time blocks (measured only for a significant model).
     """
 
     run: Run
@@ -91,6 +99,7 @@ class StartupCompensation:
     axis: str = ""
     notes: tuple[str, ...] = ()
     significance: ThermalSignificance | None = None
+    out_of_sample: ThermalCrossValidation | None = None
 
     @property
     def claims_improvement(self) -> bool:
@@ -128,6 +137,8 @@ class StartupCompensation:
                                "improvement": self.improvement,
                                "improvement_claimed": self.claims_improvement},
             "notes": list(self.notes),
+            "out_of_sample": (None if self.out_of_sample is None
+                              else self.out_of_sample.to_dict()),
         }
 
     def to_frame(self) -> pd.DataFrame:
@@ -154,9 +165,12 @@ class StartupCompensation:
         stability = (f"bias stability ({self.before.average_s:g} s average, 1σ): "
                      f"before {self.before.value:.4g} {self.before.unit}, after "
                      f"{self.after.value:.4g} {self.after.unit}")
-        lines.append(f"{stability} ({self.improvement:.2f}x)" if self.claims_improvement else
+        lines.append(f"{stability} ({self.improvement:.2f}x in sample)"
+                     if self.claims_improvement else
                      f"{stability}; not claimed as an improvement: the model is not "
                      "significant, so the change is the fit absorbing drift")
+        if self.out_of_sample is not None:
+            lines.append(self.out_of_sample.summary())
         lines += [f"note: {n}" for n in self.notes]
         return "\n".join(lines)
 
@@ -205,6 +219,7 @@ def startup_compensation(
     fs = run.fs_hz
     notes: list[str] = []
     significance = None
+    out_of_sample = None
     if model is None:
         prepare = partial(_prepare_fit_run, axis=axis, emd=emd, arma_model=arma_model,
                           measurement_noise=measurement_noise)
@@ -214,6 +229,11 @@ def startup_compensation(
         notes = [*prep.notes, *fit_notes]
         significance = thermal_significance(gyro, run.temperature, fs_hz=fs, terms=terms,
                                             dT_smoothing_s=dT_smoothing_s)
+        if significance.significant:
+            out_of_sample, cv_note = _cross_validate(
+                [run, *calibration], axis, terms=terms, dT_smoothing_s=dT_smoothing_s,
+                errors=errors, average_s=average_s)
+            notes += cv_note
     elif not isinstance(model, ThermalModel):
         raise DataError(f"model must be a ThermalModel or None, got {type(model).__name__}")
     else:
@@ -228,7 +248,7 @@ def startup_compensation(
                                arma_model=prep.arma, gyro_used=np.asarray(prep.gyro),
                                temperature_used=np.asarray(prep.temp), raw_rate=gyro,
                                before=before, after=after, axis=name, notes=tuple(notes),
-                               significance=significance)
+                               significance=significance, out_of_sample=out_of_sample)
 
 
 # --------------------------------------------------------------------------- steps 1-5
@@ -290,6 +310,26 @@ def _prepare_fit_run(run: Run, axis: int | str, *, emd: bool, arma_model: str,
     else:
         notes.append("the temperature is constant: no EMD of the temperature")
     return _FitInput(gyro_used, temp_used, gsplit, tsplit, kal, arma_name, notes)
+
+
+# --------------------------------------------------------------------------- step 8
+
+
+def _cross_validate(runs: Sequence[Run], axis: int | str, *, terms: Sequence[str],
+                    dT_smoothing_s: float | None, errors: ErrorModel, average_s: float
+                    ) -> tuple[ThermalCrossValidation | None, list[str]]:
+    """The out-of-sample gain on the raw rate of ``runs`` (a note instead when the record
+    is too short for the time blocks)."""
+    first = runs[0]
+    try:
+        cv = thermal_cross_validation(
+            [(r.axis(axis), r.temperature) for r in runs], fs_hz=first.fs_hz,
+            units=first.units, terms=terms, dT_smoothing_s=dT_smoothing_s, errors=errors,
+            average_s=average_s, labels=[str(r.source).replace("\\", "/").rsplit("/", 1)[-1]
+                                         for r in runs])
+    except InsufficientDataError as exc:
+        return None, [f"out-of-sample gain not measured: {exc}"]
+    return cv, []
 
 
 # --------------------------------------------------------------------------- step 6

@@ -249,3 +249,15 @@ def test_cli_report_on_a_real_fog_recording(tmp_path: Path) -> None:
                   "Allan deviation and noise coefficients", "Thermal model"):
         assert title in text
     assert "time, fog, T" in text
+
+
+def test_thermal_section_shows_the_out_of_sample_gain() -> None:
+    """A significant model (the bundled cold start) gets the fold table and the sentence."""
+    rep = build_report(read_run(Path(__file__).resolve().parents[2] / "data"
+                                / "startup_cold_1hz.csv"), parts=("thermal",))
+    blocks = next(s for s in rep.sections if s.id == "thermal-1").blocks
+    table = next(b for b in blocks if b.kind == "table"
+                 and b.caption.startswith("Bias stability out of sample (time blocks"))
+    assert len(table.rows) == 5 and "not scored" in table.rows[0][0]
+    assert any(b.kind == "paragraph" and b.text.startswith("Out of sample (5 time blocks")
+               for b in blocks)

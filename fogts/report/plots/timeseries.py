@@ -115,6 +115,24 @@ def _stationarity_strip(strip: Any, res: Any, t: FloatArray, j: int, small: bool
                     fontsize="small" if small else "medium", loc="left")
 
 
+def _mark_glitches(strip: Any, ax: Any, res: Any, scale: float) -> None:
+    """The glitches the reader found: a red triangle above the heat map and a dotted line
+    through it at each; the largest transient shaded on the strip."""
+    tr = res.nonstationarity.transient
+    if tr is not None and tr.effect >= res.nonstationarity.min_change:
+        strip.axvspan(tr.start_s / scale, max(tr.end_s, tr.start_s + res.step_s) / scale,
+                      color="C3", alpha=0.25, lw=0, label="transient")
+        strip.legend(loc="upper left", fontsize="x-small", framealpha=0.8, ncols=3)
+    if not res.glitches:
+        return
+    tg = np.array([g.time_s for g in res.glitches]) / scale
+    for t in tg:
+        ax.axvline(t, color="C3", lw=0.8, ls=":")
+    ax.plot(tg, np.full(tg.size, float(res.tau_s[-1])), "v", color="C3", ms=6,
+            clip_on=False, label=f"glitch ({tg.size})")
+    ax.legend(loc="lower right", fontsize="x-small", framealpha=0.8)
+
+
 def _mark_change(strip: Any, ax: Any, res: Any, scale: float, unit: str) -> None:
     """A dashed line at the most likely change time, on the strip and the heat map."""
     change = res.nonstationarity.change_time_s
@@ -135,7 +153,10 @@ def plot_dynamic_allan(result: Any, *, width_in: float = 10.0) -> Figure:
     deviation on a logarithmic scale.  A strip above the map shows the deviation at the
     shortest tau against time with the stationary interval around the pooled value
     (windows outside it in red), and a dashed line marks the most likely change time when
-    the record is not stationary.  A :class:`~fogts.allan.dynamic.DynamicAllanResultSet`
+    the record is not stationary; a transient of at least ``min_change`` is shaded on the
+    strip, and the glitches the reader found (``glitches=`` of
+    :func:`~fogts.allan.dynamic.dynamic_allan`) are red triangles and dotted lines on the
+    map.  A :class:`~fogts.allan.dynamic.DynamicAllanResultSet`
     gives one column of panels per axis.
 
     Parameters
@@ -182,6 +203,7 @@ def plot_dynamic_allan(result: Any, *, width_in: float = 10.0) -> Figure:
         if col == 0:
             ax.set_ylabel("tau [s]")
         _mark_change(strip, ax, res, scale, unit)
+        _mark_glitches(strip, ax, res, scale)
     if mesh is not None:
         fig.colorbar(mesh, ax=fig.axes[1::2], label=f"deviation [{curves[0].units}]",
                      shrink=0.95)

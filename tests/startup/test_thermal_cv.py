@@ -1,0 +1,141 @@
+"""Out-of-sample gain of the thermal model (fogts.startup.thermal_cv).
+
+Truth: a rate that is exactly a thermal drift plus white noise leaves, out of sample, the
+white noise's own bias stability ``sigma / sqrt(m)`` (``m`` samples per average); simulated
+cold starts at three ambients (``simulate_startup``) are validated on held-out runs; the
+bundled cold starts give the figures in ``tests/README.md``.  The interval is compared
+with scipy's Student-t interval on the log ratios.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+import scipy.stats
+from typer.testing import CliRunner
+
+import fogts
+from fogts.cli import app
+from fogts.errors import DataError, InsufficientDataError
+from fogts.startup.simulator import simulate_startup
+from fogts.startup.thermal_cv import thermal_cross_validation
+
+ROOT = Path(__file__).resolve().parents[2]
+COLD = [ROOT / "data" / f for f in ("startup_cold_1hz.csv", "startup_cold_15c_1hz.csv",
+                                    "startup_cold_25c_1hz.csv")]
+
+
+def _ramp_run(seed: int, n: int = 7200, sigma: float = 0.5) -> tuple[np.ndarray, np.ndarray]:
+    """1 Hz: temperature up and down twice between 20 and 40 °C (each block sees the whole
+    range), rate = 0.8 T + white noise of sd ``sigma``."""
+    t = np.arange(n, dtype=float)
+    temp = 30.0 - 10.0 * np.cos(2 * np.pi * t / (n / 2))
+    rate = 0.8 * temp + np.random.default_rng(seed).normal(0.0, sigma, n)
+    return rate, temp
+
+
+@pytest.mark.parametrize("seed", [1, 2])
+def test_held_out_blocks_leave_the_white_noise(seed: int) -> None:
+    """After compensation out of sample only the white noise is left: bias stability
+    sigma / sqrt(10) per 10 s average.  Each block holds 144 windows, so the estimated
+    std has a relative standard error 1 / sqrt(2 * 143) = 6 %; tolerance 20 % (3.4 SE)."""
+    rate, temp = _ramp_run(seed)
+    cv = thermal_cross_validation([(rate, temp)], fs_hz=1.0, terms=("T", "1"))
+    assert cv.scheme == "time blocks" and cv.n_scored == 5
+    for fold in cv.folds:
+        assert fold.after == pytest.approx(0.5 / math.sqrt(10.0), rel=0.2)
+        assert fold.before > 10 * fold.after  # the 16 deg/h swing of 0.8 T dominates
+    assert cv.low < cv.ratio < cv.high
+
+
+def test_the_interval_is_a_t_interval_on_the_log_ratios() -> None:
+    rate, temp = _ramp_run(3)
+    cv = thermal_cross_validation([(rate, temp)], fs_hz=1.0, terms=("T", "1"), blocks=4,
+                                  confidence=0.9)
+    logs = np.log([f.ratio for f in cv.folds])
+    lo, hi = scipy.stats.t.interval(0.9, logs.size - 1, loc=logs.mean(),
+                                    scale=scipy.stats.sem(logs))
+    assert cv.ratio == pytest.approx(math.exp(logs.mean()), rel=1e-12)
+    assert (cv.low, cv.high) == pytest.approx((math.exp(lo), math.exp(hi)), rel=1e-12)
+
+
+def test_simulated_cold_starts_on_held_out_runs() -> None:
+    """Three cold starts (15, 20, 25 °C ambient) of one simulated gyro: each compensated by
+    the model of the other two keeps most of the in-sample gain (above 2x)."""
+    runs = [simulate_startup(duration_s=3600, ambient_degC=a, rng=s).run
+            for a, s in ((15.0, 11), (20.0, 12), (25.0, 13))]
+    cv = thermal_cross_validation([(r.axis(0), r.temperature) for r in runs], fs_hz=1.0,
+                                  labels=["a", "b", "c"])
+    assert cv.scheme == "held-out runs" and cv.guard_s == 0 and cv.n_scored == 3
+    assert [f.label for f in cv.folds] == ["a", "b", "c"]
+    assert all(f.ratio > 2.0 for f in cv.folds)
+    assert cv.low < cv.ratio < cv.high
+    assert cv.to_frame().shape == (3, 5)
+
+
+def test_a_warm_up_block_outside_the_training_range_is_not_scored() -> None:
+    """The bundled cold start: the first block (20-41 °C) lies below every other block's
+    temperatures (41.8-45.8 °C), so it is reported, not scored; the scored blocks, after
+    the warm-up, hold little drift (measured 1.29, 1.00, 1.00, 0.97x)."""
+    run = fogts.read_run(COLD[0])
+    cv = thermal_cross_validation([(run.axis(0), run.temperature)], fs_hz=1.0)
+    assert [f.scored for f in cv.folds] == [False, True, True, True, True]
+    assert cv.folds[0].ratio < 0.1  # extrapolated, the quadratic model is far off
+    assert 0.8 < cv.ratio < 1.5 and cv.low < 1.0 < cv.high
+    text = cv.summary()
+    assert "not scored" in text and "--calibration" in text
+    assert cv.to_dict()["folds"][0]["scored"] is False
+
+
+def test_workflow_measures_out_of_sample_only_when_significant() -> None:
+    runs = [fogts.read_run(p) for p in COLD]
+    res = fogts.startup_compensation(runs[0], emd=False, calibration=runs[1:])
+    cv = res.out_of_sample
+    assert cv is not None and cv.scheme == "held-out runs"
+    # measured: 4.28, 4.89, 4.02x; 4.38x [3.42, 5.61]
+    assert [round(f.ratio, 1) for f in cv.folds] == [4.3, 4.9, 4.0]
+    assert 3.0 < cv.low < cv.ratio < cv.high < 7.0
+    assert "out of sample (3 held-out runs" in res.summary()
+    example = fogts.read_run(ROOT / "data" / "example_fog_10hz_3h.csv")
+    with pytest.warns(fogts.errors.UnidentifiableTermWarning):
+        null = fogts.startup_compensation(example, emd=False)
+    assert null.out_of_sample is None and null.to_dict()["out_of_sample"] is None
+
+
+def test_cli_json_gains_out_of_sample(tmp_path: Path) -> None:
+    res = CliRunner().invoke(app, ["compensate", str(COLD[0]), "--no-emd", "--json", "-"])
+    assert res.exit_code == 0, res.stderr
+    doc = json.loads(res.stdout)
+    oos = doc["out_of_sample"]
+    assert oos["scheme"] == "time blocks" and oos["n_folds"] == 5 and oos["n_scored"] == 4
+    assert oos["low"] < oos["improvement"] < oos["high"]
+    assert doc["bias_stability"]["improvement"] == pytest.approx(4.3, abs=0.05)
+
+
+def test_short_records_are_noted_not_fatal() -> None:
+    sim = simulate_startup(duration_s=80, rng=5)
+    rate, temp = sim.run.axis(0), sim.run.temperature
+    with pytest.raises(InsufficientDataError, match="5 time blocks of a 80 s record"):
+        thermal_cross_validation([(rate, temp)], fs_hz=1.0)
+
+
+@pytest.mark.parametrize(("kwargs", "match"), [
+    ({"blocks": 2}, "blocks must be"),
+    ({"confidence": 1.5}, "confidence"),
+    ({"guard_s": -1.0}, "guard_s must be a finite number >= 0"),
+])
+def test_bad_options_are_named(kwargs: dict, match: str) -> None:
+    rate, temp = _ramp_run(4, n=1200)
+    with pytest.raises(DataError, match=match):
+        thermal_cross_validation([(rate, temp)], fs_hz=1.0, **kwargs)
+
+
+def test_bad_runs_are_named() -> None:
+    with pytest.raises(DataError, match="at least one"):
+        thermal_cross_validation([], fs_hz=1.0)
+    with pytest.raises(DataError, match=r"runs\[0\]: rate and temperature must have the same"):
+        thermal_cross_validation([(np.zeros(10), np.zeros(9))], fs_hz=1.0)
