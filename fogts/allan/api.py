@@ -10,15 +10,14 @@ and attaches noise identification, EDF and chi-squared intervals
 from __future__ import annotations
 
 import dataclasses
-from dataclasses import dataclass
 from typing import Any, Literal
 
 import numpy as np
 import numpy.typing as npt
 import pandas as pd
 
-from fogts._typing import FloatArray, IntArray
-from fogts._validate import check_choice, check_fraction, check_positive, to_float_array
+from fogts._typing import ArrayLike1D, FloatArray, IntArray
+from fogts._validate import check_choice, check_fraction
 from fogts.allan.bias import totdev_bias
 from fogts.allan.confidence import confidence_table
 from fogts.allan.estimators import ESTIMATORS, EstimatorOutput, estimate_from_angle
@@ -28,6 +27,7 @@ from fogts.allan.taus import KINDS, DroppedTau, Kind, TauGrid, tau_grid
 from fogts.choices import INPUT_KINDS, InputKind
 from fogts.errors import DataError
 from fogts.io.run import Run
+from fogts.preprocess.inputs import InputData, ensure_axes
 from fogts.preprocess.prepare import Prepared
 from fogts.units import parse_sensor_unit
 
@@ -36,18 +36,9 @@ __all__ = ["allan_deviation"]
 TauSpec = Literal["octave", "decade", "dense", "all"] | npt.ArrayLike
 
 
-@dataclass(frozen=True)
-class AxisSeries:
-    """One axis to analyse."""
-
-    y: FloatArray
-    name: str
-    angle: FloatArray | None = None  # the integral of y (n + 1 points), used as the phase
-
-
 # Long only by its docstring: the public entry point documents every option.
 def allan_deviation(
-    x: Any,
+    x: ArrayLike1D | pd.DataFrame | Run | Prepared,
     *,
     fs_hz: float | None = None,
     kind: Kind = "oadev",
@@ -73,7 +64,7 @@ def allan_deviation(
     x : ndarray, Series, DataFrame, Run or Prepared
         Rate data.  A 2-D array ``(n, k)``, a DataFrame (every column an axis) or a
         multi-axis Run gives one curve per axis unless ``axis`` picks one.  A Series or
-        DataFrame is read as a Run (:func:`run_from_pandas`).
+        DataFrame is read as a Run (:func:`fogts.preprocess.inputs.run_from_pandas`).
     fs_hz : float, optional
         Sample rate.  Required for ndarray input; a Series/DataFrame with a
         DatetimeIndex/TimedeltaIndex, a Run or a Prepared carry their own (``fs_hz``
@@ -143,23 +134,23 @@ def allan_deviation(
     if units is not None:
         units = parse_sensor_unit(units)
     input = check_choice("input", input, INPUT_KINDS)  # type: ignore[assignment]
-    series, fs, unit, notes = unpack_axes(x, fs_hz=fs_hz, axis=axis, units=units, input=input)
-    curves = [_one_curve(s, fs_hz=fs, units=unit, kind=kind, taus=taus, confidence=confidence,
-                         per_decade=per_decade, workers=workers, notes=notes,
-                         bias_correction=bias_correction)
-              for s in series]
-    if len(curves) == 1 and (axis is not None or not is_multi_axis(x)):
+    inp = ensure_axes(x, fs_hz=fs_hz, axis=axis, units=units, input=input, allow_nan=True)
+    fs, unit, notes = analysis_context(inp)
+    curves = [_one_curve(y, name, fs_hz=fs, units=unit, kind=kind, taus=taus,
+                         confidence=confidence, per_decade=per_decade, workers=workers,
+                         notes=notes, bias_correction=bias_correction, angle=inp.angle(i))
+              for i, (name, y) in enumerate(inp.columns())]
+    if len(curves) == 1 and (axis is not None or not inp.multi_axis_form):
         return curves[0]
     return AllanResultSet(curves=tuple(curves))
 
 
-def is_multi_axis(x: Any) -> bool:
-    """True for input that carries several axes (a 2-D array, a DataFrame, a multi-axis Run)."""
-    if isinstance(x, Run):
-        return x.rate.ndim == 2
-    if isinstance(x, pd.DataFrame):
-        return True
-    return isinstance(x, np.ndarray) and x.ndim == 2
+def analysis_context(inp: InputData) -> tuple[float, str, tuple[str, ...]]:
+    """Sample rate, rate unit (deg/h unless stated) and the notes (a Prepared's steps) of
+    an Allan analysis of ``inp``."""
+    assert inp.fs_hz is not None  # ensure_axes requires it
+    steps = inp.prepared.steps if inp.prepared is not None else ()
+    return inp.fs_hz, inp.units or "deg/h", tuple(f"prepared: {step}" for step in steps)
 
 
 def _check_bias_correction(bias_correction: Any, kind: str, confidence: float | None) -> None:
@@ -175,15 +166,15 @@ def _check_bias_correction(bias_correction: Any, kind: str, confidence: float | 
                         "confidence level, not confidence=None")
 
 
-def _with_gaps(s: AxisSeries, kind: str) -> bool:
+def _with_gaps(y: FloatArray, name: str, kind: str) -> bool:
     """Whether a Run's axis holds NaN for missing samples (``gaps="nan"``); inf is refused."""
-    finite = np.isfinite(s.y)
+    finite = np.isfinite(y)
     if finite.all():
         return False
-    if np.isinf(s.y).any():
-        raise DataError(f"axis {s.name!r} holds inf; rate data must be finite")
+    if np.isinf(y).any():
+        raise DataError(f"axis {name!r} holds inf; rate data must be finite")
     if kind != "oadev":
-        raise DataError(f"axis {s.name!r} has missing samples (NaN, gaps='nan'); only "
+        raise DataError(f"axis {name!r} has missing samples (NaN, gaps='nan'); only "
                         f"kind='oadev' has a gap-robust estimator, got kind={kind!r}")
     return True
 
@@ -203,21 +194,20 @@ def _gap_robust(y: FloatArray, fs_hz: float, grid: TauGrid) -> tuple[TauGrid, Es
                                      dev=est.dev[keep], n=est.n[keep])
 
 
-def _one_curve(s: AxisSeries, *, fs_hz: float, units: str, kind: str, taus: Any,
+def _one_curve(y: FloatArray, name: str, *, fs_hz: float, units: str, kind: str, taus: Any,
                confidence: float | None, per_decade: int, workers: int | None,
-               notes: tuple[str, ...], bias_correction: bool = False) -> AllanResult:
-    grid = tau_grid(taus, fs_hz=fs_hz, n_samples=s.y.size, kind=kind, per_decade=per_decade)
-    gaps = _with_gaps(s, kind)
-    if gaps:  # Sesia & Tavella (2008): only the terms that touch no missing sample
-        grid, est = _gap_robust(s.y, fs_hz, grid)
-        notes = (*notes, f"{int(np.count_nonzero(np.isnan(s.y)))} missing samples (NaN): "
+               notes: tuple[str, ...], bias_correction: bool = False,
+               angle: FloatArray | None = None) -> AllanResult:
+    grid = tau_grid(taus, fs_hz=fs_hz, n_samples=y.size, kind=kind, per_decade=per_decade)
+    if _with_gaps(y, name, kind):  # Sesia & Tavella (2008): the terms free of missing samples
+        grid, est = _gap_robust(y, fs_hz, grid)
+        notes = (*notes, f"{int(np.count_nonzero(np.isnan(y)))} missing samples (NaN): "
                  "gap-robust overlapping ADEV (Sesia & Tavella 2008); noise type and EDF "
                  "from the samples present")
-        s = AxisSeries(s.y[np.isfinite(s.y)], s.name)
+        y = y[np.isfinite(y)]
     else:
-        est = (ESTIMATORS[kind](s.y, fs_hz=fs_hz, m=grid.m, workers=workers)
-               if s.angle is None
-               else estimate_from_angle(kind, s.angle, fs_hz=fs_hz, m=grid.m, workers=workers))
+        est = (ESTIMATORS[kind](y, fs_hz=fs_hz, m=grid.m, workers=workers) if angle is None
+               else estimate_from_angle(kind, angle, fs_hz=fs_hz, m=grid.m, workers=workers))
     size = grid.m.size
     nan = np.full(size, np.nan)
     ci_low, ci_high, edf = nan, nan, nan
@@ -225,7 +215,7 @@ def _one_curve(s: AxisSeries, *, fs_hz: float, units: str, kind: str, taus: Any,
     methods: tuple[str, ...] = ("none",) * size
     level = float("nan")
     if confidence is not None:
-        table = confidence_table(s.y, fs_hz=fs_hz, kind=kind, m=grid.m, dev=est.dev,
+        table = confidence_table(y, fs_hz=fs_hz, kind=kind, m=grid.m, dev=est.dev,
                                  confidence=confidence)
         ci_low, ci_high = table.ci_low, table.ci_high
         edf, alpha = table.edf, table.alpha
@@ -233,113 +223,14 @@ def _one_curve(s: AxisSeries, *, fs_hz: float, units: str, kind: str, taus: Any,
         level = float(table.confidence)
     dev = est.dev
     if bias_correction:
-        root_b = np.sqrt(totdev_bias(alpha, grid.m, s.y.size + 1))
+        root_b = np.sqrt(totdev_bias(alpha, grid.m, y.size + 1))
         dev, ci_low, ci_high = dev / root_b, ci_low / root_b, ci_high / root_b
         notes = (*notes, "totdev divided by sqrt(B), B = 1 - a tau/T with a = 0.481 at "
                  "flicker-FM and 0.75 at random-walk-FM points (Howe 1999), as Stable32 "
                  f"reports it; {int(np.count_nonzero(root_b < 1))} of {root_b.size} points "
                  "corrected")
-    return AllanResult(kind=kind, units=units, axis=s.name, fs_hz=fs_hz, n_samples=s.y.size,
+    return AllanResult(kind=kind, units=units, axis=name, fs_hz=fs_hz, n_samples=y.size,
                        confidence=level, tau_s=grid.tau_s, m=grid.m, n=est.n, dev=dev,
                        ci_low=ci_low, ci_high=ci_high, edf=edf, alpha=alpha,
                        dropped=grid.dropped, alpha_method=methods,
                        notes=(*grid.notes, *notes), bias_corrected=bias_correction)
-
-
-def run_from_pandas(x: pd.Series | pd.DataFrame, *, fs_hz: float | None,
-                    units: str | None, input: str | None = None) -> Run:
-    """A Series or DataFrame as a :class:`~fogts.io.run.Run`, read by
-    :func:`fogts.io.reader.read_run` (sample rate from a Datetime/Timedelta index unless
-    ``fs_hz`` is given; time, temperature and rate columns recognised by name; a frame
-    without a recognisable rate column has every column as an axis).
-
-    This is the one place where the Allan analysis calls the reader.
-    """
-    from fogts.io.reader import read_run
-
-    if isinstance(x, pd.Series):
-        return read_run(x, rate_column=str(x.name) if x.name is not None else None,
-                        fs_hz=fs_hz, units=units, input=input)
-    frame = x.set_axis([str(c) for c in x.columns], axis=1)
-    try:
-        return read_run(frame, fs_hz=fs_hz, units=units, input=input)
-    except DataError:  # no recognisable rate column: every column is an axis
-        return read_run(frame, rate_column=list(frame.columns), fs_hz=fs_hz, units=units,
-                        input=input)
-
-
-def unpack_axes(x: Any, *, fs_hz: float | None, axis: int | str | None, units: str | None,
-                input: str = "rate",
-                ) -> tuple[list[AxisSeries], float, str, tuple[str, ...]]:
-    """Split the input into 1-D float64 series (with their angle, for angle input), and
-    find the sample rate and unit."""
-    fs = check_positive("fs_hz", fs_hz) if fs_hz is not None else None
-    if input != "rate" and isinstance(x, Run | Prepared):
-        raise DataError(f"input={input!r} is for arrays and frames; a Run carries its own "
-                        "(read_run(..., input=...))")
-    if isinstance(x, Prepared):
-        if axis is not None and axis not in (0, x.axis):
-            raise DataError(f"axis {axis!r} not found; the Prepared series is axis {x.axis!r}")
-        notes = tuple(f"prepared: {step}" for step in x.steps)
-        return ([AxisSeries(to_float_array(x.x, "x"), x.axis)], fs or x.fs_hz, units or x.units,
-                notes)
-    if isinstance(x, pd.Series | pd.DataFrame):
-        x = run_from_pandas(x, fs_hz=fs, units=units, input=input)
-        fs = None  # already applied
-    if isinstance(x, Run):
-        names = x.axes
-        if axis is not None:
-            i = names.index(axis) if isinstance(axis, str) and axis in names else axis
-            picked = x.axis(axis)
-            name = axis if isinstance(axis, str) else names[int(axis)]
-            series = [AxisSeries(to_float_array(picked, name, allow_nonfinite=True), name,
-                                 x.axis_angle(int(i)) if x.angle is not None else None)]
-        else:
-            series = [AxisSeries(to_float_array(x.axis(i), n, allow_nonfinite=True), n,
-                                 x.axis_angle(i)) for i, n in enumerate(names)]
-        return series, fs or x.fs_hz, units or x.units, ()
-    if fs is None:
-        raise DataError("fs_hz is required for array input (or pass a Run, a Prepared, or a "
-                        "Series with a DatetimeIndex)")
-    arr = to_float_array(x, "x", ndim=2)
-    unit = units or "deg/h"
-    if input != "rate":
-        return _angle_axes(arr, fs, axis, input), fs, unit, ()
-    if arr.ndim == 1:
-        if axis is not None and axis not in (0, "rate"):
-            raise DataError(f"axis {axis!r} not found; a 1-D array has one axis (0)")
-        return [AxisSeries(arr, "rate")], fs, unit, ()
-    names = tuple(f"rate_{i}" for i in range(arr.shape[1]))
-    if axis is None:
-        return ([AxisSeries(np.ascontiguousarray(arr[:, i]), n) for i, n in enumerate(names)],
-                fs, unit, ())
-    if isinstance(axis, str):
-        if axis not in names:
-            raise DataError(f"axis {axis!r} not found; axes are: {', '.join(names)}")
-        i = names.index(axis)
-    else:
-        i = int(axis)
-        if not -len(names) <= i < len(names):
-            raise DataError(f"axis index must be in [0, {len(names) - 1}], got {i}")
-    return [AxisSeries(np.ascontiguousarray(arr[:, i]), names[i % len(names)])], fs, unit, ()
-
-
-def _angle_axes(arr: FloatArray, fs: float, axis: int | str | None, input: str
-                ) -> list[AxisSeries]:
-    """Array input of angle increments or angle as axes with their angle (the phase)."""
-    from fogts.io.angle import to_rate
-
-    cols = [arr] if arr.ndim == 1 else [np.ascontiguousarray(arr[:, i])
-                                         for i in range(arr.shape[1])]
-    rates, angle = to_rate(input, cols, fs)
-    names = ("rate",) if arr.ndim == 1 else tuple(f"rate_{i}" for i in range(arr.shape[1]))
-    assert angle is not None
-    angles = [angle] if angle.ndim == 1 else [np.ascontiguousarray(angle[:, i])
-                                              for i in range(angle.shape[1])]
-    series = [AxisSeries(r, n, a) for r, n, a in zip(rates, names, angles, strict=True)]
-    if axis is None:
-        return series
-    picked = names.index(axis) if isinstance(axis, str) and axis in names else axis
-    if not isinstance(picked, int) or not -len(names) <= picked < len(names):
-        raise DataError(f"axis {axis!r} not found; axes are: {', '.join(names)}")
-    return [series[picked]]

@@ -40,12 +40,13 @@ import math
 from typing import Any, Literal, get_args
 
 import numpy as np
+import pandas as pd
 import scipy.special
 import scipy.stats
 
-from fogts._typing import BoolArray, FloatArray
+from fogts._typing import ArrayLike1D, BoolArray, FloatArray
 from fogts._validate import check_choice, check_fraction, check_positive
-from fogts.allan.api import is_multi_axis, unpack_axes
+from fogts.allan.api import analysis_context
 from fogts.allan.confidence import chi2_interval
 from fogts.allan.dynamic_result import (
     DynamicAllanResult,
@@ -58,7 +59,10 @@ from fogts.allan.noise_identification import identify_noise
 from fogts.allan.taus import KINDS, Kind, n_terms, tau_grid
 from fogts.allan.window_sums import CUMSUM_KINDS, cumsum_devs, kernel_devs
 from fogts.errors import DataError, InsufficientDataError
+from fogts.io.run import Run
 from fogts.preprocess.glitches import Glitch
+from fogts.preprocess.inputs import ensure_axes
+from fogts.preprocess.prepare import Prepared
 
 __all__ = ["DynamicAllanResult", "DynamicAllanResultSet", "Nonstationarity", "Transient",
            "dynamic_allan"]
@@ -80,7 +84,7 @@ METHODS: tuple[str, ...] = get_args(Method)
 # --------------------------------------------------------------------------- public API
 # Long only by its docstring: the public entry point documents every option.
 def dynamic_allan(
-    x: Any,
+    x: ArrayLike1D | pd.DataFrame | Run | Prepared,
     *,
     fs_hz: float | None = None,
     window_s: float,
@@ -173,12 +177,13 @@ def dynamic_allan(
     if method == "cumsum" and kind not in CUMSUM_KINDS:
         raise DataError(f"method='cumsum' serves kinds {', '.join(CUMSUM_KINDS)}; got "
                         f"kind={kind!r} (use method='kernel' or 'auto')")
-    series, fs, unit, notes = unpack_axes(x, fs_hz=fs_hz, axis=axis, units=units)
-    curves = [_one(s.y, s.name, fs=fs, units=unit, window=window, step=step, kind=kind,
+    inp = ensure_axes(x, fs_hz=fs_hz, axis=axis, units=units)
+    fs, unit, notes = analysis_context(inp)
+    curves = [_one(y, name, fs=fs, units=unit, window=window, step=step, kind=kind,
                    taus=taus, confidence=confidence, method=method, level=level, notes=notes,
-                   min_change=min_change, glitches=_axis_glitches(glitches, s.name))
-              for s in series]
-    if len(curves) == 1 and (axis is not None or not is_multi_axis(x)):
+                   min_change=min_change, glitches=_axis_glitches(glitches, name))
+              for name, y in inp.columns()]
+    if len(curves) == 1 and (axis is not None or not inp.multi_axis_form):
         return curves[0]
     return DynamicAllanResultSet(curves=tuple(curves))
 

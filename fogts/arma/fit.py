@@ -19,7 +19,7 @@ from typing import Any, Literal
 
 import numpy as np
 
-from fogts._typing import FloatArray
+from fogts._typing import ArrayLike1D, FloatArray
 from fogts._validate import check_choice, check_int, to_float_array
 from fogts.arma.fit_result import ArmaFit, criteria, model_name, param_names
 from fogts.arma.likelihood import ExactLikelihood
@@ -147,7 +147,7 @@ def _boundary_notes(params: dict[str, float], p: int, q: int) -> list[str]:
 
 
 # over 80 lines only through its numpydoc docstring; the body is short
-def fit_arma(x: Any, p: int, q: int, *, method: FitMethod = "fast",
+def fit_arma(x: ArrayLike1D, p: int, q: int, *, method: FitMethod = "fast",
              standardize: bool = True) -> ArmaFit:
     """Fit ARMA(p, q) without a mean by exact Gaussian maximum likelihood.
 

@@ -18,7 +18,7 @@ from typing import Any, Literal
 import numpy as np
 import pandas as pd
 
-from fogts._typing import FloatArray
+from fogts._typing import ArrayLike1D, FloatArray
 from fogts._validate import check_int, to_float_array
 from fogts.arma.correlation import autocorrelation, partial_autocorrelation
 from fogts.arma.whiteness import BAND_Z, LB_ALPHA
@@ -187,7 +187,7 @@ def _suggest(acf: CorrelogramPattern, pacf: CorrelogramPattern) -> str:
     return "ARMA-like (both tail off)"
 
 
-def correlogram(x: Any, *, nlags: int | None = None) -> Correlogram:
+def correlogram(x: ArrayLike1D, *, nlags: int | None = None) -> Correlogram:
     """ACF and PACF of the data and which of them cuts off or tails off (Box-Jenkins).
 
     Parameters

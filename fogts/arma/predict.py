@@ -28,7 +28,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from fogts._typing import FloatArray
+from fogts._typing import ArrayLike1D, FloatArray
 from fogts._validate import pandas_index, to_float_array
 from fogts.errors import DataError
 
@@ -151,7 +151,7 @@ def one_step_prediction(observed: Any, innovations: Any, *, model: str = "",
                       time=t, method="exact")
 
 
-def predict_arma(x: Any, *, ar: Any = (), ma: Any = (), model: str = "",
+def predict_arma(x: ArrayLike1D, *, ar: Any = (), ma: Any = (), model: str = "",
                  time: Any = None) -> Prediction:
     """Conditional one-step prediction of new data with given ARMA coefficients.
 

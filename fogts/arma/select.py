@@ -28,14 +28,14 @@ import math
 import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import pandas as pd
 
 from fogts import progress
-from fogts._typing import FloatArray
-from fogts._validate import check_choice, check_int, check_positive, pandas_index, to_float_array
+from fogts._typing import ArrayLike1D, FloatArray
+from fogts._validate import check_choice, check_int
 from fogts.arma.candidate import Candidate
 from fogts.arma.candidate_orders import DEFAULT_FIVE, MAX_ORDER, parse_candidates
 from fogts.arma.fit import FitMethod, fit_arma, min_nobs, model_name
@@ -61,6 +61,10 @@ from fogts.errors import (
     NotWhiteWarning,
 )
 
+if TYPE_CHECKING:
+    from fogts.io.run import Run
+    from fogts.preprocess.prepare import Prepared
+
 __all__ = ["CLOSE_CALL", "CRITERIA", "DEFAULT_FIVE", "MAX_ORDER", "MIN_SELECT_SAMPLES",
            "QUANT_CHECK_SAMPLES", "QUANT_MAX_LEVELS", "SMALL_PREDICTION", "Candidate", "Criterion",
            "Selection", "parse_candidates", "select_arma"]
@@ -82,35 +86,29 @@ class _Input:
     raw: FloatArray | None = None
 
 
-def _unpack(x: Any, fs_hz: float | None) -> _Input:
-    from fogts.io.run import Run
-    from fogts.preprocess.prepare import Prepared, prepare
+def _selection_input(x: ArrayLike1D | Run | Prepared, fs_hz: float | None) -> _Input:
+    from fogts.preprocess.inputs import ensure_series
+    from fogts.preprocess.prepare import prepare
 
-    if isinstance(x, Run):
-        if len(x.axes) > 1:
-            raise DataError(f"x is a Run with {len(x.axes)} axes ({', '.join(x.axes)}); select "
-                            "one: select_arma(prepare(run, axis=...))")
-        x = prepare(x, fs_hz=fs_hz)  # one axis: its mean removed, the step recorded
-    if isinstance(x, Prepared):
-        run = x.run
-        info = {"source": run.source if run is not None else None, "axis": x.axis,
-                "units": x.units, "n_input": x.n_input, "n": x.n, "fs_hz": x.fs_hz}
+    inp = ensure_series(x, "x", fs_hz=fs_hz, min_length=1,
+                        pick_hint="select one: select_arma(prepare(run, axis=...))")
+    if inp.run is not None:  # one axis: its mean removed, the step recorded
+        inp = ensure_series(prepare(inp.run, fs_hz=fs_hz))
+    if inp.prepared is not None:
+        p, run = inp.prepared, inp.prepared.run
+        info = {"source": run.source if run is not None else None, "axis": p.axis,
+                "units": p.units, "n_input": p.n_input, "n": p.n, "fs_hz": p.fs_hz}
         raw = None   # the quantization check only applies to undecimated data
-        if run is not None and x.axis in run.axes and x.decimate == 1:
-            raw = run.axis(x.axis)
-        return _Input(x.x, x.index, x.time, x.fs_hz, x.units, info, x.to_dict(), raw)
-    if isinstance(x, pd.DataFrame):
-        raise DataError("x must be one series (Prepared, ndarray or Series), got a DataFrame")
-    index = pandas_index(x)
-    arr = to_float_array(x, "x", min_length=1)
-    fs = None if fs_hz is None else check_positive("fs_hz", fs_hz)
+        if run is not None and p.axis in run.axes and p.decimate == 1:
+            raw = run.axis(p.axis)
+        return _Input(p.x, p.index, p.time, p.fs_hz, p.units, info, p.to_dict(), raw)
+    arr, fs = inp.values, inp.fs_hz
     time = None if fs is None else np.arange(arr.shape[0], dtype=np.float64) / fs
-    name = str(x.name) if isinstance(x, pd.Series) and x.name is not None else "x"
     mean = float(arr.mean()) if arr.size else 0.0
     steps = [f"removed the mean ({mean:.6g})"]
-    info = {"source": "Series" if index is not None else "array", "axis": name, "units": None,
+    info = {"source": inp.kind, "axis": inp.axes[0], "units": None,
             "n_input": int(arr.shape[0]), "n": int(arr.shape[0]), "fs_hz": fs}
-    return _Input(arr - mean, index, time, fs, None, info,
+    return _Input(arr - mean, inp.index, time, fs, None, info,
                   {"steps": steps, "demeaned": True, "mean": mean}, arr)
 
 
@@ -201,7 +199,7 @@ def _replace(c: Candidate, **changes: Any) -> Candidate:
 
 # over 80 lines only through its numpydoc docstring; the body is short
 def select_arma(
-    x: Any,
+    x: ArrayLike1D | Run | Prepared,
     *,
     candidates: Any = DEFAULT_FIVE,
     criterion: Criterion = "aic",
@@ -267,7 +265,7 @@ def select_arma(
     check_choice("method", method, ("fast", "statsmodels"))
     orders = parse_candidates(candidates)
     lag_t = _check_lags(lags)
-    inp = _unpack(x, fs_hz)
+    inp = _selection_input(x, fs_hz)
     _check_data(inp.x, orders, lag_t)
     corr = correlogram(inp.x)
     tick = progress.ticker(f"ARMA: {len(orders)} candidates", len(orders))

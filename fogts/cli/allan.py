@@ -48,6 +48,7 @@ def _allan_tables(res: AllanResult, model: NoiseModel | None, check: dict[str, A
               + ("" if check["n_terms_equal"] else "; the numbers of terms differ")], quiet_json)
 
 
+# Over 80 lines by its 24 option declarations and docstring; the analysis is fogts.pipeline's.
 @common.app.command("allan")
 @shows_progress()
 @common.reads_input()

@@ -81,6 +81,7 @@ OutUnitsOpt = Annotated[str, typer.Option("--units", help="Unit of the output ra
 DecimalsOpt = Annotated[int | None, typer.Option("--decimals", help="Round the rate and temperature to this many decimals (smaller files).")]
 
 
+# Over 80 lines by its 20 option declarations and the sidecar record written beside the output.
 @simulate_app.command("noise")
 def simulate_noise_cmd(
     output: OutputOpt,

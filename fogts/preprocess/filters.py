@@ -27,7 +27,7 @@ import numpy as np
 import pandas as pd
 from scipy import ndimage, signal
 
-from fogts._typing import FloatArray
+from fogts._typing import ArrayLike1D, FloatArray
 from fogts._validate import check_choice, check_int, check_positive, pandas_index, to_float_array
 from fogts.choices import FILTER_DESIGNS, FilterDesign
 from fogts.errors import DataError
@@ -114,7 +114,7 @@ class FilterResult:
 
 
 def lowpass(
-    x: Any,
+    x: ArrayLike1D,
     *,
     fs_hz: float,
     cutoff_hz: float,
@@ -200,7 +200,7 @@ def _zero_phase_butter_design_hz(cutoff_hz: float, fs_hz: float, order: int) -> 
     return fs_hz / math.pi * math.atan(warped)
 
 
-def moving_average(x: Any, *, fs_hz: float, window_s: float) -> FilterResult:
+def moving_average(x: ArrayLike1D, *, fs_hz: float, window_s: float) -> FilterResult:
     """Centred (zero-phase) moving average over ``window_s`` seconds.
 
     Edges use reflected data (``scipy.ndimage.uniform_filter1d``, mode ``"reflect"``), so

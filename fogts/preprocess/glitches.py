@@ -14,7 +14,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from fogts._typing import FloatArray, IntArray
+from fogts._typing import ArrayLike1D, FloatArray, IntArray
 from fogts._validate import check_positive
 from fogts.errors import DataError
 
@@ -198,7 +198,7 @@ def _run_bounds(far_of: Any, row: int, n: int) -> tuple[int, int]:
 
 
 def detect_glitches(
-    x: Any,
+    x: ArrayLike1D,
     *,
     time_s: Any = None,
     fs_hz: float | None = None,

@@ -15,12 +15,12 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from fogts._typing import FloatArray, IntArray
-from fogts._validate import check_int, check_positive, pandas_index, to_float_array
+from fogts._typing import ArrayLike1D, FloatArray, IntArray
+from fogts._validate import check_int, check_positive
 from fogts.errors import DataError, InsufficientDataError
 from fogts.io.run import Run
 from fogts.preprocess.glitches import MAD_TO_SIGMA
-from fogts.units import parse_rate_unit
+from fogts.preprocess.inputs import ensure_series
 
 __all__ = ["OutlierReport", "Prepared", "StationarityReport", "prepare"]
 
@@ -181,7 +181,7 @@ class Prepared:
 
 # Long by its docstring (every step and option); the body is one step after another.
 def prepare(
-    data: Run | FloatArray | pd.Series | Any,
+    data: ArrayLike1D | Run,
     *,
     fs_hz: float | None = None,
     units: str | None = None,
@@ -240,12 +240,11 @@ def prepare(
     >>> p.steps
     ('removed a polynomial trend of order 1', 'stationarity: stationary (ADF p=0, KPSS p=0.1)')
     """
-    run = data if isinstance(data, Run) else None
-    x, fs, name, index = _unpack(data, fs_hz, axis)
-    if units is not None:
-        units = parse_rate_unit(units)
-    else:
-        units = run.units if run is not None else "deg/h"
+    inp = ensure_series(data, "data", fs_hz=fs_hz, units=units, axis=axis,
+                        min_length=MIN_PREPARE_SAMPLES, accept_prepared=False, require_fs=True)
+    x, fs, name, index, run = inp.values, inp.fs_hz, inp.axes[0], inp.index, inp.run
+    assert fs is not None  # require_fs
+    units = inp.units or "deg/h"
     if np.ptp(x) == 0:
         raise InsufficientDataError(f"{name!r} is constant (every value is {x[0]:g}); nothing "
                                     "to model")
@@ -292,31 +291,6 @@ def prepare(
                     index=index, steps=tuple(steps), n_input=n_input, outliers=report,
                     trend_order=order, trend_coefficients=coefs,
                     decimate=k, dropped_tail=dropped_tail, stationarity=stat, run=run)
-
-
-def _unpack(data: Any, fs_hz: float | None, axis: int | str
-            ) -> tuple[FloatArray, float, str, pd.Index | None]:
-    if isinstance(data, Prepared):
-        raise DataError("data is already Prepared; pass the Run or the raw series")
-    if isinstance(data, Run):
-        x = data.axis(axis)
-        fs = check_positive("fs_hz", fs_hz) if fs_hz is not None else data.fs_hz
-        name = data.axes[axis] if isinstance(axis, int) else axis
-        return to_float_array(x, name, min_length=MIN_PREPARE_SAMPLES), fs, name, None
-    index = pandas_index(data)
-    if isinstance(data, pd.DataFrame):
-        raise DataError("data must be a Run, ndarray or Series; for a DataFrame use "
-                        "fogts.io.reader.read_run(frame) first")
-    if fs_hz is None and isinstance(index, pd.DatetimeIndex | pd.TimedeltaIndex) and index.size > 1:
-        steps = pd.TimedeltaIndex(index[1:] - index[:-1]).total_seconds()
-        fs_hz = 1.0 / float(np.median(np.asarray(steps)))
-    if fs_hz is None:
-        raise DataError("fs_hz is required for array input (or pass a Run, or a Series with "
-                        "a DatetimeIndex)")
-    fs = check_positive("fs_hz", fs_hz)
-    name = str(data.name) if isinstance(data, pd.Series) and data.name is not None else "rate"
-    x = to_float_array(data, "data", min_length=MIN_PREPARE_SAMPLES)
-    return x, fs, name, index
 
 
 def _replace_outliers(x: FloatArray, sigma_factor: float) -> tuple[FloatArray, OutlierReport]:

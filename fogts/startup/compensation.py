@@ -21,7 +21,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from fogts._typing import FloatArray
+from fogts._typing import ArrayLike1D, FloatArray
 from fogts._validate import check_positive, to_float_array
 from fogts.errors import DataError, InsufficientDataError
 from fogts.io.run import Run
@@ -170,7 +170,7 @@ class BiasStability:
         return self.summary()
 
 
-def bias_stability(x: Any, *, fs_hz: float, average_s: float = 10.0,
+def bias_stability(x: ArrayLike1D, *, fs_hz: float, average_s: float = 10.0,
                    units: str = "deg/h") -> BiasStability:
     """Bias stability of a static record (GJB 2426A-2015 §5.3 / IEEE Std 952-1997 §12.3).
 

@@ -42,7 +42,7 @@ import numpy as np
 import pandas as pd
 from scipy.interpolate import CubicSpline
 
-from fogts._typing import BoolArray, FloatArray, IntArray
+from fogts._typing import ArrayLike1D, BoolArray, FloatArray, IntArray
 from fogts._validate import check_choice, check_int, check_positive, pandas_index, to_float_array
 from fogts.errors import InsufficientDataError
 
@@ -279,7 +279,7 @@ def _sift(r: FloatArray, grid: FloatArray, max_sift: int) -> tuple[FloatArray, i
     return h, max_sift, False
 
 
-def emd(x: Any, *, max_imfs: int | None = None, max_sift: int = 50) -> EmdResult:
+def emd(x: ArrayLike1D, *, max_imfs: int | None = None, max_sift: int = 50) -> EmdResult:
     """Empirical mode decomposition of a 1-D series (see the module docstring).
 
     Parameters
@@ -355,7 +355,7 @@ def energy_k(energy: FloatArray) -> int:
     return int(e.size) + 1
 
 
-def separate_trend(x: Any, *, fs_hz: float, criterion: EmdCriterion = "energy",
+def separate_trend(x: ArrayLike1D, *, fs_hz: float, criterion: EmdCriterion = "energy",
                    k: int | None = None, max_imfs: int | None = None,
                    max_sift: int = 50) -> TrendSplit:
     """Split a series into a slow trend and a fast rest with EMD.

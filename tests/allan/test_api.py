@@ -324,7 +324,7 @@ def test_bad_axis_raises(rate: np.ndarray, three_axes: np.ndarray) -> None:
     with pytest.raises(DataError, match=r"axis 'gyro' not found; axes are: rate_0, rate_1, "
                                         r"rate_2"):
         allan_deviation(three_axes, fs_hz=FS, axis="gyro")
-    with pytest.raises(DataError, match=r"axis 1 not found; a 1-D array has one axis \(0\)"):
+    with pytest.raises(DataError, match=r"axis 1 not found; a 1-D series has one axis \(0 or 'rate'\)"):
         allan_deviation(rate, fs_hz=FS, axis=1)
     prep = prepare(rate, fs_hz=FS, stationarity=False)
     with pytest.raises(DataError, match=r"axis 'y' not found; the Prepared series is axis "

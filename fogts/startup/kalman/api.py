@@ -10,7 +10,7 @@ from typing import Any, Literal, get_args
 import numpy as np
 import pandas as pd
 
-from fogts._typing import FloatArray
+from fogts._typing import ArrayLike1D, FloatArray
 from fogts._validate import check_choice, check_positive, pandas_index, to_float_array
 from fogts.startup.kalman.result import KalmanResult
 from fogts.startup.kalman.runs import (
@@ -39,7 +39,7 @@ _ORDERS = {"AR(1)": (1, 0), "AR(2)": (2, 0), "AR(3)": (3, 0), "ARMA(1,1)": (1, 1
            "ARMA(2,1)": (2, 1)}
 
 
-def resolve_arma_model(x: Any, spec: str) -> Any:
+def resolve_arma_model(x: ArrayLike1D, spec: str) -> Any:
     """Fit the drift model named by ``spec`` to ``x`` (demeaned first).
 
     ``"auto"`` runs the candidate selection of :func:`fogts.arma.select.select_arma` and
@@ -65,7 +65,7 @@ def resolve_arma_model(x: Any, spec: str) -> Any:
 
 
 def arma_kalman(
-    x: Any,
+    x: ArrayLike1D,
     model: Any,
     *,
     measurement_noise: Literal["estimate"] | float = "estimate",
