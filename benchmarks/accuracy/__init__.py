@@ -2,6 +2,8 @@
 
 * :mod:`benchmarks.accuracy.roundtrip`: noise coefficients -> ``simulate_gyro`` ->
   ``allan_deviation`` -> ``fit_noise`` -> coefficients, by sensor grade.
+* :mod:`benchmarks.accuracy.gauss_markov`: interval coverage when bias instability is a
+  Gauss–Markov sum (an independent simulator in the test code), not ideal flicker.
 
 ``metrics(quick)`` is the entry point of the benchmark runner (``python -m benchmarks``).
 """
@@ -12,6 +14,7 @@ from benchmarks.metric import Metric
 
 
 def metrics(quick: bool = False) -> list[Metric]:
+    from benchmarks.accuracy.gauss_markov import metrics as gauss_markov
     from benchmarks.accuracy.roundtrip import metrics as roundtrip
 
-    return roundtrip(quick)
+    return roundtrip(quick) + gauss_markov(quick)

@@ -25,6 +25,7 @@ import argparse
 import os
 import time
 import warnings
+from collections.abc import Callable
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 from typing import Any
@@ -68,16 +69,21 @@ def one_run(grade: str, seed: int, fs_hz: float, duration: str) -> dict[str, Any
     return out
 
 
+def run_jobs(fn: Callable[..., dict[str, Any]], jobs: list[tuple[Any, ...]],
+             workers: int | None) -> list[dict[str, Any]]:
+    """``fn(*job)`` for every job, on a process pool when more than one CPU is used."""
+    nproc = workers or os.cpu_count() or 1
+    if nproc > 1:
+        with ProcessPoolExecutor(max_workers=nproc) as pool:
+            return list(pool.map(fn, *zip(*jobs, strict=True)))
+    return [fn(*job) for job in jobs]
+
+
 def study(*, seeds: int, fs_hz: float, duration: str = "3h",
           workers: int | None = None) -> dict[str, dict[str, dict[str, float]]]:
     """Summary per grade and term over ``seeds`` seeds (see the module docstring)."""
     jobs = [(g, FIRST_SEED + s, fs_hz, duration) for g in GRADES for s in range(seeds)]
-    nproc = workers or os.cpu_count() or 1
-    if nproc > 1:
-        with ProcessPoolExecutor(max_workers=nproc) as pool:
-            runs = list(pool.map(one_run, *zip(*jobs, strict=True)))
-    else:
-        runs = [one_run(*job) for job in jobs]
+    runs = run_jobs(one_run, jobs, workers)
     summary: dict[str, dict[str, dict[str, float]]] = {}
     for grade, truth in GRADES.items():
         rows = [r for r in runs if r["grade"] == grade]

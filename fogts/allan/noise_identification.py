@@ -14,6 +14,10 @@ it is reported as:
   (standard variance / Allan variance, SP1065 section 5.2), supplemented by
 * ``"rn"``: the ratio R(n) = Mod sigma^2 / sigma^2 (SP1065 section 5.2), which the B1
   ratio needs to separate white PM, flicker PM and white FM.
+* A change away from white FM (``alpha = 0``) at the next shorter tau is accepted only
+  when it is significant given the estimate's sampling error (:data:`CHANGE_Z` standard
+  errors: ``2/sqrt(N)`` for the ACF's ``p``, ``sqrt(2/(N-1))`` for ``log B1``); otherwise
+  white FM is kept, so white rate noise is not given chance types at the longest taus.
 * ``"none"``: nothing could be identified at this tau (fewer than 4 averaged points, or
   a constant series); the alpha of the nearest identified tau is used instead (white FM,
   ``alpha = 0``, if there is none).
@@ -34,7 +38,7 @@ from fogts.allan._checks import check_m
 from fogts.allan.estimators import mdev, oadev, phase_from_rate
 from fogts.allan.taus import KINDS
 
-__all__ = ["ACF_MIN_POINTS", "ALPHAS", "ALPHA_METHODS", "B1_MIN_POINTS", "identify_noise",
+__all__ = ["ACF_MIN_POINTS", "ALPHAS", "ALPHA_METHODS", "B1_MIN_POINTS", "CHANGE_Z", "identify_noise",
            "identify_with_methods"]
 
 #: Fewest decimated phase points (``n // m + 1``) for the lag-1 autocorrelation method;
@@ -42,6 +46,10 @@ __all__ = ["ACF_MIN_POINTS", "ALPHAS", "ALPHA_METHODS", "B1_MIN_POINTS", "identi
 ACF_MIN_POINTS = 30
 #: Fewest averaged rate values for the B1 ratio (below it the point is ``"none"``).
 B1_MIN_POINTS = 4
+#: A change of the identified type from one tau to the next is accepted when the estimate
+#: departs from the previous type by at least this many of its standard errors (about
+#: 0.3 % two-sided per tau under the previous type).
+CHANGE_Z = 3.0
 #: The values of ``alpha_method``.
 ALPHA_METHODS: tuple[str, ...] = ("acf", "b1", "rn", "neighbours", "none")
 #: The power-law exponents that are identified (frequency-noise convention).
@@ -57,8 +65,9 @@ def _lag1(c: FloatArray) -> float:
     return float(np.dot(c[:-1], c[1:])) / den
 
 
-def _acf_alpha(xd: FloatArray, d_max: int) -> float:
-    """Riley & Greenhall (2004) lag-1 ACF noise estimate for frequency data.
+def _acf_alpha(xd: FloatArray, d_max: int) -> tuple[float, float]:
+    """Riley & Greenhall (2004) lag-1 ACF noise estimate for frequency data, and its
+    standard error (:func:`_acf_stderr`).
 
     ``xd`` is the phase decimated by m (``N + 1`` points), so ``z = diff(xd)`` are the N
     rates averaged over blocks of m (the scale ``1/m`` does not matter).  A least-squares
@@ -78,7 +87,7 @@ def _acf_alpha(xd: FloatArray, d_max: int) -> float:
     z -= zbar
     stt = n * (n * n - 1.0) / 12.0
     if n < 3 or not stt > 0.0:
-        return math.nan
+        return math.nan, math.nan
     t_z = n * float(xd[-1]) - float(np.sum(xd[1:]))  # sum_t t z_t
     suc = t_z - zbar * n * (n - 1.0) / 2.0  # sum_t u_t c_t = sum_t t c_t (sum c = 0)
     b = suc / stt
@@ -88,24 +97,38 @@ def _acf_alpha(xd: FloatArray, d_max: int) -> float:
     num = (float(np.dot(z[:-1], z[1:])) - b * (2.0 * suc - cl * ul - cl - c0 * u0 + c0)
            + b * b * (stt - ul * ul - ul))
     if not den > 0.0 or not math.isfinite(num):
-        return math.nan
+        return math.nan, math.nan
     r1 = num / den
     d = 0
     w = z
     while True:
         delta = r1 / (1.0 + r1)
         if delta < 0.25 or d >= d_max:
-            return -2.0 * (delta + d)
+            return -2.0 * (delta + d), _acf_stderr(w.size)
         # differencing the detrended series = differencing z, up to a constant that the
         # centring removes
         w = np.diff(w)
         if w.size < 2:
-            return math.nan
+            return math.nan, math.nan
         w -= w.mean()
         r1 = _lag1(w)
         if not math.isfinite(r1):
-            return math.nan
+            return math.nan, math.nan
         d += 1
+
+
+def _acf_stderr(n: int) -> float:
+    """Standard error of ``p = -2 (delta + d)`` from the lag-1 autocorrelation of ``n``
+    values: ``2 / sqrt(n)``.
+
+    The lag-1 autocorrelation of ``n`` independent values has standard deviation
+    ``1/sqrt(n)`` (Bartlett; the precision Riley & Greenhall 2004 quote for the method),
+    and ``delta = r1 / (1 + r1)`` has slope 1 at ``r1 = 0``, so this is the standard error
+    of ``p`` when the previous type (the one under test) is white FM.  For the other types
+    it is no error bound (near white PM the slope is larger), and their changes are taken
+    as the estimate rounds, as Stable32 takes them.
+    """
+    return 2.0 / math.sqrt(n)
 
 
 def _b1_expected(n: int, mu: int) -> float:
@@ -131,15 +154,40 @@ def _rn_expected(m: int, alpha: int) -> float:
     return (m * m + 1.0) / (2.0 * m * m)
 
 
-def _b1_type(z: FloatArray, oavar: float) -> int:
+def _significant_change(held: int | None, p: float, se: float) -> int:
+    """The rounded ACF estimate ``p``, unless ``held`` (the type at the next shorter tau)
+    is white FM (alpha = 0) and ``p`` differs from it by less than :data:`CHANGE_Z`
+    standard errors: then ``held``.
+
+    The noise type changes slowly with tau, and the estimate at a longer tau rests on fewer
+    averaged values; a change of type is accepted only where the estimate's own sampling
+    uncertainty (:func:`_acf_stderr`) makes it significant (:data:`CHANGE_Z`).  On white rate
+    noise this removes the chance +-1 types at the last ACF taus (30-125 averaged values,
+    where the standard error of ``p`` is 0.2-0.4)."""
+    alpha = int(np.clip(np.rint(p), -2, 2))
+    if held == 0 and alpha != held and abs(p - held) < CHANGE_Z * se:
+        return held
+    return alpha
+
+
+def _b1_type(z: FloatArray, oavar: float, held: int | None = None) -> int:
     """B1 ratio decision (SP1065 section 5.2): -2, -1, 0, or 2 for "phase noise" (which the
-    B1 ratio cannot split; R(n) does)."""
+    B1 ratio cannot split; R(n) does).
+
+    With ``held`` (the type at the next shorter tau) white FM, that type is kept unless the
+    B1 ratio departs from the value it expects by more than :data:`CHANGE_Z` standard errors of ``log B1``, ``sqrt(2 / (n - 1))`` (the sample
+    variance of ``n`` values; the Allan variance in the denominator, from the whole
+    record, is the better determined of the two)."""
     n = z.size
     b1 = float(np.var(z, ddof=1)) / oavar
     # mu (AVAR ~ tau**mu) of RWFM, FFM, WFM and the PM types; decision boundaries are the
     # geometric means of adjacent expected values.
     expected = [(-2, _b1_expected(n, 1)), (-1, _b1_expected(n, 0)), (0, _b1_expected(n, -1)),
                 (2, _b1_expected(n, -2))]
+    if held == 0 and b1 > 0.0:
+        log_ratio = math.log(b1 / _b1_expected(n, -1))  # white FM: AVAR ~ 1/tau
+        if abs(log_ratio) < CHANGE_Z * math.sqrt(2.0 / (n - 1)):
+            return held
     for (a_hi, b_hi), (_, b_lo) in itertools.pairwise(expected):
         if b1 > math.sqrt(b_hi * b_lo):
             return a_hi
@@ -170,13 +218,15 @@ def identify_with_methods(y: FloatArray, m: IntArray, kind: str, oavar_given: Fl
     alpha = np.zeros(m.size, dtype=np.int64)
     methods = ["none"] * m.size
     b1_idx: list[int] = []
-    for i, mi in enumerate(m.tolist()):
-        blocks = n // mi
+    held: int | None = None
+    for i in np.argsort(m, kind="stable").tolist():
+        blocks = n // int(m[i])
         if blocks + 1 >= ACF_MIN_POINTS:
-            p = _acf_alpha(x[: blocks * mi + 1 : mi], d_max)
+            p, se = _acf_alpha(x[: blocks * int(m[i]) + 1 : int(m[i])], d_max)
             if math.isfinite(p):
-                alpha[i] = int(np.clip(np.rint(p), -2, 2))
+                alpha[i] = _significant_change(held, p, se)
                 methods[i] = "acf"
+                held = int(alpha[i])
         elif blocks >= B1_MIN_POINTS:
             b1_idx.append(i)
     if b1_idx:
@@ -190,8 +240,9 @@ def identify_with_methods(y: FloatArray, m: IntArray, kind: str, oavar_given: Fl
             if not av > 0.0:
                 continue
             xd = x[: (n // mi) * mi + 1 : mi]
-            alpha[i] = _b1_type(np.diff(xd) / mi, av)
+            alpha[i] = _b1_type(np.diff(xd) / mi, av, held)
             methods[i] = "b1"
+            held = int(alpha[i])
             if alpha[i] == 2 and 3 * mi <= n:
                 pm_idx.append(i)
         if pm_idx:

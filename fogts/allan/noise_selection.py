@@ -12,7 +12,12 @@ Term selection (``significance`` :math:`\\alpha`)
     :math:`z_j`, refit (model error included) and repeat; terms the NNLS put at zero stay
     there.  A term that shapes the curve over several taus is kept even when its z is
     small: dropping a real but weakly determined B or K would hand its share to its
-    neighbours.  For :math:`a_j` on the boundary :math:`a_j = 0`, :math:`\\max(z_j, 0)^2`
+    neighbours.  A term that reaches :data:`COVERAGE_SHARE` at *no* data tau is dropped
+    whatever its z: it is then measured only through the curvature of the curve at the
+    edge of the tau range, which a small departure of its neighbours from their ideal
+    shapes produces as well (a bias instability made of Gauss–Markov processes rolls off
+    below its shortest correlation time, and an unsupported Q fitted to that roll-off takes
+    its share from N).  For :math:`a_j` on the boundary :math:`a_j = 0`, :math:`\\max(z_j, 0)^2`
     has the 50:50 :math:`\\chi^2_0 / \\chi^2_1` null distribution of the likelihood-ratio
     statistic (Self & Liang, *J. Am. Stat. Assoc.* 82(398), 1987; Chernoff, *Ann. Math.
     Stat.* 25, 1954), so the one-sided :math:`z > z_{1-\\alpha}` is its level-:math:`\\alpha`
@@ -91,7 +96,7 @@ def backward_elimination(problem: LsqProblem, z_crit: float | None) -> TermSelec
         covered = np.count_nonzero(
             problem.design * a[None, :] >= COVERAGE_SHARE * fit.mu[:, None], axis=0)
         weak = [(z, j) for j, z in z_act.items()
-                if z < z_crit and covered[j] < MIN_COVERED_POINTS]
+                if (z < z_crit and covered[j] < MIN_COVERED_POINTS) or covered[j] == 0]
         if not weak or np.count_nonzero(free) <= 1:
             break
         z_min, j_min = min(weak)

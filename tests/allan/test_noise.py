@@ -134,9 +134,10 @@ def test_weighted_fit_beats_slope_readoff(simulated_fits: list[NoiseModel]) -> N
 def test_term_selection_on_white_plus_rw(simulated: list[AllanResult],
                                          simulated_fits: list[NoiseModel]) -> None:
     """Q, B and R are absent in the truth: most seeds put them at the bound or drop them
-    (z < 1.645; a spurious R that shapes the last two taus is kept); the model error is 0
-    (the curve is exactly the model) in every seed, whereas the unrestricted ML estimate
-    is > 0 in some."""
+    (z < 1.645, or any z when the term reaches a quarter of sigma^2 at no tau; a spurious
+    R that shapes the last two taus is kept); the model error is 0 (the curve is exactly
+    the model) in every seed but one, whereas the unrestricted ML estimate is > 0 in
+    some."""
     z_crit = 1.6448536269514722
     for name in ("N", "K"):
         assert all(m[name].status == "fitted" and m[name].z_score > z_crit
@@ -149,8 +150,12 @@ def test_term_selection_on_white_plus_rw(simulated: list[AllanResult],
             assert t.value == 0.0 and t.at_bound and math.isnan(t.stderr)
             assert t.ci_low == 0.0 and t.ci_high > 0  # an upper limit
             assert (t.status == "at_bound" and t.z_score == 0.0) or (
-                t.status == "dropped" and 0 < t.z_score < z_crit)
-    assert all(m.model_error == 0.0 for m in simulated_fits)
+                t.status == "dropped" and 0 < t.z_score)
+    # Seed 17's curve bends at the shortest taus as a Q would (z = 3.0, but Q makes up a
+    # quarter of sigma^2 at no tau): the term is dropped and the bend, 0.4 %, is taken as
+    # model error instead; N (-0.13 %, se 0.12 %) is still covered.
+    with_error = [i for i, m in enumerate(simulated_fits) if m.model_error > 0]
+    assert with_error == [17] and simulated_fits[17].model_error < 0.01
     loose = [quiet_fit(res, significance=None) for res in simulated[:8]]
     assert all(m.significance is None and not m.dropped for m in loose)
     assert sum(m.model_error > 0 for m in loose) >= 1

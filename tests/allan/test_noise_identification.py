@@ -18,7 +18,8 @@ import pytest
 
 from fogts.allan import noise_identification as ni
 from fogts.allan.confidence import confidence_table
-from fogts.allan.noise_identification import identify_noise
+from fogts.allan.noise_identification import identify_noise, identify_with_methods
+from fogts.allan.taus import tau_grid
 from tests.allan.references import (
     gps_rate,
     ocxo_rate,
@@ -177,3 +178,19 @@ def test_oadev_b1_reuses_dev_consistently() -> None:
     table = confidence_table(y, fs_hz=1.0, kind="oadev", m=m, dev=dev)
     assert "b1" in table.alpha_method or "rn" in table.alpha_method
     assert np.array_equal(table.alpha, identify_noise(y, m, fs_hz=1.0, kind="oadev"))
+
+
+@pytest.mark.parametrize("n", [10_000, 100_000, 1_000_000])
+def test_white_rate_noise_is_white_fm_at_every_tau(n: int) -> None:
+    """White rate noise is alpha = 0 at every octave tau, in 10 seeds per length.
+
+    Before the significance test of type changes (CHANGE_Z standard errors of the ACF
+    estimate or of log B1), chance +-1 and -2 types appeared at the last taus, where few
+    averaged values remain (e.g. -2 at m = 2048 of 1e4 samples, 4 averages).  At 3
+    standard errors a chance change has probability ~0.3 % per tau (fixed seeds; 1e3
+    samples still give one +1 at m = 16 in 10 seeds, see tests/README.md)."""
+    m = np.asarray(tau_grid("octave", fs_hz=1.0, n_samples=n, kind="oadev").m)
+    for seed in range(10):
+        y = np.random.default_rng(500 + seed).standard_normal(n)
+        alpha, methods = identify_with_methods(y, m, "oadev")
+        assert np.all(alpha == 0), (seed, list(zip(m.tolist(), alpha.tolist(), methods, strict=True)))
