@@ -22,6 +22,11 @@ from fogts.report.text import _duration_text, error_message, run_info, warning_t
 
 #: One sentence per part: what it shows and how to read it.
 _HOW = {
+    "summary": "The noise terms of every axis on one line each, in the report's units: N "
+               "(angle random walk), B (bias instability) and K (rate random walk) with their "
+               "standard errors, or '< x' where the data only bound a term; the fit verdict "
+               "says whether the five-term model describes the curve (each axis' Allan "
+               "section has the details and the warnings).",
     "input": "What fogts read from the file and what it did to the data before modelling; "
              "check the sample rate, the gaps and the units first, since every other number "
              "depends on them.",
@@ -47,7 +52,7 @@ _HOW = {
                "removing it, claimed as an improvement only when the model is significant.",
 }
 
-_TITLES = {"input": "Input and preprocessing", "timeseries": "Time series",
+_TITLES = {"summary": "Summary", "input": "Input and preprocessing", "timeseries": "Time series",
            "allan": "Allan deviation and noise coefficients", "arma": "ARMA model selection",
            "prediction": "One-step prediction and residual diagnostics",
            "davar": "Dynamic Allan deviation", "thermal": "Thermal model"}
@@ -149,6 +154,29 @@ def _timeseries_blocks(ctx: _Context, notes: list[str]) -> list[Block]:
     return [figure_block(fig, id="timeseries", alt="rate and temperature against time",
                          caption="Long records are drawn as a min-max envelope per pixel "
                                  "column, so spikes stay visible.")]
+
+
+def _summary_blocks(ctx: _Context, notes: list[str]) -> list[Block]:
+    """The one-page summary (:mod:`fogts.report.summary`) of every axis; with a spec, a
+    verdict naming the terms that fail it."""
+    from pathlib import Path
+
+    from fogts.report.summary import SUMMARY_TERMS, axis_row, summary_table
+
+    units, spec = ctx.options.get("output_units", "deg"), ctx.options.get("spec")
+    name = Path(ctx.run.source).name
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # each axis' warnings are notes of its Allan section
+        rows = [axis_row(name, ctx._allan_axis(i), units, spec) for i in range(ctx.run.n_axes)]
+    table = summary_table(rows, spec)
+    blocks = [table_block(table), Block(kind="paragraph", text=table.caption)]
+    if spec is not None:
+        failing = [f"{r['axis']}: {t}" for r in rows for t in SUMMARY_TERMS
+                   if r[f"{t}_spec"] == "FAIL"]
+        blocks.append(Block(kind="verdict", good=not failing, text=(
+            f"Spec {spec.source}: " + ("every term within its limit." if not failing
+                                       else "FAIL for " + ", ".join(failing) + "."))))
+    return blocks
 
 
 # --------------------------------------------------------------------------- per axis
@@ -304,7 +332,7 @@ def _thermal_blocks(ctx: _Context, i: int, notes: list[str]) -> list[Block]:
 
 #: Builders of the sections that show the whole run, by part.
 _RUN_BUILDERS: dict[str, Callable[[_Context, list[str]], list[Block]]] = {
-    "input": _input_blocks, "timeseries": _timeseries_blocks}
+    "summary": _summary_blocks, "input": _input_blocks, "timeseries": _timeseries_blocks}
 #: Builders of the sections drawn once per rate axis, by part.
 _AXIS_BUILDERS: dict[str, Callable[[_Context, int, list[str]], list[Block]]] = {
     "allan": _allan_blocks, "arma": _arma_blocks, "prediction": _prediction_blocks,
