@@ -240,9 +240,9 @@ def _residual_blocks(best: Any) -> list[Block]:
     if d is None:
         return []
     rows: list[list[Any]] = [
-        ["ρ_a,2 (seed 000 eq. 11)", d.rho_a2.value, f"|value| ≤ {_num(d.rho_a2.band, 3)}",
+        ["ρ_a,2 = Σ a_t a_{t−2} / Σ a_t² (residuals at lag 2)", d.rho_a2.value, f"|value| ≤ {_num(d.rho_a2.band, 3)}",
          _yes_no(d.rho_a2.passed)],
-        ["ρ_ax,3 (seed 000 eq. 12)", d.rho_ax3.value,
+        ["ρ_ax,3: residuals against the data 3 steps back", d.rho_ax3.value,
          f"|value| ≤ {_num(d.rho_ax3.band, 3)}", _yes_no(d.rho_ax3.passed)]]
     for lb in d.ljung_box:
         pt = _pval(lb.pvalue)

@@ -79,6 +79,10 @@ def test_every_section_present_and_ok(built: tuple[HtmlReport, str, Path]) -> No
     assert figs["davar-1"] == 1 and figs["thermal-1"] >= 1
     assert "report" in rep.summary() and len(rep.to_frame()) == len(rep.sections)
     assert json_dumps(rep.to_dict())  # JSON-safe
+    # methods are named by what they compute (README "Methods and references"), never by
+    # internal labels such as "seed 000"
+    _, html, _ = built
+    assert "seed" not in html.lower() and "ρ_a,2 = Σ a_t a_{t−2} / Σ a_t²" in html
 
 
 def test_each_section_says_how_to_read_it_in_one_sentence(
