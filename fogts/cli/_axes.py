@@ -32,17 +32,18 @@ def axis_picks(run: Run, axis: str | None) -> list[int]:
     return [0 if axis is None else common.axis_index(run, axis)]
 
 
-def axis_line(run: Run, picks: list[int], axis: str | None) -> str:
-    """Which axis (or axes) the command analyses, and how the default was chosen."""
+def axis_lines(run: Run, picks: list[int], axis: str | None) -> list[str]:
+    """Which axis (or axes) the command analyses and how the default was chosen; nothing
+    for a file with one axis."""
+    if run.n_axes == 1:
+        return []
     if len(picks) > 1:
-        return f"axes      all {len(picks)}: {', '.join(run.axes[i] for i in picks)}"
+        return [f"axes      all {len(picks)}: {', '.join(run.axes[i] for i in picks)}"]
     name = run.axes[picks[0]]
     if axis is not None:
-        return f"axis      {name!r} (--axis {axis})"
-    if run.n_axes == 1:
-        return f"axis      {name!r} (the only one)"
-    return (f"axis      {name!r} (default: the first of {run.n_axes}: "
-            f"{', '.join(run.axes)}; choose with --axis NAME, INDEX or all)")
+        return [f"axis      {name!r} (--axis {axis})"]
+    return [f"axis      {name!r} (default: the first of {run.n_axes}: "
+            f"{', '.join(run.axes)}; choose with --axis NAME, INDEX or all)"]
 
 
 def axis_path(path: Path, run: Run, i: int, many: bool) -> Path:

@@ -8,7 +8,7 @@ from typing import Annotated, Any
 import typer
 
 from fogts.cli import _common as common
-from fogts.cli._axes import AXIS_HELP, axis_line, axis_path, axis_picks, with_axis_column
+from fogts.cli._axes import AXIS_HELP, axis_lines, axis_path, axis_picks, with_axis_column
 from fogts.pipeline import ReadSettings
 
 
@@ -84,7 +84,7 @@ def compensate_cmd(
 
             for i, r in zip(picks, results, strict=True):
                 common.save_figure(plot_compensation(r), axis_path(plot, run, i, many))
-        lines = [axis_line(run, picks, axis)]
+        lines = axis_lines(run, picks, axis)
         for r in results:
             lines += ([f"{r.axis}:"] if many else []) + [r.summary()]
         if output is not None:

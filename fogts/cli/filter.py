@@ -11,7 +11,7 @@ import typer
 
 from fogts import choices
 from fogts.cli import _common as common
-from fogts.cli._axes import AXIS_HELP, axis_line, axis_path, axis_picks, with_axis_column
+from fogts.cli._axes import AXIS_HELP, axis_lines, axis_path, axis_picks, with_axis_column
 from fogts.pipeline import ReadSettings
 
 if TYPE_CHECKING:
@@ -73,7 +73,7 @@ def filter_cmd(
             for i, d in zip(picks, done, strict=True):
                 if d.figure is not None:
                     common.save_figure(d.figure(), axis_path(plot, run, i, many))
-        lines = [axis_line(run, picks, axis)]
+        lines = axis_lines(run, picks, axis)
         for i, d in zip(picks, done, strict=True):
             lines += ([f"{run.axes[i]}:"] if many else []) + d.lines
         lines.append(f"wrote {output} ({run.n * len(done)} rows)")

@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING, Annotated, Any
 import typer
 
 from fogts.cli import _common as common
-from fogts.cli._axes import AXIS_HELP, axis_line, axis_path, axis_picks, with_axis_column
+from fogts.cli._axes import AXIS_HELP, axis_lines, axis_path, axis_picks, with_axis_column
 from fogts.pipeline import ReadSettings
 
 if TYPE_CHECKING:
@@ -83,7 +83,8 @@ def select_cmd(
                 written.append(str(axis_path(plot, run, i, many)))
                 common.save_figure(plot_selection(a.selection), written[-1])
         fitted = _write_prediction(analyses, predict) if predict is not None else False
-        common.say([axis_line(run, picks, axis)], json_out)
+        if run.n_axes > 1:
+            common.say(axis_lines(run, picks, axis), json_out)
         for a in analyses:
             _print_selection(a, json_out)
         common.say([f"wrote     {path}" for path in written]
