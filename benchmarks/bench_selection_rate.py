@@ -98,12 +98,12 @@ def _near_cancellation_metrics(n_drift: int) -> list[Metric]:
     return [
         accuracy_metric(
             f"accuracy.seed_paper_arma21.flagged.n=108000.seeds={n_drift}",
-            "seed paper's ARMA(2,1): near-cancellation flagged on the ARMA(2,1) fit",
+            "published FOG drift ARMA(2,1) (nearly cancelling roots): near-cancellation flagged on the ARMA(2,1) fit",
             value=flagged / n_drift, better="higher", unit="fraction", suite=SUITE,
             details={"selected": chosen}),
         accuracy_metric(
             f"accuracy.seed_paper_arma21.low_order.n=108000.seeds={n_drift}",
-            f"seed paper's ARMA(2,1): a one-parameter model selected (selected: "
+            f"published FOG drift ARMA(2,1) (nearly cancelling roots): a one-parameter model selected (selected: "
             f"{', '.join(chosen)})", value=low / n_drift, better="higher", unit="fraction",
             suite=SUITE, abs_tolerance=0.2, details={"selected": chosen}),
     ]

@@ -231,23 +231,26 @@ class AllanAnalysis:
     axes: tuple[AxisAllan, ...] = field(default_factory=tuple)
 
     def to_dict(self) -> dict[str, Any]:
-        """The ``fogts allan`` JSON of one file: the input, the first axis at the top level
-        and, for several axes, ``"axes"`` (one block per axis)."""
+        """The ``fogts allan`` JSON of one file: the input, ``"axes"`` (one block per axis)
+        and the data quality.  The top level also repeats the first axis' block: those keys
+        are deprecated (listed under ``"deprecated"``) and will be removed in the next
+        release; read ``axes[i]`` instead."""
         run = self.run
         blocks = [a.to_dict() for a in self.axes]
         first = blocks[0]
-        out: dict[str, Any] = {
+        return {
             "input": {"source": run.source, "n": run.n, "fs_hz": run.fs_hz,
                       "duration_s": run.duration_s, "units": run.units,
                       "units_source": run.units_source,
                       "axis": first["axis"], "axes": [b["axis"] for b in blocks],
                       "columns": list(run.columns)},
-            **first,
+            "axes": blocks,
             "data_quality": self.quality.to_dict(),
+            **first,
+            "deprecated": {"fields": sorted(first),
+                           "note": "these top-level fields repeat axes[0] and will be removed "
+                                   "in the next release; read axes[i] instead"},
         }
-        if len(blocks) > 1:
-            out["axes"] = blocks
-        return out
 
 
 def _fit(result: AllanResult, s: AllanSettings) -> NoiseModel | None:

@@ -32,12 +32,15 @@ def test_rate_columns_are_split_at_commas(text: str | None, expected: object) ->
 
 
 def test_allan_analysis_is_what_fogts_allan_writes(tmp_path: Path) -> None:
-    """The CLI's JSON is the pipeline's to_dict(), number for number."""
+    """The CLI's JSON is the pipeline's to_dict() and its summary rows, number for number."""
+    from fogts.report.summary import summary_rows
+
     out = tmp_path / "a.json"
     res = CliRunner().invoke(app, ["allan", str(EXAMPLE), "--json", str(out)])
     assert res.exit_code == 0, res.stderr
     run, quality = load(EXAMPLE)
-    mine = json.loads(json_dumps(analyse_allan(run, quality).to_dict()))
+    analysis = analyse_allan(run, quality)
+    mine = json.loads(json_dumps({**analysis.to_dict(), "summary": summary_rows([analysis])}))
     assert mine == json.loads(out.read_text())
 
 

@@ -14,6 +14,7 @@ from fogts._typing import BoolArray, FloatArray, IntArray
 from fogts.allan.result import AxisIndexed
 from fogts.allan.taus import DroppedTau
 from fogts.preprocess.glitches import Glitch
+from fogts.tables import Column, Table, TableView
 
 __all__ = ["DynamicAllanResult", "DynamicAllanResultSet", "Nonstationarity", "Transient"]
 
@@ -198,8 +199,8 @@ class Nonstationarity:
         return text
 
 
-@dataclass(frozen=True)
-class DynamicAllanResult:
+@dataclass(frozen=True, repr=False)
+class DynamicAllanResult(TableView):
     """Dynamic Allan deviation of one axis: a (window time x tau) surface.
 
     Attributes
@@ -313,6 +314,25 @@ class DynamicAllanResult:
             "dropped": [d.to_dict() for d in self.dropped],
             "notes": list(self.notes),
         }
+
+    # -------------------------------------------------------------- notebook view
+    def _view_table(self) -> Table:
+        """Per tau: the pooled deviation, its range over the windows and the share of
+        windows outside the stationary interval."""
+        rows = [(float(self.tau_s[j]), float(self.reference_dev[j]),
+                 float(np.nanmin(self.dev[:, j])), float(np.nanmax(self.dev[:, j])),
+                 float(np.mean(self.outside[:, j])))
+                for j in range(self.tau_s.size)]
+        return Table.build(
+            f"Dynamic {self.kind} of {self.axis} ({self.units}), {self.shape[0]} windows of "
+            f"{self.window_s:g} s", (Column("tau (s)"), Column("pooled"), Column("window min"),
+                                     Column("window max"), Column("share outside", digits=2)),
+            rows, caption=self.nonstationarity.summary())
+
+    def _view_headline(self) -> str:
+        verdict = "stationary" if self.nonstationarity.stationary else "not stationary"
+        return (f"{self.kind} of {self.axis!r}, {self.shape[0]} windows of {self.window_s:g} s, "
+                f"{self.tau_s.size} taus: {verdict}")
 
     def summary(self, max_rows: int = 12) -> str:
         """Text: the set-up, the verdict, and the deviation at a few taus over time."""

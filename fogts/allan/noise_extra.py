@@ -100,10 +100,11 @@ def deviance(problem: LsqProblem, fit: LsqFit) -> float:
     """``-2 log L`` of the scaled Allan variances (module docstring)."""
     mu = fit.mu
     eps2 = fit.model_error**2 if math.isfinite(fit.model_error) else 0.0
-    if problem.covm is not None:
-        v = problem.covm(fit.a, mu, problem.edf) + np.diag((eps2 + 1e-10) * mu**2)
-    else:
-        v = np.diag(mu**2 * (2.0 / problem.edf + eps2) / problem.density)
+    if problem.covm is None:  # the EDF diagonal (any number of taus): no matrix
+        var = mu**2 * (2.0 / problem.edf + eps2) / problem.density
+        r = problem.y - mu
+        return float(np.sum(r * r / var) + np.sum(np.log(var)))
+    v = problem.covm(fit.a, mu, problem.edf) + np.diag((eps2 + 1e-10) * mu**2)
     chol = np.linalg.cholesky(v)
     z = np.linalg.solve(chol, problem.y - mu)
     return float(z @ z + 2.0 * np.sum(np.log(np.diag(chol))))

@@ -284,14 +284,15 @@ def _fit_wls(design: FloatArray, y: FloatArray, edf: FloatArray, density: FloatA
     if covm is not None:
         v = covm(a, mu, edf) + np.diag(eps2 * mu**2)
         how = f"sandwich with {covm.label}"
-    else:
-        v = np.diag(mu**2 * (2.0 / edf + eps2))
+    else:  # kept as its diagonal: a grid of every tau has ~n/2 points
+        v_diag = mu**2 * (2.0 / edf + eps2)
         how = "EDF diagonal (correlation between taus ignored)"
 
     def cov(idx: IntArray) -> FloatArray:
         x = design[:, idx] * w[:, None]
         h_inv = _scaled_inverse(design[:, idx].T @ x)
-        return h_inv @ (x.T @ v @ x) @ h_inv
+        meat = x.T @ v @ x if covm is not None else x.T @ (v_diag[:, None] * x)
+        return h_inv @ meat @ h_inv
 
     return LsqFit(a=a, mu=mu, w=w, cov=cov, stderr_method=how, model_error=math.sqrt(eps2),
                   chi2=chi2, dof=dof, iterations=int(state["iters"]), converged=ok)

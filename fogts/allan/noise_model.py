@@ -20,7 +20,7 @@ from fogts.allan.readout import SlopeReadoff
 from fogts.allan.terms import TERM_POWER, term_rows
 from fogts.choices import OutputUnits
 from fogts.errors import DataError
-from fogts.tables import Column, Table
+from fogts.tables import Column, Table, TableView
 from fogts.units import term_in_units, term_unit
 
 __all__ = ["NoiseModel", "NoiseTerm"]
@@ -120,8 +120,8 @@ class NoiseTerm:
                 "z": self.z_score}
 
 
-@dataclass(frozen=True)
-class NoiseModel:
+@dataclass(frozen=True, repr=False)
+class NoiseModel(TableView):
     """IEEE-952 noise terms fitted to one Allan-variance curve.
 
     Attributes
@@ -361,6 +361,16 @@ class NoiseModel:
                     + ", tau in s). Upper limit: a term at zero, dropped, or fitted with z < 2 "
                     "is not measured; the note gives its one-sided 95 % bound. Not identifiable: the term makes up a sizeable share of the "
                     "fitted sigma^2 at too few taus of this grid to be measured.")
+
+    # -------------------------------------------------------------- notebook view
+    def _view_table(self) -> Table:
+        return self.term_table()
+
+    def _view_headline(self) -> str:
+        """The fitted terms as ``N = value ± se`` or ``K < limit``, in degree units."""
+        parts = [f"{t.name} < {self.upper_limit(t.name):.3g}" if t.is_limit
+                 else f"{t.name} = {t.value:.4g} ± {t.stderr:.2g}" for t in self.terms]
+        return f"{self.axis!r} {self.method.upper()}: " + ", ".join(parts)
 
     def summary(self) -> str:
         lines = [self.term_table().to_text()]

@@ -18,7 +18,7 @@ import pandas as pd
 from fogts._typing import FloatArray, IntArray
 from fogts.allan.taus import DroppedTau
 from fogts.errors import DataError
-from fogts.tables import Column, Table
+from fogts.tables import Column, Table, TableView
 from fogts.units import convert_sensor, parse_sensor_unit
 
 __all__ = ["KIND_LABELS", "AllanResult", "AllanResultSet", "AxisIndexed"]
@@ -47,8 +47,8 @@ def _num(v: float) -> float | None:
     return float(v) if math.isfinite(v) else None
 
 
-@dataclass(frozen=True)
-class AllanResult:
+@dataclass(frozen=True, repr=False)
+class AllanResult(TableView):
     """One Allan-family curve with per-point uncertainty.
 
     Attributes
@@ -222,6 +222,14 @@ class AllanResult:
             f"{self.kind} of {self.axis} ({unit}), {pct}{corrected}",
             (Column("tau (s)", digits=6), Column("m"), Column("terms"), Column("dev", digits=5),
              Column("ci_low", digits=5), Column("ci_high", digits=5), Column("edf")), rows)
+
+    # -------------------------------------------------------------- notebook view
+    def _view_table(self) -> Table:
+        return self.points_table()
+
+    def _view_headline(self) -> str:
+        return (f"{self.kind} of {self.axis!r}, {self.tau_s.size} taus "
+                f"{self.tau_s[0]:.3g}..{self.tau_s[-1]:.3g} s, {self.units}")
 
     def summary(self) -> str:
         """Plain-text table of the curve, the dropped taus and the notes."""

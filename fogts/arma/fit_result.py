@@ -18,6 +18,7 @@ import pandas as pd
 
 from fogts._typing import FloatArray
 from fogts.arma.likelihood import ExactLikelihood
+from fogts.tables import Column, Table, TableView
 
 __all__ = ["ArmaFit", "criteria", "model_name", "param_lines", "param_names"]
 
@@ -42,8 +43,8 @@ def param_lines(params: dict[str, float], bse: dict[str, float]) -> list[str]:
     return [f"  {k:>8s} = {v: .6g}  (se {bse.get(k, math.nan):.3g})" for k, v in params.items()]
 
 
-@dataclass(frozen=True)
-class ArmaFit:
+@dataclass(frozen=True, repr=False)
+class ArmaFit(TableView):
     """One fitted ARMA(p, q) candidate, in the units of the input series.
 
     The fit is done on ``x / scale`` (when ``standardized``) and transformed back:
@@ -138,6 +139,20 @@ class ArmaFit:
         return pd.DataFrame({"param": names,
                              "estimate": [self.params[k] for k in names],
                              "bse": [self.bse.get(k, math.nan) for k in names]}).set_index("param")
+
+    # -------------------------------------------------------------- notebook view
+    def _view_table(self) -> Table:
+        """The parameters with their standard errors, the criteria in the caption."""
+        rows = [(k, v, self.bse.get(k)) for k, v in self.params.items()]
+        return Table.build(
+            f"{self.name}: {self.equation()}",
+            (Column("parameter", numeric=False), Column("value", digits=6),
+             Column("± stderr", digits=3)), rows,
+            caption=f"n = {self.nobs}; llf = {self.llf:.6g}, AIC = {self.aic:.6g}, "
+                    f"BIC = {self.bic:.6g}" + ("" if self.converged else "; NOT converged"))
+
+    def _view_headline(self) -> str:
+        return f"{self.name}, n = {self.nobs}, AIC = {self.aic:.6g}"
 
     def summary(self) -> str:
         """Human-readable summary: the equation, the parameter table and the criteria."""

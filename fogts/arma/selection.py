@@ -12,13 +12,13 @@ from fogts.arma.candidate import Candidate
 from fogts.arma.gauss_markov import GaussMarkov, gauss_markov
 from fogts.arma.identification import Correlogram
 from fogts.errors import ModelFitError
-from fogts.tables import Column, Table
+from fogts.tables import Column, Table, TableView
 
 __all__ = ["Selection"]
 
 
-@dataclass(frozen=True)
-class Selection:
+@dataclass(frozen=True, repr=False)
+class Selection(TableView):
     """The ranked candidates, the data's correlogram and the selected model.
 
     Attributes
@@ -178,6 +178,17 @@ class Selection:
                     f"at each lag (model_df = p+q); marked cells fail their check",
             failed=failed,
             highlight=[i for i, c in enumerate(self.candidates) if c is self.selected])
+
+    # -------------------------------------------------------------- notebook view
+    def _view_table(self) -> Table:
+        return self.candidate_table()
+
+    def _view_headline(self) -> str:
+        best = self.selected
+        if best is None:
+            return f"no candidate fitted, n = {self.n}"
+        return (f"selected {best.model} by {self.criterion.upper()}, n = {self.n}, residuals "
+                f"{'white' if best.white else 'NOT white'}")
 
     def summary(self) -> str:
         lines = [f"ARMA selection by {self.criterion.upper()} on {self.n} samples; "

@@ -7,7 +7,6 @@ gives one error row, an axis that fails gives an error row for that axis only.
 
 from __future__ import annotations
 
-import math
 import warnings
 from dataclasses import dataclass
 from pathlib import Path
@@ -74,7 +73,7 @@ def _axis_outcome(file: str, run: Run, quality: DataQuality, axis: int,
     """Analyse one axis; an exception becomes an error row and an error status."""
     name = run.axes[axis]
     row = blank_row(file, name)
-    row.update(n=run.n, fs_hz=run.fs_hz, units=run.units, units_source=run.units_source,
+    row.update(n=run.n, fs_hz=run.fs_hz, input_units=run.units, units_source=run.units_source,
                n_gaps=run.sampling.n_gaps if run.sampling is not None else 0,
                n_glitches=quality.glitch_count(name))
     status: dict[str, Any] = {"axis": name, "status": "ok", "error": ""}
@@ -100,18 +99,15 @@ def _analyze_axis(run: Run, quality: DataQuality, axis: int, options: BatchOptio
         analyse_allan_axis,
         analyse_selection,
     )
+    from fogts.report.summary import axis_row
 
-    fields: dict[str, Any] = {}
     # one thread per analysis: the parallelism is across files
     allan = analyse_allan_axis(run, axis, AllanSettings(kind=options.kind, taus=options.taus,
                                                         workers=1))
-    if allan.model is not None:
-        for term in allan.model.terms:
-            if term.name in ("N", "B", "K"):
-                fields[term.name] = _finite(term.value)
-                fields[f"{term.name}_stderr"] = _finite(term.stderr)
-                # a term at zero: its one-sided 95 % upper limit, the number to use downstream
-                fields[f"{term.name}_upper"] = _finite(allan.model.upper_limit(term.name))
+    # the terms in options.output_units with their units, spec verdicts and the fit verdict
+    summary = axis_row(run.source, allan, options.output_units,  # type: ignore[arg-type]
+                       options.spec)
+    fields = {k: v for k, v in summary.items() if k not in ("file", "axis")}
     selection = None
     if options.select:
         selection = analyse_selection(run, quality, axis, SelectSettings(
@@ -125,7 +121,9 @@ def _selection_fields(sel: Selection) -> dict[str, Any]:
     """``selected``, ``aic`` and ``white`` of the selected candidate; ModelFitError (an
     error row naming every candidate's reason) if every candidate failed."""
     best = sel.require_best()
-    return {"selected": best.model, "aic": _finite(best.aic), "white": bool(best.white)}
+    from fogts.report.summary import finite_or_none
+
+    return {"selected": best.model, "aic": finite_or_none(best.aic), "white": bool(best.white)}
 
 
 def _run_outcome(file: str, run: Run, quality: DataQuality, info: dict[str, Any],
@@ -149,12 +147,3 @@ def _run_outcome(file: str, run: Run, quality: DataQuality, info: dict[str, Any]
     doc = to_jsonable(doc)
     return RunOutcome(file=file, status=status, error=error, rows=tuple(doc["rows"]),
                       document=doc)
-
-
-def _finite(v: Any) -> float | None:
-    """``v`` as a float, or None if it is not a finite number."""
-    try:
-        f = float(v)
-    except (TypeError, ValueError):
-        return None
-    return f if math.isfinite(f) else None

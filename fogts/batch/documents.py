@@ -15,7 +15,7 @@ from fogts.batch.records import SUMMARY_COLUMNS, RunOutcome
 __all__ = ["RUN_JSON_VERSION", "blank_row", "error_outcome", "run_document"]
 
 #: Version of the per-run JSON layout (bumped on incompatible changes).
-RUN_JSON_VERSION = 2
+RUN_JSON_VERSION = 3
 
 
 def blank_row(file: str, axis: str = "") -> dict[str, Any]:

@@ -17,25 +17,33 @@ import pandas as pd
 from fogts._validate import check_choice, check_int
 from fogts.allan.taus import GRID_NAMES, KINDS
 from fogts.arma.select import CRITERIA
+from fogts.choices import OUTPUT_UNITS
 from fogts.io.missing import NAN_POLICIES
 from fogts.pipeline import InputColumns, ReadSettings
 from fogts.preprocess.hygiene import GAP_POLICIES
 
 if TYPE_CHECKING:
+    from fogts.allan.datasheet import NoiseSpec
     from fogts.pipeline import ReadSettings
 
 __all__ = ["SUMMARY_COLUMNS", "Analysis", "BatchOptions", "BatchProgress", "BatchResult", "RunOutcome",
            "rows_frame"]
 
 #: Columns of the summary table, in order (one row per run and axis).
+#: ``input_units`` is the rate unit of the input; each term's values (``N``, ``N_stderr``,
+#: ``N_upper``: the 95 % upper limit of a term the data only bound) are in its ``N_unit``
+#: (``output_units``); ``N_spec`` is PASS/FAIL against a datasheet spec; ``fit`` the misfit
+#: verdict (:func:`fogts.report.summary.axis_row`).
 SUMMARY_COLUMNS: tuple[str, ...] = (
-    "file", "axis", "n", "fs_hz", "units", "units_source", "n_gaps", "n_glitches",
-    "N", "N_stderr", "N_upper", "B", "B_stderr", "B_upper", "K", "K_stderr", "K_upper",
-    "selected", "aic", "white", "status", "error", "json",
+    "file", "axis", "n", "fs_hz", "input_units", "units_source", "n_gaps", "n_glitches",
+    *(f"{t}{suffix}" for t in ("N", "B", "K")
+      for suffix in ("", "_stderr", "_upper", "_unit", "_spec")),
+    "fit", "selected", "aic", "white", "status", "error", "json",
 )
 
 _INTEGER_COLUMNS = ("n",)
-_FLOAT_COLUMNS = ("fs_hz", "N", "N_stderr", "B", "B_stderr", "K", "K_stderr", "aic")
+_FLOAT_COLUMNS = ("fs_hz", "N", "N_stderr", "N_upper", "B", "B_stderr", "B_upper", "K",
+                  "K_stderr", "K_upper", "aic")
 
 
 @dataclass(frozen=True)
@@ -65,6 +73,10 @@ class BatchOptions(InputColumns):
     gaps : str
         Gaps in the time base: ``warn``, ``error``, ``split`` or ``ignore`` (see
         :func:`fogts.preprocess.hygiene.assess_run`).
+    output_units : str
+        Units of the noise terms in the summary: ``deg`` or ``si``.
+    spec : NoiseSpec or None
+        Datasheet limits: PASS/FAIL per term (:class:`fogts.allan.datasheet.NoiseSpec`).
     """
 
     kind: str = "oadev"
@@ -75,8 +87,11 @@ class BatchOptions(InputColumns):
     select: bool = True
     nan: str = "error"
     gaps: str = "warn"
+    output_units: str = "deg"
+    spec: NoiseSpec | None = None
 
     def __post_init__(self) -> None:
+        check_choice("output_units", self.output_units, OUTPUT_UNITS)
         check_choice("kind", self.kind, KINDS)
         check_choice("taus", self.taus, GRID_NAMES)
         check_choice("criterion", self.criterion, CRITERIA)
@@ -97,7 +112,9 @@ class BatchOptions(InputColumns):
                             units=self.units, nan=self.nan, gaps=self.gaps)
 
     def to_dict(self) -> dict[str, Any]:
-        return asdict(self)
+        out = asdict(self)
+        out["spec"] = self.spec.to_dict() if self.spec is not None else None
+        return out
 
 
 @dataclass(frozen=True)

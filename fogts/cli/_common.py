@@ -100,6 +100,8 @@ TopicOpt = Annotated[str | None, typer.Option("--topic", rich_help_panel="Input"
 InputOpt = Annotated[choices.InputKind | None, typer.Option("--input", rich_help_panel="Input", help="What the rate columns hold: rate, increment (angle per sample, e.g. dtheta) or angle (integrated angle); angle and increments feed the Allan estimators as phase, without differencing. Default: from the names (dtheta, delta_angle, angle_deg, theta), else rate.")]
 AccelUnitsOpt = Annotated[str | None, typer.Option("--accel-units", rich_help_panel="Input", help="Unit of the accelerometer columns (acc*, ax.., linear_acceleration_*): m/s^2, g, mg, ug (default: from the names such as acc_x_mps2, else from the gravity magnitude, else m/s^2).")]
 JsonOpt = Annotated[str | None, typer.Option("--json", help="Write JSON to PATH, or '-' for stdout.")]
+SpecOpt = Annotated[Path | None, typer.Option("--spec", help="Datasheet limits (YAML: 'units: deg' or 'si', then any of N, B, K, e.g. 'N: 0.15'): PASS/FAIL per term in the summary; a term the data only bound passes if its 95 % upper limit is within the limit.")]
+OutputUnitsOpt = Annotated[choices.OutputUnits, typer.Option("--output-units", help="Units of the printed tables: deg (IEEE 952: deg/sqrt(h), deg/h, deg/h^1.5; the deviations in the input unit) or si (rad/s/sqrt(Hz), rad/s, rad/s^2/sqrt(Hz); deviations in rad/s). Accelerometer axes: m/s/sqrt(h), ug, m/s/h^1.5, or in si m/s^2/sqrt(Hz), m/s^2, m/s^3/sqrt(Hz). The JSON has both (noise, noise_si).")]
 
 
 # ---------------------------------------------------------------- choices
@@ -121,6 +123,7 @@ CriterionOpt = Annotated[choices.Criterion, typer.Option("--criterion", help="AR
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
+    from fogts.allan.datasheet import NoiseSpec
     from fogts.io.run import Run
     from fogts.preprocess.hygiene import DataQuality
     from fogts.startup.thermal_model import ThermalModel
@@ -186,6 +189,35 @@ def guard(options: Mapping[str, str] | None = None, *,
 
             for text in warning_texts(caught):
                 err_console.print(f"warning: {text}", markup=False, soft_wrap=True)
+
+
+@contextmanager
+def named_warnings(file: str, axis: str | None = None) -> Iterator[None]:
+    """Print the warnings raised inside the block at once as ``warning: FILE: AXIS: ...``
+    lines on stderr.  Each file and axis is collected on its own (Python's warnings
+    registry would otherwise show a message only the first time), so the same finding on
+    two files or two axes is printed for each; within the block, each text once."""
+    from fogts.report.text import warning_texts
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        try:
+            yield
+        finally:
+            for text in warning_texts(caught):
+                err_console.print(f"warning: {_attributed(text, file, axis)}", markup=False,
+                                  soft_wrap=True)
+
+
+def _attributed(text: str, file: str, axis: str | None) -> str:
+    """``text`` prefixed with the file and the axis (the ``FILE: `` or ``axis 'X': `` prefix
+    the library gave is replaced)."""
+    if text.startswith(f"{file}: "):
+        text = text[len(file) + 2:]
+    if axis is not None:  # the analysis' own axis label (an array analysed alone is 'rate')
+        text = re.sub(r"^axis '[^']*': ", "", text)
+        text = text[len(axis) + 2:] if text.startswith(f"{axis}: ") else text
+    return f"{file}: {axis}: {text}" if axis is not None else f"{file}: {text}"
 
 
 def _option_names(message: str, options: Mapping[str, str]) -> str:
@@ -279,7 +311,9 @@ def rich_table(table: FogtsTable) -> Table:
     out = Table(title=escape(table.title), title_justify="left",
                 caption=escape(table.caption) or None, caption_justify="left")
     for c in table.columns:
-        out.add_column(escape(c.title), justify="right" if c.numeric else "left")
+        # cells fold rather than end in an ellipsis: a file name or a number is never cut
+        out.add_column(escape(c.title), justify="right" if c.numeric else "left",
+                       overflow="fold")
     for i, row in enumerate(table.cells()):
         style = "bold" if i in table.highlight else ""
         out.add_row(*[Text(v, "red" if (i, j) in table.failed else style)
@@ -366,6 +400,16 @@ def load_thermal_model(path: Path) -> ThermalModel:
     if isinstance(data, dict) and "thermal" in data and "terms" not in data:
         data = data["thermal"].get("model", data["thermal"])  # a `compensate --json` file
     return ThermalModel.from_dict(data)
+
+
+def load_spec(path: Path | None) -> NoiseSpec | None:
+    """``--spec SPEC.yaml``: the datasheet limits (:class:`fogts.allan.datasheet.NoiseSpec`)."""
+    if path is None:
+        return None
+    from fogts.allan.datasheet import NoiseSpec
+    from fogts.io.reader import read_yaml
+
+    return NoiseSpec.from_mapping(read_yaml(path, "--spec file"), source=path.name)
 
 
 def axis_index(run: Run, axis: str) -> int:

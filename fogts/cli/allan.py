@@ -70,7 +70,8 @@ def allan_cmd(
     csv_out: Annotated[Path | None, typer.Option("--csv", help="Write the points (and the fitted curve) to PATH (.csv, .tsv, .parquet).")] = None,
     plot: Annotated[Path | None, typer.Option("--plot", help="Log-log figure with CIs, the fit, its term lines, the fit range shaded and the residuals (data - fit)/CI half-width underneath (several inputs: an overlay): .png, .svg or .pdf.")] = None,
     check_allantools: Annotated[bool, typer.Option("--check-allantools", help="Recompute with allantools on the same data and taus; print the largest relative difference.")] = False,
-    output_units: Annotated[choices.OutputUnits, typer.Option("--output-units", help="Units of the printed tables: deg (IEEE 952: deg/sqrt(h), deg/h, deg/h^1.5; the deviations in the input unit) or si (rad/s/sqrt(Hz), rad/s, rad/s^2/sqrt(Hz); deviations in rad/s). Accelerometer axes: m/s/sqrt(h), ug, m/s/h^1.5, or in si m/s^2/sqrt(Hz), m/s^2, m/s^3/sqrt(Hz). The JSON has both (noise, noise_si).")] = "deg",
+    output_units: common.OutputUnitsOpt = "deg",
+    spec: common.SpecOpt = None,
     export: Annotated[tuple[str, Path] | None, typer.Option("--export", metavar="FORMAT PATH", help="Write the filter-ready noise parameters (N and K in SI; a term not measured as its 95 % upper limit, marked): kalibr (imu.yaml), imu_utils (OpenCV YAML) or json.")] = None,
     bias_correction: Annotated[bool, typer.Option("--bias-correction", help="--kind totdev: divide TOTVAR by its bias at flicker- and random-walk-FM taus (Howe 1999), as Stable32 does.")] = False,
     read: ReadSettings = common.DEFAULT_READ,
@@ -78,19 +79,25 @@ def allan_cmd(
     """Allan deviation with confidence intervals, the IEEE-952 noise terms (Q, N, B, K, R)
     with standard errors, and the curve read-outs (minimum, regions, slopes).
 
-    The data are analysed raw unless --outliers, --detrend or --decimate is given. JSON for
-    one file: {"input", "kind", "units", "points", "noise", "curve", ...}; a multi-axis file
-    adds "axes" (one such block per axis; the top level repeats the first axis). Several
-    files give {"inputs": [one such object per file]}.
+    The output opens with a summary: one row per file and axis with N, B and K (± standard
+    error, or '< x' when the data only bound the term), the fit verdict and, with --spec,
+    PASS/FAIL per term. The data are analysed raw unless --outliers, --detrend or --decimate
+    is given. JSON for one file: {"input", "axes": [{"axis", "kind", "units", "points",
+    "noise", "noise_si", "curve", ...} per axis], "summary", ...} (the top-level copy of the
+    first axis is deprecated); several files give {"inputs": [one such object per file],
+    "summary"}.
+
+    Exit code 1 if a term FAILs its --spec limit, 2 on bad input.
     """
     from fogts.allan.markov import split_terms
-    from fogts.pipeline import AllanSettings, analyse_allan
+    from fogts.pipeline import AllanAnalysis, AllanSettings, analyse_allan_axis
+    from fogts.report.summary import SUMMARY_TERMS, summary_rows, summary_table
 
     export_path = export[1] if export is not None else None
     with common.guard({"tau_min": "--fit-tau-min", "tau_max": "--fit-tau-max"},
                       outputs={"--json": json_out, "--csv": csv_out, "--plot": plot,
                                "--export": export_path},
-                      inputs={"FILES": files}):
+                      inputs={"FILES": files, "--spec": [spec] if spec else []}):
         export_format = _export_format(export, files)
         tau_spec = common.tau_option(taus)
         five, extras = split_terms(terms)
@@ -103,23 +110,30 @@ def allan_cmd(
                                  detrend=detrend, decimate=decimate,
                                  check_allantools=check_allantools,
                                  fit_tau_min=fit_tau_min, fit_tau_max=fit_tau_max)
+        limits = common.load_spec(spec)
         analyses = []
         for f in files:
             run, quality = common.read_input(f, read)
-            picks = None if axis is None else [common.axis_index(run, axis)]
-            analysis = analyse_allan(run, quality, settings, axes=picks)
-            for ax in analysis.axes:
-                warning = ax.plausibility_warning(run)
+            picks = range(run.n_axes) if axis is None else [common.axis_index(run, axis)]
+            done = []
+            for i in picks:
+                with common.named_warnings(Path(run.source).name, run.axes[i]):
+                    done.append(analyse_allan_axis(run, i, settings))
+                warning = done[-1].plausibility_warning(run)
                 if warning is not None:
                     common.err_console.print(f"warning: {warning}", markup=False, soft_wrap=True)
-            analyses.append(analysis)
+            analyses.append(AllanAnalysis(run=run, quality=quality, axes=tuple(done)))
+        rows = summary_rows(analyses, output_units, limits)
         export_text = None
         if export_format is not None:  # built first: a failing export writes nothing
             from fogts.report.export import noise_export_text
 
             export_text = noise_export_text(analyses[0], export_format)
-        payload = (analyses[0].to_dict() if len(analyses) == 1
-                   else {"inputs": [a.to_dict() for a in analyses]})
+        payload: dict[str, Any] = (analyses[0].to_dict() if len(analyses) == 1
+                                   else {"inputs": [a.to_dict() for a in analyses]})
+        payload["summary"] = rows
+        if limits is not None:
+            payload["spec"] = limits.to_dict()
         common.emit_json(payload, json_out)
         if csv_out is not None:
             _allan_csv(analyses, csv_out)
@@ -129,17 +143,20 @@ def allan_cmd(
             from fogts.io.writer import write_text_atomic
 
             write_text_atomic(export_path, export_text)
-        for done in analyses:
-            run = done.run
+        common.print_out(common.rich_table(summary_table(rows, limits)), quiet_json=json_out)
+        for analysis in analyses:
+            run = analysis.run
             common.say([f"{run.source}: {run.n} samples at {run.fs_hz:.6g} Hz "
                   f"({run.duration_s:.6g} s), rate in {run.units}"], json_out)
-            for ax in done.axes:
+            for ax in analysis.axes:
                 if ax.notes:
                     common.say([f"{ax.result.axis}: {line}" for line in ax.notes], json_out)
                 _allan_tables(ax.result, ax.model, ax.check, json_out, output_units)
                 _curve_table(ax.result, ax.readout, json_out)
                 if ax.fit_check is not None:
                     common.say([f"fit check: {ax.fit_check.verdict}"], json_out)
+    if any(r[f"{t}_spec"] == "FAIL" for r in rows for t in SUMMARY_TERMS):
+        raise typer.Exit(common.ExitCode.NEGATIVE)
 
 
 def _export_format(export: tuple[str, Path] | None, files: list[Path]

@@ -9,6 +9,7 @@ from typing import Annotated, Any
 import typer
 from rich.table import Table
 
+from fogts import choices
 from fogts.cli import _common as common
 from fogts.cli.progress import bar_enabled, shows_progress
 from fogts.pipeline import ReadSettings
@@ -30,11 +31,16 @@ def batch_cmd(
     decimate: Annotated[int | None, typer.Option("--decimate", help="Block-average K samples before the ARMA selection.")] = None,
     criterion: common.CriterionOpt = "aic",
     no_select: Annotated[bool, typer.Option("--no-select", help="Skip the ARMA selection (info and Allan only).")] = False,
+    output_units: Annotated[choices.OutputUnits, typer.Option("--output-units", help="Units of the noise terms in the summary: deg (deg/sqrt(h), deg/h, deg/h^1.5) or si (rad/s/sqrt(Hz), rad/s, rad/s^2/sqrt(Hz)); the columns N_unit, B_unit, K_unit name them.")] = "deg",
+    spec: common.SpecOpt = None,
     read: ReadSettings = common.DEFAULT_READ,
 ) -> None:
     """Run info, allan and select on many files; write one summary row per run and axis.
 
-    A bad file gives a row with status=error and the message; the batch goes on.
+    A bad file gives a row with status=error and the message; the batch goes on. The summary
+    has, per term, its value, standard error, 95 % upper limit (a term the data only bound),
+    unit and, with --spec, PASS/FAIL (columns N, N_stderr, N_upper, N_unit, N_spec, ...), and
+    the fit verdict (fit); input_units is the rate unit of the input.
 
     Exit code 0 if every run is ok, 1 if any failed.
     """
@@ -50,12 +56,15 @@ def batch_cmd(
 
     from fogts.batch import BatchOptions, BatchProgress, run_batch
 
-    with common.guard({"summary_path": "--output", "patterns": "PATTERNS"}):
+    with common.guard({"summary_path": "--output", "patterns": "PATTERNS",
+                       "output_units": "--output-units"}):
+        limits = common.load_spec(spec)
         options = BatchOptions(rate_column=read.rate_column, time_column=read.time_column,
                                temperature_column=read.temperature_column, fs_hz=read.fs_hz,
                                units=read.units, kind=kind, taus=taus, detrend=detrend,
                                decimate=decimate, criterion=criterion, select=not no_select,
-                               nan=read.nan, gaps=read.gaps)
+                               nan=read.nan, gaps=read.gaps, output_units=output_units,
+                               spec=limits)
         bar = Progress(SpinnerColumn(), TextColumn("{task.description}"), BarColumn(),
                        MofNCompleteColumn(),
                        TextColumn("failed {task.fields[failed]}, remaining "

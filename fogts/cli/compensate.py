@@ -3,11 +3,12 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated
+from typing import Annotated, Any
 
 import typer
 
 from fogts.cli import _common as common
+from fogts.cli._axes import AXIS_HELP, axis_lines, axis_path, axis_picks, with_axis_column
 from fogts.pipeline import ReadSettings
 
 
@@ -23,13 +24,16 @@ def compensate_cmd(
     arma_model: Annotated[str, typer.Option("--arma-model", help="ARMA model of the EMD rest: auto, AR(1), AR(2), AR(3), ARMA(1,1), ARMA(2,1).")] = "auto",
     average: Annotated[float, typer.Option("--average", help="Averaging time of the bias stability in seconds (GJB/IEEE: 10 s).")] = 10.0,
     dt_smoothing: Annotated[float, typer.Option("--dt-smoothing", help="Window in seconds of the temperature-rate (dT/dt) estimate.")] = 60.0,
-    axis: Annotated[str, typer.Option("--axis", help="Axis to compensate (name or index).")] = "0",
+    axis: Annotated[str | None, typer.Option("--axis", help=AXIS_HELP)] = None,
     json_out: common.JsonOpt = None,
     plot: Annotated[Path | None, typer.Option("--plot", help="Raw rate, trend, compensated rate and temperature: .png, .svg or .pdf.")] = None,
     read: ReadSettings = common.DEFAULT_READ,
 ) -> None:
     """Fit the start-up temperature-drift model D = aT·dT + bT² + cT + d·dT² + e·dT + f and
-    compensate; prints the model and the bias stability before and after."""
+    compensate; prints the model and the bias stability before and after.
+
+    With --axis all each axis gets its own model; the JSON is then {"input", "axes": [one
+    compensation per axis]}."""
     from fogts.startup.startup_workflow import startup_compensation
 
     with common.guard(outputs={"--output": output, "--save-model": save_model, "--json": json_out,
@@ -37,37 +41,53 @@ def compensate_cmd(
                 inputs={"FILE": [file], "--model": [model] if model else [],
                         "--calibration": calibration or []}):
         run, quality = common.read_input(file, read)
-        pick = common.axis_index(run, axis)
+        picks = axis_picks(run, axis)
+        many = len(picks) > 1
         given = common.load_thermal_model(model) if model is not None else None
         extra = [common.read_input(c, read)[0]
                  for c in (calibration or [])]
-        if extra and given is not None:
-            from fogts.errors import DataError
+        from fogts.errors import DataError
 
+        if extra and given is not None:
             raise DataError("--calibration fits a model; it cannot be combined with --model")
-        result = startup_compensation(run, axis=pick, emd=emd, model=given,
-                                      arma_model=arma_model, dT_smoothing_s=dt_smoothing,
-                                      average_s=average, calibration=extra)
+        if many and given is not None:
+            raise DataError("--model holds the thermal model of one axis: give --axis NAME "
+                            "or INDEX, not --axis all")
+        results = []
+        for i in picks:
+            with common.named_warnings(Path(run.source).name, run.axes[i]):
+                results.append(startup_compensation(
+                    run, axis=i, emd=emd, model=given, arma_model=arma_model,
+                    dT_smoothing_s=dt_smoothing, average_s=average, calibration=extra))
         if output is not None:
             from fogts.io.writer import write_frame_atomic
 
-            write_frame_atomic(output, result.to_frame())
+            write_frame_atomic(output, with_axis_column([r.to_frame() for r in results],
+                                                        [r.axis for r in results], many=many))
+        saved = []
         if save_model is not None:
             from fogts.io.writer import write_text_atomic
             from fogts.report.text import json_dumps
 
-            write_text_atomic(save_model, json_dumps(result.model.to_dict()) + "\n")
-        payload = {"input": str(file), **result.to_dict(), "data_quality": quality.to_dict()}
+            for i, r in zip(picks, results, strict=True):
+                saved.append(axis_path(save_model, run, i, many))
+                write_text_atomic(saved[-1], json_dumps(r.model.to_dict()) + "\n")
+        blocks = [r.to_dict() for r in results]
         if given is not None:
-            payload["thermal"]["source"] = str(model)
+            blocks[0]["thermal"]["source"] = str(model)
+        payload: dict[str, Any] = ({"input": str(file), **blocks[0]} if not many
+                                   else {"input": str(file), "axes": blocks})
+        payload["data_quality"] = quality.to_dict()
         common.emit_json(payload, json_out)
         if plot is not None:
             from fogts.report.plots import plot_compensation
 
-            common.save_figure(plot_compensation(result), plot)
-        lines = [result.summary()]
+            for i, r in zip(picks, results, strict=True):
+                common.save_figure(plot_compensation(r), axis_path(plot, run, i, many))
+        lines = axis_lines(run, picks, axis)
+        for r in results:
+            lines += ([f"{r.axis}:"] if many else []) + [r.summary()]
         if output is not None:
-            lines.append(f"wrote {output} ({run.n} rows)")
-        if save_model is not None:
-            lines.append(f"saved the thermal model to {save_model}")
+            lines.append(f"wrote {output} ({run.n * len(results)} rows)")
+        lines += [f"saved the thermal model to {path}" for path in saved]
         common.say(lines, json_out)

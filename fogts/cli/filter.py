@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Any, Literal
 
@@ -9,9 +11,13 @@ import typer
 
 from fogts import choices
 from fogts.cli import _common as common
+from fogts.cli._axes import AXIS_HELP, axis_lines, axis_path, axis_picks, with_axis_column
 from fogts.pipeline import ReadSettings
 
 if TYPE_CHECKING:
+    import pandas as pd
+    from matplotlib.figure import Figure
+
     from fogts._typing import FloatArray
     from fogts.io.run import Run
 
@@ -30,26 +36,59 @@ def filter_cmd(
     design: Annotated[choices.FilterDesign, typer.Option("--design", help="--method iir: the IIR design.")] = "butter",
     window: Annotated[float | None, typer.Option("--window", help="--method moving-average: window in seconds.")] = None,
     compare_allan: Annotated[bool, typer.Option("--compare-allan", help="Allan deviation and noise terms before and after filtering, side by side (with --plot: the overlay figure).")] = False,
-    axis: Annotated[str, typer.Option("--axis", help="Axis to filter (name or index).")] = "0",
+    axis: Annotated[str | None, typer.Option("--axis", help=AXIS_HELP)] = None,
     json_out: common.JsonOpt = None,
     plot: Annotated[Path | None, typer.Option("--plot", help="Figure (.png, .svg, .pdf): observed/filtered/smoothed for kalman; the before/after Allan overlay with --compare-allan.")] = None,
     read: ReadSettings = common.DEFAULT_READ,
 ) -> None:
     """Filter a gyro record: Kalman filter with an ARMA drift model, or a
     zero-phase IIR / moving-average low-pass with a before/after Allan comparison.
+
+    With --axis all each axis is filtered in turn: the output table gains an 'axis' column,
+    each figure the axis name in its file name, and the JSON is {"input", "method", "units",
+    "axes": [one block per axis], "output"}.
     """
     with common.guard(outputs={"--output": output, "--json": json_out, "--plot": plot},
                 inputs={"FILE": [file]}):
-        if method == "kalman":
-            noise = _parse_measurement_noise(measurement_noise)
+        noise = _parse_measurement_noise(measurement_noise) if method == "kalman" else None
         run, _ = common.read_input(file, read)
-        pick = common.axis_index(run, axis)
-        x = run.axis(pick)
-        if method == "kalman":
-            _kalman_filter(run, x, file, output, model, noise, json_out, plot, method)
-        else:
-            _lowpass_filter(run, x, file, output, method, cutoff, order, design, window,
-                            compare_allan, json_out, plot)
+        picks = axis_picks(run, axis)
+        many = len(picks) > 1
+        done: list[_Filtered] = []
+        for i in picks:
+            with common.named_warnings(Path(run.source).name, run.axes[i]):
+                x = run.axis(i)
+                done.append(_kalman_filter(run, x, model, noise) if noise is not None else
+                            _lowpass_filter(run, x, method, cutoff, order, design, window,
+                                            compare_allan, plot))
+        from fogts.io.writer import write_frame_atomic
+
+        write_frame_atomic(output, with_axis_column([d.frame for d in done],
+                                                    [run.axes[i] for i in picks], many=many))
+        head = {"input": str(file), "method": method, "units": run.units}
+        blocks = [{"axis": run.axes[i], **d.payload} for i, d in zip(picks, done, strict=True)]
+        common.emit_json({**head, **blocks[0], "output": str(output)} if not many else
+                         {**head, "axes": blocks, "output": str(output)}, json_out)
+        if plot is not None:
+            for i, d in zip(picks, done, strict=True):
+                if d.figure is not None:
+                    common.save_figure(d.figure(), axis_path(plot, run, i, many))
+        lines = axis_lines(run, picks, axis)
+        for i, d in zip(picks, done, strict=True):
+            lines += ([f"{run.axes[i]}:"] if many else []) + d.lines
+        lines.append(f"wrote {output} ({run.n * len(done)} rows)")
+        common.say(lines, json_out)
+
+
+@dataclass(frozen=True)
+class _Filtered:
+    """One axis filtered: the output table, its JSON block, the lines to print and the
+    figure to draw with --plot (None: none applies)."""
+
+    frame: pd.DataFrame
+    payload: dict[str, Any]
+    lines: list[str]
+    figure: Callable[[], Figure] | None
 
 
 def _parse_measurement_noise(text: str) -> Literal["estimate"] | float:
@@ -64,13 +103,11 @@ def _parse_measurement_noise(text: str) -> Literal["estimate"] | float:
                         f"(rate unit)^2; got {text!r}") from None
 
 
-def _kalman_filter(run: Run, x: FloatArray, file: Path, output: Path, model: str,
-                   noise: Literal["estimate"] | float,
-                   json_out: str | None, plot: Path | None, method: str) -> None:
+def _kalman_filter(run: Run, x: FloatArray, model: str,
+                   noise: Literal["estimate"] | float) -> _Filtered:
     import numpy as np
     import pandas as pd
 
-    from fogts.io.writer import write_frame_atomic
     from fogts.startup.kalman import arma_kalman, resolve_arma_model
 
     fit = resolve_arma_model(x, model)
@@ -79,27 +116,25 @@ def _kalman_filter(run: Run, x: FloatArray, file: Path, output: Path, model: str
                           "filtered": np.asarray(result.filtered),
                           "smoothed": np.asarray(result.smoothed),
                           "predicted": np.asarray(result.predicted)})
-    write_frame_atomic(output, frame)
     fit_dict = fit.to_dict() if hasattr(fit, "to_dict") else {}
-    common.emit_json({"input": str(file), "method": method, "units": run.units,
-                "model": fit_dict, "kalman": result.to_dict(), "output": str(output)},
-               json_out)
-    if plot is not None:
+
+    def figure() -> Figure:
         from fogts.report.plots import plot_kalman
 
-        common.save_figure(plot_kalman(result, time_s=run.time, units=run.units), plot)
+        return plot_kalman(result, time_s=run.time, units=run.units)
+
     equation = fit.equation() if hasattr(fit, "equation") else result.model
-    common.say([f"drift model ({'selected by AIC' if model == 'auto' else 'given'}): {equation}",
-          result.summary(), f"wrote {output} ({run.n} rows)"], json_out)
+    return _Filtered(frame, {"model": fit_dict, "kalman": result.to_dict()},
+                     [f"drift model ({'selected by AIC' if model == 'auto' else 'given'}): "
+                      f"{equation}", result.summary()], figure)
 
 
-def _lowpass_filter(run: Run, x: FloatArray, file: Path, output: Path, method: str,
-                    cutoff: float | None, order: int, design: str, window: float | None,
-                    compare: bool, json_out: str | None, plot: Path | None) -> None:
+def _lowpass_filter(run: Run, x: FloatArray, method: str, cutoff: float | None, order: int,
+                    design: str, window: float | None, compare: bool, plot: Path | None
+                    ) -> _Filtered:
     import pandas as pd
 
     from fogts.errors import DataError
-    from fogts.io.writer import write_frame_atomic
     from fogts.preprocess.filters import lowpass, moving_average
 
     if method == "iir":
@@ -115,26 +150,22 @@ def _lowpass_filter(run: Run, x: FloatArray, file: Path, output: Path, method: s
     if plot is not None and not compare:
         raise DataError("--plot with --method iir or moving-average draws the Allan overlay: "
                         "add --compare-allan")
-    comparison = None
+    payload: dict[str, Any] = {"filter": result.to_dict()}
+    lines = [result.summary()]
+    figure = None
     if compare:
         from fogts.allan.compare import compare_allan
 
         comparison = compare_allan(x, result.filtered, fs_hz=run.fs_hz, units=run.units,
                                    cutoff_hz=result.cutoff_hz,
                                    labels=("raw", f"{method} filtered"))
-    write_frame_atomic(output, pd.DataFrame({"time": run.time, "observed": x,
-                                             "filtered": result.filtered}))
-    payload: dict[str, Any] = {"input": str(file), "method": method, "units": run.units,
-                               "filter": result.to_dict(), "output": str(output)}
-    if comparison is not None:
         payload["compare_allan"] = comparison.to_dict()
-    common.emit_json(payload, json_out)
-    if plot is not None and comparison is not None:
-        from fogts.report.plots import plot_allan_comparison
-
-        common.save_figure(plot_allan_comparison(comparison), plot)
-    lines = [result.summary()]
-    if comparison is not None:
         lines += ["", "noise terms before and after filtering:", comparison.summary()]
-    lines.append(f"wrote {output} ({run.n} rows)")
-    common.say(lines, json_out)
+
+        def figure() -> Figure:
+            from fogts.report.plots import plot_allan_comparison
+
+            return plot_allan_comparison(comparison)
+
+    return _Filtered(pd.DataFrame({"time": run.time, "observed": x,
+                                   "filtered": result.filtered}), payload, lines, figure)

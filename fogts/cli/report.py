@@ -26,21 +26,26 @@ def report_cmd(
     taus: Annotated[str, typer.Option("--taus", help="Tau grid: octave, decade, dense, all.")] = "octave",
     criterion: common.CriterionOpt = "aic",
     davar_window: Annotated[float | None, typer.Option("--davar-window", help="Dynamic Allan window in seconds (default: a tenth of the record).")] = None,
+    output_units: common.OutputUnitsOpt = "deg",
+    spec: common.SpecOpt = None,
     read: ReadSettings = common.DEFAULT_READ,
 ) -> None:
     """Write one self-contained HTML report of a recording.
 
-    Sections: input, time series, Allan deviation and noise terms, ARMA selection, prediction, dynamic Allan deviation and the thermal model (the last two when they apply).
+    Sections: the summary (N, B, K per axis, the fit verdict, PASS/FAIL with --spec), input, time series, Allan deviation and noise terms, ARMA selection, prediction, dynamic Allan deviation and the thermal model (the last two when they apply).
 
     Exit code 1 if a section could not be computed (the report is still written and says why).
     """
     from fogts.report.html import build_report, write_report
 
-    with common.guard(outputs={"--output": output}, inputs={"FILE": [file]}):
+    with common.guard(outputs={"--output": output},
+                      inputs={"FILE": [file], "--spec": [spec] if spec else []}):
+        limits = common.load_spec(spec)
         run, quality = common.read_input(file, read)
         rep = build_report(run, quality=quality, title=title, outliers=outliers, detrend=detrend,
                            decimate=decimate, kind=kind, taus=taus, criterion=criterion,
-                           davar_window_s=davar_window)
+                           davar_window_s=davar_window, output_units=output_units,
+                           spec=limits)
         write_report(output, rep)
         failed = [s for s in rep.sections if s.status != "ok"]
         for s in failed:

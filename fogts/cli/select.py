@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING, Annotated, Any
 import typer
 
 from fogts.cli import _common as common
+from fogts.cli._axes import AXIS_HELP, axis_lines, axis_path, axis_picks, with_axis_column
 from fogts.cli.progress import shows_progress
 from fogts.pipeline import ReadSettings
 
@@ -40,7 +41,7 @@ def _select_params(c: Candidate, units: str | None) -> list[str]:
 @common.reads_input()
 def select_cmd(
     file: common.FileArg,
-    axis: Annotated[str | None, typer.Option("--axis", help="Axis to model, by name or index (default: the first).")] = None,
+    axis: Annotated[str | None, typer.Option("--axis", help=AXIS_HELP)] = None,
     outliers: Annotated[float | None, typer.Option("--outliers", help="Replace samples beyond this many robust sigmas first.")] = None,
     detrend: Annotated[int | None, typer.Option("--detrend", help="Remove a polynomial trend of this order; 0 removes the mean only (default: remove the mean).")] = None,
     decimate: Annotated[int | None, typer.Option("--decimate", help="Block-average K samples first (e.g. 100 Hz -> 1 Hz with K=100).")] = None,
@@ -53,7 +54,10 @@ def select_cmd(
 ) -> None:
     """Select the ARMA model of the drift: fit AR(1), AR(2), AR(3), ARMA(1,1) and ARMA(2,1), check that their residuals are white, rank them and predict one step ahead.
 
-    Exit code 0 if the selected model leaves white residuals, 1 if no candidate does (the best one is still reported), 2 on bad input.
+    With --axis all each axis is modelled in turn; the JSON is then {"axes": [one such
+    document per axis]}.
+
+    Exit code 0 if the selected model leaves white residuals, 1 if no candidate does (the best one is still reported; with --axis all: for any axis), 2 on bad input.
     """
     from fogts.arma.select import parse_candidates
     from fogts.pipeline import SelectSettings, analyse_selection
@@ -63,38 +67,54 @@ def select_cmd(
         orders = parse_candidates(candidates)
         common.check_output_names(plot=plot, predict=predict)
         run, quality = common.read_input(file, read)
-        pick = 0 if axis is None else common.axis_index(run, axis)
-        analysis = analyse_selection(run, quality, pick, SelectSettings(
-            outliers=outliers, detrend=detrend, decimate=decimate, candidates=orders,
-            criterion=criterion), file=str(file))
-        sel = analysis.selection
-        common.emit_json(analysis.to_dict(), json_out)
+        picks = axis_picks(run, axis)
+        settings = SelectSettings(outliers=outliers, detrend=detrend, decimate=decimate,
+                                  candidates=orders, criterion=criterion)
+        analyses = []
+        for i in picks:
+            with common.named_warnings(Path(run.source).name, run.axes[i]):
+                analyses.append(analyse_selection(run, quality, i, settings, file=str(file)))
+        many = len(analyses) > 1
+        common.emit_json(analyses[0].to_dict() if not many
+                         else {"axes": [a.to_dict() for a in analyses]}, json_out)
+        written = [path for path in (json_out,) if path not in (None, "-")]
         if plot is not None:
             from fogts.report.plots import plot_selection
 
-            common.save_figure(plot_selection(sel), plot)
-        written = _write_prediction(analysis, predict) if predict is not None else False
-        _print_selection(analysis, json_out)
-        common.say([f"wrote     {path}" for path, done in ((json_out, json_out not in (None, "-")),
-                                                    (plot, plot is not None),
-                                                    (predict, written)) if done]
+            for i, a in zip(picks, analyses, strict=True):
+                written.append(str(axis_path(plot, run, i, many)))
+                common.save_figure(plot_selection(a.selection), written[-1])
+        fitted = _write_prediction(analyses, predict) if predict is not None else False
+        if run.n_axes > 1:
+            common.say(axis_lines(run, picks, axis), json_out)
+        for a in analyses:
+            _print_selection(a, json_out)
+        common.say([f"wrote     {path}" for path in written]
+             + ([f"wrote     {predict}"] if fitted else [])
              + ([f"not written {predict}: no candidate could be fitted"]
-                if predict is not None and not written else []), json_out)
-    raise typer.Exit(sel.exit_code)
+                if predict is not None and not fitted else []), json_out)
+    raise typer.Exit(max(a.selection.exit_code for a in analyses))
 
 
-def _write_prediction(analysis: AxisSelection, target: Path) -> bool:
-    """Write the selected model's one-step prediction (time, observed, predicted, residual);
-    False when no candidate could be fitted."""
+def _write_prediction(analyses: list[AxisSelection], target: Path) -> bool:
+    """Write the selected models' one-step predictions (time, observed, predicted,
+    residual; with several axes an ``axis`` column first); False when no candidate could be
+    fitted on any axis."""
     from fogts.io.writer import write_frame_atomic
 
-    best = analysis.selection.selected
-    if best is None:
+    frames, names = [], []
+    for analysis in analyses:
+        best = analysis.selection.selected
+        if best is None:
+            continue
+        frame = best.predict().to_frame().reset_index(drop=True)
+        if "time" not in frame:
+            frame.insert(0, "time", analysis.prepared.time)
+        frames.append(frame[["time", "observed", "predicted", "residual"]])
+        names.append(analysis.prepared.axis)
+    if not frames:
         return False
-    frame = best.predict().to_frame().reset_index(drop=True)
-    if "time" not in frame:
-        frame.insert(0, "time", analysis.prepared.time)
-    write_frame_atomic(target, frame[["time", "observed", "predicted", "residual"]])
+    write_frame_atomic(target, with_axis_column(frames, names, many=len(analyses) > 1))
     return True
 
 
@@ -116,8 +136,6 @@ def _print_selection(analysis: AxisSelection, json_out: str | None) -> None:
 
     say(f"read      {analysis.file}: {run.n:,} samples of {prepared.axis!r} at "
         f"{run.fs_hz:g} Hz ({_duration_text(run.duration_s)}), rate in {run.units}")
-    if run.n_axes > 1:
-        say(f"{'':<10}axes in the file: {', '.join(run.axes)} (choose with --axis)")
     for i, step in enumerate(prepared.steps):
         say(f"{'prepared' if i == 0 else '':<10}{step}")
     say(f"{'modelled':<10}{sel.n:,} samples at {prepared.fs_hz:g} Hz")

@@ -45,7 +45,7 @@ from fogts.io.text import text_file_table
 from fogts.io.timebase import sample_rate, sampling_report, time_base
 from fogts.units import parse_accel_unit, parse_rate_unit
 
-__all__ = ["MIN_SAMPLES", "read_json", "read_run"]
+__all__ = ["MIN_SAMPLES", "read_json", "read_run", "read_yaml"]
 
 #: Readers of binary formats by (lower-case) last file suffix; any other file is read as
 #: text.  Each takes the path of a regular file and returns a Table.  Further formats (a
@@ -167,16 +167,44 @@ def read_json(path: str | os.PathLike[str], what: str = "JSON file") -> Any:
     >>> read_json(p)
     {'a': 1}
     """
+    source = _document_path(path, what)
+    try:
+        return json.loads(read_capped(source, compressed=False).decode("utf-8"))
+    except (json.JSONDecodeError, UnicodeDecodeError) as exc:
+        raise DataError(f"{what} {str(source)!r} is not valid JSON: {exc}") from None
+
+
+def read_yaml(path: str | os.PathLike[str], what: str = "YAML file") -> Any:
+    """Load a YAML document (a datasheet specification) with PyYAML's safe loader and clear
+    errors (JSON is YAML too).
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> p = pathlib.Path(tempfile.mkdtemp()) / "spec.yaml"
+    >>> _ = p.write_text("N: 0.15  # deg/sqrt(h)" + chr(10) + "B: 10" + chr(10))
+    >>> read_yaml(p)
+    {'N': 0.15, 'B': 10}
+    """
+    import yaml
+
+    source = _document_path(path, what)
+    try:
+        return yaml.safe_load(read_capped(source, compressed=False).decode("utf-8"))
+    except (yaml.YAMLError, UnicodeDecodeError) as exc:
+        reason = " ".join(str(exc).split())
+        raise DataError(f"{what} {str(source)!r} is not valid YAML: {reason}") from None
+
+
+def _document_path(path: str | os.PathLike[str], what: str) -> Path:
+    """``path`` checked as a readable regular file (a small document)."""
     source = Path(path)
     if not source.exists():
         raise DataError(f"{what} not found: {str(source)!r}")
     if source.is_dir():
         raise DataError(f"{what} {str(source)!r} is a directory, not a file")
     check_regular_file(source, what)
-    try:
-        return json.loads(read_capped(source, compressed=False).decode("utf-8"))
-    except (json.JSONDecodeError, UnicodeDecodeError) as exc:
-        raise DataError(f"{what} {str(source)!r} is not valid JSON: {exc}") from None
+    return source
 
 
 def _load_table(source: Any, topic: str | None = None) -> Table:

@@ -18,6 +18,7 @@ The Allan and ARMA analyses are those of ``fogts allan`` and ``fogts select``
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
@@ -44,12 +45,22 @@ class _Context:
     dynamic: dict[int, Any] = field(default_factory=dict)
     compensation: dict[int, Any] = field(default_factory=dict)
 
+    allan_warnings: dict[int, list[Warning]] = field(default_factory=dict)
+
     def _allan_axis(self, i: int) -> AxisAllan:
+        """The Allan analysis of axis ``i``, computed once; its warnings are raised again on
+        every use, so the section that shows it has them whichever section computed it."""
         if i not in self.allan_axes:
             from fogts.pipeline import AllanSettings, analyse_allan_axis
 
-            self.allan_axes[i] = analyse_allan_axis(self.run, i, AllanSettings(
-                kind=self.options["kind"], taus=self.options["taus"]))
+            with warnings.catch_warnings(record=True) as caught:
+                warnings.simplefilter("always")
+                self.allan_axes[i] = analyse_allan_axis(self.run, i, AllanSettings(
+                    kind=self.options["kind"], taus=self.options["taus"]))
+            self.allan_warnings[i] = [w.message for w in caught
+                                      if isinstance(w.message, Warning)]
+        for message in self.allan_warnings[i]:
+            warnings.warn(message, stacklevel=2)
         return self.allan_axes[i]
 
     def _selection(self, i: int) -> AxisSelection:

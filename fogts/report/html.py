@@ -37,7 +37,7 @@ import os
 from collections.abc import Sequence
 from functools import partial
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from fogts import progress
 from fogts.errors import DataError
@@ -48,6 +48,10 @@ from fogts.report.blocks import _num, figure_block
 from fogts.report.page import Block, HtmlReport, Section
 from fogts.report.sections import _AXIS_BUILDERS, _RUN_BUILDERS, _TITLES, _section
 from fogts.report.text import _duration_text
+
+if TYPE_CHECKING:
+    from fogts.allan.datasheet import NoiseSpec
+    from fogts.choices import OutputUnits
 
 __all__ = [
     "PARTS",
@@ -61,8 +65,8 @@ __all__ = [
 
 #: The report's parts, in order.  ``davar`` runs only on records long enough for it, and
 #: ``thermal`` only with a temperature column.
-PARTS: tuple[str, ...] = ("input", "timeseries", "allan", "arma", "prediction", "davar",
-                          "thermal")
+PARTS: tuple[str, ...] = ("summary", "input", "timeseries", "allan", "arma", "prediction",
+                          "davar", "thermal")
 
 #: DAVar needs at least this many windows...
 DAVAR_MIN_WINDOWS = 10
@@ -84,6 +88,8 @@ def build_report(
     criterion: str = "aic",
     davar_window_s: float | None = None,
     bias_average_s: float = 10.0,
+    output_units: OutputUnits = "deg",
+    spec: NoiseSpec | None = None,
 ) -> HtmlReport:
     """Run the analyses on ``run`` and collect the report's sections.
 
@@ -109,6 +115,11 @@ def build_report(
         :data:`DAVAR_MIN_WINDOW_SAMPLES` samples).
     bias_average_s : float
         Averaging time of the bias stability in the thermal section.
+    output_units : {"deg", "si"}
+        Units of the summary's noise terms (:func:`fogts.units.term_unit`).
+    spec : NoiseSpec, optional
+        Datasheet limits (:class:`fogts.allan.datasheet.NoiseSpec`): PASS/FAIL per term in
+        the summary.
 
     Returns
     -------
@@ -119,12 +130,17 @@ def build_report(
     DataError
         An unknown part, or ``run`` is not a Run.
     """
+    from fogts._validate import check_choice
+    from fogts.choices import OUTPUT_UNITS
+
+    check_choice("output_units", output_units, OUTPUT_UNITS)
     wanted, bias_average_s, davar_window_s = _checked_arguments(
         run, parts, kind, taus, criterion, bias_average_s, davar_window_s)
     ctx = _analyses(run, quality, {"outliers": outliers, "detrend": detrend,
                                    "decimate": decimate, "kind": kind, "taus": taus,
                                    "criterion": criterion, "davar_window_s": davar_window_s,
-                                   "bias_average_s": bias_average_s})
+                                   "bias_average_s": bias_average_s,
+                                   "output_units": output_units, "spec": spec})
     sections, omitted = _collect_sections(ctx, wanted)
     return _assemble(ctx.run, title, sections, omitted)
 

@@ -22,6 +22,11 @@ from fogts.report.text import _duration_text, error_message, run_info, warning_t
 
 #: One sentence per part: what it shows and how to read it.
 _HOW = {
+    "summary": "The noise terms of every axis on one line each, in the report's units: N "
+               "(angle random walk), B (bias instability) and K (rate random walk) with their "
+               "standard errors, or '< x' where the data only bound a term; the fit verdict "
+               "says whether the five-term model describes the curve (each axis' Allan "
+               "section has the details and the warnings).",
     "input": "What fogts read from the file and what it did to the data before modelling; "
              "check the sample rate, the gaps and the units first, since every other number "
              "depends on them.",
@@ -47,7 +52,7 @@ _HOW = {
                "removing it, claimed as an improvement only when the model is significant.",
 }
 
-_TITLES = {"input": "Input and preprocessing", "timeseries": "Time series",
+_TITLES = {"summary": "Summary", "input": "Input and preprocessing", "timeseries": "Time series",
            "allan": "Allan deviation and noise coefficients", "arma": "ARMA model selection",
            "prediction": "One-step prediction and residual diagnostics",
            "davar": "Dynamic Allan deviation", "thermal": "Thermal model"}
@@ -151,6 +156,29 @@ def _timeseries_blocks(ctx: _Context, notes: list[str]) -> list[Block]:
                                  "column, so spikes stay visible.")]
 
 
+def _summary_blocks(ctx: _Context, notes: list[str]) -> list[Block]:
+    """The one-page summary (:mod:`fogts.report.summary`) of every axis; with a spec, a
+    verdict naming the terms that fail it."""
+    from pathlib import Path
+
+    from fogts.report.summary import SUMMARY_TERMS, axis_row, summary_table
+
+    units, spec = ctx.options.get("output_units", "deg"), ctx.options.get("spec")
+    name = Path(ctx.run.source).name
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # each axis' warnings are notes of its Allan section
+        rows = [axis_row(name, ctx._allan_axis(i), units, spec) for i in range(ctx.run.n_axes)]
+    table = summary_table(rows, spec)
+    blocks = [table_block(table), Block(kind="paragraph", text=table.caption)]
+    if spec is not None:
+        failing = [f"{r['axis']}: {t}" for r in rows for t in SUMMARY_TERMS
+                   if r[f"{t}_spec"] == "FAIL"]
+        blocks.append(Block(kind="verdict", good=not failing, text=(
+            f"Spec {spec.source}: " + ("every term within its limit." if not failing
+                                       else "FAIL for " + ", ".join(failing) + "."))))
+    return blocks
+
+
 # --------------------------------------------------------------------------- per axis
 
 
@@ -214,9 +242,9 @@ def _residual_blocks(best: Any) -> list[Block]:
     if d is None:
         return []
     rows: list[list[Any]] = [
-        ["ρ_a,2 (seed 000 eq. 11)", d.rho_a2.value, f"|value| ≤ {_num(d.rho_a2.band, 3)}",
+        ["ρ_a,2 = Σ a_t a_{t−2} / Σ a_t² (residuals at lag 2)", d.rho_a2.value, f"|value| ≤ {_num(d.rho_a2.band, 3)}",
          _yes_no(d.rho_a2.passed)],
-        ["ρ_ax,3 (seed 000 eq. 12)", d.rho_ax3.value,
+        ["ρ_ax,3: residuals against the data 3 steps back", d.rho_ax3.value,
          f"|value| ≤ {_num(d.rho_ax3.band, 3)}", _yes_no(d.rho_ax3.passed)]]
     for lb in d.ljung_box:
         pt = _pval(lb.pvalue)
@@ -320,7 +348,7 @@ def _out_of_sample_blocks(res: Any) -> list[Block]:
 
 #: Builders of the sections that show the whole run, by part.
 _RUN_BUILDERS: dict[str, Callable[[_Context, list[str]], list[Block]]] = {
-    "input": _input_blocks, "timeseries": _timeseries_blocks}
+    "summary": _summary_blocks, "input": _input_blocks, "timeseries": _timeseries_blocks}
 #: Builders of the sections drawn once per rate axis, by part.
 _AXIS_BUILDERS: dict[str, Callable[[_Context, int, list[str]], list[Block]]] = {
     "allan": _allan_blocks, "arma": _arma_blocks, "prediction": _prediction_blocks,

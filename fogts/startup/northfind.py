@@ -36,6 +36,7 @@ import pandas as pd
 from fogts._typing import FloatArray
 from fogts._validate import check_positive, to_float_array
 from fogts.errors import DataError
+from fogts.tables import Column, Table, TableView
 from fogts.units import earth_rate_component, parse_rate_unit, to_deg_per_hour_factor
 
 __all__ = ["POSITIONS_DEG", "NorthFinding", "angle_error_deg", "four_position",
@@ -49,8 +50,8 @@ MAX_LATITUDE_DEG = 89.0
 MIN_POSITION_SAMPLES = 3
 
 
-@dataclass(frozen=True)
-class NorthFinding:
+@dataclass(frozen=True, repr=False)
+class NorthFinding(TableView):
     """Result of a four-position north finding.
 
     What :func:`four_position` returns; ``summary()`` prints it and ``to_dict()`` gives its
@@ -138,6 +139,22 @@ class NorthFinding:
                              "mean_rate": [self.mean_rates[p] for p in POSITIONS_DEG],
                              "std": [self.std_rates[p] for p in POSITIONS_DEG],
                              "n": [self.n_samples[p] for p in POSITIONS_DEG]})
+
+    # -------------------------------------------------------------- notebook view
+    def _view_table(self) -> Table:
+        rows = [(p, self.mean_rates[p], self.std_rates[p], self.n_samples[p])
+                for p in POSITIONS_DEG]
+        b = self.budget_deg
+        return Table.build(
+            f"Four-position north finding at latitude {self.latitude_deg:g}°",
+            (Column("position (°)"), Column("mean rate (°/h)", digits=6),
+             Column("std (°/h)"), Column("n")), rows,
+            caption=f"azimuth ψ = {self.azimuth_deg:.4f}° ± {self.sigma_deg:.4f}° (1σ: ARW "
+                    f"{b['arw']:.4f}°, bias {b['bias']:.4f}°, drift {b['drift']:.4f}°)")
+
+    def _view_headline(self) -> str:
+        return (f"azimuth {self.azimuth_deg:.4f}° ± {self.sigma_deg:.4f}° at latitude "
+                f"{self.latitude_deg:g}°")
 
     def summary(self) -> str:
         lines = [f"Four-position north finding at latitude {self.latitude_deg:g}° "

@@ -44,6 +44,7 @@ from fogts.startup.thermal_model import (
     temperature_rate,
 )
 from fogts.startup.thermal_test import ThermalSignificance, thermal_significance
+from fogts.tables import Column, Table, TableView
 
 if TYPE_CHECKING:  # annotations only: EMD and the Kalman filter are imported where they run
     from fogts.startup.emd import TrendSplit
@@ -55,8 +56,8 @@ __all__ = ["StartupCompensation", "startup_compensation"]
 _COLUMN_HINT = "; name it with --temperature-column"
 
 
-@dataclass(frozen=True)
-class StartupCompensation:
+@dataclass(frozen=True, repr=False)
+class StartupCompensation(TableView):
     """The start-up compensation workflow and its outcome.
 
     Attributes
@@ -150,6 +151,24 @@ class StartupCompensation:
                              "used": self.gyro_used,
                              "compensated": self.run.axis(self.axis or 0),
                              "temperature": self.run.temperature})
+
+    # -------------------------------------------------------------- notebook view
+    def _view_table(self) -> Table:
+        """The bias stability before and after, and the model's verdict."""
+        rows = [("bias stability before", self.before.value, self.before.unit),
+                ("bias stability after", self.after.value, self.after.unit),
+                ("improvement", self.improvement, "x" if self.claims_improvement
+                 else "x (not claimed)"),
+                ("thermal model R²", self.model.r2, "")]
+        return Table.build(
+            f"Start-up compensation of {self.axis or 'axis 0'} "
+            f"({self.before.average_s:g} s averages)",
+            (Column("quantity", numeric=False), Column("value"), Column("unit", numeric=False)),
+            rows, caption=self.significance.verdict if self.significance is not None else "")
+
+    def _view_headline(self) -> str:
+        return (f"{self.axis or 'axis 0'}: bias stability {self.before.value:.4g} -> "
+                f"{self.after.value:.4g} {self.after.unit}")
 
     def summary(self) -> str:
         lines = []

@@ -25,6 +25,7 @@ from scipy.signal import savgol_filter
 from fogts._typing import FloatArray
 from fogts._validate import check_positive, to_float_array
 from fogts.errors import DataError
+from fogts.tables import Column, Table, TableView
 from fogts.units import parse_rate_unit
 
 __all__ = ["DEFAULT_DT_SMOOTHING_S", "ERROR_MODELS", "TERM_LETTERS", "THERMAL_TERMS",
@@ -88,8 +89,8 @@ def design_matrix(temp: FloatArray, dtemp: FloatArray, terms: Sequence[str]) -> 
     return np.column_stack([cols[t] for t in terms]) if terms else np.empty((temp.size, 0))
 
 
-@dataclass(frozen=True)
-class ThermalModel:
+@dataclass(frozen=True, repr=False)
+class ThermalModel(TableView):
     """A fitted temperature-drift model ``D = sum_j coef_j * term_j(T, ΔT)``.
 
     Attributes
@@ -244,6 +245,21 @@ class ThermalModel:
                              "letter": [TERM_LETTERS[t] for t in self.terms],
                              "value": [self.coefficients[t] for t in self.terms],
                              "stderr": [self.stderr[t] for t in self.terms]}).set_index("term")
+
+    # -------------------------------------------------------------- notebook view
+    def _view_table(self) -> Table:
+        rows: list[tuple[Any, ...]] = [(t, TERM_LETTERS[t], self.coefficients[t],
+                                        self.stderr[t]) for t in self.terms]
+        rows += [(t, "dropped", why, None) for t, why in self.dropped.items()]
+        return Table.build(
+            f"Thermal drift model: {self.equation()}",
+            (Column("term", numeric=False), Column("letter", numeric=False),
+             Column("value", digits=6), Column("± stderr", digits=4)), rows,
+            caption=f"R² = {self.r2:.4f}, residual std {self.residual_std:.4g} {self.units}, "
+                    f"n = {self.n} at {self.fs_hz:g} Hz")
+
+    def _view_headline(self) -> str:
+        return f"{len(self.terms)} terms, R² = {self.r2:.4f}, n = {self.n}, {self.units}"
 
     def summary(self) -> str:
         lines = [f"Thermal drift model, n = {self.n}, fs = {self.fs_hz:g} Hz",

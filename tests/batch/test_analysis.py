@@ -53,6 +53,7 @@ def test_run_json_has_the_shape_of_the_allan_and_select_json(pool_run: tuple[Pat
             return [shape(v) for v in d[:1]]
         return type(d).__name__ if d is not None else None
 
+    cli["allan"].pop("summary")  # the CLI's table across files: the batch has its rows
     assert shape(doc["allan"]) == shape(cli["allan"])
     # the batch skips the stationarity tests (None): the rest of the preparation is alike
     assert set(doc["select"][0]) == set(cli["select"])
@@ -92,3 +93,34 @@ def test_terms_at_zero_carry_their_upper_limit_in_the_row(files: Path) -> None:
     assert row["N_upper"] is None and row["N"] > 0
     zero = [t for t in ("B", "K") if row[t] == 0.0]
     assert zero and all(row[f"{t}_upper"] > 0 for t in zero)
+
+
+def test_rows_name_each_terms_unit_and_its_spec_verdict(files: Path, tmp_path: Path) -> None:
+    """The unit columns name the terms' units (not the input's rate unit, which is
+    input_units), in the chosen output units; --spec adds PASS/FAIL per term, and the CLI's
+    summary CSV carries them."""
+    from fogts.allan.datasheet import NoiseSpec
+    from fogts.units import TERM_SI_FACTOR
+
+    target = str(files / "run_03.csv")
+    deg = analyze_file(target, BatchOptions(select=False)).rows[0]
+    spec = NoiseSpec.from_mapping({"N": deg["N"] * 2, "B": 1e-9})
+    si = analyze_file(target, BatchOptions(select=False, output_units="si", spec=spec)).rows[0]
+    assert deg["input_units"] == si["input_units"] == "deg/h" and "units" not in deg
+    assert (deg["N_unit"], deg["B_unit"], deg["K_unit"]) == ("deg/sqrt(h)", "deg/h",
+                                                             "deg/h^1.5")
+    assert (si["N_unit"], si["B_unit"], si["K_unit"]) == ("rad/s/sqrt(Hz)", "rad/s",
+                                                          "rad/s^2/sqrt(Hz)")
+    assert si["N"] == pytest.approx(deg["N"] * TERM_SI_FACTOR["N"], rel=1e-12)
+    assert (si["N_spec"], si["B_spec"], si["K_spec"]) == ("PASS", "FAIL", None)
+    assert deg["N_spec"] is None and deg["fit"] in ("ok", "misses")
+    spec_file = tmp_path / "spec.yaml"
+    spec_file.write_text(f"N: {deg['N'] * 2}\nB: 1e-9\n")
+    out = tmp_path / "summary.csv"
+    res = CliRunner().invoke(app, ["batch", target, "-o", str(out), "--no-select",
+                                   "--workers", "1", "--spec", str(spec_file),
+                                   "--output-units", "si"])
+    assert res.exit_code == 0, res.output
+    row = pd.read_csv(out).iloc[0]
+    assert (row["N_unit"], row["B_spec"], row["N_spec"]) == ("rad/s/sqrt(Hz)", "FAIL", "PASS")
+    assert row["N"] == pytest.approx(si["N"], rel=1e-12)

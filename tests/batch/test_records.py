@@ -20,6 +20,8 @@ def test_bad_options() -> None:
         BatchOptions(detrend=11)
     with pytest.raises(DataError, match="decimate must be >= 1, got 0"):
         BatchOptions(decimate=0)
+    with pytest.raises(DataError, match="output_units must be one of deg, si; got 'mrad'"):
+        BatchOptions(output_units="mrad")
 
 
 def test_read_settings_carry_every_input_option() -> None:

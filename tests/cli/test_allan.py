@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 from pathlib import Path
 
 import numpy as np
@@ -45,11 +46,16 @@ def test_tables_json_csv_plot(gyro_npy: Path, tmp_path: Path) -> None:
     assert "oadev of rate (deg/h), 68.3 % CI" in out
     assert "IEEE-952 noise terms of rate (WLS fit of oadev" in out
     assert "deg/sqrt(h)" in out and "slope read-offs (comparison only" in out
-    assert "warning: axis 'rate': noise term" in err  # Q, B, R are not in these data
-    doc = json.loads(out_json.read_text())
-    # DESIGN.md contract
+    assert "warning: gyro.npy: rate: noise term" in err  # Q, B, R are not in these data
+    assert out.startswith("Summary: noise terms per file and axis")
+    top = json.loads(out_json.read_text())
+    # DESIGN.md contract: one block per axis; the top-level copy of axis 0 is deprecated
+    assert [b["axis"] for b in top["axes"]] == ["rate"]
+    assert set(top["deprecated"]["fields"]) >= {"points", "noise", "kind", "units"}
+    assert all(top[k] == top["axes"][0][k] for k in top["deprecated"]["fields"])
+    doc = {**top["axes"][0], "input": top["input"]}
     assert set(doc) >= {"input", "kind", "units", "points", "noise"}
-    assert doc["kind"] == "oadev" and doc["units"] == "deg/h" and "axes" not in doc
+    assert doc["kind"] == "oadev" and doc["units"] == "deg/h"
     assert doc["input"]["n"] == 240_000 and doc["input"]["fs_hz"] == FS
     assert doc["input"]["source"].endswith("gyro.npy") and doc["input"]["axis"] == "rate"
     for p in doc["points"]:
@@ -130,11 +136,13 @@ def test_mdev_is_computed_but_not_fitted(gyro_npy: Path) -> None:
     doc = json.loads(out)
     assert doc["kind"] == "mdev" and doc["noise"] == {}
     assert "not mdev" in doc["noise_fit"]["skipped"]
-    assert "warning: noise terms are fitted to adev, oadev or totdev curves only" in err
+    assert "warning: gyro.npy: rate: noise terms are fitted to adev, oadev or totdev curves " \
+        "only" in err
 
 
 def test_multi_axis_real_imu(tmp_path: Path) -> None:
-    """ADIS16405 run 1 (3 axes, deg/s, 100 Hz): one block per axis, top level = axis 0."""
+    """ADIS16405 run 1 (3 axes, deg/s, 100 Hz): one block per axis, the (deprecated) top
+    level = axis 0."""
     path = shared_path("imu", "adis_16405_imu1_gyro.npz")
     out_csv, out_png = tmp_path / "axes.csv", tmp_path / "axes.svg"
     code, out, err = _run([path, "--json", "-", "--csv", out_csv, "--plot", out_png])
@@ -156,7 +164,7 @@ def test_multi_axis_real_imu(tmp_path: Path) -> None:
     assert out_png.read_text().lstrip().startswith("<?xml")
     code, out, _ = _run([path, "--json", "-", "--axis", names[1]])
     single = json.loads(out)
-    assert "axes" not in single and single["axis"] == names[1]
+    assert [b["axis"] for b in single["axes"]] == [names[1]] and single["axis"] == names[1]
     assert single["points"] == doc["axes"][1]["points"]
     code, out, _ = _run([path, "--json", "-", "--axis", "2"])
     assert json.loads(out)["axis"] == names[2]
@@ -259,3 +267,60 @@ def test_export_and_unit_errors_are_one_line(gyro_npy: Path, tmp_path: Path,
     line = error_output(err)
     assert message in line and line.startswith("error:") and "\n" not in line
     assert not (tmp_path / "imu.yaml").exists()
+
+
+def test_several_files_open_with_the_summary_and_the_spec(gyro_npy: Path,
+                                                         tmp_path: Path) -> None:
+    """Two files: the summary table first (one row each), PASS/FAIL against the spec with
+    exit code 1 on a FAIL, and each file's warnings printed for that file (the same finding
+    on the second file is not swallowed as a repeat)."""
+    import shutil
+
+    second = tmp_path / "gyro_b.npy"
+    shutil.copy(gyro_npy, second)
+    spec = tmp_path / "datasheet.yaml"
+    # the truth is N = 0.05 deg/sqrt(h), K = 10 deg/h^1.5: N within, K beyond its limit
+    spec.write_text(f"units: deg\nN: {2 * N_TRUE}\nK: {K_TRUE / 2}\n")
+    code, out, err = _run([gyro_npy, second, "--fs", FS, "--spec", spec,
+                           "--json", tmp_path / "s.json"])
+    assert code == 1, err
+    assert out.startswith("Summary: noise terms per file and axis")
+    lines = [ln for ln in out.splitlines() if "gyro" in ln and "│" in ln]
+    assert len(lines) == 2 and "gyro_b.npy" in lines[1]
+    assert all("PASS" in ln and "FAIL" in ln for ln in lines)
+    for name in ("gyro.npy", "gyro_b.npy"):
+        assert f"warning: {name}: rate: noise term B (bias instability" in err
+    doc = json.loads((tmp_path / "s.json").read_text())
+    assert [(r["file"], r["N_spec"], r["K_spec"]) for r in doc["summary"]] == [
+        ("gyro.npy", "PASS", "FAIL"), ("gyro_b.npy", "PASS", "FAIL")]
+    assert doc["summary"][0]["N"] == pytest.approx(doc["inputs"][0]["axes"][0]["noise"]["N"]
+                                                   ["value"], rel=1e-12)
+    assert doc["spec"]["limits"]["K"] == {"value": K_TRUE / 2, "unit": "deg/h^1.5"}
+    spec.write_text(f"N: {2 * N_TRUE}\nK: {2 * K_TRUE}\n")
+    code, out, err = _run([gyro_npy, "--fs", FS, "--spec", spec, "--output-units", "si"])
+    assert code == 0, err
+    assert "N (rad/s/sqrt(Hz))" in out and "FAIL" not in out
+
+
+@pytest.mark.parametrize(("text", "message"), [
+    ("- 0.15\n- 10\n", "error: datasheet.yaml must be a mapping of noise terms to limits"),
+    ("N: [0.1\n", "error: --spec file '.*datasheet.yaml' is not valid YAML: "),
+    ("N: 0.1\nARW: 2\n", r"error: datasheet.yaml: unknown key\(s\) 'ARW'; allowed are N, B, "
+                         "K and units"),
+    ("N: -1\n", "error: datasheet.yaml: the limit of N must be finite and > 0, got -1"),
+    ("units: mdeg\nN: 1\n", "error: datasheet.yaml: units must be one of deg, si; got 'mdeg'"),
+])
+def test_a_bad_spec_is_a_one_line_error(gyro_npy: Path, tmp_path: Path, text: str,
+                                        message: str) -> None:
+    spec = tmp_path / "datasheet.yaml"
+    spec.write_text(text)
+    code, out, err = _run([gyro_npy, "--fs", FS, "--spec", spec])
+    assert code == 2 and out == ""
+    lines = error_output(err).splitlines()
+    assert len(lines) == 1 and re.match(message, lines[0]), lines
+
+
+def test_a_missing_spec_is_named(gyro_npy: Path, tmp_path: Path) -> None:
+    code, _, err = _run([gyro_npy, "--fs", FS, "--spec", tmp_path / "none.yaml"])
+    assert code == 2
+    assert error_output(err).startswith("error: --spec file not found: '")

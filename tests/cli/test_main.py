@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -148,3 +149,30 @@ def test_hostile_corpus_through_cli(tmp_path: Path, name: str, content: str | by
     lines = err.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("error: "), err
     assert "Traceback" not in out + err
+
+
+#: The only ways the word "seed" may appear in the help, the README and the report: the
+#: random seed of a simulation (``--seed``, "Random seed ...", "30 seeds", "script and seed").
+_DATA_SEED = re.compile(r"--seed\b|random seed|\d+ seeds\b|script and seed|\bseed \d+;",
+                        re.IGNORECASE)
+
+
+def _stray_seeds(text: str) -> list[str]:
+    return [ln.strip() for ln in text.splitlines()
+            if "seed" in _DATA_SEED.sub("", ln).lower()]
+
+
+def test_help_and_readme_name_only_data_generation_seeds() -> None:
+    """User-facing text describes each method by its own name and references (README,
+    "Methods and references"), not by internal labels such as "seed 000"."""
+    from fogts.cli import COMMANDS
+
+    helps = [runner.invoke(app, ["--help"]).stdout]
+    helps += [runner.invoke(app, [c, "--help"]).stdout for c in COMMANDS]
+    helps += [runner.invoke(app, ["simulate", sub, "--help"]).stdout
+              for sub in ("noise", "startup")]
+    assert all(h.startswith("\n Usage: fogts") or "Usage: fogts" in h for h in helps)
+    readme = (Path(__file__).resolve().parents[2] / "README.md").read_text(encoding="utf-8")
+    assert "## Methods and references" in readme
+    assert _stray_seeds("\n".join(helps)) == []
+    assert _stray_seeds(readme) == []

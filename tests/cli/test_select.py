@@ -77,7 +77,7 @@ def test_select_not_white_exits_1(tmp_path: Path) -> None:
     assert res.exit_code == 1, res.output
     assert "ranked by BIC" in res.stdout
     assert "No candidate leaves white residuals" in res.stdout
-    assert "warning: no candidate leaves white residuals" in res.stderr
+    assert "warning: ar3.csv: rate_deg_s: no candidate leaves white residuals" in res.stderr
 
 
 def test_select_explosive_exits_1_with_failed_rows(tmp_path: Path) -> None:

@@ -148,3 +148,18 @@ def test_read_json_errors(tmp_path: Path) -> None:
     (tmp_path / "bad.json").write_text("{not json")
     with pytest.raises(DataError, match="'.*bad.json' is not valid JSON"):
         read_json(tmp_path / "bad.json")
+
+
+def test_read_yaml_reads_a_specification_and_names_its_errors(tmp_path: Path) -> None:
+    from fogts.io.reader import read_yaml
+
+    good = tmp_path / "spec.yaml"
+    good.write_text("units: si  # datasheet in SI\nN: 1.2e-4\nB: 5e-5\n")
+    assert read_yaml(good) == {"units": "si", "N": 1.2e-4, "B": "5e-5"}  # YAML 1.1: a string
+    with pytest.raises(DataError, match="--spec file not found: '.*none.yaml'"):
+        read_yaml(tmp_path / "none.yaml", "--spec file")
+    with pytest.raises(DataError, match="is a directory, not a file"):
+        read_yaml(tmp_path)
+    (tmp_path / "bad.yaml").write_text("N: [0.15\nB: 10\n")
+    with pytest.raises(DataError, match=r"'.*bad.yaml' is not valid YAML: .*line \d"):
+        read_yaml(tmp_path / "bad.yaml")

@@ -8,6 +8,7 @@ plus ``fogts report`` on the command line.
 from __future__ import annotations
 
 import base64
+import math
 import re
 import xml.etree.ElementTree as ET
 from pathlib import Path
@@ -67,7 +68,7 @@ def built(tmp_path_factory: pytest.TempPathFactory) -> tuple[HtmlReport, str, Pa
 def test_every_section_present_and_ok(built: tuple[HtmlReport, str, Path]) -> None:
     rep, _, _ = built
     ids = [s.id for s in rep.sections]
-    assert ids == ["input", "timeseries", "allan-1", "arma-1", "prediction-1", "davar-1",
+    assert ids == ["summary", "input", "timeseries", "allan-1", "arma-1", "prediction-1", "davar-1",
                    "thermal-1"]
     bad = [(s.id, s.message) for s in rep.sections if s.status != "ok"]
     assert bad == []
@@ -78,6 +79,10 @@ def test_every_section_present_and_ok(built: tuple[HtmlReport, str, Path]) -> No
     assert figs["davar-1"] == 1 and figs["thermal-1"] >= 1
     assert "report" in rep.summary() and len(rep.to_frame()) == len(rep.sections)
     assert json_dumps(rep.to_dict())  # JSON-safe
+    # methods are named by what they compute (README "Methods and references"), never by
+    # internal labels such as "seed 000"
+    _, html, _ = built
+    assert "seed" not in html.lower() and "ρ_a,2 = Σ a_t a_{t−2} / Σ a_t²" in html
 
 
 def test_each_section_says_how_to_read_it_in_one_sentence(
@@ -193,10 +198,36 @@ def test_multi_axis_run_gives_one_section_per_axis(tmp_path: Path) -> None:
     assert rep.sections[1].title.endswith(f"axis {run.axes[1]}")
 
 
+def test_summary_opens_the_report_with_every_axis_and_the_spec(tmp_path: Path) -> None:
+    """The summary section: one row per axis with the Allan sections' own N (in the chosen
+    units), and the spec verdict naming the failing terms; each axis' warnings stay notes of
+    its Allan section, although the summary computed the analysis first."""
+    from fogts.allan.datasheet import NoiseSpec
+    from fogts.units import TERM_SI_FACTOR
+
+    rng = np.random.default_rng(2)
+    run = read_run(rng.normal(size=(4000, 2)), fs_hz=10.0)
+    spec = NoiseSpec.from_mapping({"units": "si", "N": 1.0, "B": 1e-12}, source="ds.yaml")
+    rep = build_report(run, parts=("allan", "summary"), output_units="si", spec=spec)
+    assert [s.id for s in rep.sections] == ["summary", "allan-1", "allan-2"]
+    summary = rep.sections[0]
+    table = next(b for b in summary.blocks if b.kind == "table")
+    assert table.columns[:3] == ("file", "axis", "N (rad/s/sqrt(Hz))")
+    assert [r[1] for r in table.rows] == list(run.axes)
+    n_si = float(table.rows[0][2].split(" ± ")[0])
+    # white noise of unit variance at 10 Hz in deg/h: N = sqrt(1/10)/60 deg/sqrt(h)
+    assert n_si == pytest.approx(math.sqrt(0.1) / 60 * TERM_SI_FACTOR["N"], rel=0.05)
+    verdict = next(b for b in summary.blocks if b.kind == "verdict")
+    assert not verdict.good and verdict.text.startswith("Spec ds.yaml: FAIL for ")
+    assert all(s.notes for s in rep.sections[1:]) and not summary.notes
+
+
 def test_bad_arguments(tmp_path: Path) -> None:
     run = read_run(np.random.default_rng(0).normal(size=500), fs_hz=10.0)
-    with pytest.raises(DataError, match="parts must be one of .*; got 'summary'"):
-        build_report(run, parts=("input", "summary"))
+    with pytest.raises(DataError, match="parts must be one of .*; got 'overview'"):
+        build_report(run, parts=("input", "overview"))
+    with pytest.raises(DataError, match="output_units must be one of deg, si; got 'mrad'"):
+        build_report(run, output_units="mrad")  # type: ignore[arg-type]
     with pytest.raises(DataError, match="kind must be one of .*; got 'xdev'"):
         build_report(run, kind="xdev")
     with pytest.raises(DataError, match="taus must be one of .*; got 'weekly'"):
