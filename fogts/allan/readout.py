@@ -30,6 +30,7 @@ from fogts._typing import FloatArray
 from fogts.allan.terms import B_PLATEAU, TERM_SLOPE, TERMS, from_seconds, term_rows
 from fogts.errors import DataError, InsufficientDataError
 from fogts.tables import Column, Table
+from fogts.units import term_in_units, term_unit
 
 __all__ = ["CurveReadout", "DominantRange", "SlopeReadoff", "read_curve", "slope_readoff"]
 
@@ -278,13 +279,17 @@ class SlopeReadoff:
                       "local_slope": self.slope_K, "read_at_tau": TERMS["K"].readoff_tau_s},
                 "B": {"value": self.B, "unit": self._unit("B"), "tau": self.tau_B_s}}
 
-    def describe(self, number: Callable[[float], str] = lambda v: f"{v:.4g}") -> str:
-        """The read-offs as one sentence (``number`` formats the values)."""
-        return (f"slope read-offs (comparison only, not the fit): "
-                f"N = {number(self.N)} {self._unit('N')} (-1/2 line at tau = "
-                f"{TERMS['N'].readoff_tau_s:g} s), K = {number(self.K)} {self._unit('K')} "
-                f"(+1/2 line at tau = {TERMS['K'].readoff_tau_s:g} s), B = {number(self.B)} "
-                f"{self._unit('B')} (minimum / {B_PLATEAU:g})")
+    def describe(self, number: Callable[[float], str] = lambda v: f"{v:.4g}",
+                 units: str = "deg") -> str:
+        """The read-offs as one sentence (``number`` formats the values) in ``units``
+        (``"deg"``: the term table's engineering units; ``"si"``: :mod:`fogts.units`)."""
+        def term(name: str) -> str:
+            value = term_in_units(name, getattr(self, name), units, self.quantity)
+            return f"{name} = {number(value)} {term_unit(name, units, self.quantity)}"
+
+        return (f"slope read-offs (comparison only, not the fit): {term('N')} (-1/2 line at "
+                f"tau = {TERMS['N'].readoff_tau_s:g} s), {term('K')} (+1/2 line at tau = "
+                f"{TERMS['K'].readoff_tau_s:g} s), {term('B')} (minimum / {B_PLATEAU:g})")
 
 
 def slope_readoff(tau: FloatArray, dev: FloatArray, factor: float,

@@ -36,7 +36,7 @@ def _allan_tables(res: AllanResult, model: NoiseModel | None, check: dict[str, A
         common.say([f"dropped tau = {d.tau_s:g} s (m = {d.m}): {d.reason}"], quiet_json)
     if model is not None:
         common.print_out(common.rich_table(model.term_table(units)), quiet_json=quiet_json)
-        common.say([model.readoff.describe()], quiet_json)
+        common.say([model.readoff.describe(units=units)], quiet_json)
         common.say([f"fit: chi2 = {model.chi2:.4g} on {model.dof:.4g} dof, model error "
               f"{model.model_error:.3g}; standard errors: {model.stderr_method}"], quiet_json)
         common.say([e.describe() for e in model.extra_terms], quiet_json)

@@ -117,6 +117,19 @@ def test_slope_readoffs_follow_the_matlab_definition() -> None:
     assert "comparison only" in mixed.to_dict()["readoff"]["method"]
 
 
+def test_slope_readoffs_in_si_units() -> None:
+    """The read-off sentence in SI: N = 0.02 deg/sqrt(h) is 0.02 (pi/180)/60 rad/s/sqrt(Hz)
+    (1 deg/sqrt(h) = (pi/180) rad / sqrt(3600 s)), B in rad/s (pi/180/3600 per deg/h)."""
+    tau = 2.0 ** np.arange(-6, 18)
+    model = quiet_fit(make_result(tau, np.sqrt(avar(tau, N=0.02, B=0.1, K=0.05))))
+    text = model.readoff.describe(lambda v: f"{v:.6e}", units="si")
+    n_si = model.readoff.N * np.pi / 180.0 / 60.0
+    b_si = model.readoff.B * np.pi / 180.0 / 3600.0
+    assert f"N = {n_si:.6e} rad/s/sqrt(Hz)" in text
+    assert f"B = {b_si:.6e} rad/s" in text and "rad/s^2/sqrt(Hz)" in text
+    assert "deg" not in text
+
+
 def test_slope_readoff_of_pure_lines() -> None:
     """N from the -1/2 line at 1 s (/ 60), K from the +1/2 line at 3 s (x 60), B from the
     minimum / B_PLATEAU, in deg/h after the unit factor."""
