@@ -186,12 +186,19 @@ class StartupCompensation(TableView):
                      f"{self.after.value:.4g} {self.after.unit}")
         lines.append(f"{stability} ({self.improvement:.2f}x in sample)"
                      if self.claims_improvement else
-                     f"{stability}; not claimed as an improvement: the model is not "
-                     "significant, so the change is the fit absorbing drift")
+                     f"{stability}; not claimed as an improvement: {self._why_no_claim()}")
         if self.out_of_sample is not None:
             lines.append(self.out_of_sample.summary())
         lines += [f"note: {n}" for n in self.notes]
         return "\n".join(lines)
+
+
+    def _why_no_claim(self) -> str:
+        """Why the bias-stability change is not an improvement, as the verdict says."""
+        if self.significance is not None and not self.significance.testable:
+            return ("the thermal model is not testable on this record, so the change is the "
+                    "fit absorbing drift")
+        return "the model is not significant, so the change is the fit absorbing drift"
 
 
 def startup_compensation(

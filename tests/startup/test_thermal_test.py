@@ -67,6 +67,8 @@ def test_mpu6050_temperature_span_is_too_small() -> None:
     res = fogts.startup_compensation(run, emd=False)
     assert res.significance is not None and not res.significance.testable
     assert not res.claims_improvement
+    assert "not claimed as an improvement: the thermal model is not testable" in res.summary()
+    assert "not significant" not in res.summary()
 
 
 def test_compensate_on_the_example_claims_nothing(tmp_path: Path) -> None:
@@ -75,7 +77,8 @@ def test_compensate_on_the_example_claims_nothing(tmp_path: Path) -> None:
                                    "--json", str(out)])
     assert res.exit_code == 0, res.stderr
     assert res.stdout.startswith("verdict: no significant temperature dependence")
-    assert "not claimed as an improvement" in res.stdout and "x)" not in res.stdout
+    assert "not claimed as an improvement: the model is not significant" in res.stdout
+    assert "x)" not in res.stdout
     doc = json.loads(out.read_text())
     assert doc["significance"]["significant"] is False
     assert doc["bias_stability"]["improvement_claimed"] is False
