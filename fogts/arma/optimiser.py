@@ -55,7 +55,7 @@ def newton(model: ExactLikelihood, phi: FloatArray, theta: FloatArray, *,
     where it matters on flat ridges of non-identified models).
     """
     max_iter = _MAX_ITER if max_iter is None else max_iter
-    n, p, q = model.n, model.p, model.q
+    n, p, q = model.nu, model.p, model.q
     k = p + q
     msgs: list[str] = []
     ev = model.evaluate(phi, theta)
@@ -126,7 +126,8 @@ def solve(xs: FloatArray, model: ExactLikelihood, phi: FloatArray, theta: FloatA
     """
     n, p, q = model.n, model.p, model.q
     if n > 4 * _PRESAMPLE:
-        pre = newton(ExactLikelihood(xs[:_PRESAMPLE], p, q), phi, theta, small_step=1e-4)
+        pre = newton(ExactLikelihood(xs[:_PRESAMPLE], p, q, mean=model.mean), phi, theta,
+                     small_step=1e-4)
         if admissible(pre.ev.phi, pre.ev.theta, margin=1e-3):
             phi, theta = pre.ev.phi, pre.ev.theta
     res = newton(model, phi, theta)
@@ -162,12 +163,13 @@ def cancelling_pair(phi: FloatArray, theta: FloatArray, tol: float = 0.15
 
 
 def second_starts(xs: FloatArray, p: int, q: int, base_ar: FloatArray, base_ma: FloatArray,
-                  pair: tuple[complex, complex]) -> list[tuple[FloatArray, FloatArray]]:
+                  pair: tuple[complex, complex], mean: bool = False
+                  ) -> list[tuple[FloatArray, FloatArray]]:
     """Further starts for a nearly redundant fit: the mirrored pair and statsmodels' start.
 
     The mirrored pair negates both nearly cancelling roots (the other side of the ridge);
-    statsmodels' ``start_params`` (on at most ``_PRESAMPLE`` samples) is the start of its own
-    optimiser, so its basin is explored too.
+    statsmodels' ``start_params`` (on at most ``_PRESAMPLE`` samples, demeaned if ``mean``)
+    is the start of its own optimiser, so its basin is explored too.
     """
     from statsmodels.tsa.arima.model import ARIMA
 
@@ -179,7 +181,8 @@ def second_starts(xs: FloatArray, p: int, q: int, base_ar: FloatArray, base_ma: 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         try:
-            sp = np.asarray(ARIMA(xs[:_PRESAMPLE], order=(p, 0, q), trend="n").start_params)
+            y = xs[:_PRESAMPLE] - (float(np.mean(xs[:_PRESAMPLE])) if mean else 0.0)
+            sp = np.asarray(ARIMA(y, order=(p, 0, q), trend="n").start_params)
             starts.append((sp[:p].copy(), sp[p:p + q].copy()))
         except (ValueError, np.linalg.LinAlgError):
             pass
@@ -202,7 +205,7 @@ def maximise(xs: FloatArray, model: ExactLikelihood, phi: FloatArray, theta: Flo
     n_iter = res.n_iter
     found = cancelling_pair(res.ev.phi, res.ev.theta)
     if found is not None:
-        for start in second_starts(xs, model.p, model.q, *found):
+        for start in second_starts(xs, model.p, model.q, *found, mean=model.mean):
             res_alt = solve(xs, model, *start, polish=polish)
             n_iter += res_alt.n_iter
             if res_alt.ev.f < res.ev.f - 1e-9:
