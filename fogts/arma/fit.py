@@ -9,7 +9,9 @@ errors from the observed information (:mod:`fogts.arma.standard_errors`).  The r
 :class:`~fogts.arma.fit_result.ArmaFit` in the units of the series.
 
 No mean is fitted (``trend="n"``) unless ``mean=True``: then the mean is profiled out of the
-likelihood by GLS (``trend="c"``), which :func:`~fogts.arma.select.select_arma` uses.
+likelihood by GLS (``trend="c"``) and the restricted likelihood maximised, which
+:func:`~fogts.arma.select.select_arma` uses; at a unit AR root, where the mean is not
+identifiable, the fit without a mean of the demeaned series is used instead.
 """
 
 from __future__ import annotations
@@ -23,9 +25,9 @@ import numpy as np
 from fogts._typing import FloatArray
 from fogts._validate import check_choice, check_int, to_float_array
 from fogts.arma.fit_result import ArmaFit, criteria, fitted_series, model_name, param_names
-from fogts.arma.likelihood import ExactLikelihood
-from fogts.arma.optimiser import maximise
-from fogts.arma.region import spectral_radius
+from fogts.arma.likelihood import Evaluation, ExactLikelihood
+from fogts.arma.optimiser import NewtonResult, maximise
+from fogts.arma.region import UNIT_ROOT_GAP, spectral_radius, unit_root_gap
 from fogts.arma.standard_errors import standard_errors
 from fogts.arma.start_values import hannan_rissanen, normal_equations
 from fogts.errors import ConvergenceWarning, DataError, InsufficientDataError, ModelFitError
@@ -122,6 +124,38 @@ def _check_not_explosive(xs: FloatArray) -> None:
             "difference or detrend it first")
 
 
+def _fit_demeaned(xs: FloatArray, p: int, q: int,
+                  exact: bool) -> tuple[ExactLikelihood, NewtonResult, int]:
+    """The exact ML fit without a mean of xs minus its sample mean (model, result, iterations).
+
+    Used where the restricted likelihood is maximised at a unit AR root (see
+    :func:`_unit_root_note`): the mean of a unit-root process is not identifiable, and the
+    zero-mean likelihood of the demeaned series has its maximum inside the stationarity
+    region (the sample mean's removal costs a unit root about log(n)/2).
+    """
+    y = xs - float(np.mean(xs))
+    model = ExactLikelihood(y, p, q)
+    res, n_iter = maximise(y, model, *hannan_rissanen(y, p, q), polish=exact)
+    return model, res, n_iter
+
+
+def _unit_root_note(stopped: Evaluation) -> str:
+    """What a fit whose restricted likelihood runs to a unit AR root did.
+
+    As an inverse AR root tends to 1 the restricted likelihood tends to that of the
+    differenced series under ARMA(p - 1, q) (plus log(n)/2, the Jacobian of differences
+    against orthonormal contrasts): the contrasts of a series with a unit root are its
+    differences, and its mean is not identifiable (Harville 1974; Francke & de Vos 2007,
+    *J. Econometrics* 137, 708-728).  The optimum is then on the boundary of the stationary
+    region, which a stationary ARMA(p, q) cannot represent.
+    """
+    root = 1.0 - unit_root_gap(stopped.phi)
+    return (f"the restricted likelihood rises towards a unit AR root (its maximisation reached "
+            f"inverse root {root:.6f}, within {UNIT_ROOT_GAP:g} of 1), where the mean is not "
+            "identifiable: the coefficients are the exact ML ones of the demeaned series "
+            "without a mean, and llf is the restricted likelihood at them")
+
+
 def _fit_fast(xs: FloatArray, p: int, q: int, mean: bool) -> _PathResult:
     """Exact ML by Newton's method on the fast exact likelihood, from Hannan-Rissanen starts.
 
@@ -133,10 +167,17 @@ def _fit_fast(xs: FloatArray, p: int, q: int, mean: bool) -> _PathResult:
     exact = n <= _FD_HESSIAN_MAX_N
     model = ExactLikelihood(xs, p, q, mean=mean)
     res, n_iter = maximise(xs, model, *hannan_rissanen(xs, p, q), polish=exact)
+    se_model, se_res = model, res
+    if mean and unit_root_gap(res.ev.phi) < UNIT_ROOT_GAP:
+        se_model, se_res, n_alt = _fit_demeaned(xs, p, q, exact)
+        n_iter += n_alt
+        ev = model.evaluate(se_res.ev.phi, se_res.ev.theta)
+        res = NewtonResult(ev=ev, converged=se_res.converged, n_iter=n_iter,
+                           msgs=[*se_res.msgs, _unit_root_note(res.ev)])
     ev, converged, msgs = res.ev, res.converged, res.msgs
     sigma2 = ev.S / model.nu      # nu = n, or n - 1 for the restricted likelihood
     llf = _restricted_llf(model.nu, ev.S, ev.D)
-    se, note = standard_errors(model, res, exact=exact)
+    se, note = standard_errors(se_model, se_res, exact=exact)
     if note is not None:
         msgs.append(note)
     names = param_names(p, q)
@@ -194,7 +235,11 @@ def fit_arma(x: Any, p: int, q: int, *, method: FitMethod = "fast",
         p + q + 1 parameters.  Use it on a series whose sample mean was subtracted: a
         zero-mean fit of demeaned data, and also the likelihood with the mean as a
         parameter (statsmodels' ``trend="c"``), reward an MA root on the unit circle by
-        about log(n)/2 of likelihood; the restricted likelihood does not.  With
+        about log(n)/2 of likelihood; the restricted likelihood does not.  Where the
+        restricted likelihood rises to a unit AR root (an inverse root within 1e-4 of 1, as
+        on white noise + random walk), the mean is not identifiable: the coefficients are
+        then those of the exact ML fit of the demeaned series without a mean, ``llf`` the
+        restricted likelihood at them, and ``warnings`` says so.  With
         ``method="statsmodels"`` the coefficients are statsmodels' ``trend="c"`` ML ones.
 
     Returns

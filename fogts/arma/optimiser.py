@@ -22,7 +22,7 @@ import numpy as np
 
 from fogts._typing import FloatArray
 from fogts.arma.likelihood import Evaluation, ExactLikelihood
-from fogts.arma.region import admissible, shrink_into_region
+from fogts.arma.region import UNIT_ROOT_GAP, admissible, shrink_into_region, unit_root_gap
 
 __all__ = ["NewtonResult", "maximise", "newton", "solve"]
 
@@ -110,6 +110,11 @@ def newton(model: ExactLikelihood, phi: FloatArray, theta: FloatArray, *,
                             "stationarity/invertibility boundary")
             break
         ev = accepted
+        if model.mean and unit_root_gap(ev.phi) < UNIT_ROOT_GAP:
+            # the restricted likelihood runs to the unit root, outside the region
+            msgs.append(f"stopped at iteration {n_iter}: an inverse AR root within "
+                        f"{UNIT_ROOT_GAP:g} of 1")
+            break
     else:
         msgs.append(f"Newton's method did not converge in {max_iter} iterations")
     return NewtonResult(ev=ev, converged=converged, n_iter=n_iter, msgs=msgs, dS=dS, dD=dD,
@@ -203,6 +208,8 @@ def maximise(xs: FloatArray, model: ExactLikelihood, phi: FloatArray, theta: Flo
     """
     res = solve(xs, model, phi, theta, polish=polish)
     n_iter = res.n_iter
+    if model.mean and unit_root_gap(res.ev.phi) < UNIT_ROOT_GAP:
+        return res, n_iter        # at a unit root: no mean to estimate, nothing to compare
     found = cancelling_pair(res.ev.phi, res.ev.theta)
     if found is not None:
         for start in second_starts(xs, model.p, model.q, *found, mean=model.mean):

@@ -403,3 +403,29 @@ def test_every_candidate_fits_white_plus_rate_random_walk_at_2e7() -> None:
     assert arma11.ar[0] == pytest.approx(1.0, abs=1e-5)
     assert arma11.ma[0] == pytest.approx(theta_true, abs=1e-4)
     assert "could not be fitted" not in sel.verdict and "not invertible" not in sel.verdict
+
+
+def test_restricted_fit_at_a_unit_root_falls_back_to_the_demeaned_fit() -> None:
+    """White noise + rate random walk (ARIMA(0,1,1)): the restricted likelihood of ARMA(1,1)
+    rises up to phi = 1, outside the stationary region, where the mean is not identifiable.
+    ``mean=True`` then reports the exact ML fit of the demeaned series without a mean,
+    says so, and does not warn.  Reference: statsmodels' ``ARIMA(trend="n")`` exact ML on
+    the demeaned, standardised series (coefficients within 1e-3: both optimisers' tolerance
+    on this flat near-cancelling ridge; measured 5e-5)."""
+    from statsmodels.tsa.arima.model import ARIMA
+
+    r = np.random.default_rng(5)
+    n = 6000
+    x = 0.3 * r.standard_normal(n) + np.cumsum(0.002 * r.standard_normal(n)) + 0.4
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", ConvergenceWarning)
+        fit = fit_arma(x, 1, 1, mean=True)
+    assert fit.converged
+    assert any("unit AR root" in w and "not identifiable" in w for w in fit.warnings)
+    y = x - x.mean()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        ref = ARIMA(y / y.std(), order=(1, 0, 1), trend="n").fit()
+    assert fit.ar[0] == pytest.approx(ref.params[0], abs=1e-3)
+    assert fit.ma[0] == pytest.approx(ref.params[1], abs=1e-3)
+    assert 1.0 - fit.ar[0] > 1e-5 and np.isfinite(fit.llf) and np.isfinite(fit.bse["ar.L1"])

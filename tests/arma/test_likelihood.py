@@ -74,3 +74,28 @@ def test_restricted_likelihood_and_gls_mean_against_dense_algebra(n: int, ar: li
     # the innovations are those of x - mu (e.g. they give S)
     assert float(np.sum(ev.e[:ev.s] ** 2 / ev.F) + np.sum(ev.e[ev.s:] ** 2)) == \
         pytest.approx(S, rel=1e-9)
+
+
+@pytest.mark.parametrize(("ar_rest", "ma"), [([], [-0.9]), ([0.4], [-0.8])])
+def test_restricted_likelihood_at_a_unit_root_is_the_differenced_likelihood(
+        ar_rest: list, ma: list) -> None:
+    """As an inverse AR root tends to 1 the restricted likelihood tends to the exact
+    likelihood of the differenced series under ARMA(p - 1, q) plus log(n)/2 (the Jacobian of
+    n - 1 differences against orthonormal contrasts): reference statsmodels' exact
+    ``ARIMA(order=(p-1, 0, q), trend="n")`` log-likelihood of diff(x) at the same
+    coefficients and sigma2.  Tolerance 1e-3 in the log-likelihood: at the inverse root
+    1 - 1e-7 the limit is approached to O(n (1 - root)) = 1e-4."""
+    from statsmodels.tsa.arima.model import ARIMA
+
+    n = 1000
+    x = np.cumsum(simulate(ar_rest, ma, n, 5, 1.0)) + 4.0
+    rest, theta = np.array(ar_rest, dtype=float), np.array(ma, dtype=float)
+    phi = -np.poly(np.r_[np.roots(np.r_[1.0, -rest]), 1.0 - 1e-7])[1:]
+    model = ExactLikelihood(x, phi.size, theta.size, mean=True)
+    ev = model.evaluate(phi, theta)
+    sigma2 = ev.S / model.nu
+    llf_r = -0.5 * (model.nu * np.log(2 * np.pi * sigma2) + ev.S / sigma2 + ev.D)
+    d = np.diff(x)
+    ref = ARIMA(d, order=(rest.size, 0, theta.size), trend="n").smooth(
+        np.r_[rest, theta, sigma2]).llf
+    assert llf_r == pytest.approx(ref + 0.5 * np.log(n), abs=1e-3)
