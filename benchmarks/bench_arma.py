@@ -22,7 +22,11 @@ Speed figures (ratio = peer seconds / fogts seconds, > 1 means fogts is faster):
   and user + system for the CPU-time ratio);
 * at n = 1e7 (full run only): the time of ``select_arma`` and its peak extra memory
   (tracemalloc, numpy arrays included) as a multiple of the input; there is no peer (the
-  statsmodels loop is too slow at that size).
+  statsmodels loop is too slow at that size);
+* the typical gyro record at n = 1e8 (full run only): white noise (sd 0.1) plus a rate
+  random walk (increments 1e-4, seed 900107) through ``select_arma``, once, under
+  tracemalloc: its wall and CPU time, its peak extra memory and whether all five candidates
+  were fitted (no peer: 800 MB of input).
 
 Accuracy figures, from the same fits: the largest |parameter difference| to statsmodels
 (acceptance: 1e-4, compared where both reach the same optimum), the largest AIC excess of
@@ -333,12 +337,59 @@ def _huge_metrics(n: int) -> list[Metric]:
     ]
 
 
+def white_plus_random_walk(n: int, seed: int = 900107) -> np.ndarray:
+    """White rate noise (sd 0.1) plus a rate random walk (increments 1e-4), in place."""
+    r = np.random.default_rng(seed)
+    x = r.standard_normal(n)      # the recipe 0.1*w + cumsum(1e-4*v), without temporaries
+    x *= 0.1
+    walk = r.standard_normal(n)
+    walk *= 1e-4
+    np.cumsum(walk, out=walk)
+    x += walk
+    return x
+
+
+def _white_rw_metrics(n: int) -> list[Metric]:
+    """select_arma once on white + rate random walk at n: time, peak memory, all five fitted.
+
+    Run once under tracemalloc (a second pass would double an already long run); the CPU
+    time is this process's (single-threaded BLAS), the wall time is in the details.
+    """
+    x = white_plus_random_walk(n)
+    _select(x[:5000])                                    # warms imports and caches
+    gc.collect()
+    tracemalloc.start()
+    wall, cpu, sel = _timed(_select, x)
+    _, peak = tracemalloc.get_traced_memory()
+    tracemalloc.stop()
+    lab = _label(n)
+    fitted = sum(c.ok for c in sel.candidates)
+    NOTES.append(f"white + rate random walk, {lab}: selected {sel.best.model}; "
+                 + ", ".join(f"{c.model} AIC {c.aic:.1f}" if c.ok else f"{c.model} failed"
+                             for c in sel.candidates) + ".")
+    return [
+        accuracy_metric(
+            f"time.arma.select_white_rw.{lab}",
+            f"ARMA white + rate random walk {lab}: select_arma CPU time (no peer)",
+            value=cpu, better="lower", unit="s CPU", tolerance=0.5, details={"wall_s": wall}),
+        accuracy_metric(
+            f"memory.arma.select_white_rw.{lab}",
+            f"ARMA white + rate random walk {lab}: select_arma peak extra memory",
+            value=peak / x.nbytes, better="lower", unit="x input", tolerance=0.25),
+        accuracy_metric(
+            f"accuracy.arma.white_rw_fitted.{lab}",
+            f"ARMA white + rate random walk {lab}: candidates fitted (of 5)",
+            value=float(fitted), better="higher", abs_tolerance=0.0),
+    ]
+
+
 def metrics(quick: bool) -> list[Metric]:
     """Measure and return the figures (the runner's entry point)."""
     out = _comparison_metrics(QUICK_N if quick else 1_000_000)
     if not quick:
         out += _comparison_metrics(1_000_000, kind="nearly white", with_r=False)
         out += _huge_metrics(10_000_000)
+        out += _white_rw_metrics(100_000_000)
     return out
 
 

@@ -1,4 +1,4 @@
-"""Fit one ARMA(p, q) model without a mean by exact Gaussian maximum likelihood: :func:`fit_arma`.
+"""Fit one ARMA(p, q) model by exact Gaussian maximum likelihood: :func:`fit_arma`.
 
 Two methods maximise the same exact likelihood, the state-space likelihood statsmodels'
 ``ARIMA(order=(p,0,q), trend="n")`` evaluates: ``"statsmodels"`` runs statsmodels itself;
@@ -8,7 +8,10 @@ from Hannan-Rissanen start values (:mod:`fogts.arma.start_values`) and takes the
 errors from the observed information (:mod:`fogts.arma.standard_errors`).  The result is an
 :class:`~fogts.arma.fit_result.ArmaFit` in the units of the series.
 
-No mean is fitted (``trend="n"``): the caller removes the mean first.
+No mean is fitted (``trend="n"``) unless ``mean=True``: then the mean is profiled out of the
+likelihood by GLS (``trend="c"``) and the restricted likelihood maximised, which
+:func:`~fogts.arma.select.select_arma` uses; at a unit AR root, where the mean is not
+identifiable, the fit without a mean of the demeaned series is used instead.
 """
 
 from __future__ import annotations
@@ -21,10 +24,10 @@ import numpy as np
 
 from fogts._typing import ArrayLike1D, FloatArray
 from fogts._validate import check_choice, check_int, to_float_array
-from fogts.arma.fit_result import ArmaFit, criteria, model_name, param_names
-from fogts.arma.likelihood import ExactLikelihood
-from fogts.arma.optimiser import maximise
-from fogts.arma.region import spectral_radius
+from fogts.arma.fit_result import ArmaFit, criteria, fitted_series, model_name, param_names
+from fogts.arma.likelihood import Evaluation, ExactLikelihood
+from fogts.arma.optimiser import NewtonResult, maximise
+from fogts.arma.region import UNIT_ROOT_GAP, spectral_radius, unit_root_gap
 from fogts.arma.standard_errors import standard_errors
 from fogts.arma.start_values import hannan_rissanen, normal_equations
 from fogts.errors import ConvergenceWarning, DataError, InsufficientDataError, ModelFitError
@@ -59,8 +62,11 @@ def _prepare(x: Any, p: int, q: int) -> FloatArray:
     return arr
 
 
-def _fit_statsmodels(xs: FloatArray, p: int, q: int) -> _PathResult:
-    """statsmodels' own ``ARIMA(order=(p,0,q), trend="n").fit()`` on the (scaled) series."""
+def _fit_statsmodels(xs: FloatArray, p: int, q: int, mean: bool) -> _PathResult:
+    """statsmodels' own ``ARIMA(order=(p,0,q), trend="n" or "c").fit()`` on the (scaled)
+    series.  With ``trend="c"`` the mean is its ``const`` (returned as ``"mean"``), and the
+    log-likelihood returned is the restricted one at statsmodels' coefficients (statsmodels
+    has no restricted likelihood), so both methods rank candidates by the same criterion."""
     from statsmodels.tools.sm_exceptions import ConvergenceWarning as SmConvergenceWarning
     from statsmodels.tsa.arima.model import ARIMA
 
@@ -68,7 +74,7 @@ def _fit_statsmodels(xs: FloatArray, p: int, q: int) -> _PathResult:
     with _warnings.catch_warnings(record=True) as caught:
         _warnings.simplefilter("always")
         try:
-            res = ARIMA(xs, order=(p, 0, q), trend="n").fit(cov_type="approx")
+            res = ARIMA(xs, order=(p, 0, q), trend="c" if mean else "n").fit(cov_type="approx")
         except (ValueError, np.linalg.LinAlgError) as exc:
             raise ModelFitError(f"statsmodels fit failed: {exc}") from exc
     converged = True
@@ -81,12 +87,23 @@ def _fit_statsmodels(xs: FloatArray, p: int, q: int) -> _PathResult:
     mle = getattr(res, "mle_retvals", None) or {}
     if mle.get("converged") is False:
         converged = False
-    names = param_names(p, q)
+    names = (["mean"] if mean else []) + param_names(p, q)
     params = dict(zip(names, map(float, np.asarray(res.params)), strict=True))
     bse = dict(zip(names, map(float, np.asarray(res.bse)), strict=True))
     n_iter = mle.get("iterations")
-    return (params, bse, float(res.llf), np.asarray(res.resid, dtype=float), converged, msgs,
+    llf = float(res.llf)
+    if mean:
+        model = ExactLikelihood(xs, p, q, mean=True)
+        ev = model.evaluate(np.array([params[f"ar.L{i}"] for i in range(1, p + 1)]),
+                            np.array([params[f"ma.L{j}"] for j in range(1, q + 1)]))
+        llf = _restricted_llf(model.nu, ev.S, ev.D)
+    return (params, bse, llf, np.asarray(res.resid, dtype=float), converged, msgs,
             None if n_iter is None else int(n_iter))
+
+
+def _restricted_llf(nu: int, S: float, D: float) -> float:
+    """The log-likelihood at sigma2 = S / nu (exact for nu = n, restricted for nu = n - 1)."""
+    return -0.5 * nu * (math.log(2 * math.pi) + 1.0 + math.log(S / nu)) - 0.5 * D
 
 
 def _check_not_explosive(xs: FloatArray) -> None:
@@ -107,7 +124,39 @@ def _check_not_explosive(xs: FloatArray) -> None:
             "difference or detrend it first")
 
 
-def _fit_fast(xs: FloatArray, p: int, q: int) -> _PathResult:
+def _fit_demeaned(xs: FloatArray, p: int, q: int,
+                  exact: bool) -> tuple[ExactLikelihood, NewtonResult, int]:
+    """The exact ML fit without a mean of xs minus its sample mean (model, result, iterations).
+
+    Used where the restricted likelihood is maximised at a unit AR root (see
+    :func:`_unit_root_note`): the mean of a unit-root process is not identifiable, and the
+    zero-mean likelihood of the demeaned series has its maximum inside the stationarity
+    region (the sample mean's removal costs a unit root about log(n)/2).
+    """
+    y = xs - float(np.mean(xs))
+    model = ExactLikelihood(y, p, q)
+    res, n_iter = maximise(y, model, *hannan_rissanen(y, p, q), polish=exact)
+    return model, res, n_iter
+
+
+def _unit_root_note(stopped: Evaluation) -> str:
+    """What a fit whose restricted likelihood runs to a unit AR root did.
+
+    As an inverse AR root tends to 1 the restricted likelihood tends to that of the
+    differenced series under ARMA(p - 1, q) (plus log(n)/2, the Jacobian of differences
+    against orthonormal contrasts): the contrasts of a series with a unit root are its
+    differences, and its mean is not identifiable (Harville 1974; Francke & de Vos 2007,
+    *J. Econometrics* 137, 708-728).  The optimum is then on the boundary of the stationary
+    region, which a stationary ARMA(p, q) cannot represent.
+    """
+    root = 1.0 - unit_root_gap(stopped.phi)
+    return (f"the restricted likelihood rises towards a unit AR root (its maximisation reached "
+            f"inverse root {root:.6f}, within {UNIT_ROOT_GAP:g} of 1), where the mean is not "
+            "identifiable: the coefficients are the exact ML ones of the demeaned series "
+            "without a mean, and llf is the restricted likelihood at them")
+
+
+def _fit_fast(xs: FloatArray, p: int, q: int, mean: bool) -> _PathResult:
     """Exact ML by Newton's method on the fast exact likelihood, from Hannan-Rissanen starts.
 
     Up to ``_FD_HESSIAN_MAX_N`` samples the optimum is polished with, and the standard errors
@@ -116,18 +165,29 @@ def _fit_fast(xs: FloatArray, p: int, q: int) -> _PathResult:
     """
     n = xs.shape[0]
     exact = n <= _FD_HESSIAN_MAX_N
-    model = ExactLikelihood(xs, p, q)
+    model = ExactLikelihood(xs, p, q, mean=mean)
     res, n_iter = maximise(xs, model, *hannan_rissanen(xs, p, q), polish=exact)
+    se_model, se_res = model, res
+    if mean and unit_root_gap(res.ev.phi) < UNIT_ROOT_GAP:
+        se_model, se_res, n_alt = _fit_demeaned(xs, p, q, exact)
+        n_iter += n_alt
+        ev = model.evaluate(se_res.ev.phi, se_res.ev.theta)
+        res = NewtonResult(ev=ev, converged=se_res.converged, n_iter=n_iter,
+                           msgs=[*se_res.msgs, _unit_root_note(res.ev)])
     ev, converged, msgs = res.ev, res.converged, res.msgs
-    sigma2 = ev.S / n
-    llf = -0.5 * n * (math.log(2 * math.pi) + 1.0 + math.log(sigma2)) - 0.5 * ev.D
-    se, note = standard_errors(model, res, exact=exact)
+    sigma2 = ev.S / model.nu      # nu = n, or n - 1 for the restricted likelihood
+    llf = _restricted_llf(model.nu, ev.S, ev.D)
+    se, note = standard_errors(se_model, se_res, exact=exact)
     if note is not None:
         msgs.append(note)
     names = param_names(p, q)
     values = np.r_[ev.phi, ev.theta, sigma2]
     params = dict(zip(names, map(float, values), strict=True))
     bse = dict(zip(names, map(float, se), strict=True))
+    if mean:
+        # the GLS variance sigma2 (1' R^-1 1)^-1, R = Cov(x)/sigma2, and 1' R^-1 1 = s11
+        params = {"mean": ev.mu, **params}
+        bse = {"mean": math.sqrt(sigma2 / ev.s11), **bse}
     return params, bse, llf, ev.e, converged, msgs, n_iter
 
 
@@ -148,13 +208,13 @@ def _boundary_notes(params: dict[str, float], p: int, q: int) -> list[str]:
 
 # over 80 lines only through its numpydoc docstring; the body is short
 def fit_arma(x: ArrayLike1D, p: int, q: int, *, method: FitMethod = "fast",
-             standardize: bool = True) -> ArmaFit:
-    """Fit ARMA(p, q) without a mean by exact Gaussian maximum likelihood.
+             standardize: bool = True, mean: bool = False) -> ArmaFit:
+    """Fit ARMA(p, q) by exact Gaussian maximum likelihood, without a mean or with one.
 
     Parameters
     ----------
     x : array_like or pandas.Series
-        The (demeaned, detrended) series, 1-D.
+        The series, 1-D (demeaned and detrended for ``mean=False``).
     p, q : int
         AR and MA orders, ``p, q >= 0`` and ``p + q >= 1``.
     method : {"fast", "statsmodels"}
@@ -168,6 +228,19 @@ def fit_arma(x: ArrayLike1D, p: int, q: int, *, method: FitMethod = "fast",
         the original units (``scale`` and ``standardized`` record it).  Recommended:
         statsmodels' optimiser stops early on series with a tiny variance (gyro rates in
         deg/s), hundreds of AIC units short, without a warning.
+    mean : bool
+        Remove the mean by GLS and maximise the restricted (marginal) likelihood of the
+        n - 1 contrasts free of it (REML): ``params["mean"]`` is the GLS mean, ``llf`` the
+        restricted log-likelihood (the same for x and x - mean(x)) and the criteria count
+        p + q + 1 parameters.  Use it on a series whose sample mean was subtracted: a
+        zero-mean fit of demeaned data, and also the likelihood with the mean as a
+        parameter (statsmodels' ``trend="c"``), reward an MA root on the unit circle by
+        about log(n)/2 of likelihood; the restricted likelihood does not.  Where the
+        restricted likelihood rises to a unit AR root (an inverse root within 1e-4 of 1, as
+        on white noise + random walk), the mean is not identifiable: the coefficients are
+        then those of the exact ML fit of the demeaned series without a mean, ``llf`` the
+        restricted likelihood at them, and ``warnings`` says so.  With
+        ``method="statsmodels"`` the coefficients are statsmodels' ``trend="c"`` ML ones.
 
     Returns
     -------
@@ -196,7 +269,13 @@ def fit_arma(x: ArrayLike1D, p: int, q: int, *, method: FitMethod = "fast",
     Methods* (2nd ed., 1991), eqs. 8.7.4-8.7.5; the start-up block uses Ansley (1979),
     *Biometrika* 66, 59-65; the Fisher information is B&D eq. 8.8.3; start values are
     Hannan & Rissanen (1982), *Biometrika* 69, 81-94.  AIC, BIC, HQIC and AICc count sigma2
-    as a parameter (k = p + q + 1), as statsmodels, gretl and R do.
+    as a parameter (k = p + q + 1), as statsmodels, gretl and R do.  The mean by GLS:
+    Brockwell & Davis, *Introduction to Time Series and Forecasting* (2nd ed., 2002),
+    sec. 6.6; the restricted likelihood: Harville (1974), *Biometrika* 61, 383-385; it
+    removes most of the pile-up of MA roots on the unit circle that estimating the mean
+    causes (Tunnicliffe Wilson 1989, *J. R. Statist. Soc. B* 51, 15-27; Shephard 1993,
+    *J. Amer. Statist. Assoc.* 88, 590-595; Davis & Dunsmuir 1996, *Econometric Theory*
+    12, 1-29).
 
     Examples
     --------
@@ -216,20 +295,22 @@ def fit_arma(x: ArrayLike1D, p: int, q: int, *, method: FitMethod = "fast",
     arr = _prepare(x, p, q)
     n = arr.shape[0]
     scale = float(np.std(arr)) if standardize else 1.0
-    xs = arr / scale if standardize else arr
+    xs, offset = fitted_series(arr, scale, standardize, mean)
     _check_not_explosive(xs)
     name = model_name(p, q)
     try:
         if method == "fast":
             with np.errstate(over="raise", invalid="raise", divide="raise", under="ignore"):
-                out = _fit_fast(xs, p, q)
+                out = _fit_fast(xs, p, q, mean)
         else:
-            out = _fit_statsmodels(xs, p, q)
+            out = _fit_statsmodels(xs, p, q, mean)
     except ModelFitError as exc:
         raise ModelFitError(f"{name}: {exc}") from exc
     except (np.linalg.LinAlgError, FloatingPointError, ValueError) as exc:
         raise ModelFitError(f"{name}: exact ML fit failed ({type(exc).__name__}: {exc})") from exc
     params_s, bse_s, llf_s, resid_s, converged, msgs, n_iter = out
+    if mean:
+        params_s["mean"] += offset
     msgs = list(msgs) + _boundary_notes(params_s, p, q)
     if not converged:
         _warnings.warn(f"{name}: the likelihood maximisation did not converge: "
@@ -247,7 +328,12 @@ def _to_original(p: int, q: int, params_s: dict[str, float], bse_s: dict[str, fl
     params["sigma2"] = params_s["sigma2"] * s2
     bse = dict(bse_s)
     bse["sigma2"] = bse_s["sigma2"] * s2
-    llf = llf_s - n * math.log(scale)
+    if "mean" in params:
+        params["mean"] = params_s["mean"] * scale
+        bse["mean"] = bse_s["mean"] * scale
+    # the restricted likelihood is the density of n - 1 contrasts; the mean is not one of
+    # its parameters
+    llf = llf_s - (n - 1 if "mean" in params else n) * math.log(scale)
     k = p + q + 1
     aic, bic, hqic, aicc = criteria(llf, k, n)
     return ArmaFit(p=p, q=q, name=model_name(p, q), params=params, bse=bse, llf=llf, aic=aic,

@@ -2,8 +2,9 @@
 
 Sign convention (statsmodels):
 x_t = phi_1 x_{t-1} + ... + phi_p x_{t-p} + a_t + theta_1 a_{t-1} + ... + theta_q a_{t-q}.
-Parameter names are statsmodels' (``ar.L1``.., ``ma.L1``.., ``sigma2``); the information
-criteria count sigma2 as a parameter (k = p + q + 1), as statsmodels, gretl and R do.
+Parameter names are statsmodels' (``ar.L1``.., ``ma.L1``.., ``sigma2``, and ``mean`` when the mean
+was estimated); the information criteria count sigma2 (and the mean) as parameters
+(k = p + q + 1, or p + q + 2), as statsmodels, gretl and R do.
 """
 
 from __future__ import annotations
@@ -20,7 +21,7 @@ from fogts._typing import FloatArray
 from fogts.arma.likelihood import ExactLikelihood
 from fogts.tables import Column, Table, TableView
 
-__all__ = ["ArmaFit", "criteria", "model_name", "param_lines", "param_names"]
+__all__ = ["ArmaFit", "criteria", "fitted_series", "model_name", "param_lines", "param_names"]
 
 
 def model_name(p: int, q: int) -> str:
@@ -90,16 +91,24 @@ class ArmaFit(TableView):
         return np.array([self.params[f"ma.L{j}"] for j in range(1, self.q + 1)], dtype=float)
 
     @property
+    def mean(self) -> float | None:
+        """The mean estimated in the likelihood (``fit_arma(..., mean=True)``), else None."""
+        return self.params.get("mean")
+
+    @property
     def k_params(self) -> int:
-        """Number of estimated parameters, sigma2 included (as statsmodels counts them)."""
-        return self.p + self.q + 1
+        """Number of estimated parameters, sigma2 (and the mean) included (as statsmodels
+        counts them)."""
+        return self.p + self.q + 1 + ("mean" in self.params)
 
     def equation(self, digits: int = 6) -> str:
-        """The fitted model written out, e.g. ``x_t = 0.5 x_{t-1} + a_t - 0.3 a_{t-1}``."""
+        """The fitted model written out, e.g. ``x_t = 0.5 x_{t-1} + a_t - 0.3 a_{t-1}``; with
+        an estimated mean m, in y_t = x_t - m."""
+        v = "x" if self.mean is None else "y"
         terms = []
         for i, c in enumerate(self.ar, start=1):
-            terms.append((c, f"x_{{t-{i}}}"))
-        out = "x_t = "
+            terms.append((c, f"{v}_{{t-{i}}}"))
+        out = f"{v}_t = "
         first = True
         for c, sym in terms:
             out += (f"{c:.{digits}g} {sym}" if first
@@ -108,6 +117,8 @@ class ArmaFit(TableView):
         out += "a_t" if first else " + a_t"
         for j, c in enumerate(self.ma, start=1):
             out += f" {'-' if c < 0 else '+'} {abs(c):.{digits}g} a_{{t-{j}}}"
+        if self.mean is not None:
+            out += f",  y_t = x_t {'-' if self.mean >= 0 else '+'} {abs(self.mean):.{digits}g}"
         return out + f",  var(a_t) = {self.sigma2:.{digits}g}"
 
     def to_dict(self) -> dict[str, Any]:
@@ -225,6 +236,21 @@ class _Innovations:
 setattr(ArmaFit, "resid", _Innovations())  # noqa: B010  (mypy keeps the plain field type)
 
 
+def fitted_series(x: FloatArray, scale: float, standardized: bool,
+                  mean: bool) -> tuple[FloatArray, float]:
+    """The series the likelihood sees: ``x / scale`` (if ``standardized``) and, with a mean,
+    minus its sample mean (the restricted likelihood does not depend on a constant
+    subtracted first; removing it keeps the GLS correction small), and that sample mean."""
+    xs = x / scale if standardized else x
+    if not mean:
+        return xs, 0.0
+    offset = float(np.mean(xs))
+    if xs is x:
+        return x - offset, offset
+    xs -= offset          # in place on the scaled copy: no second series-length array
+    return xs, offset
+
+
 def _exact_innovations(x: FloatArray, fit: ArmaFit) -> FloatArray:
     """The innovations of a ``"fast"`` fit, recomputed exactly as ``fit_arma`` made them.
 
@@ -233,9 +259,10 @@ def _exact_innovations(x: FloatArray, fit: ArmaFit) -> FloatArray:
     float64 values the optimiser ended on) and the same back-scaling, so the result is
     bit-identical to the array the fit returned.
     """
-    xs = x / fit.scale if fit.standardized else x
+    xs, _ = fitted_series(x, fit.scale, fit.standardized, fit.mean is not None)
     with np.errstate(over="raise", invalid="raise", divide="raise", under="ignore"):
-        e = ExactLikelihood(xs, fit.p, fit.q).evaluate(fit.ar, fit.ma).e
+        e = ExactLikelihood(xs, fit.p, fit.q, mean=fit.mean is not None).evaluate(fit.ar,
+                                                                                  fit.ma).e
     return e * fit.scale
 
 

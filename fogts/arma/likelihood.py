@@ -122,6 +122,8 @@ class Evaluation:
     S: float
     D: float
     f: float
+    mu: float = 0.0        # GLS mean (0 without a mean)
+    s11: float = 0.0       # sum of the constant's squared innovations / F: Var(mu) = sigma2/s11
 
     @property
     def beta(self) -> FloatArray:
@@ -129,17 +131,21 @@ class Evaluation:
 
 
 class ExactLikelihood:
-    """Exact profile likelihood of a zero-mean ARMA(p, q) on a fixed series x."""
+    """Exact profile likelihood of an ARMA(p, q) on a fixed series x: zero-mean, or with its
+    mean profiled out by GLS (``mean=True``, see :meth:`evaluate`)."""
 
-    def __init__(self, x: FloatArray, p: int, q: int) -> None:
+    def __init__(self, x: FloatArray, p: int, q: int, mean: bool = False) -> None:
         self.x = x
         self.n = x.shape[0]
         self.p = p
         self.q = q
+        self.mean = mean
+        self.nu = self.n - 1 if mean else self.n   # the observations' degrees of freedom
         self.order = max(p, q, 1)       # lfilter order
 
-    def transient(self, phis: FloatArray, thetas: FloatArray,
-                  s: int | None = None) -> tuple[int, FloatArray, FloatArray]:
+    def transient(self, phis: FloatArray, thetas: FloatArray, s: int | None = None, *,
+                  series: FloatArray | None = None, with_ones: bool = False
+                  ) -> tuple[int, FloatArray, FloatArray]:
         """Exact innovations for t < s, for B parameter vectors (rows of phis/thetas).
 
         Ansley (1979): z = (x_1..x_p, W_{p+1}..W_n) with W_t = phi(B) x_t has a banded
@@ -149,44 +155,78 @@ class ExactLikelihood:
         the length grows (512, x8, ...) until the last row is steady: |F - 1| and the distance of
         the last Cholesky row from (theta_q..theta_1, 1) below 1e-13, or s = n.
 
-        Returns ``s`` and the innovations and relative innovation variances, both (B, s).
+        ``series`` replaces x (e.g. x minus its GLS mean); ``with_ones`` also filters the
+        constant series 1 (the innovations of the mean's regressor), as a last axis of 2.
+
+        Returns ``s`` and the innovations, (B, s) or (B, s, 2), and the relative innovation
+        variances, (B, s).
         """
         n = self.n
         if s is not None:
-            out = [self._banded(phis[b], thetas[b], s) for b in range(phis.shape[0])]
+            out = [self._banded(phis[b], thetas[b], s, series=series, with_ones=with_ones)
+                   for b in range(phis.shape[0])]
             return s, np.array([o[0] for o in out]), np.array([o[1] for o in out])
         s_try = min(n, max(512, 16 * self.order))
         while True:
-            e, F, steady = self._banded(phis[0], thetas[0], s_try, check=True)
+            e, F, steady = self._banded(phis[0], thetas[0], s_try, check=True, series=series,
+                                        with_ones=with_ones)
             if steady or s_try >= n:
                 break
             s_try = min(n, 8 * s_try)
         es, fs = [e], [F]
         for b in range(1, phis.shape[0]):
-            eb, fb, _ = self._banded(phis[b], thetas[b], s_try)
+            eb, fb, _ = self._banded(phis[b], thetas[b], s_try, series=series,
+                                     with_ones=with_ones)
             es.append(eb)
             fs.append(fb)
         return s_try, np.array(es), np.array(fs)
 
-    def _banded(self, phi: FloatArray, theta: FloatArray, s: int,
-                check: bool = False) -> tuple[FloatArray, FloatArray, bool]:
+    def _banded(self, phi: FloatArray, theta: FloatArray, s: int, check: bool = False,
+                series: FloatArray | None = None, with_ones: bool = False
+                ) -> tuple[FloatArray, FloatArray, bool]:
         from scipy.linalg import lapack
 
         p, q, m = self.p, self.q, self.order
-        x = self.x[:s]
-        z = x.copy()
+        x = (self.x if series is None else series)[:s]
+        z = np.column_stack((x, np.ones(s))) if with_ones else x.copy()
         if p:
             b = np.empty(p + 1)
             b[0] = 1.0
             b[1:] = -phi
-            z[p:] = np.convolve(x, b, mode="valid")
+            if with_ones:
+                z[p:, 0] = np.convolve(x, b, mode="valid")
+                z[p:, 1] = float(np.sum(b))
+            else:
+                z[p:] = np.convolve(x, b, mode="valid")
+        ab = self._band_covariance(phi, theta, s)
+        c, info = lapack.dpbtrf(ab, lower=1)
+        if info != 0:
+            raise ModelFitError(f"the covariance of the first {s} samples is not positive "
+                                f"definite (LAPACK dpbtrf info={info})")
+        w, info = lapack.dtbtrs(c, z, uplo="L")
+        diag = c[0]
+        e = np.asarray(w) * diag[:, None] if with_ones else np.asarray(w).ravel() * diag
+        F = diag * diag
+        steady = False
+        if check:
+            t = s - 1
+            dev = abs(F[t] - 1.0)
+            for d in range(1, m + 1):
+                target = theta[d - 1] if d <= q else 0.0
+                dev = max(dev, abs(c[d, t - d] / diag[t - d] - target))
+            steady = dev < _TOL_P and s > p + q
+        return e, F, steady
+
+    def _band_covariance(self, phi: FloatArray, theta: FloatArray, s: int) -> FloatArray:
+        """The band of Cov(z) in LAPACK's lower storage: ab[d, j] = Cov(z_{j+d}, z_j)."""
+        p, q, m = self.p, self.q, self.order
         th = np.empty(q + 1)
         th[0] = 1.0
         th[1:] = theta
         psi = _psi_weights(phi, theta, q)
         gam_x = _arma_acov(phi, theta, psi, p)
-        # ab[d, j] = Cov(z_{j+d}, z_j): the MA(q) autocovariance of W_t = phi(B)x_t everywhere
-        # but in the first p columns (x-x and x-W covariances, Ansley 1979)
+        # the MA(q) autocovariance of W_t = phi(B)x_t everywhere but in the first p columns
+        # (x-x and x-W covariances, Ansley 1979)
         ab = np.zeros((m + 1, s))
         for d in range(min(q, m) + 1):
             ab[d, :s - d] = float(np.dot(th[:q + 1 - d], th[d:q + 1]))
@@ -198,23 +238,7 @@ class ExactLikelihood:
                     ab[d, j] = float(np.dot(th[d:q + 1], psi[:q + 1 - d]))
                 else:
                     ab[d, j] = 0.0
-        c, info = lapack.dpbtrf(ab, lower=1)
-        if info != 0:
-            raise ModelFitError(f"the covariance of the first {s} samples is not positive "
-                                f"definite (LAPACK dpbtrf info={info})")
-        w, info = lapack.dtbtrs(c, z, uplo="L")
-        diag = c[0]
-        e = np.asarray(w).ravel() * diag
-        F = diag * diag
-        steady = False
-        if check:
-            t = s - 1
-            dev = abs(F[t] - 1.0)
-            for d in range(1, m + 1):
-                target = theta[d - 1] if d <= q else 0.0
-                dev = max(dev, abs(c[d, t - d] / diag[t - d] - target))
-            steady = dev < _TOL_P and s > p + q
-        return e, F, steady
+        return ab
 
     def _polys(self, phi: FloatArray, theta: FloatArray) -> tuple[FloatArray, FloatArray]:
         L = self.order
@@ -227,35 +251,109 @@ class ExactLikelihood:
         return b, a
 
     def evaluate(self, phi: FloatArray, theta: FloatArray) -> Evaluation:
-        """Exact innovations, S, D and the profile objective f at (phi, theta)."""
-        from scipy.signal import lfilter
+        """Exact innovations, S, D and the profile objective f at (phi, theta).
 
-        s, e_tr, f_tr = self.transient(phi[None, :], theta[None, :])
-        x, n, L = self.x, self.n, self.order
+        With ``mean=True`` the mean is removed by generalised least squares and the
+        likelihood is the restricted (marginal) one of the n - 1 contrasts free of the mean
+        (Harville 1974, *Biometrika* 61, 383-385):
+
+            f = nu/2 log(S/nu) + D/2,  nu = n - 1,  D = sum log F_t + log(s11 / n).
+
+        The innovations are linear in the data, so those of x - mu are e_x - mu e_1 (e_1: the
+        innovations of the constant series 1); S(mu) = sum (e_x - mu e_1)^2 / F is least at
+        the GLS mean mu = sum(e_x e_1 / F) / s11, s11 = sum(e_1^2 / F) = 1' R^-1 1
+        (Brockwell & Davis 2002, *Introduction to Time Series and Forecasting*, 2nd ed.,
+        sec. 6.6).  The term log s11 (the information on the mean) is what a fit of demeaned
+        data as zero-mean, or the profile likelihood, lacks: without it an MA root on the
+        unit circle (theta(1) = 0, where s11 grows like n^3) gains about log(n)/2
+        (Tunnicliffe Wilson 1989, *J. R. Statist. Soc. B* 51, 15-27).
+        """
+        s, e_tr, f_tr = self.transient(phi[None, :], theta[None, :], with_ones=self.mean)
+        n, F = self.n, f_tr[0]
         e = np.empty(n)
-        e[:s] = e_tr[0]
-        S = float(np.dot(e_tr[0], e_tr[0] / f_tr[0]))
-        if s < n and self.q == 0:
-            # pure AR: a_t = phi(B) x_t is a FIR filter of the observed past (s >= p)
-            p = self.p
-            e[s:] = np.convolve(x[s - p:], np.r_[1.0, -phi], mode="valid")
+        e[:s] = e_tr[0][:, 0] if self.mean else e_tr[0]
+        if s < n:
+            self._steady_innovations(phi, theta, s, e)
+        mu = s11 = 0.0
+        if self.mean:
+            mu, s11 = self._remove_gls_mean(phi, theta, s, e, F, e_tr[0][:, 1])
+        S = float(np.dot(e[:s], e[:s] / F))
+        if s < n:
             tail = e[s:]
             S += dot(tail, tail)
-        elif s < n:
-            b, a = self._polys(phi, theta)
-            # lfilter's state (direct form II transposed) from the past of x and a_t
-            zi = np.zeros(L)
-            for i in range(L):
-                for k in range(i + 1, L + 1):
-                    zi[i] += b[k] * x[s + i - k] - a[k] * e[s + i - k]
-            e[s:] = lfilter(b, a, x[s:], zi=zi)[0]
-            tail = e[s:]
-            S += dot(tail, tail)
-        D = float(np.sum(np.log(f_tr[0])))
+        D = float(np.sum(np.log(F))) + (math.log(s11 / n) if self.mean else 0.0)
         if not (math.isfinite(S) and S > 0.0 and math.isfinite(D)):
             raise ModelFitError(f"the likelihood is not finite (S={S}, D={D})")
-        fval = 0.5 * n * math.log(S / n) + 0.5 * D
-        return Evaluation(phi=phi, theta=theta, s=s, e=e, F=f_tr[0], S=S, D=D, f=fval)
+        fval = 0.5 * self.nu * math.log(S / self.nu) + 0.5 * D
+        return Evaluation(phi=phi, theta=theta, s=s, e=e, F=F, S=S, D=D, f=fval, mu=mu,
+                          s11=s11)
+
+    def _steady_zi(self, b: FloatArray, a: FloatArray, x: FloatArray, e: FloatArray,
+                   s: int) -> FloatArray:
+        """lfilter's state (direct form II transposed) at s from the past of input and output."""
+        L = self.order
+        zi = np.zeros(L)
+        for i in range(L):
+            for k in range(i + 1, L + 1):
+                zi[i] += b[k] * x[s + i - k] - a[k] * e[s + i - k]
+        return zi
+
+    def _steady_innovations(self, phi: FloatArray, theta: FloatArray, s: int,
+                            e: FloatArray) -> None:
+        """Fill e[s:] with the steady-state innovations of x (e[:s] already exact)."""
+        from scipy.signal import lfilter
+
+        x = self.x
+        if self.q == 0:
+            # pure AR: a_t = phi(B) x_t is a FIR filter of the observed past (s >= p)
+            e[s:] = np.convolve(x[s - self.p:], np.r_[1.0, -phi], mode="valid")
+            return
+        b, a = self._polys(phi, theta)
+        e[s:] = lfilter(b, a, x[s:], zi=self._steady_zi(b, a, x, e, s))[0]
+
+    def _ones_tail(self, phi: FloatArray, theta: FloatArray, s: int,
+                   ones_tr: FloatArray) -> tuple[FloatArray, float]:
+        """Innovations of the constant series 1 from s on: an explicit head, then the constant
+        c = phi(1)/theta(1) they converge to geometrically (at the MA roots' rate), reached
+        when the last max(p, q) values are within 1e-14 of it (or at the end of the series)."""
+        from scipy.signal import lfilter
+
+        b, a = self._polys(phi, theta)
+        c = float(np.sum(b) / np.sum(a))
+        if self.q == 0:
+            return np.zeros(0), c
+        L, total = self.order, self.n - s
+        zi = self._steady_zi(b, a, np.ones(s), ones_tr, s)
+        pieces: list[FloatArray] = []
+        done, size = 0, 4096
+        while done < total:
+            m = min(size, total - done)
+            y, zi = lfilter(b, a, np.ones(m), zi=zi)
+            pieces.append(y)
+            done += m
+            if m >= L and float(np.max(np.abs(y[-L:] - c))) <= 1e-14 * abs(c):
+                break
+            size *= 4
+        return np.concatenate(pieces), c
+
+    def _remove_gls_mean(self, phi: FloatArray, theta: FloatArray, s: int, e: FloatArray,
+                         F: FloatArray, ones_tr: FloatArray) -> tuple[float, float]:
+        """Subtract mu e_1 from the innovations e of x in place, mu the GLS mean; returns
+        mu and s11 = sum e_1^2 / F (Var(mu) = sigma2 / s11)."""
+        n = self.n
+        w = ones_tr / F
+        sx1 = float(np.dot(e[:s], w))
+        s11 = float(np.dot(ones_tr, w))
+        head, c = (self._ones_tail(phi, theta, s, ones_tr) if s < n else (np.zeros(0), 0.0))
+        m = head.size
+        if s < n:
+            sx1 += dot(e[s:s + m], head) + c * float(np.sum(e[s + m:]))
+            s11 += dot(head, head) + c * c * (n - s - m)
+        mu = sx1 / s11
+        e[:s] -= mu * ones_tr
+        e[s:s + m] -= mu * head
+        e[s + m:] -= mu * c
+        return mu, s11
 
     def derivatives(self, ev: Evaluation, *, hessian: bool
                     ) -> tuple[FloatArray, FloatArray, FloatArray | None]:
@@ -263,7 +361,13 @@ class ExactLikelihood:
         from scipy.signal import lfilter
 
         theta, s, e = ev.theta, ev.s, ev.e
-        p, q, n, x = self.p, self.q, self.n, self.x
+        p, q, n = self.p, self.q, self.n
+        # with the GLS mean, the derivatives of S at the fixed mu = mu_hat are those of the
+        # profile (envelope theorem: dS/dmu = 0 there): the series is x - mu_hat, used as such
+        # in the start-up block and through its linearity in the steady sums (no copy of x);
+        # the Hessian below uses x itself, an O(mu_hat) approximation (fit_arma passes a
+        # series whose sample mean is removed, so mu_hat is O(n^-1/2))
+        x, mu = self.x, ev.mu
         k = p + q
         beta = ev.beta
         h = _fd_steps(beta, p, _FD_STEP)
@@ -271,9 +375,13 @@ class ExactLikelihood:
         idx = np.arange(k)
         pert[2 * idx, idx] += h
         pert[2 * idx + 1, idx] -= h
-        _, e_tr, f_tr = self.transient(pert[:, :p], pert[:, p:], s=s)
-        s_tr = np.sum(e_tr * e_tr / f_tr, axis=1)
+        _, e_tr, f_tr = self.transient(pert[:, :p], pert[:, p:], s=s, series=x[:s] - mu,
+                                       with_ones=self.mean)
         d_tr = np.sum(np.log(f_tr), axis=1)
+        if self.mean:
+            d_tr += np.log(self._s11_perturbed(pert, s, e_tr[:, :, 1], f_tr) / n)
+            e_tr = e_tr[:, :, 0]
+        s_tr = np.sum(e_tr * e_tr / f_tr, axis=1)
         dS = (s_tr[0::2] - s_tr[1::2]) / (2 * h)
         dD = (d_tr[0::2] - d_tr[1::2]) / (2 * h)
         a_poly = np.r_[1.0, theta]
@@ -284,8 +392,9 @@ class ExactLikelihood:
         if s < n:
             g = gfull[s:]
             grad_ss = np.empty(k)
+            g_sum = float(np.sum(g)) if mu else 0.0
             for i in range(1, p + 1):
-                grad_ss[i - 1] = -lag_dot(gfull, x, 0, i, s)
+                grad_ss[i - 1] = -lag_dot(gfull, x, 0, i, s) + mu * g_sum
             for j in range(1, q + 1):
                 grad_ss[p + j - 1] = -lag_dot(gfull, e, 0, j, s)
             if q:
@@ -343,9 +452,21 @@ class ExactLikelihood:
                 M[p + i, p + j] = cross(psi_v, psi_v, abs(i - j))
         return M
 
+    def _s11_perturbed(self, pert: FloatArray, s: int, ones_tr: FloatArray,
+                       f_tr: FloatArray) -> FloatArray:
+        """s11 = 1' R^-1 1 at each row of ``pert`` (the start-up block's innovations of 1
+        given); it depends on the parameters only, not on the data."""
+        out = np.sum(ones_tr * ones_tr / f_tr, axis=1)
+        if s < self.n:
+            p = self.p
+            for b in range(pert.shape[0]):
+                head, c = self._ones_tail(pert[b, :p], pert[b, p:], s, ones_tr[b])
+                out[b] += dot(head, head) + c * c * (self.n - s - head.size)
+        return out
+
     def hessian_f(self, ev: Evaluation, dS: FloatArray, HS: FloatArray) -> FloatArray:
-        """Hessian of the profile objective f = n/2 log S + D/2 (D's O(1) curvature dropped)."""
-        n, S = self.n, ev.S
+        """Hessian of the profile objective f = nu/2 log S + D/2 (D's O(1) curvature dropped)."""
+        n, S = self.nu, ev.S
         return 0.5 * n / S * HS - 0.5 * n / S**2 * np.outer(dS, dS)
 
     def fd_hessians(self, ev: Evaluation) -> tuple[FloatArray, FloatArray]:

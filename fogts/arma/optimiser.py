@@ -22,7 +22,7 @@ import numpy as np
 
 from fogts._typing import FloatArray
 from fogts.arma.likelihood import Evaluation, ExactLikelihood
-from fogts.arma.region import admissible, shrink_into_region
+from fogts.arma.region import UNIT_ROOT_GAP, admissible, shrink_into_region, unit_root_gap
 
 __all__ = ["NewtonResult", "maximise", "newton", "solve"]
 
@@ -55,7 +55,7 @@ def newton(model: ExactLikelihood, phi: FloatArray, theta: FloatArray, *,
     where it matters on flat ridges of non-identified models).
     """
     max_iter = _MAX_ITER if max_iter is None else max_iter
-    n, p, q = model.n, model.p, model.q
+    n, p, q = model.nu, model.p, model.q
     k = p + q
     msgs: list[str] = []
     ev = model.evaluate(phi, theta)
@@ -110,6 +110,11 @@ def newton(model: ExactLikelihood, phi: FloatArray, theta: FloatArray, *,
                             "stationarity/invertibility boundary")
             break
         ev = accepted
+        if model.mean and unit_root_gap(ev.phi) < UNIT_ROOT_GAP:
+            # the restricted likelihood runs to the unit root, outside the region
+            msgs.append(f"stopped at iteration {n_iter}: an inverse AR root within "
+                        f"{UNIT_ROOT_GAP:g} of 1")
+            break
     else:
         msgs.append(f"Newton's method did not converge in {max_iter} iterations")
     return NewtonResult(ev=ev, converged=converged, n_iter=n_iter, msgs=msgs, dS=dS, dD=dD,
@@ -126,7 +131,8 @@ def solve(xs: FloatArray, model: ExactLikelihood, phi: FloatArray, theta: FloatA
     """
     n, p, q = model.n, model.p, model.q
     if n > 4 * _PRESAMPLE:
-        pre = newton(ExactLikelihood(xs[:_PRESAMPLE], p, q), phi, theta, small_step=1e-4)
+        pre = newton(ExactLikelihood(xs[:_PRESAMPLE], p, q, mean=model.mean), phi, theta,
+                     small_step=1e-4)
         if admissible(pre.ev.phi, pre.ev.theta, margin=1e-3):
             phi, theta = pre.ev.phi, pre.ev.theta
     res = newton(model, phi, theta)
@@ -162,12 +168,13 @@ def cancelling_pair(phi: FloatArray, theta: FloatArray, tol: float = 0.15
 
 
 def second_starts(xs: FloatArray, p: int, q: int, base_ar: FloatArray, base_ma: FloatArray,
-                  pair: tuple[complex, complex]) -> list[tuple[FloatArray, FloatArray]]:
+                  pair: tuple[complex, complex], mean: bool = False
+                  ) -> list[tuple[FloatArray, FloatArray]]:
     """Further starts for a nearly redundant fit: the mirrored pair and statsmodels' start.
 
     The mirrored pair negates both nearly cancelling roots (the other side of the ridge);
-    statsmodels' ``start_params`` (on at most ``_PRESAMPLE`` samples) is the start of its own
-    optimiser, so its basin is explored too.
+    statsmodels' ``start_params`` (on at most ``_PRESAMPLE`` samples, demeaned if ``mean``)
+    is the start of its own optimiser, so its basin is explored too.
     """
     from statsmodels.tsa.arima.model import ARIMA
 
@@ -179,7 +186,8 @@ def second_starts(xs: FloatArray, p: int, q: int, base_ar: FloatArray, base_ma: 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         try:
-            sp = np.asarray(ARIMA(xs[:_PRESAMPLE], order=(p, 0, q), trend="n").start_params)
+            y = xs[:_PRESAMPLE] - (float(np.mean(xs[:_PRESAMPLE])) if mean else 0.0)
+            sp = np.asarray(ARIMA(y, order=(p, 0, q), trend="n").start_params)
             starts.append((sp[:p].copy(), sp[p:p + q].copy()))
         except (ValueError, np.linalg.LinAlgError):
             pass
@@ -200,9 +208,11 @@ def maximise(xs: FloatArray, model: ExactLikelihood, phi: FloatArray, theta: Flo
     """
     res = solve(xs, model, phi, theta, polish=polish)
     n_iter = res.n_iter
+    if model.mean and unit_root_gap(res.ev.phi) < UNIT_ROOT_GAP:
+        return res, n_iter        # at a unit root: no mean to estimate, nothing to compare
     found = cancelling_pair(res.ev.phi, res.ev.theta)
     if found is not None:
-        for start in second_starts(xs, model.p, model.q, *found):
+        for start in second_starts(xs, model.p, model.q, *found, mean=model.mean):
             res_alt = solve(xs, model, *start, polish=polish)
             n_iter += res_alt.n_iter
             if res_alt.ev.f < res.ev.f - 1e-9:

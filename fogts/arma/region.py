@@ -11,7 +11,12 @@ import numpy as np
 
 from fogts._typing import FloatArray
 
-__all__ = ["admissible", "shrink_into_region", "spectral_radius"]
+__all__ = ["UNIT_ROOT_GAP", "admissible", "shrink_into_region", "spectral_radius",
+           "unit_root_gap"]
+
+#: An inverse AR root of a restricted-likelihood fit this close to 1 is taken as a unit root
+#: (see :func:`fogts.arma.fit.fit_arma`, ``mean=True``).
+UNIT_ROOT_GAP = 1e-4
 
 
 def spectral_radius(c: FloatArray) -> float:
@@ -38,3 +43,13 @@ def shrink_into_region(phi: FloatArray, theta: FloatArray) -> tuple[FloatArray, 
             c *= (0.98 / rho) ** np.arange(1, c.size + 1)
         out.append(c)
     return out[0], out[1]
+
+
+def unit_root_gap(phi: FloatArray) -> float:
+    """1 minus the largest real positive inverse root of phi(B) (inf without one)."""
+    phi = np.asarray(phi, dtype=float)
+    if phi.size == 0 or not np.any(phi):
+        return float("inf")
+    roots = np.roots(np.r_[1.0, -phi])
+    real = roots.real[(np.abs(roots.imag) < 1e-9) & (roots.real > 0.0)]
+    return float(1.0 - real.max()) if real.size else float("inf")

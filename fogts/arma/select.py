@@ -148,7 +148,9 @@ def _evaluate(p: int, q: int, inp: _Input, criterion: str, lags: tuple[int, ...]
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         try:
-            fit = fit_arma(x, p, q, method=method, standardize=True)
+            # the mean is estimated in the likelihood (GLS) even though x was demeaned:
+            # a zero-mean fit of demeaned data favours an MA root on the unit circle
+            fit = fit_arma(x, p, q, method=method, standardize=True, mean=True)
         except (ModelFitError, InsufficientDataError, np.linalg.LinAlgError, ValueError,
                 ArithmeticError) as exc:
             msg = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__

@@ -44,7 +44,7 @@ def standard_errors(model: ExactLikelihood, res: NewtonResult, *,
     ``exact``: Hessians of S and D by central differences of the exact gradient; otherwise
     the last Newton step's analytic ones (``res.dD``, ``res.HS``, ``res.HD``).
     """
-    n = model.n
+    n = model.nu       # n, or n - 1 with the mean removed (restricted likelihood)
     ev = res.ev
     assert res.HS is not None and res.HD is not None and res.dD is not None
     S = ev.S

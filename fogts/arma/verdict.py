@@ -11,7 +11,7 @@ from fogts.arma.candidate import Candidate
 from fogts.arma.identification import Correlogram
 
 __all__ = ["CLOSE_CALL", "QUANT_CHECK_SAMPLES", "QUANT_MAX_LEVELS", "SMALL_PREDICTION",
-           "quantization_note", "write_verdict"]
+           "on_unit_circle", "quantization_note", "write_verdict"]
 
 #: A simpler white candidate within this many criterion units of the selected one is named in
 #: the verdict (Burnham & Anderson, *Model Selection and Multimodel Inference*, 2nd ed.,
@@ -24,6 +24,19 @@ SMALL_PREDICTION = 0.05
 #: reported as quantized.
 QUANT_MAX_LEVELS = 64
 QUANT_CHECK_SAMPLES = 200_000
+
+
+def on_unit_circle(c: Candidate) -> complex | None:
+    """The MA inverse root of a fitted candidate that lies on the unit circle, else None.
+
+    "On" means within 1/n of it: there an MA(1) coefficient theta = -1 + gamma/n cannot be
+    told from theta = -1 (local-to-unity asymptotics, Davis & Dunsmuir 1996, *Econometric
+    Theory* 12, 1-29), and it is where ML estimates pile up by chance.
+    """
+    if c.roots is None or c.fit is None or c.roots.ma_inverse.size == 0:
+        return None
+    mu = c.roots.ma_inverse[int(np.argmax(np.abs(c.roots.ma_inverse)))]
+    return complex(mu) if 1.0 - abs(mu) <= 1.0 / c.fit.nobs else None
 
 
 def quantization_note(raw: FloatArray | None, units: str | None) -> str | None:
@@ -89,6 +102,8 @@ def _selected_verdict(sel: Candidate, ranked: Sequence[Candidate], criterion: st
     crit = criterion.upper()
     pred = sel.predict()
     removed = 100.0 * pred.variance_removed
+    if sel.white and on_unit_circle(sel) is not None:
+        return _non_invertible_verdict(sel, ranked, criterion)
     if sel.white:
         text = (f"{sel.model} describes the drift: its residuals are white (rho_a2, rho_ax3 and "
                 f"Ljung-Box all pass), lowest {crit} among the white candidates; one-step "
@@ -113,3 +128,30 @@ def _selected_verdict(sel: Candidate, ranked: Sequence[Candidate], criterion: st
             f"fails ({why}). The drift needs a richer model or more preprocessing (detrend, "
             f"remove outliers, decimate); use this model with care.")
 
+
+
+def _non_invertible_verdict(sel: Candidate, ranked: Sequence[Candidate], criterion: str) -> str:
+    """The selected model has an MA root on the unit circle: what that means, and the best
+    white candidate without one."""
+    crit = criterion.upper()
+    mu = on_unit_circle(sel)
+    assert mu is not None
+    where = ("frequency 0" if abs(mu.imag) < 1e-8 and mu.real > 0 else
+             "the Nyquist frequency" if abs(mu.imag) < 1e-8 else
+             f"{abs(np.angle(mu)) / (2 * np.pi):.3g} cycles per sample")
+    text = (f"{sel.model} has the lowest {crit} among the white candidates, but it is not "
+            f"invertible: its MA inverse root {mu.real:.6g}{mu.imag:+.3g}j lies on the unit "
+            f"circle (within 1/n), a zero of the spectrum at {where}. Either the series was "
+            "over-differenced or filtered (a component removed), or the estimate piled up on "
+            "the boundary by chance, as it does in short records. The innovations of a "
+            "non-invertible model cannot be recovered from the data: "
+            f"{sel.model} does not describe the drift.")
+    others = [c for c in ranked if c.white and c is not sel and on_unit_circle(c) is None]
+    if others:
+        alt = min(others, key=lambda c: getattr(c, criterion))
+        delta = getattr(alt, criterion) - getattr(sel, criterion)
+        text += (f" The best invertible white candidate is {alt.model} ({delta:+.1f} {crit} "
+                 "units).")
+    else:
+        text += " No white candidate is invertible."
+    return text

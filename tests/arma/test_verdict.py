@@ -63,3 +63,27 @@ def test_cancellation_verdict_follows_the_numbers() -> None:
                   r"is \+(\d+\.\d) AIC units and is not white; keep ARMA\(1,1\)", sel.verdict)
     assert m is not None, sel.verdict
     assert float(m.group(1)) == pytest.approx(2185.0, rel=0.01)
+
+
+def test_a_non_invertible_selection_is_not_said_to_describe_the_drift() -> None:
+    """Over-differenced white noise is MA(1) with theta = -1 exactly: the selected MA(1)'s
+    root lies on the unit circle (seed 0: theta = -1 to 1e-9), and the verdict says what
+    that means instead of "describes the drift".  Seed 2 stops at theta = -0.99916, 8e-4
+    inside the circle (more than 1/n = 3.3e-4): that one is an ordinary invertible model."""
+    from fogts.arma.verdict import on_unit_circle
+
+    verdicts = {}
+    for seed in (0, 2):
+        w = np.random.default_rng(seed).standard_normal(3001)
+        sel = select_arma(np.diff(w), candidates="AR(1),AR(2),MA(1),ARMA(1,1)")
+        assert sel.best is not None and sel.best.model == "MA(1)" and sel.best.white
+        verdicts[seed] = (on_unit_circle(sel.best), sel.verdict)
+    mu, text = verdicts[0]
+    assert mu is not None and mu.real == pytest.approx(1.0, abs=1e-6)
+    assert "describes the drift" not in text
+    assert "MA(1) has the lowest AIC among the white candidates, but it is not invertible" in text
+    assert "a zero of the spectrum at frequency 0" in text
+    assert "MA(1) does not describe the drift" in text
+    assert "No white candidate is invertible." in text      # ARMA(1,1) is on the circle too
+    mu, text = verdicts[2]
+    assert mu is None and text.startswith("MA(1) describes the drift")

@@ -43,7 +43,8 @@ def test_select_ok_writes_json_predict_and_plot(ar1_file: Path, tmp_path: Path) 
     assert "3,000 samples of 'rate_deg_s' at 10 Hz" in out
     assert "removed a polynomial trend of order 1" in out
     assert "ACF/PACF" in out and "PACF cuts off after lag 1" in out
-    assert "x_t = 0." in out and "x_{t-1} + a_t," in out
+    # the mean is estimated (GLS): the equation is written in y_t = x_t - mean
+    assert "y_t = 0." in out and "y_{t-1} + a_t," in out and "y_t = x_t " in out
     assert "verdict   AR(1) describes the drift" in out
     doc = json.loads(out_json.read_text())
     assert {"input", "preprocessing", "candidates", "selected"} <= set(doc)
