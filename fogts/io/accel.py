@@ -21,6 +21,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from fogts._typing import FloatArray
+from fogts.io.sources import first_stated
 from fogts.units import ACCEL_UNITS, STANDARD_GRAVITY_MPS2
 
 __all__ = ["GRAVITY_TOLERANCE", "accel_unit", "is_accel_name"]
@@ -89,14 +90,7 @@ def accel_unit(given: str | None, names: Sequence[str], columns: Sequence[FloatA
     >>> accel_unit(None, ["ax", "ay", "az"], [np.zeros(3), np.zeros(3), np.ones(3)])
     ('g', 'gravity magnitude')
     """
-    if given is not None:
-        return given, "given"
-    if recorded is not None:
-        return recorded, "file metadata"
-    from_names = _unit_from_names(names)
-    if from_names is not None:
-        return from_names, "column name"
-    from_gravity = _unit_from_gravity(columns)
-    if from_gravity is not None:
-        return from_gravity, "gravity magnitude"
-    return "m/s^2", "assumed"
+    return first_stated((given, "given"), (recorded, "file metadata"),
+                        (lambda: _unit_from_names(names), "column name"),
+                        (lambda: _unit_from_gravity(columns), "gravity magnitude"),
+                        default="m/s^2")

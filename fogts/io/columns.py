@@ -14,6 +14,7 @@ from pathlib import Path
 from fogts.errors import DataError
 from fogts.io.accel import is_accel_name
 from fogts.io.angle import is_angle_name
+from fogts.io.sources import first_stated
 from fogts.io.table import Table
 from fogts.units import parse_rate_unit
 
@@ -188,14 +189,9 @@ def sidecar_unit(path: Path) -> str | None:
 def rate_unit(given: str | None, rate_names: Sequence[str], file_key: str,
               sidecar: str | None = None) -> tuple[str, str]:
     """The rate unit and where it came from (see :attr:`fogts.io.run.Run.units_source`)."""
-    if given is not None:
-        return given, "given"
-    if sidecar is not None:
-        return sidecar, "file metadata"
-    from_columns = _unit_from_names(rate_names)
-    if from_columns is not None:
-        return from_columns, "column name"
-    from_key = _unit_from_names([file_key]) if file_key else None
-    if from_key is not None:
-        return from_key, "file key"
-    return "deg/h", "assumed"
+    return first_stated((given, "given"), (sidecar, "file metadata"),
+                        (lambda: _unit_from_names(rate_names), "column name"),
+                        (lambda: _unit_from_names([file_key]) if file_key else None,
+                         "file key"),
+                        default="deg/h")
+
