@@ -142,17 +142,10 @@ def split_terms(terms: Sequence[str] | str) -> tuple[tuple[str, ...], tuple[str,
     >>> split_terms("N,B,K,M")
     (('N', 'B', 'K'), ('M',))
     """
-    from fogts.allan.terms import parse_terms
+    from fogts.allan.terms import parse_terms, term_items
 
-    items: list[Any]
-    if isinstance(terms, str):
-        items = [t.strip() for t in terms.split(",") if t.strip()]
-    else:
-        try:
-            items = list(terms)
-        except TypeError:
-            raise DataError(f"terms must be a sequence of Q, N, B, K, R, got {terms!r} "
-                            "(M and S may be added)") from None
+    also = f" ({' and '.join(EXTRA_TERMS)} may be added)"
+    items = term_items(terms, also)
     extras = [str(t).strip().upper() for t in items
               if isinstance(t, str) and t.strip().upper() in EXTRA_TERMS]
     if len(set(extras)) != len(extras):
@@ -161,7 +154,7 @@ def split_terms(terms: Sequence[str] | str) -> tuple[tuple[str, ...], tuple[str,
     if not rest:
         raise DataError(f"terms must name at least one of Q, N, B, K, R besides "
                         f"{', '.join(extras) or 'nothing'}, got {terms!r}")
-    return parse_terms(rest), tuple(e for e in EXTRA_TERMS if e in extras)
+    return parse_terms(rest, also), tuple(e for e in EXTRA_TERMS if e in extras)
 
 
 @dataclass(frozen=True)

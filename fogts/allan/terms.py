@@ -42,7 +42,8 @@ from fogts.units import ACCEL_TERM_UNIT, STANDARD_GRAVITY_MPS2, TERM_DEG_UNIT
 
 __all__ = ["ACCEL_TERMS", "B_PLATEAU", "C_UNIT", "FLICKER_AVAR", "NOISE_TERMS", "TERMS", "TERM_DESCRIPTION",
            "TERM_FACTOR", "TERM_POWER", "TERM_SLOPE", "TERM_UNIT", "TO_SECONDS", "NoiseTermInfo",
-           "TermName", "c_from_terms", "from_seconds", "parse_terms", "term_rows", "terms_from_c"]
+           "TermName", "c_from_terms", "from_seconds", "parse_terms", "term_items", "term_rows",
+           "terms_from_c"]
 
 TermName = Literal["Q", "N", "B", "K", "R"]
 NOISE_TERMS: tuple[str, ...] = get_args(TermName)
@@ -264,26 +265,33 @@ def _term_key(key: str | int) -> str:
                     f"(-2, -1, 0, 1, 2), got {key!r}")
 
 
-def parse_terms(terms: Sequence[str] | str) -> tuple[str, ...]:
-    """Validate a term selection; returns the names in the order Q, N, B, K, R.
+def term_items(terms: Sequence[str] | str, also: str = "") -> list[Any]:
+    """The items of a term selection: a comma-separated string or a sequence (``also`` ends
+    the error message, e.g. the optional terms a caller accepts besides)."""
+    if isinstance(terms, str):
+        return [t.strip() for t in terms.split(",") if t.strip()]
+    try:
+        return list(terms)
+    except TypeError:
+        raise DataError(f"terms must be a sequence of Q, N, B, K, R, got {terms!r}"
+                        f"{also}") from None
+
+
+def parse_terms(terms: Sequence[str] | str, also: str = "") -> tuple[str, ...]:
+    """Validate a term selection; returns the names in the order Q, N, B, K, R (``also``
+    ends the error messages).
 
     Examples
     --------
     >>> parse_terms("k, n")
     ('N', 'K')
     """
-    if isinstance(terms, str):
-        items: list[Any] = [t.strip() for t in terms.split(",") if t.strip()]
-    else:
-        try:
-            items = list(terms)
-        except TypeError:
-            raise DataError(f"terms must be a sequence of Q, N, B, K, R, got {terms!r}") from None
+    items = term_items(terms, also)
     if not items:
-        raise DataError(f"terms must name at least one of Q, N, B, K, R, got {terms!r}")
+        raise DataError(f"terms must name at least one of Q, N, B, K, R, got {terms!r}{also}")
     for t in items:
         if not isinstance(t, str) or t.strip().upper() not in TERM_POWER:
-            raise DataError(f"terms must be drawn from Q, N, B, K, R; got {t!r}")
+            raise DataError(f"terms must be drawn from Q, N, B, K, R; got {t!r}{also}")
     upper = [t.strip().upper() for t in items]
     if len(set(upper)) != len(upper):
         raise DataError(f"terms must not repeat a term, got {terms!r}")

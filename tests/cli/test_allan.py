@@ -172,7 +172,7 @@ def test_multi_axis_real_imu(tmp_path: Path) -> None:
 
 @pytest.mark.parametrize(("args", "match"), [
     (["--taus", "weekly"], "--taus must be octave, decade, dense, all or taus in seconds"),
-    (["--terms", "N,X"], "terms must be drawn from Q, N, B, K, R; got 'X'"),
+    (["--terms", "N,X"], r"terms must be drawn from Q, N, B, K, R; got 'X' \(M and S may be added\)"),
     (["--terms", ""], "terms must name at least one of Q, N, B, K, R"),
     (["--kind", "xdev"], "Invalid value for '--kind': 'xdev' is not one of"),
     (["--method", "lsq"], "'lsq' is not one of 'wls', 'gls', 'ols'"),
