@@ -16,8 +16,8 @@ import pandas as pd
 from fogts._typing import FloatArray
 from fogts.errors import DataError, InsufficientDataError
 
-__all__ = ["as_rng", "check_choice", "check_fraction", "check_int", "check_positive", "is_pandas",
-           "pandas_index", "to_float_array"]
+__all__ = ["as_rng", "check_choice", "check_fraction", "check_int", "check_positive",
+           "finite_or_none", "is_pandas", "pandas_index", "to_float_array"]
 
 
 def check_positive(name: str, value: Any, *, allow_zero: bool = False) -> float:
@@ -121,3 +121,18 @@ def as_rng(rng: Any) -> np.random.Generator:
     if rng is None or isinstance(rng, int | np.integer):
         return np.random.default_rng(rng)
     raise DataError(f"rng must be a numpy Generator, an int seed or None, got {rng!r}")
+
+
+def finite_or_none(v: Any) -> float | None:
+    """``v`` as a float, or None if it is not a finite number (a JSON- and CSV-safe cell).
+
+    Examples
+    --------
+    >>> finite_or_none(2), finite_or_none(float("nan")), finite_or_none(None)
+    (2.0, None, None)
+    """
+    try:
+        f = float(v)
+    except (TypeError, ValueError):
+        return None
+    return f if math.isfinite(f) else None

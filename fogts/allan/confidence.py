@@ -19,7 +19,6 @@ which Stable32 divides out of its TOTDEV at flicker and random-walk FM points.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from typing import Any
 
@@ -29,7 +28,13 @@ import pandas as pd
 from scipy import stats
 
 from fogts._typing import FloatArray, IntArray
-from fogts._validate import check_choice, check_fraction, check_positive, to_float_array
+from fogts._validate import (
+    check_choice,
+    check_fraction,
+    check_positive,
+    finite_or_none,
+    to_float_array,
+)
 from fogts.allan._checks import check_m
 from fogts.allan.bias import totdev_bias
 from fogts.allan.edf import edf_for
@@ -126,11 +131,8 @@ class ConfidenceTable:
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-safe dict with stable keys; non-finite numbers become ``None``."""
-        def num(v: float) -> float | None:
-            return float(v) if math.isfinite(v) else None
-
-        points = [{"tau": num(t), "m": int(m), "dev": num(d), "alpha": int(a),
-                   "alpha_method": meth, "edf": num(e), "ci_low": num(lo), "ci_high": num(hi)}
+        points = [{"tau": finite_or_none(t), "m": int(m), "dev": finite_or_none(d), "alpha": int(a),
+                   "alpha_method": meth, "edf": finite_or_none(e), "ci_low": finite_or_none(lo), "ci_high": finite_or_none(hi)}
                   for t, m, d, a, meth, e, lo, hi in zip(
                       self.tau_s, self.m, self.dev, self.alpha, self.alpha_method, self.edf,
                       self.ci_low, self.ci_high, strict=True)]

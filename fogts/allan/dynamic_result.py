@@ -3,7 +3,6 @@ axis (:class:`DynamicAllanResult`), one per axis, and the non-stationarity verdi
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from typing import Any
 
@@ -11,6 +10,7 @@ import numpy as np
 import pandas as pd
 
 from fogts._typing import BoolArray, FloatArray, IntArray
+from fogts._validate import finite_or_none
 from fogts.allan.result import AxisIndexed
 from fogts.allan.taus import DroppedTau
 from fogts.preprocess.glitches import Glitch
@@ -61,8 +61,8 @@ class Transient:
         return abs(self.ratio - 1.0)
 
     def to_dict(self) -> dict[str, Any]:
-        return {"start": self.start_s, "end": self.end_s, "ratio": _num(self.ratio),
-                "effect": _num(self.effect), "n_windows": self.n_windows,
+        return {"start": self.start_s, "end": self.end_s, "ratio": finite_or_none(self.ratio),
+                "effect": finite_or_none(self.effect), "n_windows": self.n_windows,
                 "peak_time": self.peak_time_s,
                 "glitch_times": [g.time_s for g in self.glitches]}
 
@@ -160,14 +160,14 @@ class Nonstationarity:
 
     def to_dict(self) -> dict[str, Any]:
         return {
-            "tau": self.tau_s, "score": _num(self.score), "observed_var": _num(self.observed_var),
-            "expected_var": _num(self.expected_var), "edf": _num(self.edf),
-            "n_independent": self.n_independent, "pvalue": _num(self.pvalue),
+            "tau": self.tau_s, "score": finite_or_none(self.score), "observed_var": finite_or_none(self.observed_var),
+            "expected_var": finite_or_none(self.expected_var), "edf": finite_or_none(self.edf),
+            "n_independent": self.n_independent, "pvalue": finite_or_none(self.pvalue),
             "level": self.level, "stationary": self.stationary,
             "change_time": self.change_time_s, "change_ratio": self.change_ratio,
             "flagged_windows": list(self.flagged_windows),
-            "tau_scores": [_num(v) for v in self.tau_scores],
-            "significant": self.significant, "effect": _num(self.effect),
+            "tau_scores": [finite_or_none(v) for v in self.tau_scores],
+            "significant": self.significant, "effect": finite_or_none(self.effect),
             "min_change": self.min_change,
             "transient": self.transient.to_dict() if self.transient is not None else None,
         }
@@ -302,14 +302,14 @@ class DynamicAllanResult(TableView):
             "fs_hz": float(self.fs_hz), "n_samples": int(self.n_samples),
             "window_s": float(self.window_s), "step_s": float(self.step_s),
             "window_n": int(self.window_n), "step_n": int(self.step_n),
-            "method": self.method, "confidence": _num(self.confidence),
+            "method": self.method, "confidence": finite_or_none(self.confidence),
             "taus": self.tau_s.tolist(), "m": self.m.tolist(), "n": self.n.tolist(),
-            "edf": [_num(v) for v in self.edf], "alpha": self.alpha.tolist(),
+            "edf": [finite_or_none(v) for v in self.edf], "alpha": self.alpha.tolist(),
             "times": self.times_s.tolist(),
-            "dev": [[_num(v) for v in row] for row in self.dev],
-            "ci_low": [[_num(v) for v in row] for row in self.ci_low],
-            "ci_high": [[_num(v) for v in row] for row in self.ci_high],
-            "reference_dev": [_num(v) for v in self.reference_dev],
+            "dev": [[finite_or_none(v) for v in row] for row in self.dev],
+            "ci_low": [[finite_or_none(v) for v in row] for row in self.ci_low],
+            "ci_high": [[finite_or_none(v) for v in row] for row in self.ci_high],
+            "reference_dev": [finite_or_none(v) for v in self.reference_dev],
             "nonstationarity": self.nonstationarity.to_dict(),
             "dropped": [d.to_dict() for d in self.dropped],
             "notes": list(self.notes),
@@ -380,8 +380,3 @@ class DynamicAllanResultSet(AxisIndexed[DynamicAllanResult]):
 
     def summary(self) -> str:
         return "\n\n".join(c.summary() for c in self.curves)
-
-
-def _num(v: Any) -> float | None:
-    f = float(v)
-    return f if math.isfinite(f) else None

@@ -16,6 +16,7 @@ import numpy as np
 import pandas as pd
 
 from fogts._typing import FloatArray, IntArray
+from fogts._validate import finite_or_none
 from fogts.allan.taus import DroppedTau
 from fogts.errors import DataError
 from fogts.tables import Column, Table, TableView
@@ -41,10 +42,6 @@ def _frozen(a: Any, dtype: type) -> np.ndarray:
     arr: np.ndarray = np.array(a, dtype=dtype, copy=True).reshape(-1)
     arr.setflags(write=False)
     return arr
-
-
-def _num(v: float) -> float | None:
-    return float(v) if math.isfinite(v) else None
 
 
 @dataclass(frozen=True, repr=False)
@@ -196,14 +193,14 @@ class AllanResult(TableView):
         alphas = self._alpha_or_none()
         points = [
             {"tau": float(self.tau_s[i]), "m": int(self.m[i]), "n": int(self.n[i]),
-             "dev": _num(self.dev[i]), "ci_low": _num(self.ci_low[i]),
-             "ci_high": _num(self.ci_high[i]), "edf": _num(self.edf[i]), "alpha": alphas[i],
+             "dev": finite_or_none(self.dev[i]), "ci_low": finite_or_none(self.ci_low[i]),
+             "ci_high": finite_or_none(self.ci_high[i]), "edf": finite_or_none(self.edf[i]), "alpha": alphas[i],
              "alpha_method": self.alpha_method[i]}
             for i in range(len(self))
         ]
         return {"kind": self.kind, "units": self.units, "axis": self.axis,
                 "fs_hz": float(self.fs_hz), "n_samples": int(self.n_samples),
-                "confidence": _num(self.confidence), "bias_corrected": self.bias_corrected,
+                "confidence": finite_or_none(self.confidence), "bias_corrected": self.bias_corrected,
                 "points": points,
                 "dropped": [d.to_dict() for d in self.dropped], "notes": list(self.notes)}
 

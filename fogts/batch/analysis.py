@@ -121,7 +121,7 @@ def _selection_fields(sel: Selection) -> dict[str, Any]:
     """``selected``, ``aic`` and ``white`` of the selected candidate; ModelFitError (an
     error row naming every candidate's reason) if every candidate failed."""
     best = sel.require_best()
-    from fogts.report.summary import finite_or_none
+    from fogts._validate import finite_or_none
 
     return {"selected": best.model, "aic": finite_or_none(best.aic), "white": bool(best.white)}
 

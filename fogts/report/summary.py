@@ -9,11 +9,11 @@ summary (:func:`term_fields`).
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from fogts._validate import finite_or_none
 from fogts.allan.datasheet import SPEC_TERMS
 from fogts.choices import OutputUnits
 from fogts.tables import Column, Table
@@ -24,7 +24,7 @@ if TYPE_CHECKING:
     from fogts.allan.noise_model import NoiseModel
     from fogts.pipeline import AllanAnalysis, AxisAllan
 
-__all__ = ["SUMMARY_TERMS", "axis_row", "finite_or_none", "summary_rows", "summary_table",
+__all__ = ["SUMMARY_TERMS", "axis_row", "summary_rows", "summary_table",
            "term_fields"]
 
 #: The terms of the summary: those a datasheet specification may limit.
@@ -122,11 +122,3 @@ def _caption(spec: NoiseSpec | None) -> str:
             "limit; a term given only as an upper limit passes only if that upper limit is "
             "below the spec.")
 
-
-def finite_or_none(v: Any) -> float | None:
-    """``v`` as a float, or None if it is not a finite number (a JSON- and CSV-safe cell)."""
-    try:
-        f = float(v)
-    except (TypeError, ValueError):
-        return None
-    return f if math.isfinite(f) else None

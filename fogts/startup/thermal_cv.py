@@ -46,7 +46,7 @@ import pandas as pd
 import scipy.stats
 
 from fogts._typing import FloatArray
-from fogts._validate import check_fraction, check_int, check_positive
+from fogts._validate import check_fraction, check_int, check_positive, finite_or_none
 from fogts.errors import DataError, InsufficientDataError
 from fogts.startup.compensation import bias_stability
 from fogts.startup.thermal_fit import fit_thermal
@@ -131,8 +131,8 @@ class ThermalCrossValidation:
         return sum(f.scored for f in self.folds)
 
     def to_dict(self) -> dict[str, Any]:
-        return {"scheme": self.scheme, "improvement": _num(self.ratio),
-                "low": _num(self.low), "high": _num(self.high),
+        return {"scheme": self.scheme, "improvement": finite_or_none(self.ratio),
+                "low": finite_or_none(self.low), "high": finite_or_none(self.high),
                 "confidence": self.confidence, "n_folds": len(self.folds),
                 "n_scored": self.n_scored, "average_s": self.average_s,
                 "guard_s": self.guard_s,
@@ -339,7 +339,3 @@ def _log_t_interval(ratios: list[float], confidence: float) -> tuple[float, floa
     half = float(scipy.stats.t.ppf(0.5 + confidence / 2, logs.size - 1)
                  * np.std(logs, ddof=1) / math.sqrt(logs.size))
     return math.exp(centre), math.exp(centre - half), math.exp(centre + half)
-
-
-def _num(v: float) -> float | None:
-    return v if math.isfinite(v) else None
