@@ -53,7 +53,7 @@ class Transient:
     ratio: float
     n_windows: int
     peak_time_s: float
-    glitches: tuple[Glitch, ...] = ()
+    glitches: tuple[Glitch, ...]
 
     @property
     def effect(self) -> float:

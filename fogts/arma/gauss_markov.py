@@ -45,8 +45,9 @@ class GaussMarkov:
     white : float
         Standard deviation per sample of the white noise beside the process (ARMA(1,1);
         0 for AR(1); NaN otherwise).
-    sigma_si, q_si, white_si : float
-        The same in rad/s and rad/s/sqrt(s).
+    rad_s_per_unit : float
+        One rate unit in rad/s: the factor of :attr:`sigma_si`, :attr:`q_si` and
+        :attr:`white_si`, the same three in rad/s and rad/s/sqrt(s).
     units : str
     model : str
         The ARMA model it was derived from.
@@ -58,11 +59,24 @@ class GaussMarkov:
     sigma: float
     q: float
     white: float
-    sigma_si: float
-    q_si: float
-    white_si: float
+    rad_s_per_unit: float
     units: str
     model: str
+
+    @property
+    def sigma_si(self) -> float:
+        """``sigma`` in rad/s."""
+        return self.sigma * self.rad_s_per_unit
+
+    @property
+    def q_si(self) -> float:
+        """``q`` in rad/s/sqrt(s)."""
+        return self.q * self.rad_s_per_unit
+
+    @property
+    def white_si(self) -> float:
+        """``white`` in rad/s."""
+        return self.white * self.rad_s_per_unit
 
     def to_dict(self) -> dict[str, Any]:
         return {"model": self.model, "phi": self.phi, "dt_s": self.dt_s,
@@ -101,8 +115,7 @@ def gauss_markov(candidate: Candidate, fs_hz: float | None, units: str | None
     white = math.sqrt(var_e) if var_e >= 0 else math.nan
     to_si = float(convert_rate(1.0, units, "rad/s"))
     return GaussMarkov(phi=phi, dt_s=dt, tau_c_s=tau_c, sigma=sigma, q=q, white=white,
-                       sigma_si=sigma * to_si, q_si=q * to_si, white_si=white * to_si,
-                       units=units, model=candidate.model)
+                       rad_s_per_unit=to_si, units=units, model=candidate.model)
 
 
 def _split(candidate: Candidate, phi: float) -> tuple[float, float]:

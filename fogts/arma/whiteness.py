@@ -129,10 +129,8 @@ class ResidualDiagnostics:
         One entry per requested lag, ``model_df = p + q``.
     acf : ndarray of float64
         Residual autocorrelation r_0..r_K (K = the largest Ljung-Box lag).
-    white : bool
-        All three checks pass.
     reasons : tuple of str
-        Why the residuals are not white (empty when they are).
+        Why the residuals are not white: each failed check (empty when all three pass).
     """
 
     n: int
@@ -142,8 +140,12 @@ class ResidualDiagnostics:
     rho_ax3: CorrelationCheck
     ljung_box: tuple[LjungBoxLag, ...]
     acf: FloatArray
-    white: bool
     reasons: tuple[str, ...]
+
+    @property
+    def white(self) -> bool:
+        """All three checks pass: no reason against whiteness."""
+        return not self.reasons
 
     @property
     def band(self) -> float:
@@ -278,5 +280,5 @@ def residual_diagnostics(resid: Any, x: Any, *, p: int, q: int,
                 for x in testable if not x.passed]
     return ResidualDiagnostics(n=n, mean=float(a.mean()), variance=float(a.var()),
                                rho_a2=c_a2, rho_ax3=c_ax3, ljung_box=lb, acf=acf,
-                               white=not reasons, reasons=tuple(reasons))
+                               reasons=tuple(reasons))
 
