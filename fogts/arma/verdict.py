@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 
 import numpy as np
@@ -9,6 +10,8 @@ import numpy as np
 from fogts._typing import FloatArray
 from fogts.arma.candidate import Candidate
 from fogts.arma.identification import Correlogram
+from fogts.arma.redundancy import common_factor_z
+from fogts.arma.whiteness import BAND_Z
 
 __all__ = ["CLOSE_CALL", "QUANT_CHECK_SAMPLES", "QUANT_MAX_LEVELS", "SMALL_PREDICTION",
            "on_unit_circle", "quantization_note", "write_verdict"]
@@ -58,18 +61,39 @@ def _cancellation_sentence(sel: Candidate, ranked: Sequence[Candidate], criterio
     """What nearly cancelling AR/MA roots mean here: a lower order does as well only when a
     lower-order candidate is white and close in the criterion; otherwise say why not, with
     the numbers of the best lower-order candidate."""
+    lead = " Its AR and MA roots nearly cancel"
+    if not sel.flagged("common_factor") and sel.fit is not None:
+        z = common_factor_z(sel.ar, sel.ma, sel.fit.coef_cov)
+        if math.isfinite(z):
+            lead += (f", though not within their sampling uncertainty (common-factor "
+                     f"|z| = {abs(z):.2f} >= {BAND_Z:g})")
     if simpler_exists:
-        return " Its AR and MA roots nearly cancel."
+        return lead + "."
     crit = criterion.upper()
     lower = [c for c in ranked if c.ok and c.p + c.q < sel.p + sel.q]
     if not lower:
-        return " Its AR and MA roots nearly cancel, but no lower-order candidate was fitted."
+        return lead + "; no lower-order candidate was fitted."
     best = min(lower, key=lambda c: getattr(c, criterion))
     delta = getattr(best, criterion) - getattr(sel, criterion)
     why = "and is not white" if not best.white else "though white"
-    return (f" Its AR and MA roots nearly cancel, yet no lower order does as well: the best "
+    return (f"{lead}, yet no lower order does as well: the best "
             f"lower-order candidate, {best.model}, is {delta:+.1f} {crit} units {why}; keep "
             f"{sel.model}.")
+
+
+def _common_factor_sentence(sel: Candidate, demoted: Sequence[Candidate],
+                            criterion: str) -> str:
+    """Why a white candidate with a lower criterion was ranked below ``sel`` (its AR and MA
+    parts may share a root: :func:`fogts.arma.redundancy.common_factor`), or the caution
+    that ``sel`` itself may have such a factor."""
+    crit = criterion.upper()
+    if demoted:
+        low = min(demoted, key=lambda c: getattr(c, criterion))
+        gap = getattr(sel, criterion) - getattr(low, criterion)
+        return (f" {low.model} has a lower {crit} (by {gap:.1f}) but ranks below it: "
+                f"{low.flagged('common_factor')[0].message}.")
+    own = sel.flagged("common_factor")
+    return f" Caution: {own[0].message}." if own else ""
 
 
 def write_verdict(sel: Candidate | None, ranked: Sequence[Candidate], criterion: str,
@@ -105,9 +129,13 @@ def _selected_verdict(sel: Candidate, ranked: Sequence[Candidate], criterion: st
     if sel.white and on_unit_circle(sel) is not None:
         return _non_invertible_verdict(sel, ranked, criterion)
     if sel.white:
+        demoted = [c for c in ranked if c.white and c.flagged("common_factor")
+                   and getattr(c, criterion) < getattr(sel, criterion)]
+        among = " without a possible common AR/MA factor" if demoted else ""
         text = (f"{sel.model} describes the drift: its residuals are white (rho_a2, rho_ax3 and "
-                f"Ljung-Box all pass), lowest {crit} among the white candidates; one-step "
+                f"Ljung-Box all pass), lowest {crit} among the white candidates{among}; one-step "
                 f"prediction removes {removed:.1f} % of the variance.")
+        text += _common_factor_sentence(sel, demoted, criterion)
         simpler = [c for c in ranked if c.white and c.p + c.q < sel.p + sel.q
                    and getattr(c, criterion) - getattr(sel, criterion) < CLOSE_CALL]
         if sel.flagged("near_cancellation"):
