@@ -23,7 +23,7 @@ import numpy as np
 
 from fogts._typing import FloatArray
 from fogts.arma.fit_result import model_name
-from fogts.arma.roots import Roots
+from fogts.arma.roots import Roots, unit_circle_root
 from fogts.arma.whiteness import BAND_Z
 
 __all__ = ["NEAR_CANCEL_TOL", "RedundancyFlag", "common_factor", "common_factor_z",
@@ -47,7 +47,7 @@ class RedundancyFlag:
         ``near_cancellation``: ``ar_root``, ``ma_root`` (inverse roots, complex),
         ``distance``, ``tolerance``; ``common_factor``: ``resultant``, ``resultant_se``, ``z``,
         ``critical``, ``ar_root``, ``ma_root`` (the closest pair), ``reduced`` (the reduced
-        model's name); ``insignificant``: ``param``, ``estimate``, ``bse``, ``t``.
+        model's name), ``ma_on_unit_circle``; ``insignificant``: ``param``, ``estimate``, ``bse``, ``t``.
     """
 
     kind: Literal["near_cancellation", "common_factor", "insignificant"]
@@ -179,15 +179,29 @@ def _resultant_gradient(ar: FloatArray, ma: FloatArray) -> FloatArray:
     return g
 
 
-def _resultant_se(phi: FloatArray, theta: FloatArray, cov: FloatArray) -> tuple[float, float]:
-    """The resultant and its delta-method standard error (NaN if the variance is not > 0)."""
+def _resultant_se(phi: FloatArray, theta: FloatArray, cov: FloatArray,
+                  nobs: int | None) -> tuple[float, float, complex | None]:
+    """The resultant, its delta-method standard error (NaN if its variance is not > 0) and
+    the MA inverse root on the unit circle (None if there is none; see :func:`common_factor`)."""
     res = resultant(phi, theta)
     grad = _resultant_gradient(phi, theta)
-    var = float(grad @ np.asarray(cov, dtype=float) @ grad)
-    return res, (math.sqrt(var) if math.isfinite(var) and var > 0 else math.nan)
+    c = np.asarray(cov, dtype=float)
+    edge = None if nobs is None else unit_circle_root(np.roots(np.r_[1.0, theta]), nobs)
+    if edge is not None:
+        # theta known: the covariance of phi given theta (Schur complement), phi's gradient
+        k = phi.size
+        with np.errstate(invalid="ignore"):
+            try:
+                c = c[:k, :k] - c[:k, k:] @ np.linalg.solve(c[k:, k:], c[k:, :k])
+            except np.linalg.LinAlgError:
+                c = np.full((k, k), np.nan)
+        grad = grad[:k]
+    var = float(grad @ c @ grad)
+    return res, (math.sqrt(var) if math.isfinite(var) and var > 0 else math.nan), edge
 
 
-def common_factor_z(ar: Any, ma: Any, cov: FloatArray | None) -> float:
+def common_factor_z(ar: Any, ma: Any, cov: FloatArray | None, *,
+                    nobs: int | None = None) -> float:
     """The Wald statistic R / se(R) of :func:`common_factor`; NaN for a pure AR or MA model,
     without ``cov`` or when se(R) is undefined.
 
@@ -201,12 +215,12 @@ def common_factor_z(ar: Any, ma: Any, cov: FloatArray | None) -> float:
     theta = np.atleast_1d(np.asarray(ma, dtype=float))
     if phi.size == 0 or theta.size == 0 or cov is None:
         return math.nan
-    res, se = _resultant_se(phi, theta, cov)
+    res, se, _ = _resultant_se(phi, theta, cov, nobs)
     return res / se if math.isfinite(se) else math.nan
 
 
-def common_factor(ar: Any, ma: Any, cov: FloatArray | None, *, z: float = BAND_Z
-                  ) -> tuple[RedundancyFlag, ...]:
+def common_factor(ar: Any, ma: Any, cov: FloatArray | None, *, nobs: int | None = None,
+                  z: float = BAND_Z) -> tuple[RedundancyFlag, ...]:
     """A flag if the AR and MA polynomials share a root within the fit's sampling uncertainty.
 
     The hypothesis of a common factor is that the resultant R of the two polynomials
@@ -223,12 +237,21 @@ def common_factor(ar: Any, ma: Any, cov: FloatArray | None, *, z: float = BAND_Z
     itself a sign of a flat likelihood), a common factor cannot be ruled out and the flag is
     raised too.  Nothing is flagged for a pure AR or MA model or without ``cov``.
 
+    On the boundary, an MA inverse root on the unit circle (within 1/n, given ``nobs``), the
+    MA estimate converges at rate n, not sqrt(n), and is not asymptotically normal (Davis &
+    Dunsmuir 1996, *Econometric Theory* 12, 1-29): its observed-information variance means
+    nothing there.  The test then takes theta as known, as its O(1/n) error is negligible
+    against phi's O(1/sqrt(n)): se(R) uses phi's gradient and phi's covariance given theta
+    (the Schur complement of the theta block).
+
     Parameters
     ----------
     ar, ma : array_like
         phi_1..phi_p and theta_1..theta_q (statsmodels' signs).
     cov : ndarray or None
         Covariance of (phi_1..phi_p, theta_1..theta_q), e.g. ``ArmaFit.coef_cov``.
+    nobs : int, optional
+        Series length, for the boundary case; without it no MA root counts as on the circle.
     z : float
         Critical value of |R / se(R)|.
 
@@ -246,7 +269,7 @@ def common_factor(ar: Any, ma: Any, cov: FloatArray | None, *, z: float = BAND_Z
     theta = np.atleast_1d(np.asarray(ma, dtype=float))
     if phi.size == 0 or theta.size == 0 or cov is None:
         return ()
-    res, se = _resultant_se(phi, theta, cov)
+    res, se, edge = _resultant_se(phi, theta, cov, nobs)
     stat = res / se if math.isfinite(se) else math.nan
     if math.isfinite(stat) and abs(stat) >= z:
         return ()
@@ -260,6 +283,8 @@ def common_factor(ar: Any, ma: Any, cov: FloatArray | None, *, z: float = BAND_Z
     if math.isfinite(stat):
         why = (f"their resultant {res:.3g} is {abs(stat):.2f} standard errors ({se:.2g}) "
                f"from 0, < {z:g}")
+        if edge is not None:
+            why += f" (the MA root {_fmt_root(edge)} on the unit circle taken as known)"
     else:
         why = (f"their resultant {res:.3g} has no standard error (the observed information "
                "is not positive definite), so a shared root cannot be ruled out")
@@ -269,4 +294,4 @@ def common_factor(ar: Any, ma: Any, cov: FloatArray | None, *, z: float = BAND_Z
         f"{_fmt_root(ma_r)}): {why}; the model is then {reduced} with a cancelled factor, "
         "not identified",
         {"resultant": res, "resultant_se": se, "z": stat, "critical": z, "ar_root": ar_r,
-         "ma_root": ma_r, "reduced": reduced}),)
+         "ma_root": ma_r, "reduced": reduced, "ma_on_unit_circle": edge is not None}),)

@@ -181,7 +181,7 @@ def _evaluate(p: int, q: int, inp: _Input, criterion: str, lags: tuple[int, ...]
         msgs.append(f"the MA part is not invertible (largest MA inverse root modulus "
                     f"{roots.ma_radius:.4f} >= 1)")
     diag = residual_diagnostics(fit.resid, x, p=p, q=q, lags=lags)
-    flags = (near_cancellations(roots) + common_factor(fit.ar, fit.ma, fit.coef_cov)
+    flags = (near_cancellations(roots) + common_factor(fit.ar, fit.ma, fit.coef_cov, nobs=fit.nobs)
              + insignificant_terms(fit.params, fit.bse))
     # memory: drop the series-length innovations now (recomputed bit for bit on access);
     # select_arma stores them again for the selected candidate only

@@ -99,3 +99,22 @@ def test_common_factor_flag_states_its_numbers() -> None:
     (nan,) = common_factor([0.5, 0.2], [0.5], np.full((3, 3), np.nan))
     assert math.isnan(nan.details["z"]) and "no standard error" in nan.message
     assert math.isnan(common_factor_z([0.5], [], None))
+
+
+def test_common_factor_on_the_unit_circle_takes_theta_as_known() -> None:
+    """phi(B) = (1 - 0.6 B)(1 + 0.99 B), theta = 1 (MA inverse root -1, on the circle): the
+    resultant is 1.6 * 0.01 = 0.016 and, with theta known, its gradient in phi is (theta, -1),
+    so se = 0.003 * sqrt(2) and z = 3.77.  theta's own (meaningless) variance of 1 would
+    give z = 0.01 and a flag; with nobs the boundary case ignores it."""
+    cov = np.diag([0.003 ** 2, 0.003 ** 2, 1.0])
+    ar, ma = [0.6 - 0.99, 0.594], [1.0]
+    assert resultant(ar, ma) == pytest.approx(0.016, rel=1e-9)
+    assert common_factor_z(ar, ma, cov, nobs=2000) == pytest.approx(
+        0.016 / (0.003 * math.sqrt(2.0)), rel=1e-6)
+    assert common_factor(ar, ma, cov, nobs=2000) == ()
+    (flag,) = common_factor(ar, ma, cov)             # without nobs: theta's variance used
+    assert abs(flag.details["z"]) < 0.05 and not flag.details["ma_on_unit_circle"]
+    # a unit-circle flag says so
+    (edge,) = common_factor(ar, ma, np.diag([0.03 ** 2, 0.03 ** 2, 1.0]), nobs=2000)
+    assert edge.details["ma_on_unit_circle"] and "on the unit circle taken as known" in \
+        edge.message
