@@ -45,5 +45,6 @@ from fogts.arma.whiteness import (
 __all__ = ["BAND_Z", "CUTOFF_MAX_LAG", "CUTOFF_STEP", "LB_ALPHA", "NEAR_CANCEL_TOL", "OUTLIER_Z",
            "CorrelationCheck", "Correlogram", "CorrelogramPattern", "LjungBoxLag", "RedundancyFlag",
            "ResidualDiagnostics", "Roots", "arma_roots", "autocorrelation", "common_factor",
-           "common_factor_z", "correlogram", "insignificant_terms", "lag_products", "ljung_box", "near_cancellations",
-           "partial_autocorrelation", "residual_diagnostics", "resultant", "rho_a2", "rho_ax3"]
+           "common_factor_z", "correlogram", "insignificant_terms", "lag_products", "ljung_box",
+           "near_cancellations", "partial_autocorrelation", "residual_diagnostics", "resultant",
+           "rho_a2", "rho_ax3"]

@@ -27,8 +27,7 @@ from fogts.arma.roots import Roots, unit_circle_root
 from fogts.arma.whiteness import BAND_Z
 
 __all__ = ["NEAR_CANCEL_TOL", "RedundancyFlag", "common_factor", "common_factor_z",
-           "insignificant_terms",
-           "near_cancellations", "resultant"]
+           "insignificant_terms", "near_cancellations", "resultant"]
 
 #: Largest distance between an AR and an MA inverse root called a near cancellation.
 NEAR_CANCEL_TOL = 0.1
@@ -47,7 +46,8 @@ class RedundancyFlag:
         ``near_cancellation``: ``ar_root``, ``ma_root`` (inverse roots, complex),
         ``distance``, ``tolerance``; ``common_factor``: ``resultant``, ``resultant_se``, ``z``,
         ``critical``, ``ar_root``, ``ma_root`` (the closest pair), ``reduced`` (the reduced
-        model's name), ``ma_on_unit_circle``; ``insignificant``: ``param``, ``estimate``, ``bse``, ``t``.
+        model's name), ``ma_on_unit_circle``; ``insignificant``: ``param``, ``estimate``,
+        ``bse``, ``t``.
     """
 
     kind: Literal["near_cancellation", "common_factor", "insignificant"]
@@ -131,7 +131,6 @@ def insignificant_terms(params: dict[str, float], bse: dict[str, float], *,
                 f"{name} = {est:.4g} is not significant (|t| = {abs(t):.2f} < {z:g})",
                 {"param": name, "estimate": float(est), "bse": float(se), "t": float(t)}))
     return tuple(flags)
-
 
 
 def resultant(ar: Any, ma: Any) -> float:
@@ -231,7 +230,7 @@ def common_factor(ar: Any, ma: Any, cov: FloatArray | None, *, nobs: int | None 
     ARMA(p - 1, q - 1) with the factor cancelled, its parameters are not identified (Box,
     Jenkins & Reinsel, *Time Series Analysis*, 3rd ed., 1994, sec. 7.3.5, "parameter
     redundancy"; Brockwell & Davis, *Time Series: Theory and Methods*, 2nd ed., 1991,
-    sec. 3.1 and Theorem 8.8.1), and parsimony prefers the reduced model.  The Wald test of
+    secs. 3.1 and 8.8), and parsimony prefers the reduced model.  The Wald test of
     common-factor restrictions is Sargan's (1980, *Econometrica* 48, 879-897, "COMFAC").
     If R has no finite standard error (the observed information is not positive definite,
     itself a sign of a flat likelihood), a common factor cannot be ruled out and the flag is

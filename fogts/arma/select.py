@@ -11,8 +11,9 @@ Ranking rule
 ------------
 Candidates whose fit succeeded and whose residuals are white (all three checks of
 :mod:`fogts.arma.whiteness` pass) are ranked first, by the information criterion
-(ties: fewer parameters, then the order given; but see common factors below).  The others that fitted follow, ranked the
-same way.  Failed fits stay in the table with ``status="failed"``, their reason and no rank.
+(ties: fewer parameters, then the order given; but see common factors below).  The others
+that fitted follow, ranked the same way.  Failed fits stay in the table with
+``status="failed"``, their reason and no rank.
 The selected model is rank 1.  If no candidate is white, rank 1 is still reported, a
 :class:`~fogts.errors.NotWhiteWarning` is emitted and ``Selection.all_white_failed`` is True
 (the CLI exits with code 1).
