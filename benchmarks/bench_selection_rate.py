@@ -16,7 +16,9 @@ identified coefficients, n = 10^4, 50 seeds each (``--quick``: 5), simulated wit
 * a FOG drift model fitted to a 10 Hz, 3 h record,
   x_t = -0.2699 x_{t-1} - 0.002968 x_{t-2} + a_t + 0.277 a_{t-1}, whose AR and MA roots
   nearly cancel (108,000 samples, 10 seeds; ``--quick``: 2): how often the ARMA(2,1) fit is
-  flagged for near-cancelling roots and how often a one-parameter model is selected.
+  flagged for near-cancelling roots and how often a one-parameter model is selected;
+* AR(1) data, phi = 0.6, n = 2000, 100 seeds (``--quick``: 5): how often ARMA(2,1) is
+  selected by ``select_arma`` and by statsmodels' ``trend="c"`` AIC loop on the same series.
 
 Run: ``python -m benchmarks.bench_selection_rate [--quick] [--seeds N] [--out FILE.md]``.
 """
@@ -47,6 +49,9 @@ TRUE_MODELS: dict[str, tuple[list[float], list[float]]] = {
 NEAR_CANCELLING = ([-0.2699, -0.002968], [0.277])
 N = 10_000
 N_NEAR_CANCELLING = 108_000
+#: AR(1) over-selection study: series length and seeds (``--quick``: 5 seeds).
+AR1_N = 2000
+AR1_SEEDS = 100
 SUITE = "selection_rate"
 
 
@@ -107,6 +112,51 @@ def _near_cancellation_metrics(n_drift: int) -> list[Metric]:
             f"{', '.join(chosen)})", value=low / n_drift, better="higher", unit="fraction",
             suite=SUITE, abs_tolerance=0.2, details={"selected": chosen}),
     ]
+
+def _over_selection_metrics(n_seeds: int) -> list[Metric]:
+    """AR(1) data (phi = 0.6, n = 2000, seeds 0..n_seeds-1): how often ARMA(2,1) is selected
+    by ``select_arma`` and by statsmodels' ``ARIMA(order, trend="c").fit()`` AIC loop on the
+    same series, and on how many seeds ``select_arma`` ranked an ARMA(2,1) with a lower AIC
+    down for a possible common AR/MA factor."""
+    from statsmodels.tsa.arima.model import ARIMA
+
+    from fogts.arma import select_arma
+    from fogts.arma.select import DEFAULT_FIVE
+
+    fogts_picks: list[int] = []
+    sm_picks: list[int] = []
+    ranked_down: list[int] = []
+    for seed in range(n_seeds):
+        x = simulate([0.6], [], AR1_N, seed)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            sel = select_arma(x)
+            aics = {(p, q): float(ARIMA(x, order=(p, 0, q), trend="c").fit().aic)
+                    for p, q in DEFAULT_FIVE}
+        best = sel.best
+        if best is not None and best.model == "ARMA(2,1)":
+            fogts_picks.append(seed)
+        if min(aics, key=aics.__getitem__) == (2, 1):
+            sm_picks.append(seed)
+        arma21 = sel["ARMA(2,1)"]
+        if best is not None and arma21.flagged("common_factor") and arma21.aic < best.aic:
+            ranked_down.append(seed)
+    details = {"fogts_seeds": fogts_picks, "statsmodels_seeds": sm_picks,
+               "ranked_down_seeds": ranked_down}
+    return [
+        accuracy_metric(
+            f"accuracy.ar1_over_selection.fogts.n=2000.seeds={n_seeds}",
+            f"AR(1) phi = 0.6, n = 2000: ARMA(2,1) selected by select_arma (statsmodels' "
+            f"trend=\"c\" AIC loop: {len(sm_picks)} of {n_seeds}; ranked down for a possible "
+            f"common factor: {len(ranked_down)})", value=len(fogts_picks) / n_seeds,
+            better="lower", unit="fraction", suite=SUITE, abs_tolerance=0.05, details=details),
+        accuracy_metric(
+            f"accuracy.ar1_over_selection.statsmodels.n=2000.seeds={n_seeds}",
+            "AR(1) phi = 0.6, n = 2000: ARMA(2,1) selected by statsmodels' trend=\"c\" AIC loop",
+            value=len(sm_picks) / n_seeds, better="lower", unit="fraction", suite=SUITE,
+            abs_tolerance=0.05, details=details),
+    ]
+
 
 def metrics(quick: bool, seeds: int | None = None) -> list[Metric]:
     from fogts.arma import select_arma
@@ -183,7 +233,8 @@ def metrics(quick: bool, seeds: int | None = None) -> list[Metric]:
         "largest AIC of a fogts fit minus statsmodels' (standardised series); <= 0.05 required",
         value=max(shortfall, 0.0), better="lower", unit="AIC units", suite=SUITE,
         abs_tolerance=0.05))
-    return out + _near_cancellation_metrics(n_drift)
+    return (out + _near_cancellation_metrics(n_drift)
+            + _over_selection_metrics(5 if quick else AR1_SEEDS))
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -142,12 +142,18 @@ class Candidate:
     @property
     def notes(self) -> str:
         """Short notes for the candidate table: a failed fit, nearly cancelling AR/MA
-        roots, parameters that are not significant, no convergence."""
+        roots, a common AR/MA factor that cannot be ruled out (the reduced model and the
+        Wald statistic), parameters that are not significant, no convergence."""
         if not self.ok:
             return f"fit failed: {self.reason}"
         notes = []
         if self.flagged("near_cancellation"):
             notes.append("AR/MA roots nearly cancel")
+        for f in self.flagged("common_factor"):
+            z = f.details["z"]
+            notes.append(f"may reduce to {f.details['reduced']} (common-factor "
+                         + (f"|z| = {abs(z):.2f} < {f.details['critical']:g})" if math.isfinite(z)
+                            else "z undefined)"))
         insignificant = [f.details["param"] for f in self.flagged("insignificant")]
         if insignificant:
             notes.append(f"{', '.join(insignificant)} not significant")

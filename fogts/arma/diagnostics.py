@@ -4,7 +4,8 @@
 * :mod:`fogts.arma.whiteness`: rho_a,2, rho_ax,3 (the drift paper's eqs. 11 and 12), the
   Ljung-Box test and the white verdict of one candidate's residuals;
 * :mod:`fogts.arma.roots`: AR and MA roots, stationarity and invertibility;
-* :mod:`fogts.arma.redundancy`: nearly cancelling roots and insignificant coefficients;
+* :mod:`fogts.arma.redundancy`: nearly cancelling roots, a common AR/MA factor within
+  sampling uncertainty, insignificant coefficients;
 * :mod:`fogts.arma.identification`: the Box-Jenkins reading of the data's ACF and PACF.
 """
 
@@ -22,8 +23,11 @@ from fogts.arma.identification import (
 from fogts.arma.redundancy import (
     NEAR_CANCEL_TOL,
     RedundancyFlag,
+    common_factor,
+    common_factor_z,
     insignificant_terms,
     near_cancellations,
+    resultant,
 )
 from fogts.arma.roots import Roots, arma_roots
 from fogts.arma.whiteness import (
@@ -40,6 +44,7 @@ from fogts.arma.whiteness import (
 
 __all__ = ["BAND_Z", "CUTOFF_MAX_LAG", "CUTOFF_STEP", "LB_ALPHA", "NEAR_CANCEL_TOL", "OUTLIER_Z",
            "CorrelationCheck", "Correlogram", "CorrelogramPattern", "LjungBoxLag", "RedundancyFlag",
-           "ResidualDiagnostics", "Roots", "arma_roots", "autocorrelation", "correlogram",
-           "insignificant_terms", "lag_products", "ljung_box", "near_cancellations",
-           "partial_autocorrelation", "residual_diagnostics", "rho_a2", "rho_ax3"]
+           "ResidualDiagnostics", "Roots", "arma_roots", "autocorrelation", "common_factor",
+           "common_factor_z", "correlogram", "insignificant_terms", "lag_products", "ljung_box",
+           "near_cancellations", "partial_autocorrelation", "residual_diagnostics", "resultant",
+           "rho_a2", "rho_ax3"]

@@ -39,9 +39,10 @@ _METHODS = ("fast", "statsmodels")
 _FD_HESSIAN_MAX_N = 50_000  # up to this n: exact polish and bse from finite-difference Hessians
 
 #: What the fit of one path returns, in the units of the (scaled) series it was given:
-#: params, bse, llf, innovations, converged, messages, Newton iterations.
+#: params, bse, llf, innovations, converged, messages, Newton iterations, and the covariance
+#: of the AR and MA coefficients.
 _PathResult = tuple[dict[str, float], dict[str, float], float, FloatArray, bool, list[str],
-                    int | None]
+                    int | None, FloatArray]
 
 
 def min_nobs(p: int, q: int) -> int:
@@ -91,6 +92,8 @@ def _fit_statsmodels(xs: FloatArray, p: int, q: int, mean: bool) -> _PathResult:
     params = dict(zip(names, map(float, np.asarray(res.params)), strict=True))
     bse = dict(zip(names, map(float, np.asarray(res.bse)), strict=True))
     n_iter = mle.get("iterations")
+    k0 = 1 if mean else 0        # statsmodels orders const, ar, ma, sigma2
+    cov = np.asarray(res.cov_params(), dtype=float)[k0:k0 + p + q, k0:k0 + p + q]
     llf = float(res.llf)
     if mean:
         model = ExactLikelihood(xs, p, q, mean=True)
@@ -98,7 +101,7 @@ def _fit_statsmodels(xs: FloatArray, p: int, q: int, mean: bool) -> _PathResult:
                             np.array([params[f"ma.L{j}"] for j in range(1, q + 1)]))
         llf = _restricted_llf(model.nu, ev.S, ev.D)
     return (params, bse, llf, np.asarray(res.resid, dtype=float), converged, msgs,
-            None if n_iter is None else int(n_iter))
+            None if n_iter is None else int(n_iter), cov)
 
 
 def _restricted_llf(nu: int, S: float, D: float) -> float:
@@ -177,7 +180,7 @@ def _fit_fast(xs: FloatArray, p: int, q: int, mean: bool) -> _PathResult:
     ev, converged, msgs = res.ev, res.converged, res.msgs
     sigma2 = ev.S / model.nu      # nu = n, or n - 1 for the restricted likelihood
     llf = _restricted_llf(model.nu, ev.S, ev.D)
-    se, note = standard_errors(se_model, se_res, exact=exact)
+    se, cov, note = standard_errors(se_model, se_res, exact=exact)
     if note is not None:
         msgs.append(note)
     names = param_names(p, q)
@@ -188,7 +191,7 @@ def _fit_fast(xs: FloatArray, p: int, q: int, mean: bool) -> _PathResult:
         # the GLS variance sigma2 (1' R^-1 1)^-1, R = Cov(x)/sigma2, and 1' R^-1 1 = s11
         params = {"mean": ev.mu, **params}
         bse = {"mean": math.sqrt(sigma2 / ev.s11), **bse}
-    return params, bse, llf, ev.e, converged, msgs, n_iter
+    return params, bse, llf, ev.e, converged, msgs, n_iter, cov[:p + q, :p + q]
 
 
 def _boundary_notes(params: dict[str, float], p: int, q: int) -> list[str]:
@@ -308,7 +311,7 @@ def fit_arma(x: ArrayLike1D, p: int, q: int, *, method: FitMethod = "fast",
         raise ModelFitError(f"{name}: {exc}") from exc
     except (np.linalg.LinAlgError, FloatingPointError, ValueError) as exc:
         raise ModelFitError(f"{name}: exact ML fit failed ({type(exc).__name__}: {exc})") from exc
-    params_s, bse_s, llf_s, resid_s, converged, msgs, n_iter = out
+    params_s, bse_s, llf_s, resid_s, converged, msgs, n_iter, coef_cov = out
     if mean:
         params_s["mean"] += offset
     msgs = list(msgs) + _boundary_notes(params_s, p, q)
@@ -316,13 +319,13 @@ def fit_arma(x: ArrayLike1D, p: int, q: int, *, method: FitMethod = "fast",
         _warnings.warn(f"{name}: the likelihood maximisation did not converge: "
                        + "; ".join(msgs), ConvergenceWarning, stacklevel=2)
     return _to_original(p, q, params_s, bse_s, llf_s, resid_s, converged, msgs, n_iter,
-                        scale, standardize, method, n)
+                        scale, standardize, method, n, coef_cov)
 
 
 def _to_original(p: int, q: int, params_s: dict[str, float], bse_s: dict[str, float],
                  llf_s: float, resid_s: FloatArray, converged: bool, msgs: list[str],
                  n_iter: int | None, scale: float, standardized: bool, method: str,
-                 n: int) -> ArmaFit:
+                 n: int, coef_cov: FloatArray) -> ArmaFit:
     s2 = scale * scale
     params = dict(params_s)
     params["sigma2"] = params_s["sigma2"] * s2
@@ -339,4 +342,5 @@ def _to_original(p: int, q: int, params_s: dict[str, float], bse_s: dict[str, fl
     return ArmaFit(p=p, q=q, name=model_name(p, q), params=params, bse=bse, llf=llf, aic=aic,
                    bic=bic, hqic=hqic, aicc=aicc, nobs=n, sigma2=params["sigma2"],
                    resid=resid_s * scale, converged=converged, warnings=tuple(msgs),
-                   scale=scale, standardized=standardized, method=method, n_iter=n_iter)
+                   scale=scale, standardized=standardized, method=method, n_iter=n_iter,
+                   coef_cov=coef_cov)

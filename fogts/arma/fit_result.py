@@ -79,6 +79,10 @@ class ArmaFit(TableView):
     standardized: bool
     method: str
     n_iter: int | None
+    #: Covariance of the AR and MA coefficients (phi_1..phi_p, theta_1..theta_q; scale-free):
+    #: that block of the inverse observed information (NaN where it is singular); None if
+    #: not computed.  :func:`fogts.arma.redundancy.common_factor` tests a shared root with it.
+    coef_cov: FloatArray | None = field(default=None, repr=False, compare=False)
 
     @property
     def ar(self) -> FloatArray:

@@ -14,7 +14,7 @@ import numpy as np
 
 from fogts._typing import FloatArray
 
-__all__ = ["Roots", "arma_roots"]
+__all__ = ["Roots", "arma_roots", "unit_circle_root"]
 
 
 def _sorted_roots(r: np.ndarray) -> np.ndarray:
@@ -101,3 +101,25 @@ def arma_roots(ar: Any, ma: Any) -> Roots:
                  ar_inverse=_sorted_roots(lam), ma_inverse=_sorted_roots(mu),
                  stationary=bool(np.all(np.abs(lam) < 1.0)),
                  invertible=bool(np.all(np.abs(mu) < 1.0)))
+
+
+def unit_circle_root(inverse_roots: np.ndarray, nobs: int) -> complex | None:
+    """The largest inverse root if it lies on the unit circle, within 1/n of it; else None.
+
+    Within 1/n an MA(1) coefficient theta = -1 + gamma/n cannot be told from theta = -1
+    (local-to-unity asymptotics, Davis & Dunsmuir 1996, *Econometric Theory* 12, 1-29): its
+    ML estimate converges at rate n and is not asymptotically normal, and it is where ML
+    estimates pile up by chance.
+
+    Examples
+    --------
+    >>> unit_circle_root(arma_roots([], [-1.0]).ma_inverse, 2000)
+    (1+0j)
+    >>> unit_circle_root(arma_roots([], [-0.99]).ma_inverse, 2000) is None
+    True
+    """
+    r = np.asarray(inverse_roots, dtype=np.complex128)
+    if r.size == 0:
+        return None
+    top = complex(r[int(np.argmax(np.abs(r)))])
+    return top if 1.0 - abs(top) <= 1.0 / nobs else None

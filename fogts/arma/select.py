@@ -11,15 +11,24 @@ Ranking rule
 ------------
 Candidates whose fit succeeded and whose residuals are white (all three checks of
 :mod:`fogts.arma.whiteness` pass) are ranked first, by the information criterion
-(ties: fewer parameters, then the order given).  The others that fitted follow, ranked the
-same way.  Failed fits stay in the table with ``status="failed"``, their reason and no rank.
+(ties: fewer parameters, then the order given; but see common factors below).  The others
+that fitted follow, ranked the same way.  Failed fits stay in the table with
+``status="failed"``, their reason and no rank.
 The selected model is rank 1.  If no candidate is white, rank 1 is still reported, a
 :class:`~fogts.errors.NotWhiteWarning` is emitted and ``Selection.all_white_failed`` is True
 (the CLI exits with code 1).
 
-Redundancy (a near-cancelling AR/MA root pair, an insignificant coefficient) is flagged on
-each candidate, never silently acted on: the criterion already penalises the extra
-parameters, and the flags tell the reader why an over-parameterised candidate is unreliable.
+Within each of the two groups, a candidate whose AR and MA parts may share a root (the Wald
+test of a zero resultant does not reject at 5 %, :func:`fogts.arma.redundancy.common_factor`)
+ranks after those that do not: such a model is its reduced ARMA(p - 1, q - 1) with a
+cancelled factor, its parameters are not identified, and parsimony prefers the identified
+models (Box, Jenkins & Reinsel 1994, sec. 7.3.5).  The AIC alone does not guard against it:
+under the reduced model the location of the cancelling pair is a parameter the data do not
+identify, so the likelihood gain of the extra pair is a supremum over that location and
+exceeds AIC's penalty more often than the chi-squared asymptotics assume (Davies 1987,
+*Biometrika* 74, 33-43).  The verdict names a candidate ranked down this way and the numbers
+of its test.  The other redundancy flags (a near-cancelling AR/MA root pair, an insignificant
+coefficient) only inform: the criterion already penalises the extra parameters.
 """
 
 from __future__ import annotations
@@ -40,7 +49,7 @@ from fogts.arma.candidate import Candidate
 from fogts.arma.candidate_orders import DEFAULT_FIVE, MAX_ORDER, parse_candidates
 from fogts.arma.fit import FitMethod, fit_arma, min_nobs, model_name
 from fogts.arma.identification import correlogram
-from fogts.arma.redundancy import insignificant_terms, near_cancellations
+from fogts.arma.redundancy import common_factor, insignificant_terms, near_cancellations
 from fogts.arma.roots import arma_roots
 from fogts.arma.selection import Selection
 from fogts.arma.verdict import (
@@ -173,7 +182,8 @@ def _evaluate(p: int, q: int, inp: _Input, criterion: str, lags: tuple[int, ...]
         msgs.append(f"the MA part is not invertible (largest MA inverse root modulus "
                     f"{roots.ma_radius:.4f} >= 1)")
     diag = residual_diagnostics(fit.resid, x, p=p, q=q, lags=lags)
-    flags = near_cancellations(roots) + insignificant_terms(fit.params, fit.bse)
+    flags = (near_cancellations(roots) + common_factor(fit.ar, fit.ma, fit.coef_cov, nobs=fit.nobs)
+             + insignificant_terms(fit.params, fit.bse))
     # memory: drop the series-length innovations now (recomputed bit for bit on access);
     # select_arma stores them again for the selected candidate only
     return Candidate(model=name, p=p, q=q, status="ok", reason=None, rank=None,
@@ -185,8 +195,9 @@ def _evaluate(p: int, q: int, inp: _Input, criterion: str, lags: tuple[int, ...]
 def _rank(cands: list[Candidate], criterion: str) -> list[Candidate]:
     order = {id(c): i for i, c in enumerate(cands)}
 
-    def key(c: Candidate) -> tuple[int, float, int, int]:
-        return (0 if c.white else 1, float(getattr(c, criterion)), c.p + c.q, order[id(c)])
+    def key(c: Candidate) -> tuple[int, int, float, int, int]:
+        return (0 if c.white else 1, 1 if c.flagged("common_factor") else 0,
+                float(getattr(c, criterion)), c.p + c.q, order[id(c)])
 
     ok = sorted((c for c in cands if c.ok), key=key)
     failed = [c for c in cands if not c.ok]

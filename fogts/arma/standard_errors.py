@@ -37,9 +37,10 @@ def full_hessian(n: int, S: float, dS: FloatArray, d2S: FloatArray,
 
 
 def standard_errors(model: ExactLikelihood, res: NewtonResult, *,
-                    exact: bool) -> tuple[FloatArray, str | None]:
-    """Standard errors of (phi, theta, sigma2) at the optimum ``res.ev``, and a note if the
-    observed information is not positive definite (NaN where a variance is undefined).
+                    exact: bool) -> tuple[FloatArray, FloatArray, str | None]:
+    """Standard errors of (phi, theta, sigma2) at the optimum ``res.ev``, their covariance
+    (the inverse observed information; NaN if it is singular) and a note if the observed
+    information is not positive definite (NaN where a variance is undefined).
 
     ``exact``: Hessians of S and D by central differences of the exact gradient; otherwise
     the last Newton step's analytic ones (``res.dD``, ``res.HS``, ``res.HD``).
@@ -58,11 +59,12 @@ def standard_errors(model: ExactLikelihood, res: NewtonResult, *,
     note = None
     with np.errstate(invalid="ignore"):
         try:
-            var = np.diag(np.linalg.inv(-H))
+            cov = np.linalg.inv(-H)
         except np.linalg.LinAlgError:
-            var = np.full(model.p + model.q + 1, np.nan)
+            cov = np.full(H.shape, np.nan)
+        var = np.diag(cov)
         if not np.all(np.isfinite(var) & (var > 0)):
             note = ("the observed information matrix is not positive definite; "
                     "standard errors are NaN where undefined")
         se = np.sqrt(np.where(var > 0, var, np.nan))
-    return se, note
+    return se, np.asarray(cov, dtype=np.float64), note

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 
 import numpy as np
@@ -9,6 +10,9 @@ import numpy as np
 from fogts._typing import FloatArray
 from fogts.arma.candidate import Candidate
 from fogts.arma.identification import Correlogram
+from fogts.arma.redundancy import common_factor_z
+from fogts.arma.roots import unit_circle_root
+from fogts.arma.whiteness import BAND_Z
 
 __all__ = ["CLOSE_CALL", "QUANT_CHECK_SAMPLES", "QUANT_MAX_LEVELS", "SMALL_PREDICTION",
            "on_unit_circle", "quantization_note", "write_verdict"]
@@ -33,10 +37,9 @@ def on_unit_circle(c: Candidate) -> complex | None:
     told from theta = -1 (local-to-unity asymptotics, Davis & Dunsmuir 1996, *Econometric
     Theory* 12, 1-29), and it is where ML estimates pile up by chance.
     """
-    if c.roots is None or c.fit is None or c.roots.ma_inverse.size == 0:
+    if c.roots is None or c.fit is None:
         return None
-    mu = c.roots.ma_inverse[int(np.argmax(np.abs(c.roots.ma_inverse)))]
-    return complex(mu) if 1.0 - abs(mu) <= 1.0 / c.fit.nobs else None
+    return unit_circle_root(c.roots.ma_inverse, c.fit.nobs)
 
 
 def quantization_note(raw: FloatArray | None, units: str | None) -> str | None:
@@ -58,18 +61,40 @@ def _cancellation_sentence(sel: Candidate, ranked: Sequence[Candidate], criterio
     """What nearly cancelling AR/MA roots mean here: a lower order does as well only when a
     lower-order candidate is white and close in the criterion; otherwise say why not, with
     the numbers of the best lower-order candidate."""
+    lead = " Its AR and MA roots nearly cancel"
+    if not sel.flagged("common_factor") and sel.fit is not None:
+        z = common_factor_z(sel.ar, sel.ma, sel.fit.coef_cov, nobs=sel.fit.nobs)
+        if math.isfinite(z):
+            lead += (f", though not within their sampling uncertainty (common-factor "
+                     f"|z| = {abs(z):.2f} >= {BAND_Z:g})")
     if simpler_exists:
-        return " Its AR and MA roots nearly cancel."
+        return lead + "."
     crit = criterion.upper()
     lower = [c for c in ranked if c.ok and c.p + c.q < sel.p + sel.q]
     if not lower:
-        return " Its AR and MA roots nearly cancel, but no lower-order candidate was fitted."
+        return lead + "; no lower-order candidate was fitted."
     best = min(lower, key=lambda c: getattr(c, criterion))
     delta = getattr(best, criterion) - getattr(sel, criterion)
     why = "and is not white" if not best.white else "though white"
-    return (f" Its AR and MA roots nearly cancel, yet no lower order does as well: the best "
+    return (f"{lead}, yet no lower order does as well: the best "
             f"lower-order candidate, {best.model}, is {delta:+.1f} {crit} units {why}; keep "
             f"{sel.model}.")
+
+
+def _common_factor_sentence(sel: Candidate, demoted: Sequence[Candidate],
+                            criterion: str) -> str:
+    """Why a candidate with a lower criterion (``demoted``, in ``sel``'s white or not-white
+    group) was ranked below ``sel``: its AR and MA parts may share a root
+    (:func:`fogts.arma.redundancy.common_factor`); else the caution that ``sel`` itself may
+    have such a factor."""
+    crit = criterion.upper()
+    if demoted:
+        low = min(demoted, key=lambda c: getattr(c, criterion))
+        gap = getattr(sel, criterion) - getattr(low, criterion)
+        return (f" {low.model} has a lower {crit} (by {gap:.1f}) but ranks below it: "
+                f"{low.flagged('common_factor')[0].message}.")
+    own = sel.flagged("common_factor")
+    return f" Caution: {own[0].message}." if own else ""
 
 
 def write_verdict(sel: Candidate | None, ranked: Sequence[Candidate], criterion: str,
@@ -102,12 +127,19 @@ def _selected_verdict(sel: Candidate, ranked: Sequence[Candidate], criterion: st
     crit = criterion.upper()
     pred = sel.predict()
     removed = 100.0 * pred.variance_removed
+    # candidates of sel's group (white or not) with a lower criterion, ranked below it for a
+    # possible common AR/MA factor
+    demoted = [c for c in ranked if c.ok and c.white == sel.white
+               and c.flagged("common_factor") and getattr(c, criterion) < getattr(sel, criterion)]
+    among = " without a possible common AR/MA factor" if demoted else ""
     if sel.white and on_unit_circle(sel) is not None:
-        return _non_invertible_verdict(sel, ranked, criterion)
+        return (_non_invertible_verdict(sel, ranked, criterion, among)
+                + _common_factor_sentence(sel, demoted, criterion))
     if sel.white:
         text = (f"{sel.model} describes the drift: its residuals are white (rho_a2, rho_ax3 and "
-                f"Ljung-Box all pass), lowest {crit} among the white candidates; one-step "
+                f"Ljung-Box all pass), lowest {crit} among the white candidates{among}; one-step "
                 f"prediction removes {removed:.1f} % of the variance.")
+        text += _common_factor_sentence(sel, demoted, criterion)
         simpler = [c for c in ranked if c.white and c.p + c.q < sel.p + sel.q
                    and getattr(c, criterion) - getattr(sel, criterion) < CLOSE_CALL]
         if sel.flagged("near_cancellation"):
@@ -124,22 +156,23 @@ def _selected_verdict(sel: Candidate, ranked: Sequence[Candidate], criterion: st
         return text
     assert sel.diagnostics is not None
     why = "; ".join(sel.diagnostics.reasons)
-    return (f"No candidate leaves white residuals: the best by {crit}, {sel.model}, still "
-            f"fails ({why}). The drift needs a richer model or more preprocessing (detrend, "
-            f"remove outliers, decimate); use this model with care.")
+    return (f"No candidate leaves white residuals: the best by {crit}{among}, {sel.model}, "
+            f"still fails ({why}).{_common_factor_sentence(sel, demoted, criterion)} The drift "
+            f"needs a richer model or more preprocessing (detrend, remove outliers, "
+            f"decimate); use this model with care.")
 
 
-
-def _non_invertible_verdict(sel: Candidate, ranked: Sequence[Candidate], criterion: str) -> str:
+def _non_invertible_verdict(sel: Candidate, ranked: Sequence[Candidate], criterion: str,
+                            among: str = "") -> str:
     """The selected model has an MA root on the unit circle: what that means, and the best
-    white candidate without one."""
+    white candidate without one (``among`` qualifies "the white candidates")."""
     crit = criterion.upper()
     mu = on_unit_circle(sel)
     assert mu is not None
     where = ("frequency 0" if abs(mu.imag) < 1e-8 and mu.real > 0 else
              "the Nyquist frequency" if abs(mu.imag) < 1e-8 else
              f"{abs(np.angle(mu)) / (2 * np.pi):.3g} cycles per sample")
-    text = (f"{sel.model} has the lowest {crit} among the white candidates, but it is not "
+    text = (f"{sel.model} has the lowest {crit} among the white candidates{among}, but it is not "
             f"invertible: its MA inverse root {mu.real:.6g}{mu.imag:+.3g}j lies on the unit "
             f"circle (within 1/n), a zero of the spectrum at {where}. Either the series was "
             "over-differenced or filtered (a component removed), or the estimate piled up on "

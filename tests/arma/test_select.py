@@ -347,41 +347,45 @@ def _statsmodels_aic_loop(x: np.ndarray) -> tuple[tuple[int, int], dict]:
 
 
 def test_ar1_data_pick_arma21_no_more_often_than_statsmodels() -> None:
-    """AR(1), phi = 0.6, n = 2000, seeds 0-19.  Fitting demeaned data as zero-mean rewarded
-    an MA root on the unit circle (seed 7: ARMA(2,1) with theta = -1, AIC 1.3 below AR(1));
-    the restricted likelihood removes that.  What remains are ARMA(2,1) optima that
-    statsmodels' optimiser stops short of: there fogts' parameters have the higher
-    likelihood by statsmodels' own ``loglike`` (seed 4: by 3.9).  So: fogts picks ARMA(2,1)
-    no more often than statsmodels' AIC loop, apart from such seeds, and never with an MA
-    root at +1 (the pile-up the mean causes)."""
-    from statsmodels.tsa.arima.model import ARIMA
-
-    from fogts.arma.verdict import on_unit_circle
-
-    fogts_picks, sm_picks, sm_short = [], [], []
+    """AR(1), phi = 0.6, n = 2000, seeds 0-19: ``select_arma`` selects ARMA(2,1) no more often
+    than statsmodels' ``trend="c"`` AIC loop on the same series.  An ARMA(2,1) whose AR and
+    MA parts may share a root (the common-factor Wald test does not reject) is AR(1) with a
+    cancelled factor and ranks after the identified candidates; a genuine ARMA(2,1) is kept
+    (test below)."""
+    fogts_picks, sm_picks = [], []
     for seed in range(20):
         x = arma_series([0.6], [], 2000, seed)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             sel = select_arma(x)
-        best_sm, sm_fits = _statsmodels_aic_loop(x)
-        by_aic = min((c for c in sel.candidates if c.ok), key=lambda c: c.aic)
-        if best_sm == (2, 1):
+        assert sel.best is not None
+        if sel.best.model == "ARMA(2,1)":
+            fogts_picks.append(seed)
+            assert not sel.best.flagged("common_factor")
+        if _statsmodels_aic_loop(x)[0] == (2, 1):
             sm_picks.append(seed)
-        if by_aic.model != "ARMA(2,1)":
-            continue
-        fogts_picks.append(seed)
-        mu = on_unit_circle(by_aic)
-        assert mu is None or mu.real < 0, f"seed {seed}: MA root on the unit circle at +1"
-        if best_sm != (2, 1):
-            ref = sm_fits[(2, 1)]
-            at_fogts = ARIMA(x, order=(2, 0, 1), trend="c").loglike(
-                np.r_[by_aic.params["mean"], by_aic.ar, by_aic.ma, by_aic.sigma2])
-            if at_fogts > ref.llf + 0.01:
-                sm_short.append(seed)
-    assert len(fogts_picks) <= len(sm_picks) + len(sm_short), (fogts_picks, sm_picks, sm_short)
-    # measured: fogts [4, 17], statsmodels [17], statsmodels short of the optimum at [4]
-    assert 7 not in fogts_picks
+        arma21 = sel["ARMA(2,1)"]
+        if arma21.flagged("common_factor") and arma21.aic < sel.best.aic:
+            # ranked down: the verdict says so with the numbers of the test
+            assert "ARMA(2,1) has a lower AIC" in sel.verdict and "standard errors" in sel.verdict
+    # measured: fogts [4], statsmodels [17] (seed 17: fogts' ARMA(2,1) is 1.45 AIC units
+    # below AR(1), but its resultant is 0.56 standard errors from 0: ranked down)
+    assert len(fogts_picks) <= len(sm_picks), (fogts_picks, sm_picks)
+
+
+def test_arma21_with_well_separated_roots_is_still_selected() -> None:
+    """The common-factor rule keeps a genuine ARMA(2,1): x_t = 0.5 x_{t-1} + 0.2 x_{t-2} + a_t
+    + 0.5 a_{t-1} (inverse AR roots 0.76, -0.26, MA root -0.5; resultant 0.3), n = 2000,
+    seeds 0-9: never flagged, and selected in most seeds (measured over seeds 0-29: 27,
+    the same as without the rule; the other 3 select ARMA(1,1))."""
+    picks = 0
+    for seed in range(10):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            sel = select_arma(arma_series([0.5, 0.2], [0.5], 2000, seed))
+        assert not sel["ARMA(2,1)"].flagged("common_factor"), seed
+        picks += sel.best is not None and sel.best.model == "ARMA(2,1)"
+    assert picks >= 8, picks
 
 
 def test_zero_mean_fit_of_demeaned_data_favours_a_unit_ma_root() -> None:

@@ -87,3 +87,34 @@ def test_a_non_invertible_selection_is_not_said_to_describe_the_drift() -> None:
     assert "No white candidate is invertible." in text      # ARMA(1,1) is on the circle too
     mu, text = verdicts[2]
     assert mu is None and text.startswith("MA(1) describes the drift")
+
+
+def test_a_candidate_ranked_down_for_a_common_factor_is_explained_with_its_numbers() -> None:
+    """AR(1) data, phi = 0.6, n = 2000, seed 17: ARMA(2,1) has the lower AIC (by 1.45) but its
+    AR root -0.9999 and MA root -0.999 may coincide (resultant 0.56 standard errors from 0):
+    AR(1) is selected, and every number the verdict gives follows from the candidates."""
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        sel = select_arma(arma_series([0.6], [], 2000, 17))
+    arma21 = sel["ARMA(2,1)"]
+    assert sel.best is not None and sel.best.model == "AR(1)"
+    # ranked after every white candidate without a common-factor flag
+    assert arma21.rank == max(c.rank for c in sel.candidates if c.white)   # type: ignore[type-var]
+    (flag,) = arma21.flagged("common_factor")
+    assert "may reduce to AR(1)" in arma21.notes
+    m = re.search(r"ARMA\(2,1\) has a lower AIC \(by (\d+\.\d)\) but ranks below it: the AR and "
+                  r"MA parts may share a root \(closest pair: AR (\S+), MA (\S+)\): their "
+                  r"resultant (\S+) is (\d+\.\d\d) standard errors \((\S+)\) from 0, < 1\.96; "
+                  r"the model is then AR\(1\) with a cancelled factor, not identified\.",
+                  sel.verdict)
+    assert m is not None, sel.verdict
+    assert "lowest AIC among the white candidates without a possible common" in sel.verdict
+    # the printed numbers, to their printed precision
+    assert float(m.group(1)) == pytest.approx(sel.best.aic - arma21.aic, abs=0.05)
+    assert float(m.group(2)) == pytest.approx(flag.details["ar_root"].real, abs=1e-4)
+    assert float(m.group(3)) == pytest.approx(flag.details["ma_root"].real, abs=1e-4)
+    r, z, se = float(m.group(4)), float(m.group(5)), float(m.group(6))
+    assert abs(r) / se == pytest.approx(z, rel=0.03)       # 3 and 2 significant digits
+    assert z < 1.96 and z == pytest.approx(abs(flag.details["z"]), abs=0.005)
