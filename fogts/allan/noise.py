@@ -32,7 +32,11 @@ Standard errors and confidence intervals
     available; ``stderr_method`` says which (:mod:`fogts.allan.noise_lsq`).  Each
     :math:`a_n` gets the normal interval :math:`a_n \\pm z\\,se(a_n)` clipped at 0, and
     :math:`C_n` the square roots of its ends; a term at zero has an upper limit
-    (:mod:`fogts.allan.noise_selection`).
+    (:mod:`fogts.allan.noise_selection`).  The intervals of the terms measured below bias
+    instability's region (Q, N) then also cover the fit with a band-limited flicker
+    (:mod:`fogts.allan.noise_band`): a flat B line extrapolated to short taus where real
+    bias instability has rolled off moves N by about one of its (very small) standard
+    errors.
 """
 
 from __future__ import annotations
@@ -49,6 +53,7 @@ from scipy.stats import norm
 from fogts._validate import check_choice, check_fraction, check_positive
 from fogts.allan.covariance import CovarianceModel
 from fogts.allan.markov import split_terms
+from fogts.allan.noise_band import widen_for_band_limits
 from fogts.allan.noise_extra import fit_extra_terms
 from fogts.allan.noise_input import FITTABLE_KINDS, FitCurve, read_fit_curve
 from fogts.allan.noise_lsq import (
@@ -272,8 +277,11 @@ def _noise_model(curve: FitCurve, names: tuple[str, ...], problem: LsqProblem,
     quantity = quantity_of(curve.units)
     factor = base_unit_factor(curve.units)
     scale = math.sqrt(problem.scale) * factor  # sqrt of scaled sigma^2 -> deg/h (or m/s^2)
+    terms = widen_for_band_limits(
+        term_estimates(names, selection, confidence, scale, quantity), names, problem,
+        selection, curve.tau, confidence, scale, quantity)
     return NoiseModel(
-        terms=term_estimates(names, selection, confidence, scale, quantity),
+        terms=terms,
         confidence=confidence,
         method=problem.method, kind=curve.kind, units=curve.units, axis=curve.axis,
         deg_per_hour_factor=factor, tau_s=curve.tau, dev=curve.dev,

@@ -43,7 +43,10 @@ class NoiseTerm:
     value, stderr, ci_low, ci_high : float
         The coefficient in ``unit`` (deg/h based, :data:`fogts.allan.terms.TERM_UNIT`), its
         standard error and its confidence interval at the model's ``confidence``.
-        ``stderr`` is NaN at the zero bound (see ``at_bound``).
+        ``stderr`` is NaN at the zero bound (see ``at_bound``).  For Q and N the
+        interval also covers the fit with band-limited bias instability
+        (:mod:`fogts.allan.noise_band`), so it can reach further than ``z * stderr`` on
+        one side.
     unit : str
     c_coeff, c_stderr : float
         ``C_n`` (rate in deg/h, tau in s; :mod:`fogts.allan.terms`) and its standard error.

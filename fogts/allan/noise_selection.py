@@ -29,6 +29,8 @@ Intervals (:func:`term_estimates`)
     ends (asymmetric); :math:`se(C_n) = se(a_n)/(2C_n)` (delta method).  A term at zero
     (fitted there, ``at_bound``, or dropped) has no standard error (NaN) and the upper limit
     :math:`[0, \\sqrt{z\\,se}]`, ``se`` from the active set plus that term.
+    :func:`fogts.allan.noise_band.widen_for_band_limits` then widens the intervals of the
+    fitted Q and N for the flicker's unknown lower band limit.
 
 Identifiability (:func:`identify_terms`)
     A term's *region* is where it makes up at least :data:`COVERAGE_SHARE` of the fitted

@@ -69,25 +69,21 @@ def test_no_q_is_fitted_on_a_curve_without_quantization(fits: dict[str, list[Noi
         assert all(m["Q"].status != "fitted" for m in models), grade
 
 
-@pytest.mark.parametrize("term", ["B", "K"])
-def test_b_and_k_intervals_cover(fits: dict[str, list[NoiseModel]], term: str) -> None:
-    """B and K: pooled over 16 fits the hits are Binomial(16, 0.683) for honest 68.3 %
-    intervals; accept its central 99 % (6-15 hits)."""
+@pytest.mark.parametrize("term", ["N", "B", "K"])
+def test_intervals_cover(fits: dict[str, list[NoiseModel]], term: str) -> None:
+    """N, B and K: pooled over 16 fits the hits are Binomial(16, 0.683) for honest 68.3 %
+    intervals; accept its central 99 % (6-15 hits).  N's interval allows for the unknown
+    lower band limit of the bias instability (fogts/allan/noise_band.py): without it N is
+    about one standard error low on these records (the Gauss–Markov sum has no flicker
+    below its 1 s time) and covered in 35 % of 40 MEMS seeds."""
     hits = sum(GRADES[g][term] >= m[term].ci_low and GRADES[g][term] <= m[term].ci_high
                for g, models in fits.items() for m in models)
     lo, hi = binom.ppf(0.005, 16, 0.683), binom.isf(0.005, 16, 0.683)
     assert lo <= hits <= hi, (term, hits, lo, hi)
 
 
-def test_n_is_accurate_but_its_interval_is_too_narrow_on_mems(
-        fits: dict[str, list[NoiseModel]]) -> None:
-    """N is within 0.5 % in every record, but on MEMS the fit is biased by about one
-    standard error by the roll-off of the Gauss–Markov sum below 1 s (measured over 40
-    seeds: 35 % coverage, tests/README.md), so fewer than 6 of the 8 MEMS intervals cover.
-    This pins the known shortfall: if a change makes N's MEMS interval honest, this test
-    fails and the README entry must be updated."""
+def test_n_is_accurate(fits: dict[str, list[NoiseModel]]) -> None:
+    """N is within 0.5 % of the truth in every record (its standard error is ~0.07 %)."""
     for grade, models in fits.items():
         n_true = GRADES[grade]["N"]
         assert all(abs(m["N"].value / n_true - 1) < 0.005 for m in models), grade
-    mems = sum(m["N"].ci_low <= 0.2 <= m["N"].ci_high for m in fits["MEMS"])
-    assert mems < 6
