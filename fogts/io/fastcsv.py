@@ -127,6 +127,8 @@ def _parse(stream: Any, found: Layout) -> tuple[pd.DataFrame, int]:
             convert_options=pacsv.ConvertOptions(
                 column_types={n: pa.float64() for n in found.names},
                 decimal_point=found.decimal))
+    except DataError:
+        raise  # the input limit, from the gzip stream
     except (pa.ArrowException, ValueError, OSError, EOFError, zlib.error):
         raise _Fallback from None
     if table.num_rows == 0:
@@ -234,7 +236,5 @@ def _gzip_table(path: Path) -> Table:
                      checked=True)
     except (OSError, EOFError, zlib.error):
         raise _Fallback from None  # the checked path words a corrupt stream
-    except DataError:
-        raise
     finally:
         feed.close()

@@ -106,7 +106,7 @@ def median_step(dt: FloatArray) -> float:
     Examples
     --------
     >>> dt = np.diff(np.arange(100_001) / 100.0)
-    >>> median_step(dt) == np.median(dt)
+    >>> median_step(dt) == float(np.median(dt))
     True
     """
     n = dt.size
