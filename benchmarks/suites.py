@@ -72,7 +72,7 @@ SUITES: tuple[Suite, ...] = (
     Suite("simulate", "benchmarks.bench_simulate:metrics",
           "simulate_gyro speed and memory, against allantools' Kasdin noise"),
     Suite("io", "benchmarks.bench_io:metrics",
-          "read_run MB/s on CSV and Parquet against pandas"),
+          "read_run on CSV, .csv.gz, Parquet and .npy against pandas, pyarrow and numpy"),
     Suite("noise_fit", "benchmarks.bench_noise_fit:metrics",
           "noise-coefficient fit speed and accuracy"),
     Suite("selection_rate", "benchmarks.bench_selection_rate:metrics",

@@ -34,8 +34,9 @@ def frame_table(frame: pd.DataFrame, source: str) -> Table:
 
 
 def array_table(arr: np.ndarray, source: str, fs_hz: float | None,
-                names: Sequence[str] | None = None) -> Table:
-    """A 1-D (rate) or 2-D (samples x axes) numeric array as a Table."""
+                names: Sequence[str] | None = None, *, copy: bool = True) -> Table:
+    """A 1-D (rate) or 2-D (samples x axes) numeric array as a Table (``copy=False``: the
+    table's columns are views of ``arr``, for an array the reader loaded itself)."""
     if arr.dtype == object:
         raise DataError(f"{source}: object arrays are not supported (pickled data is never "
                         "loaded); save the rate as a numeric array")
@@ -46,7 +47,7 @@ def array_table(arr: np.ndarray, source: str, fs_hz: float | None,
                         f"got shape {arr.shape}")
     if names is None or len(names) != arr.shape[1]:
         names = ["rate"] if arr.shape[1] == 1 else [f"rate_{i}" for i in range(arr.shape[1])]
-    frame = pd.DataFrame({str(n): arr[:, i] for i, n in enumerate(names)})
+    frame = pd.DataFrame({str(n): arr[:, i] for i, n in enumerate(names)}, copy=copy)
     return Table(frame, source, None, (), fs_hz, None, header=True)
 
 
@@ -81,7 +82,7 @@ def npy_table(path: Path) -> Table:
                         "loaded)") from None
     except OSError as exc:
         raise DataError(f"{str(path)!r} is not a valid .npy file ({exc})") from None
-    return array_table(np.asarray(arr), str(path), fs_hz=None)
+    return array_table(np.asarray(arr), str(path), fs_hz=None, copy=False)
 
 
 def npz_table(path: Path) -> Table:

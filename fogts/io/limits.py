@@ -20,6 +20,7 @@ The limit is ``min(4 GiB, half the memory available)`` unless the environment va
 from __future__ import annotations
 
 import gzip
+import mmap
 import os
 import re
 import stat
@@ -29,7 +30,8 @@ from pathlib import Path
 from fogts.errors import DataError
 from fogts.io.paths import file_kind
 
-__all__ = ["MAX_LINE_BYTES", "check_regular_file", "max_input_bytes", "read_capped"]
+__all__ = ["MAX_LINE_BYTES", "check_regular_file", "first_long_line", "max_input_bytes",
+           "read_capped", "too_big"]
 
 #: Longest text line accepted (a gyro record's line is well under 1 KiB).
 MAX_LINE_BYTES = 1 << 20
@@ -77,7 +79,9 @@ def _human(n: int) -> str:
     return f"{n} bytes"
 
 
-def _too_big(source: str, what: str, limit: int) -> DataError:
+def too_big(source: str, what: str, limit: int) -> DataError:
+    """The error refusing ``source``: ``what`` (e.g. "the file has 5 GiB,") more than
+    ``limit``."""
     return DataError(f"{source!r}: {what} more than the input limit of {_human(limit)}; "
                      f"oversized input is refused (set {ENV_VAR}, e.g. {ENV_VAR}=16G, to "
                      "raise the limit)")
@@ -115,8 +119,9 @@ def check_regular_file(path: Path, what: str = "") -> os.stat_result:
     return st
 
 
-def _first_long_line(chunk: bytes, carry: int) -> tuple[int, int]:
-    """Scan ``chunk`` for a line longer than :data:`MAX_LINE_BYTES`.
+def first_long_line(chunk: bytes | mmap.mmap, carry: int) -> tuple[int, int]:
+    """Scan ``chunk`` (bytes, or a memory map of a whole file) for a line longer than
+    :data:`MAX_LINE_BYTES`.
 
     ``carry`` is the length of the unfinished line before the chunk.  Returns the offset in
     ``chunk`` where the offending line starts (0 when it started in an earlier chunk), or
@@ -157,11 +162,11 @@ def read_capped(path: Path, *, compressed: bool) -> bytes:
     limit = max_input_bytes()
     source = str(path)
     if st.st_size > limit:
-        raise _too_big(source, f"the file has {_human(st.st_size)},", limit)
+        raise too_big(source, f"the file has {_human(st.st_size)},", limit)
     try:
         if not compressed:
             data = path.read_bytes()  # its size is within the limit (checked above)
-            bad, _ = _first_long_line(data, 0)
+            bad, _ = first_long_line(data, 0)
             if bad >= 0:
                 raise _long_line_error(source, [], data, bad)
             return data
@@ -180,8 +185,8 @@ def _read_chunks(stream: gzip.GzipFile, source: str, limit: int) -> bytes:
     while chunk := stream.read(CHUNK_BYTES):
         total += len(chunk)
         if total > limit:
-            raise _too_big(source, "the stream decompresses to", limit)
-        bad, carry = _first_long_line(chunk, carry)
+            raise too_big(source, "the stream decompresses to", limit)
+        bad, carry = first_long_line(chunk, carry)
         if bad >= 0:
             raise _long_line_error(source, chunks, chunk, bad)
         chunks.append(chunk)
@@ -209,7 +214,7 @@ def check_npy(path: Path) -> None:
     n_bytes = int(np.prod(shape, dtype=np.int64)) * dtype.itemsize
     limit = max_input_bytes()
     if n_bytes > limit:
-        raise _too_big(source, f"the array {tuple(shape)} of {dtype} needs {_human(n_bytes)},",
+        raise too_big(source, f"the array {tuple(shape)} of {dtype} needs {_human(n_bytes)},",
                        limit)
     if offset + n_bytes > st.st_size:
         raise DataError(f"{source!r} is truncated: its header declares {tuple(shape)} {dtype} "
@@ -227,4 +232,4 @@ def check_npz(path: Path) -> None:
         raise DataError(f"{source!r} is not a valid .npz file ({exc})") from None
     limit = max_input_bytes()
     if total > limit:
-        raise _too_big(source, f"its arrays expand to {_human(total)},", limit)
+        raise too_big(source, f"its arrays expand to {_human(total)},", limit)

@@ -1,10 +1,13 @@
 """Delimited text: comma, semicolon (with decimal commas), tab or whitespace separated.
 
 ``#`` comment lines may appear anywhere (FOG loggers write a trailing one); a UTF-8 BOM,
-CRLF line ends and gzip compression (``.gz``, or the gzip signature) are accepted.  Clean
-numeric files take a fast path (pandas' C reader straight on the bytes); anything else,
-and every error message, goes through a line-by-line path that knows each data row's file
-line.
+CRLF line ends and gzip compression (``.gz``, or the gzip signature) are accepted.  A file
+goes first through the fast path (:mod:`fogts.io.fastcsv`: pyarrow's multi-threaded reader
+on the file itself).  Whatever that path does not take (whitespace-separated text, inline
+comments, empty or non-numeric cells, ...) is read whole and parsed by pandas' C reader,
+and when that fails too, line by line; the line-by-line path knows each data row's file
+line and words every error.  A table from either fast reader keeps the line-by-line parse
+as ``Table.reparse``, for errors found later (a decreasing time stamp) to name the line.
 """
 
 from __future__ import annotations
@@ -18,8 +21,10 @@ import numpy as np
 import pandas as pd
 
 from fogts.errors import DataError, InsufficientDataError
+from fogts.io.fastcsv import fast_text_table
 from fogts.io.limits import read_capped
-from fogts.io.table import NUMBER, Table
+from fogts.io.sniff import BOM, Layout, layout, split
+from fogts.io.table import Table
 
 __all__ = ["text_file_table", "text_table"]
 
@@ -27,7 +32,6 @@ __all__ = ["text_file_table", "text_table"]
 GZIP_MAGIC = b"\x1f\x8b"
 
 _COMMENT_LINE = re.compile(rb"^[ \t]*#[^\r\n]*", re.MULTILINE)
-_FIRST_DATA_LINE = re.compile(rb"^[ \t]*([^#\s][^\r\n]*)", re.MULTILINE)
 
 
 def text_file_table(path: Path) -> Table:
@@ -36,30 +40,40 @@ def text_file_table(path: Path) -> Table:
     suffixes = path.suffixes
     with open(path, "rb") as fh:
         gzipped = (bool(suffixes) and suffixes[-1].lower() == ".gz") or fh.read(2) == GZIP_MAGIC
+
+    def checked() -> Table:
+        return _checked_table(read_capped(path, compressed=gzipped), str(path))
+
+    fast = fast_text_table(path, compressed=gzipped)
+    if fast is not None:
+        return dataclasses.replace(fast, reparse=checked)
     return text_table(read_capped(path, compressed=gzipped), str(path))
 
 
 def text_table(raw: bytes, source: str) -> Table:
-    """Parse delimited text: a fast path (pandas' C reader straight on the bytes) for clean
-    numeric files, and a line-by-line path that knows every row's file line, used for
-    anything else and to word error messages."""
+    """Parse delimited text: pandas' C reader straight on the bytes for clean numeric
+    text, else the line-by-line path that knows every row's file line (used for anything
+    else and to word error messages)."""
     _check_text_bytes(raw, source)
-    body = raw[3:] if raw.startswith(b"\xef\xbb\xbf") else raw
-    first_match = _FIRST_DATA_LINE.search(body)
-    if first_match is None:
+    found = _layout(raw, source)
+    body = raw[len(BOM):] if raw.startswith(BOM) else raw
+    fast = _fast_numeric_table(body, found, source)
+    if fast is None:
+        return _checked_text_table(_decode(raw, source), found, source)
+    return dataclasses.replace(fast, reparse=lambda: _checked_table(raw, source))
+
+
+def _checked_table(raw: bytes, source: str) -> Table:
+    """The line-by-line parse of ``raw``."""
+    _check_text_bytes(raw, source)
+    return _checked_text_table(_decode(raw, source), _layout(raw, source), source)
+
+
+def _layout(raw: bytes, source: str) -> Layout:
+    found = layout(raw[len(BOM):] if raw.startswith(BOM) else raw)
+    if found is None:
         raise DataError(f"{source!r} has no data lines (only comments or blank lines)")
-    first_line = first_match.group(1).decode("utf-8", "replace").rstrip()
-    sep = _detect_separator(first_line)
-    first = _split(first_line, sep)
-    header = not all(NUMBER.match(tok) for tok in first if tok)
-    names = [c.strip().strip('"').strip("'") or f"col{i}" for i, c in enumerate(first)] \
-        if header else [f"col{i}" for i in range(len(first))]
-
-    def checked() -> Table:
-        return _checked_text_table(_decode(raw, source), sep, header, names, source)
-
-    fast = _fast_numeric_table(body, first_match.start(), sep, header, names, source)
-    return checked() if fast is None else dataclasses.replace(fast, reparse=checked)
+    return found
 
 
 def _decode(raw: bytes, source: str) -> str:
@@ -72,59 +86,40 @@ def _decode(raw: bytes, source: str) -> str:
             raise DataError(f"{source!r} is not a text file") from None
 
 
-def _detect_separator(line: str) -> str:
-    if "\t" in line:
-        return "\t"
-    if ";" in line:
-        return ";"
-    if "," in line:
-        return ","
-    return r"\s+"
-
-
-def _split(line: str, sep: str) -> list[str]:
-    if sep == r"\s+":
-        return line.split()
-    return [c.strip() for c in line.split(sep)]
-
-
 def _check_text_bytes(raw: bytes, source: str) -> None:
-    if not raw.strip():
+    if not raw or raw.isspace():  # as ``not raw.strip()``, without a copy of the text
         raise DataError(f"{source!r} is empty")
     if b"\x00" in raw[:65536]:
         raise DataError(f"{source!r} looks like a binary file (NUL bytes); expected text, "
                         "Parquet, .npy or .npz")
 
 
-def _fast_numeric_table(body: bytes, start: int, sep: str, header: bool, names: list[str],
-                        source: str) -> Table | None:
+def _fast_numeric_table(body: bytes, found: Layout, source: str) -> Table | None:
     """Parse with pandas' C reader; None when anything is not clean numeric data.
 
     The caller then re-parses line by line to report exactly what is wrong and where.
     """
     comments = tuple(m.group(0).strip().decode("utf-8", "replace")
                      for m in _COMMENT_LINE.finditer(body)) if b"#" in body else ()
-    lines = body[start:start + 4096].splitlines()
-    probe = (lines[1] if header and len(lines) > 1 else lines[0]).decode("utf-8", "replace")
-    decimal = "," if sep != "," and re.search(r"(^|[\s;\t])[+-]?\d+,\d+", probe) else "."
     try:
-        frame = pd.read_csv(_io.BytesIO(body), sep=sep, header=0 if header else None,
-                            names=names, decimal=decimal, comment="#" if comments else None,
+        frame = pd.read_csv(_io.BytesIO(body), sep=found.sep,
+                            header=0 if found.header else None, names=found.names,
+                            decimal=found.decimal, comment="#" if comments else None,
                             skip_blank_lines=True, engine="c", index_col=False,
                             skipinitialspace=True, encoding="utf-8")
     except (pd.errors.ParserError, ValueError):
         return None
-    if frame.shape[0] == 0 or frame.shape[1] != len(names):
+    if frame.shape[0] == 0 or frame.shape[1] != len(found.names):
         return None
     for col in frame.columns:
         if frame[col].dtype.kind not in "fi" or not np.isfinite(
                 frame[col].to_numpy(dtype=np.float64)).all():
             return None
-    return Table(frame, source, None, comments, None, None, header)
+    return Table(frame, source, None, comments, None, None, found.header)
 
 
-def _checked_text_table(text: str, sep: str, header: bool, names: list[str],
-                        source: str) -> Table:
+def _checked_text_table(text: str, found: Layout, source: str) -> Table:
+    sep, header, names = found.sep, found.header, found.names
     comments: list[str] = []
     kept: list[str] = []
     line_no: list[int] = []
@@ -142,7 +137,7 @@ def _checked_text_table(text: str, sep: str, header: bool, names: list[str],
     if not data_lines:
         raise InsufficientDataError(f"{source!r} has a header ({', '.join(names)}) but no "
                                     "data rows")
-    sample = _split(data_lines[0], sep)
+    sample = split(data_lines[0], sep)
     decimal = "," if sep != "," and any(re.match(r"^[+-]?\d+,\d+", t) for t in sample) else "."
     try:
         frame = pd.read_csv(_io.StringIO("\n".join(data_lines)), sep=sep, header=None,

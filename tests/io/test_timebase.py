@@ -42,3 +42,27 @@ def test_bad_iso_stamp(tmp_path: Path) -> None:
     text = "timestamp,rate\n2026-01-01T00:00:00,1\n2026-13-45T99:00:00,2\n2026-01-01T00:00:02,3\n"
     with pytest.raises(DataError, match="neither seconds nor ISO-8601"):
         read_run(write_file(tmp_path, "iso.csv", text))
+
+
+def _step_cases() -> list[np.ndarray]:
+    rng = np.random.default_rng(7)
+    cases = []
+    for n in (1000, 65_536, 65_537, 200_000, 200_001):
+        t = np.arange(n + 1) / 100.0
+        cases.append(np.diff(t))  # a fixed rate: few distinct steps
+        cases.append(np.diff(np.cumsum(rng.uniform(0.009, 0.011, n + 1))))  # jitter
+        cases.append(rng.exponential(size=n) + 1e-9)
+        two = np.full(n, 0.01)
+        two[: n // 2] = 0.02  # the middle pair straddles two values
+        cases.append(two)
+        cases.append(np.tile(np.r_[np.full(9, 1e-4), 0.1 - 9e-4], n // 10 + 1)[:n])  # bursts
+        cases.append(np.sort(rng.exponential(size=n)))
+    return cases
+
+
+def test_median_step_equals_numpy_bit_for_bit() -> None:
+    from fogts.io.timebase import median_step
+
+    for dt in _step_cases():
+        got, expected = np.float64(median_step(dt)), np.float64(np.median(dt))
+        assert got.view(np.int64) == expected.view(np.int64), dt.size

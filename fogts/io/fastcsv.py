@@ -1,0 +1,258 @@
+"""The fast path for delimited text files: pyarrow's multi-threaded CSV reader.
+
+Clean numeric text (comma, semicolon or tab separated, a header or none, ``#`` comment
+lines, a UTF-8 byte-order mark, CRLF line ends, plain or gzip-compressed) is parsed by
+:func:`pyarrow.csv.read_csv` straight from the file, every column as float64, and checked
+with vectorised passes (no empty cell, every value finite and within
+:data:`~fogts.io.table.MAX_ABS_VALUE`).  Anything else returns None, and the caller takes
+the checked path of :mod:`fogts.io.text`, which knows each row's file line and words every
+error.  Numbers are parsed to the nearest float64 here and on the checked path alike (both
+round correctly), so the two paths give the same values bit for bit.
+
+The input limits of :mod:`fogts.io.limits` hold here too, without reading the file into
+memory: a plain file is checked for over-long lines through a memory map (a few pages per
+MiB), and a ``.gz`` stream is decompressed in chunks that are counted and checked as
+pyarrow consumes them, so the text is never held whole.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import io
+import mmap
+import zlib
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from fogts.errors import DataError
+from fogts.io.limits import CHUNK_BYTES, first_long_line, max_input_bytes, too_big
+from fogts.io.sniff import BOM, PROBE_BYTES, Layout, comment_lines, layout
+from fogts.io.table import Table, finite_and_bounded
+
+__all__ = ["fast_text_table"]
+
+#: Bytes read to find the layout; a file whose first data line lies further in takes the
+#: checked path.
+SNIFF_BYTES = 1 << 16
+
+
+class _Fallback(Exception):
+    """The text is not clean numeric data of the sniffed layout: take the checked path."""
+
+
+def fast_text_table(path: Path, *, compressed: bool) -> Table | None:
+    """Parse a clean numeric text file with pyarrow; None when the checked path must read it.
+
+    Raises
+    ------
+    DataError
+        Only for a ``.gz`` stream that decompresses to more than the input limit (it is
+        refused here, so that it is not decompressed twice).
+    """
+    try:
+        return _gzip_table(path) if compressed else _plain_table(path)
+    except _Fallback:
+        return None
+
+
+def _plain_table(path: Path) -> Table:
+    size = path.stat().st_size
+    if size == 0 or size > max_input_bytes():
+        raise _Fallback
+    with open(path, "rb") as fh, mmap.mmap(fh.fileno(), 0, access=mmap.ACCESS_READ) as mm:
+        begin = len(BOM) if mm[:len(BOM)] == BOM else 0
+        head = mm[begin:begin + SNIFF_BYTES]
+        found = _layout(head, complete=begin + len(head) == size)
+        if first_long_line(mm, 0)[0] >= 0:
+            raise _Fallback  # the checked path names the line
+        skipped = comment_lines(mm, begin, begin + found.start)
+        import pyarrow as pa
+
+        with pa.OSFile(str(path)) as stream:
+            stream.seek(begin + found.start)
+            frame, n_comments = _parse(stream, found)
+        # Comment lines after the first data line were skipped by the parser; their
+        # text is read here, in file order (each ``#`` is one of them: the parse failed
+        # on any other).
+        comments = (comment_lines(mm, begin) if n_comments else skipped)
+    if comments is None:
+        raise _Fallback
+    return Table(frame, str(path), None, tuple(comments), None, None, found.header,
+                 checked=True)
+
+
+def _layout(head: bytes, *, complete: bool) -> Layout:
+    """The layout, when ``head`` holds enough of the text to tell it and pyarrow can read
+    it (not whitespace-separated, distinct column names)."""
+    if b"\x00" in head:
+        raise _Fallback
+    found = layout(head)
+    if found is None or len(set(found.names)) != len(found.names):
+        raise _Fallback
+    if found.sep == r"\s+":
+        if len(found.names) > 1:
+            raise _Fallback  # runs of blanks as one separator: pandas' reader does that
+        # One column: any line with a second cell fails to parse as a number.
+        found = dataclasses.replace(found, sep="\t")
+    if not complete and len(head) < found.start + PROBE_BYTES:
+        raise _Fallback
+    return found
+
+
+def _parse(stream: Any, found: Layout) -> tuple[pd.DataFrame, int]:
+    """Parse ``stream`` (positioned at the first data line) into float64 columns; the
+    number of comment lines the parser skipped."""
+    import pyarrow as pa
+    import pyarrow.csv as pacsv
+
+    skipped = [0]
+
+    def comment_row(row: Any) -> str:
+        if row.text.lstrip(" \t").startswith("#"):
+            skipped[0] += 1
+            return "skip"
+        return "error"
+
+    try:
+        table = pacsv.read_csv(
+            stream,
+            read_options=pacsv.ReadOptions(column_names=found.names,
+                                           skip_rows=1 if found.header else 0),
+            parse_options=pacsv.ParseOptions(delimiter=found.sep,
+                                             invalid_row_handler=comment_row),
+            convert_options=pacsv.ConvertOptions(
+                column_types={n: pa.float64() for n in found.names},
+                decimal_point=found.decimal))
+    except DataError:
+        raise  # the input limit, from the gzip stream
+    except (pa.ArrowException, ValueError, OSError, EOFError, zlib.error):
+        raise _Fallback from None
+    if table.num_rows == 0:
+        raise _Fallback
+    columns = dict(zip(found.names, table.columns, strict=True))
+    del table  # each column's buffers go as soon as it is converted
+    return _frame(columns), skipped[0]
+
+
+def _frame(columns: dict[str, Any]) -> pd.DataFrame:
+    """The parsed columns (emptied as they are converted) as float64 arrays in a frame, each
+    checked: no empty cell, finite, within :data:`MAX_ABS_VALUE`.  A column's arrow buffers
+    are released once it is converted, so at most one column is held twice."""
+    import pyarrow as pa
+
+    pool = pa.default_memory_pool()
+    pool.release_unused()  # what the parser kept besides the columns
+    out: dict[str, np.ndarray] = {}
+    for name in list(columns):
+        col = columns.pop(name)
+        if col.null_count:
+            raise _Fallback
+        # One numpy allocation per column (numpy asks for huge pages: fewer page faults
+        # than arrow's own concatenation).
+        values = np.concatenate([c.to_numpy(zero_copy_only=True) for c in col.chunks])
+        del col
+        pool.release_unused()  # the column's arrow memory back to the system, not kept
+        if not finite_and_bounded(values):
+            raise _Fallback
+        out[name] = values
+    return pd.DataFrame(out, copy=False)
+
+
+class _GzipFeed(io.RawIOBase):
+    """A gzip stream as pyarrow reads it: decompressed in chunks, each counted against the
+    input limit, checked for over-long lines and scanned for comment lines."""
+
+    def __init__(self, path: Path) -> None:
+        import pyarrow as pa
+
+        super().__init__()
+        # arrow's inflater: a fifth less CPU than the gzip module, and it releases the GIL
+        self._gz = pa.CompressedInputStream(pa.OSFile(str(path)), "gzip")
+        self._source = str(path)
+        self._limit = max_input_bytes()
+        self._total = self._carry = 0
+        self._tail = b""  # the unfinished last line of the chunks consumed so far
+        self._pending = b""
+        self.begin = 0  # length of a byte-order mark in the first chunk
+        self.comments: list[str] = []
+
+    def readable(self) -> bool:
+        return True
+
+    def close(self) -> None:
+        self._gz.close()
+        super().close()
+
+    def head(self, n: int) -> bytes:
+        """The first ``n`` bytes (fewer: the whole text); :meth:`read` then starts over."""
+        parts = [self._next(n)]
+        while parts[-1] and sum(map(len, parts)) < n:
+            parts.append(self._next(n - sum(map(len, parts))))
+        self._pending = b"".join(parts)
+        return self._pending
+
+    def skip(self, n: int) -> None:
+        """Drop the first ``n`` bytes of what :meth:`read` returns next."""
+        self._pending = self._pending[n:]
+
+    def read(self, size: int | None = -1) -> bytes:
+        if self._pending:
+            out, self._pending = self._pending, b""
+            return out
+        return self._next(CHUNK_BYTES if size is None or size < 0 else size)
+
+    def _next(self, size: int) -> bytes:
+        chunk = self._gz.read(size)
+        first = self._total == 0
+        self._total += len(chunk)
+        if self._total > self._limit:
+            raise too_big(self._source, "the stream decompresses to", self._limit)
+        bad, self._carry = first_long_line(chunk, self._carry)
+        if bad >= 0:
+            raise _Fallback  # the checked path names the line
+        body = chunk
+        if first and chunk.startswith(BOM):
+            self.begin, body = len(BOM), chunk[len(BOM):]
+        self._comments_in(body)
+        return chunk
+
+    def _comments_in(self, body: bytes) -> None:
+        """Collect the comment lines that ``body`` completes (all that are left, at the end
+        of the stream)."""
+        if not body:
+            lines, self._tail = self._tail, b""
+        elif b"#" in body or b"#" in self._tail:
+            data = self._tail + body
+            cut = data.rfind(b"\n") + 1
+            lines, self._tail = data[:cut], data[cut:]
+        else:
+            last = body.rfind(b"\n")
+            self._tail = body[last + 1:] if last >= 0 else self._tail + body
+            return
+        found = comment_lines(lines)
+        if found is None:
+            raise _Fallback
+        self.comments += found
+
+
+def _gzip_table(path: Path) -> Table:
+    import pyarrow as pa
+
+    try:
+        feed = _GzipFeed(path)
+    except (OSError, pa.ArrowException):
+        raise _Fallback from None
+    try:
+        head = feed.head(SNIFF_BYTES)
+        found = _layout(head[feed.begin:], complete=len(head) < SNIFF_BYTES)
+        feed.skip(feed.begin + found.start)
+        frame, _ = _parse(feed, found)
+        return Table(frame, str(path), None, tuple(feed.comments), None, None, found.header,
+                     checked=True)
+    except (OSError, EOFError, zlib.error, pa.ArrowException):
+        raise _Fallback from None  # the checked path words a corrupt stream
+    finally:
+        feed.close()

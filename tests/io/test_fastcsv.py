@@ -1,0 +1,144 @@
+"""fogts.io.fastcsv: which text files the pyarrow path takes, and that it reads them exactly
+as the line-by-line path does (values bit for bit, comments in order)."""
+
+from __future__ import annotations
+
+import gzip
+import random
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from fogts.errors import DataError
+from fogts.io.fastcsv import fast_text_table
+from fogts.io.reader import read_run
+from fogts.io.table import Table
+from fogts.io.text import text_file_table
+from tests.io.files import csv_text, write_file
+
+
+def _checked(table: Table) -> Table:
+    assert table.reparse is not None
+    return table.reparse()
+
+
+def _same_values(fast: Table, checked: Table) -> None:
+    """Every column of ``fast`` equals the checked path's parse of the same text, bit for
+    bit (the checked path keeps text; ``float`` is Python's correctly rounded parse)."""
+    assert list(fast.frame.columns) == list(checked.frame.columns)
+    for name in fast.frame.columns:
+        text = checked.frame[name].str.strip().str.replace(",", ".")
+        expected = np.array([float(v) for v in text], dtype=np.float64)
+        got = fast.frame[name].to_numpy()
+        assert got.dtype == np.float64
+        np.testing.assert_array_equal(got.view(np.int64), expected.view(np.int64))
+
+
+def _edge_numbers(n: int, seed: int) -> list[str]:
+    """17- to 19-digit mantissas with exponents, signed zeros, subnormals, underflow to 0,
+    integers beyond 2**53, and the forms ``1E5``, ``+1.5``, ``.5``, ``5.``."""
+    rng = random.Random(seed)
+    fixed = ["-0", "0", "-0.0", "1e-320", "4.9e-324", "2.2250738585072011e-308", "1e-400",
+             "9007199254740993", "123456789012345678901234567890", "1E5", "+1.5", ".5", "5.",
+             "0.30000000000000004", "1.7976931348623157e140"]
+    out = []
+    for i in range(n):
+        digits = "".join(rng.choice("0123456789") for _ in range(rng.randint(17, 19)))
+        drawn = f"{rng.choice('-+ ').strip()}{digits[0]}.{digits[1:]}e{rng.randint(-330, 140)}"
+        out.append(fixed[i] if i < len(fixed) else drawn)
+    return out
+
+
+@pytest.mark.parametrize("gz", [False, True], ids=["plain", "gzip"])
+def test_values_equal_the_line_by_line_parse(tmp_path: Path, gz: bool) -> None:
+    a, b = _edge_numbers(3000, 1), _edge_numbers(3000, 2)
+    text = "time,rate,T\n" + "".join(f"{i / 100!r},{x},{y}\n"
+                                     for i, (x, y) in enumerate(zip(a, b, strict=True)))
+    name = "edge.csv.gz" if gz else "edge.csv"
+    path = write_file(tmp_path, name, gzip.compress(text.encode()) if gz else text)
+    fast = fast_text_table(path, compressed=gz)
+    assert fast is not None and fast.checked
+    _same_values(fast, _checked(text_file_table(path)))
+
+
+@pytest.mark.parametrize(("name", "text"), [
+    ("semicolon.csv", "time;rate;T\n0,0;1,5;20,1\n0,1;-2,25;20,2\n0,2;3,0;20,3\n"),
+    ("tab.tsv", csv_text(sep="\t")),
+    ("bom_crlf.csv", "\ufeff" + csv_text().replace("\n", "\r\n")),
+    ("quoted.csv", '"time","rate","T"\n' + csv_text().split("\n", 1)[1]),
+    ("headerless.csv", csv_text().split("\n", 1)[1]),
+    ("one_column.csv", "rate\n" + "".join(f"  {i % 7 - 3.5}\n" for i in range(40))),
+])
+def test_clean_layouts_take_the_fast_path(tmp_path: Path, name: str, text: str) -> None:
+    path = write_file(tmp_path, name, text)
+    fast = fast_text_table(path, compressed=False)
+    assert fast is not None
+    _same_values(fast, _checked(text_file_table(path)))
+
+
+def _commented(n_rows: int) -> str:
+    lines = csv_text(n=n_rows).splitlines()
+    body = [lines[0], "# mid, with a comma", *lines[1:n_rows // 2], "  # indented\r",
+            *lines[n_rows // 2:]]
+    return "# logger v1\n\n" + "\n".join(body) + "\n# end"
+
+
+@pytest.mark.parametrize("gz", [False, True], ids=["plain", "gzip"])
+def test_comment_lines_anywhere_in_order(tmp_path: Path, gz: bool) -> None:
+    # 60,000 rows: the comments fall in different blocks of the reader.
+    text = _commented(60_000)
+    path = write_file(tmp_path, "c.csv.gz" if gz else "c.csv",
+                      gzip.compress(text.encode()) if gz else text)
+    fast = fast_text_table(path, compressed=gz)
+    assert fast is not None
+    expected = ("# logger v1", "# mid, with a comma", "# indented", "# end")
+    assert fast.comments == expected
+    assert read_run(path).comments == expected
+    assert _checked(text_file_table(path)).comments == expected
+
+
+@pytest.mark.parametrize(("name", "text"), [
+    ("whitespace.txt", csv_text(sep=" ")),
+    ("empty_cell.csv", "time,rate\n0,1\n0.1,\n0.2,3\n"),
+    ("nan.csv", "time,rate\n0,1\n0.1,NAN\n0.2,3\n"),
+    ("inf.csv", "time,rate\n0,1\n0.1,Infinity\n0.2,3\n"),
+    ("huge.csv", "time,rate\n0,1\n0.1,1e200\n0.2,3\n"),
+    ("text.csv", "time,rate\n0,1\n0.1,abc\n0.2,3\n"),
+    ("inline_comment.csv", "time,rate\n0,1 # first\n0.1,2\n0.2,3\n"),
+    ("ragged.csv", "time,rate\n0,1\n0.1,2,7\n0.2,3\n"),
+    ("duplicate_names.csv", "t,rate,rate\n0,1,2\n0.1,2,3\n0.2,3,4\n"),
+    ("header_only.csv", "time,rate\n"),
+    ("comments_only.csv", "# a\n# b\n"),
+    ("binary.csv", "\x00\x01" * 50),
+    ("long.csv", "time,rate\n0,1\n0.1,0." + "0" * (1 << 20) + "1\n0.2,3\n"),
+])
+def test_anything_else_is_left_to_the_checked_path(tmp_path: Path, name: str,
+                                                   text: str) -> None:
+    assert fast_text_table(write_file(tmp_path, name, text), compressed=False) is None
+
+
+def test_corrupt_or_long_lined_gzip_is_left_to_the_checked_path(tmp_path: Path) -> None:
+    corrupt = write_file(tmp_path, "bad.csv.gz", gzip.compress(csv_text().encode())[:60])
+    assert fast_text_table(corrupt, compressed=True) is None
+    long = b"time,rate\n0,1\n0.1,0." + b"0" * (1 << 20) + b"1\n0.2,3\n"
+    assert fast_text_table(write_file(tmp_path, "long.csv.gz", gzip.compress(long)),
+                           compressed=True) is None
+
+
+def test_gzip_beyond_the_input_limit_is_refused_while_streaming(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    path = write_file(tmp_path, "big.csv.gz", gzip.compress(csv_text(n=100_000).encode()))
+    monkeypatch.setenv("FOGTS_MAX_INPUT_BYTES", "1M")
+    with pytest.raises(DataError, match=r"'.*big.csv.gz': the stream decompresses to more "
+                                        r"than the input limit of 1 MiB; oversized input is "
+                                        "refused"):
+        fast_text_table(path, compressed=True)
+
+
+def test_errors_found_after_the_parse_name_the_line(tmp_path: Path) -> None:
+    text = "time,rate\n0,1\n0.2,2\n0.1,3\n0.3,4\n"
+    path = write_file(tmp_path, "decreasing.csv", text)
+    assert fast_text_table(path, compressed=False) is not None
+    with pytest.raises(DataError, match=r"'time' is decreasing at data row 2 \(line 4 of"):
+        read_run(path)
