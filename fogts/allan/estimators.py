@@ -33,7 +33,14 @@ import numpy.typing as npt
 from fogts import progress
 from fogts._typing import FloatArray, IntArray
 from fogts._validate import check_int, check_positive, to_float_array
+from fogts.allan.decimated import (
+    COLLECT_BELOW_M,
+    DecimatedSums,
+    SumsCollector,
+    decimated_sums,
+)
 from fogts.allan.kernels import (
+    CHUNK,
     NORMALISATION,
     phase_from_angle,
     phase_from_rate,
@@ -45,8 +52,8 @@ from fogts.allan.kernels import (
 from fogts.allan.taus import MIN_TERMS, n_terms
 from fogts.errors import DataError
 
-__all__ = ["ESTIMATORS", "EstimatorOutput", "adev", "estimate_from_angle", "hdev", "mdev",
-           "oadev", "ohdev", "phase_from_rate", "totdev"]
+__all__ = ["ESTIMATORS", "EstimatorOutput", "PhasedEstimate", "adev", "estimate_from_angle",
+           "estimate_with_sums", "hdev", "mdev", "oadev", "ohdev", "phase_from_rate", "totdev"]
 
 #: Below this many (terms x taus) the thread pool costs more than it saves.
 _PARALLEL_MIN_WORK = 4_000_000
@@ -82,6 +89,27 @@ class EstimatorOutput:
     def avar(self) -> FloatArray:
         """The variance, ``dev ** 2``."""
         return self.dev**2
+
+
+@dataclass(frozen=True)
+class PhasedEstimate:
+    """An :class:`EstimatorOutput` with the phase it was computed from and, per averaging
+    factor, the sums of the decimated phase that the noise identification needs.
+
+    Attributes
+    ----------
+    output : EstimatorOutput
+        The deviations.
+    phase : ndarray of float64
+        The phase (:func:`~fogts.allan.kernels.phase_from_rate`), ``n + 1`` points.
+    sums : tuple of DecimatedSums or None
+        Aligned with ``output.m``; None where fewer than 3 blocks of m samples fit
+        (:mod:`fogts.allan.decimated`).
+    """
+
+    output: EstimatorOutput
+    phase: FloatArray
+    sums: tuple[DecimatedSums | None, ...]
 
 
 def _decimated(kernel: SumOfSquares) -> SumOfSquares:
@@ -141,36 +169,83 @@ def _run(kind: str, y: Any, fs_hz: float, m: npt.ArrayLike, workers: int | None,
          angle: FloatArray | None = None) -> EstimatorOutput:
     """Estimator ``kind`` at every averaging factor, the taus spread over ``workers``;
     ``angle`` (the integral of ``y``, one point more) gives the phase directly."""
+    return _run_phased(kind, y, fs_hz, m, workers, angle).output
+
+
+def _one_tau(kind: str, x: FloatArray, mi: int, ti: int, d_max: int | None
+             ) -> tuple[float, DecimatedSums | None]:
+    """The deviation at averaging factor ``mi`` (``ti`` terms) of the phase ``x`` and, with
+    ``d_max``, the decimated sums of orders up to ``d_max``: from the overlapping Allan
+    kernel's own blocks where it forms them (:class:`SumsCollector`), else by a pass over
+    the decimated phase (:func:`decimated_sums`)."""
+    sumsq, norm = _SUM_OF_SQUARES[kind], NORMALISATION[kind]
+    sums = None
+    if d_max == 1 and kind == "oadev" and mi < min(COLLECT_BELOW_M, CHUNK, ti):
+        collector = SumsCollector(x, mi)
+        total = ss_second(x, mi, ti, collector.add)
+        sums = collector.result()
+    else:
+        total = sumsq(x, mi, ti)
+        if d_max is not None and (x.size - 1) // mi >= 3:
+            sums = decimated_sums(x, mi, d_max)
+    return float(np.sqrt(total / norm(mi, ti))), sums
+
+
+def _run_phased(kind: str, y: Any, fs_hz: float, m: npt.ArrayLike, workers: int | None,
+                angle: FloatArray | None = None, d_max: int | None = None) -> PhasedEstimate:
+    """:func:`_run`, keeping the phase and, with ``d_max``, the decimated sums."""
     arr, fs, mm, terms = _prepare(kind, y, fs_hz, m)
     if angle is not None and angle.shape != (arr.size + 1,):
         raise DataError(f"angle must have one point more than the rate ({arr.size + 1}), "
                         f"got shape {angle.shape}")
     x = phase_from_rate(arr) if angle is None else phase_from_angle(angle, fs)
     nw = _workers(workers, mm.size, int(terms.sum()))
-    sumsq, norm = _SUM_OF_SQUARES[kind], NORMALISATION[kind]
 
-    def one(i: int) -> float:
-        mi, ti = int(mm[i]), int(terms[i])
-        return float(np.sqrt(sumsq(x, mi, ti) / norm(mi, ti)))
+    def one(i: int) -> tuple[float, DecimatedSums | None]:
+        return _one_tau(kind, x, int(mm[i]), int(terms[i]), d_max)
 
     tick = progress.ticker(f"{kind}: {mm.size} taus", mm.size)
     if nw == 1:
-        devs = []
+        res = []
         for i in range(mm.size):
-            devs.append(one(i))
+            res.append(one(i))
             tick(i + 1)
     else:
         # Largest jobs first so that the pool ends evenly; progress is reported from this
         # thread as the results arrive in order.
         order = np.argsort(-terms, kind="stable").tolist()
-        res = {}
+        found = {}
         with ThreadPoolExecutor(max_workers=nw) as pool:
-            for k, (i, dev) in enumerate(zip(order, pool.map(one, order), strict=True)):
-                res[i] = dev
+            for k, (i, got) in enumerate(zip(order, pool.map(one, order), strict=True)):
+                found[i] = got
                 tick(k + 1)
-        devs = [res[i] for i in range(mm.size)]
-    return EstimatorOutput(kind=kind, m=mm, tau_s=mm / fs,
-                           dev=np.asarray(devs, dtype=np.float64), n=terms)
+        res = [found[i] for i in range(mm.size)]
+    out = EstimatorOutput(kind=kind, m=mm, tau_s=mm / fs,
+                          dev=np.asarray([r[0] for r in res], dtype=np.float64), n=terms)
+    return PhasedEstimate(output=out, phase=x, sums=tuple(r[1] for r in res))
+
+
+def estimate_with_sums(kind: str, y: npt.ArrayLike, *, fs_hz: float, m: npt.ArrayLike,
+                       d_max: int, workers: int | None = None) -> PhasedEstimate:
+    """Estimator ``kind`` of the rate ``y``, with its phase and the decimated sums of orders
+    up to ``d_max`` that the lag-1 ACF noise identification needs
+    (:mod:`fogts.allan.decimated`), taken in the same pass as the deviation for ``oadev``.
+
+    The deviations equal those of :data:`ESTIMATORS` (the same kernels, summed in the same
+    order).
+
+    Examples
+    --------
+    >>> y = np.random.default_rng(0).normal(size=1000)
+    >>> est = estimate_with_sums("oadev", y, fs_hz=1.0, m=[1, 10], d_max=1)
+    >>> bool(np.allclose(est.output.dev, oadev(y, fs_hz=1.0, m=[1, 10]).dev, rtol=1e-12))
+    True
+    >>> [s.blocks for s in est.sums], est.phase.size
+    ([1000, 100], 1001)
+    """
+    if kind not in _SUM_OF_SQUARES:
+        raise DataError(f"kind must be one of {', '.join(_SUM_OF_SQUARES)}; got {kind!r}")
+    return _run_phased(kind, y, fs_hz, m, workers, d_max=check_int("d_max", d_max, minimum=0))
 
 
 def estimate_from_angle(kind: str, angle: npt.ArrayLike, *, fs_hz: float, m: npt.ArrayLike,

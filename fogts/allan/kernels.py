@@ -24,8 +24,12 @@ import numpy as np
 
 from fogts._typing import FloatArray
 
-__all__ = ["CHUNK", "DOT_BLOCK", "NORMALISATION", "phase_from_rate", "second_difference", "ss_mod",
-           "ss_second", "ss_third", "ss_total", "third_difference"]
+__all__ = ["CHUNK", "DOT_BLOCK", "NORMALISATION", "ChunkHook", "phase_from_rate",
+           "second_difference", "ss_mod", "ss_second", "ss_third", "ss_total", "third_difference"]
+
+#: Called by :func:`ss_second` with each chunk ``s, e`` of terms, its first differences
+#: ``d_j`` (``j`` in ``[s, e + L)``) and second differences ``v_i`` (``i`` in ``[s, e)``).
+ChunkHook = Callable[[int, int, FloatArray, FloatArray], None]
 
 #: Elements per chunk of the sum-of-squares loops (256 KiB of float64: stays in L2).
 CHUNK = 1 << 15
@@ -124,7 +128,7 @@ def _sumsq(v: FloatArray) -> float:
     return total
 
 
-def ss_second(p: FloatArray, lag: int, terms: int) -> float:
+def ss_second(p: FloatArray, lag: int, terms: int, hook: ChunkHook | None = None) -> float:
     """``sum (p[i+2L] - 2 p[i+L] + p[i])^2``, ``i < terms`` (SP1065 eqs. 7 and 11).
 
     Written as ``v_i = d_{i+L} - d_i`` with the lag-L first difference
@@ -132,7 +136,9 @@ def ss_second(p: FloatArray, lag: int, terms: int) -> float:
     computed once: for ``L`` below the chunk size a block of ``d`` covers the chunk plus
     ``L``; for larger ``L`` the index range is walked in lanes ``r, r+L, r+2L, ...`` so that
     the ``d`` block of one step is the ``d_i`` of the next.  Two ufunc passes and one dot
-    per element.
+    per element.  ``hook`` (:data:`ChunkHook`) sees every chunk's blocks when ``L`` is below
+    the chunk size, in order (:class:`fogts.allan.decimated.SumsCollector` takes the noise
+    identification's sums from them); it is ignored otherwise.
     """
     k = min(CHUNK, terms)
     total = 0.0
@@ -147,6 +153,8 @@ def ss_second(p: FloatArray, lag: int, terms: int) -> float:
             v = vbuf[:w]
             np.subtract(d[lag:], d[:w], out=v)
             total += _sumsq(v)
+            if hook is not None:
+                hook(s, e, d, v)
         return total
     prev_buf = np.empty(k, dtype=np.float64)
     cur_buf = np.empty(k, dtype=np.float64)
