@@ -40,8 +40,8 @@ from fogts.allan.decimated import (
     decimated_sums,
 )
 from fogts.allan.kernels import (
-    CHUNK,
     NORMALISATION,
+    hook_sees_chunks,
     phase_from_angle,
     phase_from_rate,
     ss_mod,
@@ -53,7 +53,8 @@ from fogts.allan.taus import MIN_TERMS, n_terms
 from fogts.errors import DataError
 
 __all__ = ["ESTIMATORS", "EstimatorOutput", "PhasedEstimate", "adev", "estimate_from_angle",
-           "estimate_with_sums", "hdev", "mdev", "oadev", "ohdev", "phase_from_rate", "totdev"]
+           "estimate_with_sums", "hdev", "mdev", "oadev", "ohdev", "phase_deviations",
+           "phase_from_rate", "totdev"]
 
 #: Below this many (terms x taus) the thread pool costs more than it saves.
 _PARALLEL_MIN_WORK = 4_000_000
@@ -180,7 +181,7 @@ def _one_tau(kind: str, x: FloatArray, mi: int, ti: int, d_max: int | None
     the decimated phase (:func:`decimated_sums`)."""
     sumsq, norm = _SUM_OF_SQUARES[kind], NORMALISATION[kind]
     sums = None
-    if d_max == 1 and kind == "oadev" and mi < min(COLLECT_BELOW_M, CHUNK, ti):
+    if d_max == 1 and kind == "oadev" and mi < COLLECT_BELOW_M and hook_sees_chunks(mi, ti):
         collector = SumsCollector(x, mi)
         total = ss_second(x, mi, ti, collector.add)
         sums = collector.result()
@@ -189,6 +190,23 @@ def _one_tau(kind: str, x: FloatArray, mi: int, ti: int, d_max: int | None
         if d_max is not None and (x.size - 1) // mi >= 3:
             sums = decimated_sums(x, mi, d_max)
     return float(np.sqrt(total / norm(mi, ti))), sums
+
+
+def phase_deviations(kind: str, x: FloatArray, m: IntArray) -> FloatArray:
+    """The deviations of :data:`ESTIMATORS` ``[kind]`` at the averaging factors ``m`` (each
+    with at least 2 terms) of the phase ``x`` of :func:`phase_from_rate` (``n + 1``
+    points), on one thread, for a caller that holds the phase already.
+
+    Examples
+    --------
+    >>> y = np.random.default_rng(0).normal(size=1000)
+    >>> got = phase_deviations("mdev", phase_from_rate(y), np.array([1, 10]))
+    >>> bool(np.array_equal(got, mdev(y, fs_hz=1.0, m=[1, 10]).dev))
+    True
+    """
+    terms = n_terms(kind, m, x.size - 1)
+    return np.array([_one_tau(kind, x, int(mi), int(ti), None)[0]
+                     for mi, ti in zip(m.tolist(), terms.tolist(), strict=True)])
 
 
 def _run_phased(kind: str, y: Any, fs_hz: float, m: npt.ArrayLike, workers: int | None,

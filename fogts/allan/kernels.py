@@ -24,7 +24,7 @@ import numpy as np
 
 from fogts._typing import FloatArray
 
-__all__ = ["CHUNK", "DOT_BLOCK", "NORMALISATION", "ChunkHook", "phase_from_rate",
+__all__ = ["CHUNK", "DOT_BLOCK", "NORMALISATION", "ChunkHook", "hook_sees_chunks", "phase_from_rate",
            "second_difference", "ss_mod", "ss_second", "ss_third", "ss_total", "third_difference"]
 
 #: Called by :func:`ss_second` with each chunk ``s, e`` of terms, its first differences
@@ -128,6 +128,12 @@ def _sumsq(v: FloatArray) -> float:
     return total
 
 
+def hook_sees_chunks(lag: int, terms: int) -> bool:
+    """Whether :func:`ss_second` at ``lag`` over ``terms`` terms hands its chunks to a hook
+    (``lag`` below the chunk size; otherwise it walks lanes of stride ``lag``)."""
+    return lag < min(CHUNK, terms)
+
+
 def ss_second(p: FloatArray, lag: int, terms: int, hook: ChunkHook | None = None) -> float:
     """``sum (p[i+2L] - 2 p[i+L] + p[i])^2``, ``i < terms`` (SP1065 eqs. 7 and 11).
 
@@ -142,7 +148,7 @@ def ss_second(p: FloatArray, lag: int, terms: int, hook: ChunkHook | None = None
     """
     k = min(CHUNK, terms)
     total = 0.0
-    if lag < k:
+    if hook_sees_chunks(lag, terms):
         dbuf = np.empty(k + lag, dtype=np.float64)
         vbuf = np.empty(k, dtype=np.float64)
         for s in range(0, terms, k):

@@ -43,7 +43,7 @@ from fogts.allan.decimated import (
     decimated_sums,
     detrended_lag1,
 )
-from fogts.allan.estimators import mdev, oadev, phase_from_rate
+from fogts.allan.estimators import phase_deviations, phase_from_rate
 from fogts.allan.taus import KINDS
 
 __all__ = ["ACF_MIN_POINTS", "ALPHAS", "ALPHA_METHODS", "B1_MIN_POINTS", "CHANGE_Z", "acf_orders",
@@ -231,7 +231,7 @@ def identify_with_methods(y: FloatArray, m: IntArray, kind: str,
         if oavar_given is not None:
             oavar = np.asarray(oavar_given, dtype=np.float64)[b1_idx]
         else:
-            oavar = oadev(y, fs_hz=1.0, m=mb).dev ** 2
+            oavar = phase_deviations("oadev", x, mb) ** 2
         pm_idx: list[int] = []
         for i, mi, av in zip(b1_idx, mb.tolist(), oavar.tolist(), strict=True):
             if not av > 0.0:
@@ -244,7 +244,7 @@ def identify_with_methods(y: FloatArray, m: IntArray, kind: str,
                 pm_idx.append(i)
         if pm_idx:
             mp = m[pm_idx]
-            mvar = mdev(y, fs_hz=1.0, m=mp).dev ** 2
+            mvar = phase_deviations("mdev", x, mp) ** 2
             av_of = dict(zip(mb.tolist(), oavar.tolist(), strict=True))
             for i, mi, mv in zip(pm_idx, mp.tolist(), mvar.tolist(), strict=True):
                 alpha[i] = _rn_type(mi, mv / av_of[mi])
