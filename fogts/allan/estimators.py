@@ -41,11 +41,13 @@ from fogts.allan.decimated import (
 )
 from fogts.allan.kernels import (
     NORMALISATION,
+    SHARED_WALK_BELOW,
     hook_sees_chunks,
     phase_from_angle,
     phase_from_rate,
     ss_mod,
     ss_second,
+    ss_second_lags,
     ss_third,
     ss_total,
 )
@@ -209,6 +211,36 @@ def phase_deviations(kind: str, x: FloatArray, m: IntArray) -> FloatArray:
                      for mi, ti in zip(m.tolist(), terms.tolist(), strict=True)])
 
 
+def _shared_walk(x: FloatArray, m: IntArray, terms: IntArray, d_max: int | None
+                 ) -> list[tuple[float, DecimatedSums | None]]:
+    """:func:`_one_tau` of ``oadev`` at several small averaging factors, in one walk over the
+    phase (:func:`~fogts.allan.kernels.ss_second_lags`; the same sums)."""
+    collectors = [SumsCollector(x, int(mi)) if d_max == 1 and mi < COLLECT_BELOW_M else None
+                  for mi in m.tolist()]
+    totals = ss_second_lags(x, m.tolist(), terms.tolist(),
+                            [c.add if c is not None else None for c in collectors])
+    norm = NORMALISATION["oadev"]
+    out: list[tuple[float, DecimatedSums | None]] = []
+    for mi, ti, total, col in zip(m.tolist(), terms.tolist(), totals, collectors, strict=True):
+        sums = (col.result() if col is not None else decimated_sums(x, mi, d_max)
+                if d_max is not None and (x.size - 1) // mi >= 3 else None)
+        out.append((float(np.sqrt(total / norm(mi, ti))), sums))
+    return out
+
+
+def _jobs(kind: str, m: IntArray, terms: IntArray, workers: int) -> list[list[int]]:
+    """The taus (indices) each job of the pool computes, largest jobs first: the small
+    ``oadev`` lags in ``workers`` shared walks over the phase
+    (:data:`~fogts.allan.kernels.SHARED_WALK_BELOW`), every other tau alone."""
+    shared = [i for i, (mi, ti) in enumerate(zip(m.tolist(), terms.tolist(), strict=True))
+              if kind == "oadev" and mi < SHARED_WALK_BELOW and hook_sees_chunks(mi, ti)]
+    if len(shared) < 2:
+        shared = []
+    alone = set(shared)
+    singles = [[i] for i in np.argsort(-terms, kind="stable").tolist() if i not in alone]
+    return [g for g in (shared[w::workers] for w in range(workers)) if g] + singles
+
+
 def _run_phased(kind: str, y: Any, fs_hz: float, m: npt.ArrayLike, workers: int | None,
                 angle: FloatArray | None = None, d_max: int | None = None) -> PhasedEstimate:
     """:func:`_run`, keeping the phase and, with ``d_max``, the decimated sums."""
@@ -219,25 +251,22 @@ def _run_phased(kind: str, y: Any, fs_hz: float, m: npt.ArrayLike, workers: int 
     x = phase_from_rate(arr) if angle is None else phase_from_angle(angle, fs)
     nw = _workers(workers, mm.size, int(terms.sum()))
 
-    def one(i: int) -> tuple[float, DecimatedSums | None]:
-        return _one_tau(kind, x, int(mm[i]), int(terms[i]), d_max)
+    def job(idx: list[int]) -> list[tuple[float, DecimatedSums | None]]:
+        if len(idx) > 1:
+            return _shared_walk(x, mm[idx], terms[idx], d_max)
+        return [_one_tau(kind, x, int(mm[idx[0]]), int(terms[idx[0]]), d_max)]
 
     tick = progress.ticker(f"{kind}: {mm.size} taus", mm.size)
-    if nw == 1:
-        res = []
-        for i in range(mm.size):
-            res.append(one(i))
-            tick(i + 1)
-    else:
-        # Largest jobs first so that the pool ends evenly; progress is reported from this
-        # thread as the results arrive in order.
-        order = np.argsort(-terms, kind="stable").tolist()
-        found = {}
-        with ThreadPoolExecutor(max_workers=nw) as pool:
-            for k, (i, got) in enumerate(zip(order, pool.map(one, order), strict=True)):
-                found[i] = got
-                tick(k + 1)
-        res = [found[i] for i in range(mm.size)]
+    jobs = _jobs(kind, mm, terms, nw)
+    found: dict[int, tuple[float, DecimatedSums | None]] = {}
+    # Largest jobs first so that the pool ends evenly; progress is reported from this
+    # thread as the results arrive in order.
+    with ThreadPoolExecutor(max_workers=nw) as pool:
+        results = map(job, jobs) if nw == 1 else pool.map(job, jobs)
+        for idx, got in zip(jobs, results, strict=True):
+            found.update(zip(idx, got, strict=True))
+            tick(len(found))
+    res = [found[i] for i in range(mm.size)]
     out = EstimatorOutput(kind=kind, m=mm, tau_s=mm / fs,
                           dev=np.asarray([r[0] for r in res], dtype=np.float64), n=terms)
     return PhasedEstimate(output=out, phase=x, sums=tuple(r[1] for r in res))

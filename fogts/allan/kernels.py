@@ -18,14 +18,15 @@ squared differences of ``x`` (SP1065 eqs. 7, 11, 14, 18, 20, 25).
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 
 import numpy as np
 
 from fogts._typing import FloatArray
 
-__all__ = ["CHUNK", "DOT_BLOCK", "NORMALISATION", "ChunkHook", "hook_sees_chunks", "phase_from_rate",
-           "second_difference", "ss_mod", "ss_second", "ss_third", "ss_total", "third_difference"]
+__all__ = ["CHUNK", "DOT_BLOCK", "NORMALISATION", "SHARED_WALK_BELOW", "ChunkHook",
+           "hook_sees_chunks", "phase_from_rate", "second_difference", "ss_mod", "ss_second",
+           "ss_second_lags", "ss_third", "ss_total", "third_difference"]
 
 #: Called by :func:`ss_second` with each chunk ``s, e`` of terms, its first differences
 #: ``d_j`` (``j`` in ``[s, e + L)``) and second differences ``v_i`` (``i`` in ``[s, e)``).
@@ -128,6 +129,11 @@ def _sumsq(v: FloatArray) -> float:
     return total
 
 
+#: Lags below this are walked together by :func:`ss_second_lags`: its window of the phase
+#: (``CHUNK + 2 lag`` points) and the two blocks stay in a 2 MiB L2 cache.
+SHARED_WALK_BELOW = 8192
+
+
 def hook_sees_chunks(lag: int, terms: int) -> bool:
     """Whether :func:`ss_second` at ``lag`` over ``terms`` terms hands its chunks to a hook
     (``lag`` below the chunk size; otherwise it walks lanes of stride ``lag``)."""
@@ -152,15 +158,7 @@ def ss_second(p: FloatArray, lag: int, terms: int, hook: ChunkHook | None = None
         dbuf = np.empty(k + lag, dtype=np.float64)
         vbuf = np.empty(k, dtype=np.float64)
         for s in range(0, terms, k):
-            e = min(s + k, terms)
-            w = e - s
-            d = dbuf[: w + lag]
-            np.subtract(p[s + lag : e + 2 * lag], p[s : e + lag], out=d)
-            v = vbuf[:w]
-            np.subtract(d[lag:], d[:w], out=v)
-            total += _sumsq(v)
-            if hook is not None:
-                hook(s, e, d, v)
+            total += _second_chunk(p, lag, s, min(s + k, terms), dbuf, vbuf, hook)
         return total
     prev_buf = np.empty(k, dtype=np.float64)
     cur_buf = np.empty(k, dtype=np.float64)
@@ -179,6 +177,43 @@ def ss_second(p: FloatArray, lag: int, terms: int, hook: ChunkHook | None = None
             prev_buf, cur_buf = cur_buf, prev_buf  # d[s+L : s+L+w] is the next d_i block
             s += lag
     return total
+
+
+def _second_chunk(p: FloatArray, lag: int, s: int, e: int, dbuf: FloatArray, vbuf: FloatArray,
+                  hook: ChunkHook | None) -> float:
+    """The sum of squares of :func:`ss_second` over the terms ``[s, e)``: the ``d`` block
+    ``[s, e + L)`` and ``v`` block ``[s, e)`` formed in ``dbuf`` and ``vbuf``."""
+    w = e - s
+    d = dbuf[: w + lag]
+    np.subtract(p[s + lag : e + 2 * lag], p[s : e + lag], out=d)
+    v = vbuf[:w]
+    np.subtract(d[lag:], d[:w], out=v)
+    total = _sumsq(v)
+    if hook is not None:
+        hook(s, e, d, v)
+    return total
+
+
+def ss_second_lags(p: FloatArray, lags: Sequence[int], terms: Sequence[int],
+                   hooks: Sequence[ChunkHook | None]) -> list[float]:
+    """:func:`ss_second` at several lags in one walk over ``p``, chunk by chunk.
+
+    Every lag must hand its chunks to a hook (:func:`hook_sees_chunks`).  At each chunk
+    the phase window ``[s, s + CHUNK + 2 max(lags))`` is read from memory by the first lag
+    and from cache by the others, so the lags share one read of the phase instead of one
+    each.  The blocks, their order and hence every sum are those of :func:`ss_second`.
+    """
+    top = max(lags)
+    k = min(CHUNK, max(terms))
+    dbuf = np.empty(k + top, dtype=np.float64)
+    vbuf = np.empty(k, dtype=np.float64)
+    totals = [0.0] * len(lags)
+    for s in range(0, max(terms), CHUNK):
+        for i, (lag, count, hook) in enumerate(zip(lags, terms, hooks, strict=True)):
+            if s < count:
+                e = min(s + min(CHUNK, count), count)
+                totals[i] += _second_chunk(p, lag, s, e, dbuf, vbuf, hook)
+    return totals
 
 
 def ss_third(p: FloatArray, lag: int, terms: int) -> float:
