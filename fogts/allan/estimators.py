@@ -264,8 +264,9 @@ def _run_phased(kind: str, y: Any, fs_hz: float, m: npt.ArrayLike, workers: int 
     with ThreadPoolExecutor(max_workers=nw) as pool:
         results = map(job, jobs) if nw == 1 else pool.map(job, jobs)
         for idx, got in zip(jobs, results, strict=True):
-            found.update(zip(idx, got, strict=True))
-            tick(len(found))
+            for i, one in zip(idx, got, strict=True):  # a tick per tau, also in a shared walk
+                found[i] = one
+                tick(len(found))
     res = [found[i] for i in range(mm.size)]
     out = EstimatorOutput(kind=kind, m=mm, tau_s=mm / fs,
                           dev=np.asarray([r[0] for r in res], dtype=np.float64), n=terms)
