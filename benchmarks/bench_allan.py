@@ -6,6 +6,14 @@ Figures (ratio = allantools seconds / fogts seconds, > 1 means fogts is faster):
   on 10^7 white+random-walk rate samples and 100 log-spaced taus (same taus for both),
   with the default thread pool and with one thread; the largest relative difference of
   the deviations (must be <= 1e-9);
+* ``fogts.allan_deviation`` (oadev) on the same data and taus, with its default confidence
+  intervals (noise identification, EDF, chi-squared) and without (``confidence=None``),
+  each with the default thread pool and with one thread, against the same
+  ``allantools.oadev``; and the share of the time the intervals add (one thread, CPU time);
+* the time of one read of the input array (``numpy.sum``) in the same rounds, and each
+  estimator's time per tau (one thread) as a multiple of it: oadev and ohdev on the 10^7
+  samples and 100 taus, every kind on the octave taus below (the memory-bound limit of a
+  pass over the data);
 * peak extra memory of each call (tracemalloc, numpy allocations included) as a multiple of
   the input array;
 * every estimator (adev, oadev, mdev, hdev, ohdev, totdev) on 10^6 samples, octave taus,
@@ -45,7 +53,7 @@ import numpy as np
 
 from benchmarks.metric import Metric, accuracy_metric, speed_metric
 from benchmarks.render import measured_markdown, write_table
-from benchmarks.timing import measure, speed_from
+from benchmarks.timing import Timing, measure, speed_from
 
 RESULTS = Path(__file__).resolve().parent / "results" / "allan.md"
 FS_HZ = 100.0
@@ -89,16 +97,32 @@ def peak_extra_bytes(fn: Callable[[], Any]) -> int:
     return int(peak)
 
 
+def per_tau_metric(timing: Timing, name: str, read: str, taus: int, id: str, title: str
+                   ) -> Metric:
+    """``name``'s time per tau as a multiple of the time of ``read`` (one pass over the
+    input), from best CPU times (single-threaded; the wall-time multiple is in details)."""
+    cpu = timing.cpu[name] / taus / timing.cpu[read]
+    wall = timing.wall[name] / taus / timing.wall[read]
+    return accuracy_metric(id, title, value=cpu, better="lower", unit="x one array read",
+                           tolerance=0.25, details={
+                               "wall_multiple": wall, "taus": taus,
+                               "seconds": timing.wall[name], "cpu_seconds": timing.cpu[name],
+                               "read_seconds": timing.wall[read],
+                               "read_cpu_seconds": timing.cpu[read]})
+
+
 def _oadev_metrics(quick: bool) -> list[Metric]:
     import allantools
 
-    from fogts.allan.estimators import oadev
+    from fogts.allan import allan_deviation
+    from fogts.allan.estimators import oadev, ohdev
 
     n = N_QUICK if quick else N_FULL
     count = N_TAUS_QUICK if quick else N_TAUS_FULL
     y = gyro_rate(n)
     taus = log_taus(n, count, FS_HZ)
     m = np.rint(taus * FS_HZ).astype(np.int64)
+    m_h = m[m <= (n - 1) // 3]
     tag = f"n=1e{round(np.log10(n))}"
 
     ours = oadev(y, fs_hz=FS_HZ, m=m)
@@ -110,9 +134,17 @@ def _oadev_metrics(quick: bool) -> list[Metric]:
     def peer_call() -> Any:
         return allantools.oadev(y, rate=FS_HZ, data_type="freq", taus=taus)
 
+    def api(confidence: float | None, workers: int | None) -> Callable[[], Any]:
+        return lambda: allan_deviation(y, fs_hz=FS_HZ, taus=taus, confidence=confidence,
+                                       workers=workers)
+
     timing = measure({"fogts": lambda: oadev(y, fs_hz=FS_HZ, m=m),
-                             "fogts 1 thread": lambda: oadev(y, fs_hz=FS_HZ, m=m, workers=1),
-                             "peer": peer_call}, repeat=3, min_total_s=3.0 if quick else 0.0)
+                      "fogts 1 thread": lambda: oadev(y, fs_hz=FS_HZ, m=m, workers=1),
+                      "ohdev 1 thread": lambda: ohdev(y, fs_hz=FS_HZ, m=m_h, workers=1),
+                      "api ci": api(0.683, None), "api ci 1 thread": api(0.683, 1),
+                      "api": api(None, None), "api 1 thread": api(None, 1),
+                      "read": lambda: np.sum(y),
+                      "peer": peer_call}, repeat=3, min_total_s=3.0 if quick else 0.0)
     mem_ours = peak_extra_bytes(lambda: oadev(y, fs_hz=FS_HZ, m=m))
     mem_one = peak_extra_bytes(lambda: oadev(y, fs_hz=FS_HZ, m=m, workers=1))
     mem_at = peak_extra_bytes(peer_call)
@@ -120,11 +152,31 @@ def _oadev_metrics(quick: bool) -> list[Metric]:
     size = f"{n:.0e}".replace("+0", "").replace("+", "")
     speed, acc = speed_from, accuracy_metric
     title = f"oadev, {size} samples, {m.size} taus"
+    api_title = f"allan_deviation (oadev), {size} samples, {m.size} taus"
+    ci_share = timing.cpu["api ci 1 thread"] / timing.cpu["api 1 thread"] - 1.0
     return [
         speed(timing, f"speed.oadev.{tag}", f"{title}, {threads} threads", peer="allantools",
               parallel=threads > 1, details={"taus": int(m.size), "threads": threads}),
         speed(timing, f"speed.oadev.1thread.{tag}", f"{title}, 1 thread", peer="allantools",
               ours="fogts 1 thread", details={"taus": int(m.size), "threads": 1}),
+        speed(timing, f"speed.allan_deviation_ci.{tag}", f"{api_title}, with CIs, {threads} "
+              "threads", peer="allantools", ours="api ci", parallel=threads > 1),
+        speed(timing, f"speed.allan_deviation_ci.1thread.{tag}", f"{api_title}, with CIs, "
+              "1 thread", peer="allantools", ours="api ci 1 thread"),
+        speed(timing, f"speed.allan_deviation_no_ci.{tag}", f"{api_title}, no CIs, {threads} "
+              "threads", peer="allantools", ours="api", parallel=threads > 1),
+        speed(timing, f"speed.allan_deviation_no_ci.1thread.{tag}", f"{api_title}, no CIs, "
+              "1 thread", peer="allantools", ours="api 1 thread"),
+        acc(f"share.allan_deviation_ci.{tag}", f"{api_title}: CPU time the CIs add (noise id, "
+            "EDF, chi-squared), 1 thread", value=ci_share, better="lower", unit="of no-CI time",
+            abs_tolerance=0.05, details={"wall_share": timing.wall["api ci 1 thread"]
+                                         / timing.wall["api 1 thread"] - 1.0}),
+        per_tau_metric(timing, "fogts 1 thread", "read", int(m.size),
+                       f"per_tau.oadev.{tag}", f"oadev time per tau / one read of the "
+                       f"{size} samples, 1 thread"),
+        per_tau_metric(timing, "ohdev 1 thread", "read", int(m_h.size),
+                       f"per_tau.ohdev.{tag}", f"ohdev time per tau / one read of the "
+                       f"{size} samples, 1 thread"),
         acc(f"accuracy.oadev_vs_allantools.{tag}", f"{title}: largest relative difference "
             "to allantools", value=rel, better="lower", abs_tolerance=1e-9),
         acc(f"memory.oadev.{tag}", f"oadev peak extra memory, {threads} threads",
@@ -155,6 +207,7 @@ def _all_kinds_metrics(quick: bool) -> list[Metric]:
         # one thread, like allantools (the thread pool is measured by speed.oadev.n=1e7)
         timing = measure(
             {"fogts": functools.partial(fn, y, fs_hz=FS_HZ, m=grid.m, workers=1),
+             "read": functools.partial(np.sum, y),
              "peer": functools.partial(peer, y, rate=FS_HZ, data_type="freq",
                                        taus=grid.tau_s)},
             repeat=5, min_total_s=0.5 if quick else 2.0)
@@ -162,6 +215,9 @@ def _all_kinds_metrics(quick: bool) -> list[Metric]:
             timing, f"speed.{kind}.octave.n={n}", f"{kind}, {n:,} samples, {grid.m.size} "
             f"octave taus, 1 thread (max rel. diff {rel:.1e})", peer="allantools",
             details={"max_rel_diff": rel}))
+        out.append(per_tau_metric(timing, "fogts", "read", int(grid.m.size),
+                                  f"per_tau.{kind}.octave.n={n}", f"{kind} time per tau / "
+                                  f"one read of the {n:,} samples, 1 thread"))
     return out
 
 

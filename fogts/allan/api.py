@@ -19,9 +19,16 @@ import pandas as pd
 from fogts._typing import ArrayLike1D, FloatArray, IntArray
 from fogts._validate import check_choice, check_fraction
 from fogts.allan.bias import totdev_bias
-from fogts.allan.confidence import confidence_table
-from fogts.allan.estimators import ESTIMATORS, EstimatorOutput, estimate_from_angle
+from fogts.allan.confidence import confidence_table, curve_table
+from fogts.allan.decimated import DecimatedSums
+from fogts.allan.estimators import (
+    ESTIMATORS,
+    EstimatorOutput,
+    estimate_from_angle,
+    estimate_with_sums,
+)
 from fogts.allan.gradev import gradev
+from fogts.allan.noise_identification import acf_orders
 from fogts.allan.result import AllanResult, AllanResultSet
 from fogts.allan.taus import KINDS, DroppedTau, Kind, TauGrid, tau_grid
 from fogts.choices import INPUT_KINDS, InputKind
@@ -199,15 +206,22 @@ def _one_curve(y: FloatArray, name: str, *, fs_hz: float, units: str, kind: str,
                notes: tuple[str, ...], bias_correction: bool = False,
                angle: FloatArray | None = None) -> AllanResult:
     grid = tau_grid(taus, fs_hz=fs_hz, n_samples=y.size, kind=kind, per_decade=per_decade)
+    phase: FloatArray | None = None
+    sums: tuple[DecimatedSums | None, ...] | None = None
     if _with_gaps(y, name, kind):  # Sesia & Tavella (2008): the terms free of missing samples
         grid, est = _gap_robust(y, fs_hz, grid)
         notes = (*notes, f"{int(np.count_nonzero(np.isnan(y)))} missing samples (NaN): "
                  "gap-robust overlapping ADEV (Sesia & Tavella 2008); noise type and EDF "
                  "from the samples present")
         y = y[np.isfinite(y)]
+    elif angle is not None:
+        est = estimate_from_angle(kind, angle, fs_hz=fs_hz, m=grid.m, workers=workers)
+    elif confidence is not None:  # the noise identification's sums from the same pass
+        phased = estimate_with_sums(kind, y, fs_hz=fs_hz, m=grid.m, workers=workers,
+                                    d_max=acf_orders(kind))
+        est, phase, sums = phased.output, phased.phase, phased.sums
     else:
-        est = (ESTIMATORS[kind](y, fs_hz=fs_hz, m=grid.m, workers=workers) if angle is None
-               else estimate_from_angle(kind, angle, fs_hz=fs_hz, m=grid.m, workers=workers))
+        est = ESTIMATORS[kind](y, fs_hz=fs_hz, m=grid.m, workers=workers)
     size = grid.m.size
     nan = np.full(size, np.nan)
     ci_low, ci_high, edf = nan, nan, nan
@@ -215,8 +229,10 @@ def _one_curve(y: FloatArray, name: str, *, fs_hz: float, units: str, kind: str,
     methods: tuple[str, ...] = ("none",) * size
     level = float("nan")
     if confidence is not None:
-        table = confidence_table(y, fs_hz=fs_hz, kind=kind, m=grid.m, dev=est.dev,
-                                 confidence=confidence)
+        table = (confidence_table(y, fs_hz=fs_hz, kind=kind, m=grid.m, dev=est.dev,
+                                  confidence=confidence) if phase is None
+                 else curve_table(y, fs_hz=fs_hz, kind=kind, m=est.m, dev=est.dev,
+                                  confidence=confidence, phase=phase, sums=sums))
         ci_low, ci_high = table.ci_low, table.ci_high
         edf, alpha = table.edf, table.alpha
         methods = tuple(str(v) for v in table.alpha_method)

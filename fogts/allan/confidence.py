@@ -19,6 +19,7 @@ which Stable32 divides out of its TOTDEV at flicker and random-walk FM points.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -37,6 +38,7 @@ from fogts._validate import (
 )
 from fogts.allan._checks import check_m
 from fogts.allan.bias import totdev_bias
+from fogts.allan.decimated import DecimatedSums
 from fogts.allan.edf import edf_for
 from fogts.allan.noise_identification import ACF_MIN_POINTS as ACF_MIN_POINTS
 from fogts.allan.noise_identification import ALPHA_METHODS as ALPHA_METHODS
@@ -47,8 +49,8 @@ from fogts.allan.taus import KINDS
 from fogts.errors import DataError
 
 __all__ = ["ACF_MIN_POINTS", "ALPHA_METHODS", "B1_MIN_POINTS", "ChiSquaredInterval",
-           "ConfidenceTable", "chi2_interval", "confidence_table", "edf_for", "identify_noise",
-           "totdev_bias"]
+           "ConfidenceTable", "chi2_interval", "confidence_table", "curve_table", "edf_for",
+           "identify_noise", "totdev_bias"]
 
 
 @dataclass(frozen=True)
@@ -261,10 +263,23 @@ def confidence_table(y: npt.ArrayLike | pd.Series, *, fs_hz: float, kind: str,
     if np.any(~np.isfinite(d) | (d < 0)):
         bad = d[~np.isfinite(d) | (d < 0)][0]
         raise DataError(f"dev must be finite and >= 0, got {float(bad)!r}")
-    alpha, methods = identify_with_methods(arr, mm, kind,
-                                           d**2 if kind == "oadev" else None)
-    edf = edf_for(kind, alpha, mm, arr.size + 1)
-    interval = chi2_interval(d, edf, c)
-    return ConfidenceTable(kind=kind, confidence=c, fs_hz=fs, n_samples=int(arr.size),
-                           tau_s=mm / fs, m=mm, dev=d, alpha=alpha, alpha_method=methods,
-                           edf=edf, ci_low=interval.low, ci_high=interval.high)
+    return curve_table(arr, fs_hz=fs, kind=kind, m=mm, dev=d, confidence=c)
+
+
+def curve_table(y: FloatArray, *, fs_hz: float, kind: str, m: IntArray, dev: FloatArray,
+                confidence: float, phase: FloatArray | None = None,
+                sums: Sequence[DecimatedSums | None] | None = None) -> ConfidenceTable:
+    """:func:`confidence_table` of arguments already checked (float64 rate, int64 ``m``,
+    finite ``dev >= 0`` of the same length, ``kind`` and ``confidence`` valid), reusing the
+    estimator's phase and decimated sums when given
+    (:func:`fogts.allan.estimators.estimate_with_sums`): what
+    :func:`fogts.allan.allan_deviation` calls.
+    """
+    alpha, methods = identify_with_methods(y, m, kind, dev**2 if kind == "oadev" else None,
+                                           phase=phase, sums=sums)
+    edf = edf_for(kind, alpha, m, y.size + 1)
+    interval = chi2_interval(dev, edf, confidence)
+    return ConfidenceTable(kind=kind, confidence=confidence, fs_hz=fs_hz,
+                           n_samples=int(y.size), tau_s=m / fs_hz, m=m, dev=dev, alpha=alpha,
+                           alpha_method=methods, edf=edf, ci_low=interval.low,
+                           ci_high=interval.high)

@@ -129,21 +129,28 @@ def _sz(t: FloatArray, f: float, alpha: int, d: int) -> FloatArray:
     return out
 
 
-def _basic_sum(j: float, mm: float, s: float, f: float, alpha: int, d: int) -> float:
-    """Greenhall & Riley (2003) eq. 10:
-    ``sz(0)^2 + 2 sum_{j=1}^{J-1} (1 - j/M) sz(j/S)^2 + (1 - J/M) sz(J/S)^2``."""
+def _basic_sum(j: float, mm: float, s: float, f: float, alpha: int, d: int
+               ) -> tuple[float, float]:
+    """Greenhall & Riley (2003) eq. 10,
+    ``sz(0)^2 + 2 sum_{j=1}^{J-1} (1 - j/M) sz(j/S)^2 + (1 - J/M) sz(J/S)^2``, and
+    ``sz(0)^2`` (the normalisation of its case 1-3 EDFs); ``sz`` is evaluated at the
+    ``J + 1`` lags in one call."""
     jj = int(j)
-    idx = np.arange(1, jj, dtype=np.float64)
-    szj = _sz(idx / s, f, alpha, d)
-    sz0 = float(_sz(np.zeros(1), f, alpha, d)[0])
-    szJ = float(_sz(np.array([jj / s]), f, alpha, d)[0])
-    return sz0 * sz0 + 2.0 * float(np.sum((1.0 - idx / mm) * szj * szj)) \
+    lags = np.arange(0, jj + 1, dtype=np.float64)
+    sz = _sz(lags / s, f, alpha, d)
+    idx, szj = lags[1:jj], sz[1:jj]
+    sz0, szJ = float(sz[0]), float(sz[jj])
+    total = sz0 * sz0 + 2.0 * float(np.sum((1.0 - idx / mm) * szj * szj)) \
         + (1.0 - jj / mm) * szJ * szJ
+    return total, sz0 * sz0
 
 
-def _sz0_squared(f: float, alpha: int, d: int) -> float:
-    v = float(_sz(np.zeros(1), f, alpha, d)[0])
-    return v * v
+def _normalised_sum(j: float, mm: float, s: float, f: float, alpha: int, d: int,
+                    count: float) -> float:
+    """``basic_sum / (count sz(0)^2)``: the inverse EDF of Greenhall & Riley (2003) cases
+    1-3 when the sum is evaluated term by term."""
+    total, sz0_squared = _basic_sum(j, mm, s, f, alpha, d)
+    return total / (count * sz0_squared)
 
 
 def _edf_white_pm_unmodified(d: int, s: int, mm: float) -> float:
@@ -176,20 +183,19 @@ def _greenhall_edf(alpha: int, d: int, m: int, modified: bool, overlapped: bool,
     r = mm / s
     if modified:  # case 1: F = 1, any alpha
         if j <= j_max:
-            inv = _basic_sum(j, mm, s, 1.0, alpha, d) / (mm * _sz0_squared(1.0, alpha, d))
+            inv = _normalised_sum(j, mm, s, 1.0, alpha, d, mm)
         elif r > d + 1:
             a0, a1 = _TABLE1[(alpha, d)]
             inv = (a0 - a1 / r) / r
         else:
             mp = j_max / r
-            inv = _basic_sum(j_max, j_max, mp, 1.0, alpha, d) / (
-                j_max * _sz0_squared(1.0, alpha, d))
+            inv = _normalised_sum(j_max, j_max, mp, 1.0, alpha, d, j_max)
         return 1.0 / inv
     if alpha == 2:  # case 4
         return _edf_white_pm_unmodified(d, int(s), mm)
     if alpha == 1:  # case 3
         if j <= j_max:
-            inv = _basic_sum(j, mm, s, float(m), 1, d) / (mm * _sz0_squared(float(m), 1, d))
+            inv = _normalised_sum(j, mm, s, float(m), 1, d, mm)
         else:
             b0, b1 = _TABLE3[d]
             norm = (b0 + b1 * math.log(m)) ** 2
@@ -198,19 +204,18 @@ def _greenhall_edf(alpha: int, d: int, m: int, modified: bool, overlapped: bool,
                 inv = (a0 - a1 / r) / (norm * r)
             else:
                 mp = j_max / r
-                inv = _basic_sum(j_max, j_max, mp, mp, 1, d) / (norm * j_max)
+                inv = _basic_sum(j_max, j_max, mp, mp, 1, d)[0] / (norm * j_max)
         return 1.0 / inv
     # case 2: F = m, alpha <= 0
     if j <= j_max:
         fp = float(m) if m * (d + 1) <= j_max else math.inf
-        inv = _basic_sum(j, mm, s, fp, alpha, d) / (mm * _sz0_squared(fp, alpha, d))
+        inv = _normalised_sum(j, mm, s, fp, alpha, d, mm)
     elif r > d + 1:
         a0, a1 = _TABLE2[(alpha, d)]
         inv = (a0 - a1 / r) / r
     else:
         mp = j_max / r
-        inv = _basic_sum(j_max, j_max, mp, math.inf, alpha, d) / (
-            j_max * _sz0_squared(math.inf, alpha, d))
+        inv = _normalised_sum(j_max, j_max, mp, math.inf, alpha, d, j_max)
     return 1.0 / inv
 
 

@@ -33,20 +33,30 @@ import numpy.typing as npt
 from fogts import progress
 from fogts._typing import FloatArray, IntArray
 from fogts._validate import check_int, check_positive, to_float_array
+from fogts.allan.decimated import (
+    COLLECT_BELOW_M,
+    DecimatedSums,
+    SumsCollector,
+    decimated_sums,
+)
 from fogts.allan.kernels import (
     NORMALISATION,
+    SHARED_WALK_BELOW,
+    hook_sees_chunks,
     phase_from_angle,
     phase_from_rate,
     ss_mod,
     ss_second,
+    ss_second_lags,
     ss_third,
     ss_total,
 )
 from fogts.allan.taus import MIN_TERMS, n_terms
 from fogts.errors import DataError
 
-__all__ = ["ESTIMATORS", "EstimatorOutput", "adev", "estimate_from_angle", "hdev", "mdev",
-           "oadev", "ohdev", "phase_from_rate", "totdev"]
+__all__ = ["ESTIMATORS", "EstimatorOutput", "PhasedEstimate", "adev", "estimate_from_angle",
+           "estimate_with_sums", "hdev", "mdev", "oadev", "ohdev", "phase_deviations",
+           "phase_from_rate", "totdev"]
 
 #: Below this many (terms x taus) the thread pool costs more than it saves.
 _PARALLEL_MIN_WORK = 4_000_000
@@ -82,6 +92,27 @@ class EstimatorOutput:
     def avar(self) -> FloatArray:
         """The variance, ``dev ** 2``."""
         return self.dev**2
+
+
+@dataclass(frozen=True)
+class PhasedEstimate:
+    """An :class:`EstimatorOutput` with the phase it was computed from and, per averaging
+    factor, the sums of the decimated phase that the noise identification needs.
+
+    Attributes
+    ----------
+    output : EstimatorOutput
+        The deviations.
+    phase : ndarray of float64
+        The phase (:func:`~fogts.allan.kernels.phase_from_rate`), ``n + 1`` points.
+    sums : tuple of DecimatedSums or None
+        Aligned with ``output.m``; None where fewer than 3 blocks of m samples fit
+        (:mod:`fogts.allan.decimated`).
+    """
+
+    output: EstimatorOutput
+    phase: FloatArray
+    sums: tuple[DecimatedSums | None, ...]
 
 
 def _decimated(kernel: SumOfSquares) -> SumOfSquares:
@@ -141,36 +172,128 @@ def _run(kind: str, y: Any, fs_hz: float, m: npt.ArrayLike, workers: int | None,
          angle: FloatArray | None = None) -> EstimatorOutput:
     """Estimator ``kind`` at every averaging factor, the taus spread over ``workers``;
     ``angle`` (the integral of ``y``, one point more) gives the phase directly."""
+    return _run_phased(kind, y, fs_hz, m, workers, angle).output
+
+
+def _one_tau(kind: str, x: FloatArray, mi: int, ti: int, d_max: int | None
+             ) -> tuple[float, DecimatedSums | None]:
+    """The deviation at averaging factor ``mi`` (``ti`` terms) of the phase ``x`` and, with
+    ``d_max``, the decimated sums of orders up to ``d_max``: from the overlapping Allan
+    kernel's own blocks where it forms them (:class:`SumsCollector`), else by a pass over
+    the decimated phase (:func:`decimated_sums`)."""
+    sumsq, norm = _SUM_OF_SQUARES[kind], NORMALISATION[kind]
+    sums = None
+    if d_max == 1 and kind == "oadev" and mi < COLLECT_BELOW_M and hook_sees_chunks(mi, ti):
+        collector = SumsCollector(x, mi)
+        total = ss_second(x, mi, ti, collector.add)
+        sums = collector.result()
+    else:
+        total = sumsq(x, mi, ti)
+        if d_max is not None and (x.size - 1) // mi >= 3:
+            sums = decimated_sums(x, mi, d_max)
+    return float(np.sqrt(total / norm(mi, ti))), sums
+
+
+def phase_deviations(kind: str, x: FloatArray, m: IntArray) -> FloatArray:
+    """The deviations of :data:`ESTIMATORS` ``[kind]`` at the averaging factors ``m`` (each
+    with at least 2 terms) of the phase ``x`` of :func:`phase_from_rate` (``n + 1``
+    points), on one thread, for a caller that holds the phase already.
+
+    Examples
+    --------
+    >>> y = np.random.default_rng(0).normal(size=1000)
+    >>> got = phase_deviations("mdev", phase_from_rate(y), np.array([1, 10]))
+    >>> bool(np.array_equal(got, mdev(y, fs_hz=1.0, m=[1, 10]).dev))
+    True
+    """
+    terms = n_terms(kind, m, x.size - 1)
+    return np.array([_one_tau(kind, x, int(mi), int(ti), None)[0]
+                     for mi, ti in zip(m.tolist(), terms.tolist(), strict=True)])
+
+
+def _shared_walk(x: FloatArray, m: IntArray, terms: IntArray, d_max: int | None
+                 ) -> list[tuple[float, DecimatedSums | None]]:
+    """:func:`_one_tau` of ``oadev`` at several small averaging factors, in one walk over the
+    phase (:func:`~fogts.allan.kernels.ss_second_lags`; the same sums)."""
+    collectors = [SumsCollector(x, int(mi)) if d_max == 1 and mi < COLLECT_BELOW_M else None
+                  for mi in m.tolist()]
+    totals = ss_second_lags(x, m.tolist(), terms.tolist(),
+                            [c.add if c is not None else None for c in collectors])
+    norm = NORMALISATION["oadev"]
+    out: list[tuple[float, DecimatedSums | None]] = []
+    for mi, ti, total, col in zip(m.tolist(), terms.tolist(), totals, collectors, strict=True):
+        sums = (col.result() if col is not None else decimated_sums(x, mi, d_max)
+                if d_max is not None and (x.size - 1) // mi >= 3 else None)
+        out.append((float(np.sqrt(total / norm(mi, ti))), sums))
+    return out
+
+
+def _jobs(kind: str, m: IntArray, terms: IntArray, workers: int) -> list[list[int]]:
+    """The taus (indices) each job of the pool computes, largest jobs first: the small
+    ``oadev`` lags in ``workers`` shared walks over the phase
+    (:data:`~fogts.allan.kernels.SHARED_WALK_BELOW`), every other tau alone."""
+    shared = [i for i, (mi, ti) in enumerate(zip(m.tolist(), terms.tolist(), strict=True))
+              if kind == "oadev" and mi < SHARED_WALK_BELOW and hook_sees_chunks(mi, ti)]
+    if len(shared) < 2:
+        shared = []
+    alone = set(shared)
+    singles = [[i] for i in np.argsort(-terms, kind="stable").tolist() if i not in alone]
+    return [g for g in (shared[w::workers] for w in range(workers)) if g] + singles
+
+
+def _run_phased(kind: str, y: Any, fs_hz: float, m: npt.ArrayLike, workers: int | None,
+                angle: FloatArray | None = None, d_max: int | None = None) -> PhasedEstimate:
+    """:func:`_run`, keeping the phase and, with ``d_max``, the decimated sums."""
     arr, fs, mm, terms = _prepare(kind, y, fs_hz, m)
     if angle is not None and angle.shape != (arr.size + 1,):
         raise DataError(f"angle must have one point more than the rate ({arr.size + 1}), "
                         f"got shape {angle.shape}")
     x = phase_from_rate(arr) if angle is None else phase_from_angle(angle, fs)
     nw = _workers(workers, mm.size, int(terms.sum()))
-    sumsq, norm = _SUM_OF_SQUARES[kind], NORMALISATION[kind]
 
-    def one(i: int) -> float:
-        mi, ti = int(mm[i]), int(terms[i])
-        return float(np.sqrt(sumsq(x, mi, ti) / norm(mi, ti)))
+    def job(idx: list[int]) -> list[tuple[float, DecimatedSums | None]]:
+        if len(idx) > 1:
+            return _shared_walk(x, mm[idx], terms[idx], d_max)
+        return [_one_tau(kind, x, int(mm[idx[0]]), int(terms[idx[0]]), d_max)]
 
     tick = progress.ticker(f"{kind}: {mm.size} taus", mm.size)
-    if nw == 1:
-        devs = []
-        for i in range(mm.size):
-            devs.append(one(i))
-            tick(i + 1)
-    else:
-        # Largest jobs first so that the pool ends evenly; progress is reported from this
-        # thread as the results arrive in order.
-        order = np.argsort(-terms, kind="stable").tolist()
-        res = {}
-        with ThreadPoolExecutor(max_workers=nw) as pool:
-            for k, (i, dev) in enumerate(zip(order, pool.map(one, order), strict=True)):
-                res[i] = dev
-                tick(k + 1)
-        devs = [res[i] for i in range(mm.size)]
-    return EstimatorOutput(kind=kind, m=mm, tau_s=mm / fs,
-                           dev=np.asarray(devs, dtype=np.float64), n=terms)
+    jobs = _jobs(kind, mm, terms, nw)
+    found: dict[int, tuple[float, DecimatedSums | None]] = {}
+    # Largest jobs first so that the pool ends evenly; progress is reported from this
+    # thread as the results arrive in order.
+    with ThreadPoolExecutor(max_workers=nw) as pool:
+        results = map(job, jobs) if nw == 1 else pool.map(job, jobs)
+        for idx, got in zip(jobs, results, strict=True):
+            for i, one in zip(idx, got, strict=True):  # a tick per tau, also in a shared walk
+                found[i] = one
+                tick(len(found))
+    res = [found[i] for i in range(mm.size)]
+    out = EstimatorOutput(kind=kind, m=mm, tau_s=mm / fs,
+                          dev=np.asarray([r[0] for r in res], dtype=np.float64), n=terms)
+    return PhasedEstimate(output=out, phase=x, sums=tuple(r[1] for r in res))
+
+
+def estimate_with_sums(kind: str, y: npt.ArrayLike, *, fs_hz: float, m: npt.ArrayLike,
+                       d_max: int, workers: int | None = None) -> PhasedEstimate:
+    """Estimator ``kind`` of the rate ``y``, with its phase and the decimated sums of orders
+    up to ``d_max`` that the lag-1 ACF noise identification needs
+    (:mod:`fogts.allan.decimated`), taken in the same pass as the deviation for ``oadev``.
+
+    The deviations equal those of :data:`ESTIMATORS` (the same kernels, summed in the same
+    order).
+
+    Examples
+    --------
+    >>> y = np.random.default_rng(0).normal(size=1000)
+    >>> est = estimate_with_sums("oadev", y, fs_hz=1.0, m=[1, 10], d_max=1)
+    >>> bool(np.allclose(est.output.dev, oadev(y, fs_hz=1.0, m=[1, 10]).dev, rtol=1e-12))
+    True
+    >>> [s.blocks for s in est.sums], est.phase.size
+    ([1000, 100], 1001)
+    """
+    if kind not in _SUM_OF_SQUARES:
+        raise DataError(f"kind must be one of {', '.join(_SUM_OF_SQUARES)}; got {kind!r}")
+    return _run_phased(kind, y, fs_hz, m, workers, d_max=check_int("d_max", d_max, minimum=0))
 
 
 def estimate_from_angle(kind: str, angle: npt.ArrayLike, *, fs_hz: float, m: npt.ArrayLike,

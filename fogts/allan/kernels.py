@@ -18,14 +18,19 @@ squared differences of ``x`` (SP1065 eqs. 7, 11, 14, 18, 20, 25).
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 
 import numpy as np
 
 from fogts._typing import FloatArray
 
-__all__ = ["CHUNK", "DOT_BLOCK", "NORMALISATION", "phase_from_rate", "second_difference", "ss_mod",
-           "ss_second", "ss_third", "ss_total", "third_difference"]
+__all__ = ["CHUNK", "DOT_BLOCK", "NORMALISATION", "SHARED_WALK_BELOW", "ChunkHook",
+           "hook_sees_chunks", "phase_from_rate", "second_difference", "ss_mod", "ss_second",
+           "ss_second_lags", "ss_third", "ss_total", "third_difference"]
+
+#: Called by :func:`ss_second` with each chunk ``s, e`` of terms, its first differences
+#: ``d_j`` (``j`` in ``[s, e + L)``) and second differences ``v_i`` (``i`` in ``[s, e)``).
+ChunkHook = Callable[[int, int, FloatArray, FloatArray], None]
 
 #: Elements per chunk of the sum-of-squares loops (256 KiB of float64: stays in L2).
 CHUNK = 1 << 15
@@ -124,7 +129,18 @@ def _sumsq(v: FloatArray) -> float:
     return total
 
 
-def ss_second(p: FloatArray, lag: int, terms: int) -> float:
+#: Lags below this are walked together by :func:`ss_second_lags`: its window of the phase
+#: (``CHUNK + 2 lag`` points) and the two blocks stay in a 2 MiB L2 cache.
+SHARED_WALK_BELOW = 8192
+
+
+def hook_sees_chunks(lag: int, terms: int) -> bool:
+    """Whether :func:`ss_second` at ``lag`` over ``terms`` terms hands its chunks to a hook
+    (``lag`` below the chunk size; otherwise it walks lanes of stride ``lag``)."""
+    return lag < min(CHUNK, terms)
+
+
+def ss_second(p: FloatArray, lag: int, terms: int, hook: ChunkHook | None = None) -> float:
     """``sum (p[i+2L] - 2 p[i+L] + p[i])^2``, ``i < terms`` (SP1065 eqs. 7 and 11).
 
     Written as ``v_i = d_{i+L} - d_i`` with the lag-L first difference
@@ -132,21 +148,17 @@ def ss_second(p: FloatArray, lag: int, terms: int) -> float:
     computed once: for ``L`` below the chunk size a block of ``d`` covers the chunk plus
     ``L``; for larger ``L`` the index range is walked in lanes ``r, r+L, r+2L, ...`` so that
     the ``d`` block of one step is the ``d_i`` of the next.  Two ufunc passes and one dot
-    per element.
+    per element.  ``hook`` (:data:`ChunkHook`) sees every chunk's blocks when ``L`` is below
+    the chunk size, in order (:class:`fogts.allan.decimated.SumsCollector` takes the noise
+    identification's sums from them); it is ignored otherwise.
     """
     k = min(CHUNK, terms)
     total = 0.0
-    if lag < k:
+    if hook_sees_chunks(lag, terms):
         dbuf = np.empty(k + lag, dtype=np.float64)
         vbuf = np.empty(k, dtype=np.float64)
         for s in range(0, terms, k):
-            e = min(s + k, terms)
-            w = e - s
-            d = dbuf[: w + lag]
-            np.subtract(p[s + lag : e + 2 * lag], p[s : e + lag], out=d)
-            v = vbuf[:w]
-            np.subtract(d[lag:], d[:w], out=v)
-            total += _sumsq(v)
+            total += _second_chunk(p, lag, s, min(s + k, terms), dbuf, vbuf, hook)
         return total
     prev_buf = np.empty(k, dtype=np.float64)
     cur_buf = np.empty(k, dtype=np.float64)
@@ -165,6 +177,43 @@ def ss_second(p: FloatArray, lag: int, terms: int) -> float:
             prev_buf, cur_buf = cur_buf, prev_buf  # d[s+L : s+L+w] is the next d_i block
             s += lag
     return total
+
+
+def _second_chunk(p: FloatArray, lag: int, s: int, e: int, dbuf: FloatArray, vbuf: FloatArray,
+                  hook: ChunkHook | None) -> float:
+    """The sum of squares of :func:`ss_second` over the terms ``[s, e)``: the ``d`` block
+    ``[s, e + L)`` and ``v`` block ``[s, e)`` formed in ``dbuf`` and ``vbuf``."""
+    w = e - s
+    d = dbuf[: w + lag]
+    np.subtract(p[s + lag : e + 2 * lag], p[s : e + lag], out=d)
+    v = vbuf[:w]
+    np.subtract(d[lag:], d[:w], out=v)
+    total = _sumsq(v)
+    if hook is not None:
+        hook(s, e, d, v)
+    return total
+
+
+def ss_second_lags(p: FloatArray, lags: Sequence[int], terms: Sequence[int],
+                   hooks: Sequence[ChunkHook | None]) -> list[float]:
+    """:func:`ss_second` at several lags in one walk over ``p``, chunk by chunk.
+
+    Every lag must hand its chunks to a hook (:func:`hook_sees_chunks`).  At each chunk
+    the phase window ``[s, s + CHUNK + 2 max(lags))`` is read from memory by the first lag
+    and from cache by the others, so the lags share one read of the phase instead of one
+    each.  The blocks, their order and hence every sum are those of :func:`ss_second`.
+    """
+    top = max(lags)
+    k = min(CHUNK, max(terms))
+    dbuf = np.empty(k + top, dtype=np.float64)
+    vbuf = np.empty(k, dtype=np.float64)
+    totals = [0.0] * len(lags)
+    for s in range(0, max(terms), CHUNK):
+        for i, (lag, count, hook) in enumerate(zip(lags, terms, hooks, strict=True)):
+            if s < count:
+                e = min(s + min(CHUNK, count), count)
+                totals[i] += _second_chunk(p, lag, s, e, dbuf, vbuf, hook)
+    return totals
 
 
 def ss_third(p: FloatArray, lag: int, terms: int) -> float:

@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import itertools
 import math
+from collections.abc import Sequence
 
 import numpy as np
 import numpy.typing as npt
@@ -35,11 +36,18 @@ import pandas as pd
 from fogts._typing import FloatArray, IntArray
 from fogts._validate import check_choice, check_positive, to_float_array
 from fogts.allan._checks import check_m
-from fogts.allan.estimators import mdev, oadev, phase_from_rate
+from fogts.allan.decimated import (
+    DecimatedSums,
+    acf_alpha_from_sums,
+    acf_estimate,
+    decimated_sums,
+    detrended_lag1,
+)
+from fogts.allan.estimators import phase_deviations, phase_from_rate
 from fogts.allan.taus import KINDS
 
-__all__ = ["ACF_MIN_POINTS", "ALPHAS", "ALPHA_METHODS", "B1_MIN_POINTS", "CHANGE_Z", "identify_noise",
-           "identify_with_methods"]
+__all__ = ["ACF_MIN_POINTS", "ALPHAS", "ALPHA_METHODS", "B1_MIN_POINTS", "CHANGE_Z", "acf_orders",
+           "identify_noise", "identify_with_methods"]
 
 #: Fewest decimated phase points (``n // m + 1``) for the lag-1 autocorrelation method;
 #: SP1065 section 5.2 and Riley & Greenhall (2004) ask for "at least about 30".
@@ -67,68 +75,42 @@ def _lag1(c: FloatArray) -> float:
 
 def _acf_alpha(xd: FloatArray, d_max: int) -> tuple[float, float]:
     """Riley & Greenhall (2004) lag-1 ACF noise estimate for frequency data, and its
-    standard error (:func:`_acf_stderr`).
+    standard error (:func:`~fogts.allan.decimated.acf_stderr`): the reference
+    implementation, on the decimated phase itself.
+
+    :func:`identify_with_methods` computes the same estimate from sums
+    (:func:`fogts.allan.decimated.acf_alpha_from_sums`), which the overlapping Allan kernel
+    collects in its own pass; the tests compare the two.
 
     ``xd`` is the phase decimated by m (``N + 1`` points), so ``z = diff(xd)`` are the N
     rates averaged over blocks of m (the scale ``1/m`` does not matter).  A least-squares
-    line is removed from ``z`` (a linear rate drift); the series is then differenced until
+    line is removed from ``z`` (a linear rate drift,
+    :func:`~fogts.allan.decimated.detrended_lag1`); the series is then differenced until
     ``delta = r1 / (1 + r1)`` falls below 0.25 (stationary) or ``d_max`` differences are
     taken, and ``p = -2 (delta + d)`` estimates alpha (``theta = 0`` for frequency data).
-
-    The detrended lag-1 sums are formed from the sums of the centred series ``c`` (no
-    trend array is built): with ``u_t = t - (N-1)/2``, ``b = sum(u c) / sum(u^2)``,
-    ``sum(e^2) = sum(c^2) - b^2 sum(u^2)`` and
-    ``sum(e_t e_t+1) = sum(c_t c_t+1) - b [2 sum(u c) - c_N-1 u_N-1 - c_N-1 - c_0 u_0 + c_0]
-    + b^2 [sum(u^2) - u_N-1^2 - u_N-1]``; ``sum(t z_t) = N xd_N - sum_{s>=1} xd_s``.
     """
     n = xd.size - 1
-    z = np.diff(xd)
+    series = [np.diff(xd)]
     zbar = (float(xd[-1]) - float(xd[0])) / n
-    z -= zbar
-    stt = n * (n * n - 1.0) / 12.0
-    if n < 3 or not stt > 0.0:
-        return math.nan, math.nan
-    t_z = n * float(xd[-1]) - float(np.sum(xd[1:]))  # sum_t t z_t
-    suc = t_z - zbar * n * (n - 1.0) / 2.0  # sum_t u_t c_t = sum_t t c_t (sum c = 0)
-    b = suc / stt
-    u0, ul = -(n - 1.0) / 2.0, (n - 1.0) / 2.0
-    c0, cl = float(z[0]), float(z[-1])
-    den = float(np.dot(z, z)) - b * b * stt
-    num = (float(np.dot(z[:-1], z[1:])) - b * (2.0 * suc - cl * ul - cl - c0 * u0 + c0)
-           + b * b * (stt - ul * ul - ul))
-    if not den > 0.0 or not math.isfinite(num):
-        return math.nan, math.nan
-    r1 = num / den
-    d = 0
-    w = z
-    while True:
-        delta = r1 / (1.0 + r1)
-        if delta < 0.25 or d >= d_max:
-            return -2.0 * (delta + d), _acf_stderr(w.size)
+    series[0] -= zbar
+
+    def lag1_of(d: int) -> tuple[float, int]:
+        if d == 0:
+            z = series[0]
+            if n < 3:
+                return math.nan, n
+            return detrended_lag1(n, float(xd[0]), float(xd[-1]), float(np.sum(xd[1:])),
+                                  float(z[0]), float(z[-1]), float(np.dot(z, z)),
+                                  float(np.dot(z[:-1], z[1:]))), n
         # differencing the detrended series = differencing z, up to a constant that the
         # centring removes
-        w = np.diff(w)
+        w = np.diff(series[-1])
+        series.append(w)
         if w.size < 2:
-            return math.nan, math.nan
+            return math.nan, w.size
         w -= w.mean()
-        r1 = _lag1(w)
-        if not math.isfinite(r1):
-            return math.nan, math.nan
-        d += 1
-
-
-def _acf_stderr(n: int) -> float:
-    """Standard error of ``p = -2 (delta + d)`` from the lag-1 autocorrelation of ``n``
-    values: ``2 / sqrt(n)``.
-
-    The lag-1 autocorrelation of ``n`` independent values has standard deviation
-    ``1/sqrt(n)`` (Bartlett; the precision Riley & Greenhall 2004 quote for the method),
-    and ``delta = r1 / (1 + r1)`` has slope 1 at ``r1 = 0``, so this is the standard error
-    of ``p`` when the previous type (the one under test) is white FM.  For the other types
-    it is no error bound (near white PM the slope is larger), and their changes are taken
-    as the estimate rounds, as Stable32 takes them.
-    """
-    return 2.0 / math.sqrt(n)
+        return _lag1(w), w.size
+    return acf_estimate(lag1_of, d_max)
 
 
 def _b1_expected(n: int, mu: int) -> float:
@@ -161,7 +143,7 @@ def _significant_change(held: int | None, p: float, se: float) -> int:
 
     The noise type changes slowly with tau, and the estimate at a longer tau rests on fewer
     averaged values; a change of type is accepted only where the estimate's own sampling
-    uncertainty (:func:`_acf_stderr`) makes it significant (:data:`CHANGE_Z`).  On white rate
+    uncertainty (:func:`~fogts.allan.decimated.acf_stderr`) makes it significant (:data:`CHANGE_Z`).  On white rate
     noise this removes the chance +-1 types at the last ACF taus (30-125 averaged values,
     where the standard error of ``p`` is 0.2-0.4)."""
     alpha = int(np.clip(np.rint(p), -2, 2))
@@ -204,17 +186,30 @@ def _rn_type(m: int, rn: float) -> int:
     return 0
 
 
-def identify_with_methods(y: FloatArray, m: IntArray, kind: str, oavar_given: FloatArray | None = None
-              ) -> tuple[IntArray, tuple[str, ...]]:
+def acf_orders(kind: str) -> int:
+    """Largest number of differences of the block-averaged rate the lag-1 ACF method takes
+    for ``kind``: 2 for the Hadamard family, 1 otherwise (Riley & Greenhall 2004 count on
+    the phase: ``d_max`` 3 and 2)."""
+    return 2 if kind in ("hdev", "ohdev") else 1
+
+
+def identify_with_methods(y: FloatArray, m: IntArray, kind: str,
+                          oavar_given: FloatArray | None = None, *,
+                          phase: FloatArray | None = None,
+                          sums: Sequence[DecimatedSums | None] | None = None
+                          ) -> tuple[IntArray, tuple[str, ...]]:
     """Alpha and the method that found it (:data:`ALPHA_METHODS`) at every averaging factor.
 
     ``oavar_given`` (aligned with ``m``) are known overlapping Allan variances, reused for
     the B1 ratio instead of recomputing them (as
-    :func:`fogts.allan.confidence.confidence_table` does for ``kind="oadev"``).
+    :func:`fogts.allan.confidence.confidence_table` does for ``kind="oadev"``).  ``phase``
+    (``phase_from_rate(y)``) and ``sums`` (aligned with ``m``, of at least
+    :func:`acf_orders` orders; :func:`fogts.allan.estimators.estimate_with_sums`) are reused
+    when given instead of being computed again.
     """
-    d_max = 2 if kind in ("hdev", "ohdev") else 1  # phase d_max 3 / 2, in frequency terms
+    d_max = acf_orders(kind)
     n = y.size
-    x = phase_from_rate(y)
+    x = phase_from_rate(y) if phase is None else phase
     alpha = np.zeros(m.size, dtype=np.int64)
     methods = ["none"] * m.size
     b1_idx: list[int] = []
@@ -222,7 +217,9 @@ def identify_with_methods(y: FloatArray, m: IntArray, kind: str, oavar_given: Fl
     for i in np.argsort(m, kind="stable").tolist():
         blocks = n // int(m[i])
         if blocks + 1 >= ACF_MIN_POINTS:
-            p, se = _acf_alpha(x[: blocks * int(m[i]) + 1 : int(m[i])], d_max)
+            got = sums[i] if sums is not None else None
+            p, se = acf_alpha_from_sums(got if got is not None
+                                        else decimated_sums(x, int(m[i]), d_max), d_max)
             if math.isfinite(p):
                 alpha[i] = _significant_change(held, p, se)
                 methods[i] = "acf"
@@ -234,7 +231,7 @@ def identify_with_methods(y: FloatArray, m: IntArray, kind: str, oavar_given: Fl
         if oavar_given is not None:
             oavar = np.asarray(oavar_given, dtype=np.float64)[b1_idx]
         else:
-            oavar = oadev(y, fs_hz=1.0, m=mb).dev ** 2
+            oavar = phase_deviations("oadev", x, mb) ** 2
         pm_idx: list[int] = []
         for i, mi, av in zip(b1_idx, mb.tolist(), oavar.tolist(), strict=True):
             if not av > 0.0:
@@ -247,7 +244,7 @@ def identify_with_methods(y: FloatArray, m: IntArray, kind: str, oavar_given: Fl
                 pm_idx.append(i)
         if pm_idx:
             mp = m[pm_idx]
-            mvar = mdev(y, fs_hz=1.0, m=mp).dev ** 2
+            mvar = phase_deviations("mdev", x, mp) ** 2
             av_of = dict(zip(mb.tolist(), oavar.tolist(), strict=True))
             for i, mi, mv in zip(pm_idx, mp.tolist(), mvar.tolist(), strict=True):
                 alpha[i] = _rn_type(mi, mv / av_of[mi])
