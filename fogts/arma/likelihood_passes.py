@@ -183,3 +183,4 @@ def derivatives(model: ExactLikelihood, ev: Evaluation, *, hessian: bool
     if not hessian:
         return dS, dD, None
     return dS, dD, _hessian_pass(model, ev, e if q else None)
+
