@@ -271,17 +271,26 @@ class ExactLikelihood:
         return e
 
     def innovation_blocks(self, ev: Evaluation) -> Iterator[tuple[int, int, FloatArray]]:
-        """The innovations at ``ev`` block by block, (c0, c1, a[c0:c1]) over ``bounds(s)``,
-        equal to :meth:`innovations` without its series-length array."""
+        """The innovations at ``ev`` block by block, (c0, c1, a[c0:c1]), equal to
+        :meth:`innovations` without its series-length array: the start-up block with the
+        first steady one, then ``CHUNK``-long blocks (a series of up to s + CHUNK samples
+        is one block, so sums over it are those over the whole array)."""
         s = ev.s
         y = (ev.head[:, 0] if self.mean else ev.head).copy()
         if self.mean:
             self._correct(ev, y, 0)
-        yield 0, s, y
-        for c0, c1, y in self._tail_chunks(ev):
+        first = True
+        for c0, c1, t in self._tail_chunks(ev):
             if self.mean:
-                self._correct(ev, y, c0)
-            yield c0, c1, y
+                self._correct(ev, t, c0)
+            if first:
+                y = np.concatenate((y, t))
+                first = False
+                yield 0, c1, y
+            else:
+                yield c0, c1, t
+        if first:
+            yield 0, s, y
 
     def _tail_chunks(self, ev: Evaluation) -> Iterator[tuple[int, int, FloatArray]]:
         """The steady-state innovations of the series (before the GLS mean's removal) from s

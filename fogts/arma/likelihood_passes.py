@@ -86,7 +86,7 @@ def _adjoint_pass(model: ExactLikelihood, ev: Evaluation, e: FloatArray
         off = c0 - lo
         if q:
             gr, zr = lfilter([1.0], a_poly, ext[off:][::-1], zi=zr)
-            g = gr[::-1]
+            g = np.ascontiguousarray(gr[::-1])
         else:
             g = ext[off:]
         if c0 >= s and c0 < c1:
