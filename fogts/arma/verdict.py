@@ -100,8 +100,8 @@ def _failed_sentence(ranked: Sequence[Candidate]) -> str:
 def _selected_verdict(sel: Candidate, ranked: Sequence[Candidate], criterion: str,
                       corr: Correlogram) -> str:
     crit = criterion.upper()
-    pred = sel.predict()
-    removed = 100.0 * pred.variance_removed
+    removed_fraction = float(sel.prediction_summary()["variance_removed"])
+    removed = 100.0 * removed_fraction
     if sel.white and on_unit_circle(sel) is not None:
         return _non_invertible_verdict(sel, ranked, criterion)
     if sel.white:
@@ -116,7 +116,7 @@ def _selected_verdict(sel: Candidate, ranked: Sequence[Candidate], criterion: st
             alt = min(simpler, key=lambda c: (c.p + c.q, getattr(c, criterion)))
             text += (f" The simpler {alt.model} is within {CLOSE_CALL:g} {crit} units and also "
                      f"white: the data support it about as well.")
-        if pred.variance_removed < SMALL_PREDICTION:
+        if removed_fraction < SMALL_PREDICTION:
             text += (" The series is nearly white at this sample rate (white rate noise, i.e. "
                      "angle random walk, dominates): decimate to model the slower drift.")
         elif corr.acf_pattern.kind == "none" and corr.pacf_pattern.kind == "none":
