@@ -336,7 +336,8 @@ class ExactLikelihood:
                    ones_tr: FloatArray) -> tuple[FloatArray, float]:
         """Innovations of the constant series 1 from s on: an explicit head, then the constant
         c = phi(1)/theta(1) they converge to geometrically (at the MA roots' rate), reached
-        when the last max(p, q) values are within 1e-14 of it (or at the end of the series)."""
+        when the last max(p, q) values are within 1e-14 of it, or settled within 1e-12 of it
+        (rounding), or at the end of the series."""
         from scipy.signal import lfilter
 
         b, a = self.polys(phi, theta)
@@ -346,14 +347,19 @@ class ExactLikelihood:
         L, total = self.order, self.n - s
         zi = _steady_zi(b, a, np.ones(L), ones_tr[s - L:s])
         pieces: list[FloatArray] = []
-        done, size = 0, 4096
+        done, size, last = 0, 4096, math.inf
         while done < total:
             m = min(size, total - done)
             y, zi = lfilter(b, a, np.ones(m), zi=zi)
             pieces.append(y)
             done += m
-            if m >= L and float(np.max(np.abs(y[-L:] - c))) <= 1e-14 * abs(c):
-                break
+            if m >= L:
+                dev = float(np.max(np.abs(y[-L:] - c)))
+                # settled: within 1e-14 of c, or at the rounding floor of the recursion
+                # (c = phi(1)/theta(1) ~ 0 near a unit AR root), no closer than a piece ago
+                if dev <= 1e-14 * abs(c) or (dev <= 1e-12 and dev >= 0.5 * last):
+                    break
+                last = dev
             size *= 4
         return np.concatenate(pieces), c
 
