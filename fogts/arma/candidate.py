@@ -11,7 +11,7 @@ import pandas as pd
 
 from fogts._typing import FloatArray
 from fogts.arma.fit_result import ArmaFit, param_lines
-from fogts.arma.predict import Prediction, one_step_prediction, predict_arma
+from fogts.arma.predict import Prediction, one_step_prediction, predict_arma, prediction_summary
 from fogts.arma.redundancy import RedundancyFlag
 from fogts.arma.roots import Roots
 from fogts.arma.whiteness import ResidualDiagnostics
@@ -188,6 +188,13 @@ class Candidate:
         assert self.data is not None
         return one_step_prediction(self.data, self.fit.resid, model=self.model,
                                    index=self.index, time=self.time)
+
+    def prediction_summary(self) -> dict[str, Any]:
+        """``predict().to_dict()`` on the fitted series, without forming the prediction's
+        series-length arrays (:func:`fogts.arma.predict.prediction_summary`)."""
+        if not self.ok or self.fit is None or self.data is None:
+            raise ModelFitError(f"{self.model} was not fitted ({self.reason}); it cannot predict")
+        return prediction_summary(self.data, self.fit.resid, model=self.model)
 
     def to_dict(self) -> dict[str, Any]:
         """The DESIGN.md candidate record (plus ``hqic``, ``aicc``, ``reason``, ``flags`` ...)."""

@@ -26,11 +26,13 @@ def dot(u: FloatArray, v: FloatArray) -> float:
     return float(np.einsum("i,i->", u, v))
 
 
-def lag_products(x: FloatArray, max_lag: int, y: FloatArray | None = None) -> FloatArray:
+def lag_products(x: FloatArray, max_lag: int, y: FloatArray | None = None, *,
+                 center: float = 0.0) -> FloatArray:
     """Lag products ``c_k = sum_t x_{t+k} y_t`` for k = 0..max_lag (y defaults to x).
 
     Computed block by block, every lag of a block while the block is in cache, with
-    ``np.einsum`` (no BLAS threads, which stall on a loaded machine).
+    ``np.einsum`` (no BLAS threads, which stall on a loaded machine); no series-length
+    array is made.  ``center`` is subtracted from both series first (block by block).
 
     Parameters
     ----------
@@ -38,6 +40,8 @@ def lag_products(x: FloatArray, max_lag: int, y: FloatArray | None = None) -> Fl
         Series of equal length.
     max_lag : int
         Largest lag (``0 <= max_lag < len(x)``).
+    center : float
+        Subtracted from every sample of x and y (e.g. their mean).
 
     Returns
     -------
@@ -49,15 +53,19 @@ def lag_products(x: FloatArray, max_lag: int, y: FloatArray | None = None) -> Fl
     array([14.,  8.,  3.])
     """
     n = x.shape[0]
-    if y is None:
-        y = x
+    same = y is None
     out = np.zeros(max_lag + 1)
-    xp = np.concatenate([x, np.zeros(max_lag)])
     for s in range(0, n, _BLOCK):
         e = min(n, s + _BLOCK)
-        ys = y[s:e]
+        xs = x[s:min(n, e + max_lag)]
+        ys = xs[:e - s] if same else (y if y is not None else x)[s:e]
+        if center:
+            xs = xs - center
+            ys = xs[:e - s] if same else ys - center
         for k in range(max_lag + 1):
-            out[k] += dot(ys, xp[s + k:e + k])
+            m = min(e - s, xs.shape[0] - k)
+            if m > 0:
+                out[k] += dot(ys[:m], xs[k:k + m])
     return out
 
 
@@ -65,7 +73,7 @@ def autocorrelation(x: Any, *, nlags: int) -> FloatArray:
     """Sample autocorrelation r_0..r_nlags (demeaned, biased: divided by n).
 
     Identical to ``statsmodels.tsa.stattools.acf(x, nlags=nlags, adjusted=False)``
-    (Box, Jenkins & Reinsel eq. 2.1.12), computed with :func:`lag_products`.
+    (Box, Jenkins & Reinsel eq. 2.1.12), computed with :func:`lag_products` (no copy of x).
 
     Examples
     --------
@@ -75,8 +83,7 @@ def autocorrelation(x: Any, *, nlags: int) -> FloatArray:
     """
     arr = to_float_array(x, "x", min_length=2)
     nlags = check_int("nlags", nlags, minimum=0, maximum=arr.shape[0] - 1)
-    d = arr - arr.mean()
-    c = lag_products(d, nlags)
+    c = lag_products(arr, nlags, center=float(arr.mean()))
     if c[0] == 0.0:
         raise InsufficientDataError("x is constant; its autocorrelation is undefined")
     return c / c[0]

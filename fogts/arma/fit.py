@@ -26,10 +26,10 @@ from fogts._typing import ArrayLike1D, FloatArray
 from fogts._validate import check_choice, check_int, to_float_array
 from fogts.arma.fit_result import ArmaFit, criteria, fitted_series, model_name, param_names
 from fogts.arma.likelihood import Evaluation, ExactLikelihood
-from fogts.arma.optimiser import NewtonResult, maximise
+from fogts.arma.optimiser import _PRESAMPLE, NewtonResult, maximise
 from fogts.arma.region import UNIT_ROOT_GAP, spectral_radius, unit_root_gap
 from fogts.arma.standard_errors import standard_errors
-from fogts.arma.start_values import hannan_rissanen, normal_equations
+from fogts.arma.start_values import _START_SAMPLES, hannan_rissanen, normal_equations
 from fogts.errors import ConvergenceWarning, DataError, InsufficientDataError, ModelFitError
 
 __all__ = ["ArmaFit", "FitMethod", "fit_arma", "min_nobs", "model_name", "param_names"]
@@ -127,19 +127,22 @@ def _check_not_explosive(xs: FloatArray) -> None:
             "difference or detrend it first")
 
 
-def _fit_demeaned(xs: FloatArray, p: int, q: int,
+def _fit_demeaned(model: ExactLikelihood, head: FloatArray, offset: float,
                   exact: bool) -> tuple[ExactLikelihood, NewtonResult, int]:
-    """The exact ML fit without a mean of xs minus its sample mean (model, result, iterations).
+    """The exact ML fit without a mean of the model's series minus its sample mean
+    ``offset`` (model, result, iterations); ``head``: the series' first samples.
 
     Used where the restricted likelihood is maximised at a unit AR root (see
     :func:`_unit_root_note`): the mean of a unit-root process is not identifiable, and the
     zero-mean likelihood of the demeaned series has its maximum inside the stationarity
     region (the sample mean's removal costs a unit root about log(n)/2).
     """
-    y = xs - float(np.mean(xs))
-    model = ExactLikelihood(y, p, q)
-    res, n_iter = maximise(y, model, *hannan_rissanen(y, p, q), polish=exact)
-    return model, res, n_iter
+    p, q = model.p, model.q
+    y = head - offset
+    demeaned = ExactLikelihood(model.x, p, q, scale=model.scale,
+                               offsets=(*model.offsets, offset), work=model.work)
+    res, n_iter = maximise(y, demeaned, *hannan_rissanen(y, p, q), polish=exact)
+    return demeaned, res, n_iter
 
 
 def _unit_root_note(stopped: Evaluation) -> str:
@@ -159,30 +162,36 @@ def _unit_root_note(stopped: Evaluation) -> str:
             "without a mean, and llf is the restricted likelihood at them")
 
 
-def _fit_fast(xs: FloatArray, p: int, q: int, mean: bool) -> _PathResult:
+def _fit_fast(x: FloatArray, head: FloatArray, scale: float, offsets: tuple[float, float],
+              p: int, q: int, mean: bool) -> _PathResult:
     """Exact ML by Newton's method on the fast exact likelihood, from Hannan-Rissanen starts.
 
-    Up to ``_FD_HESSIAN_MAX_N`` samples the optimum is polished with, and the standard errors
-    come from, the finite-difference Hessians of the exact gradient; above, from the analytic
-    Hessian of the last Newton step.
+    The likelihood sees ``x / scale - offsets[0]`` (``offsets[0]``: with ``mean``; the
+    demeaned fallback also subtracts ``offsets[1]``, that series' own sample mean) block by
+    block; ``head``: its first samples (start values, presample).  Up to
+    ``_FD_HESSIAN_MAX_N`` samples the optimum is polished with, and the standard errors
+    come from, the finite-difference Hessians of the exact gradient; above, from the
+    analytic Hessian of the last Newton step.  The innovations returned are the models'
+    shared workspace (no other series-length array is made).
     """
-    n = xs.shape[0]
+    n = x.shape[0]
     exact = n <= _FD_HESSIAN_MAX_N
-    model = ExactLikelihood(xs, p, q, mean=mean)
-    res, n_iter = maximise(xs, model, *hannan_rissanen(xs, p, q), polish=exact)
+    model = ExactLikelihood(x, p, q, mean=mean, scale=scale,
+                            offsets=(offsets[0],) if mean else ())
+    res, n_iter = maximise(head, model, *hannan_rissanen(head, p, q), polish=exact)
     se_model, se_res = model, res
     if mean and unit_root_gap(res.ev.phi) < UNIT_ROOT_GAP:
-        se_model, se_res, n_alt = _fit_demeaned(xs, p, q, exact)
+        se_model, se_res, n_alt = _fit_demeaned(model, head, offsets[1], exact)
         n_iter += n_alt
-        ev = model.evaluate(se_res.ev.phi, se_res.ev.theta)
-        res = NewtonResult(ev=ev, converged=se_res.converged, n_iter=n_iter,
+        res = NewtonResult(ev=se_res.ev, converged=se_res.converged, n_iter=n_iter,
                            msgs=[*se_res.msgs, _unit_root_note(res.ev)])
-    ev, converged, msgs = res.ev, res.converged, res.msgs
-    sigma2 = ev.S / model.nu      # nu = n, or n - 1 for the restricted likelihood
-    llf = _restricted_llf(model.nu, ev.S, ev.D)
     se, cov, note = standard_errors(se_model, se_res, exact=exact)
+    ev = res.ev if se_model is model else model.evaluate(se_res.ev.phi, se_res.ev.theta)
+    converged, msgs = res.converged, res.msgs
     if note is not None:
         msgs.append(note)
+    sigma2 = ev.S / model.nu      # nu = n, or n - 1 for the restricted likelihood
+    llf = _restricted_llf(model.nu, ev.S, ev.D)
     names = param_names(p, q)
     values = np.r_[ev.phi, ev.theta, sigma2]
     params = dict(zip(names, map(float, values), strict=True))
@@ -191,7 +200,7 @@ def _fit_fast(xs: FloatArray, p: int, q: int, mean: bool) -> _PathResult:
         # the GLS variance sigma2 (1' R^-1 1)^-1, R = Cov(x)/sigma2, and 1' R^-1 1 = s11
         params = {"mean": ev.mu, **params}
         bse = {"mean": math.sqrt(sigma2 / ev.s11), **bse}
-    return params, bse, llf, ev.e, converged, msgs, n_iter, cov[:p + q, :p + q]
+    return params, bse, llf, model.innovations(ev), converged, msgs, n_iter, cov[:p + q, :p + q]
 
 
 def _boundary_notes(params: dict[str, float], p: int, q: int) -> list[str]:
@@ -303,8 +312,13 @@ def fit_arma(x: ArrayLike1D, p: int, q: int, *, method: FitMethod = "fast",
     name = model_name(p, q)
     try:
         if method == "fast":
+            # the likelihood forms the series block by block: only its head is kept
+            head = xs[:max(_START_SAMPLES, _PRESAMPLE)].copy()
+            offsets = (offset, float(np.mean(xs)))
+            del xs
             with np.errstate(over="raise", invalid="raise", divide="raise", under="ignore"):
-                out = _fit_fast(xs, p, q, mean)
+                out = _fit_fast(arr, head, scale if standardize else 1.0, offsets, p, q,
+                                mean)
         else:
             out = _fit_statsmodels(xs, p, q, mean)
     except ModelFitError as exc:
@@ -327,6 +341,11 @@ def _to_original(p: int, q: int, params_s: dict[str, float], bse_s: dict[str, fl
                  n_iter: int | None, scale: float, standardized: bool, method: str,
                  n: int, coef_cov: FloatArray) -> ArmaFit:
     s2 = scale * scale
+    if method == "fast":
+        resid_s *= scale          # the fit's own workspace: scaled in place, no copy
+        resid = resid_s
+    else:
+        resid = resid_s * scale
     params = dict(params_s)
     params["sigma2"] = params_s["sigma2"] * s2
     bse = dict(bse_s)
@@ -341,6 +360,6 @@ def _to_original(p: int, q: int, params_s: dict[str, float], bse_s: dict[str, fl
     aic, bic, hqic, aicc = criteria(llf, k, n)
     return ArmaFit(p=p, q=q, name=model_name(p, q), params=params, bse=bse, llf=llf, aic=aic,
                    bic=bic, hqic=hqic, aicc=aicc, nobs=n, sigma2=params["sigma2"],
-                   resid=resid_s * scale, converged=converged, warnings=tuple(msgs),
+                   resid=resid, converged=converged, warnings=tuple(msgs),
                    scale=scale, standardized=standardized, method=method, n_iter=n_iter,
                    coef_cov=coef_cov)

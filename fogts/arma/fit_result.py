@@ -258,16 +258,22 @@ def fitted_series(x: FloatArray, scale: float, standardized: bool,
 def _exact_innovations(x: FloatArray, fit: ArmaFit) -> FloatArray:
     """The innovations of a ``"fast"`` fit, recomputed exactly as ``fit_arma`` made them.
 
-    Same standardisation (``x / scale``), same exact likelihood evaluation
-    (:meth:`ExactLikelihood.evaluate` at the fitted coefficients, which are stored as the very
-    float64 values the optimiser ended on) and the same back-scaling, so the result is
-    bit-identical to the array the fit returned.
+    Same standardisation (``x / scale``, minus the same sample mean), formed block by block
+    as the fit formed it, same exact likelihood evaluation (:meth:`ExactLikelihood.evaluate`
+    at the fitted coefficients, which are stored as the very float64 values the optimiser
+    ended on) and the same back-scaling in place, so the result is bit-identical to the
+    array the fit returned, and the only series-length array made.
     """
-    xs, _ = fitted_series(x, fit.scale, fit.standardized, fit.mean is not None)
+    mean = fit.mean is not None
+    offsets: tuple[float, ...] = ()
+    if mean:
+        offsets = (float(np.mean(x / fit.scale if fit.standardized else x)),)
+    model = ExactLikelihood(x, fit.p, fit.q, mean=mean,
+                            scale=fit.scale if fit.standardized else 1.0, offsets=offsets)
     with np.errstate(over="raise", invalid="raise", divide="raise", under="ignore"):
-        e = ExactLikelihood(xs, fit.p, fit.q, mean=fit.mean is not None).evaluate(fit.ar,
-                                                                                  fit.ma).e
-    return e * fit.scale
+        e = model.innovations(model.evaluate(fit.ar, fit.ma))
+    e *= fit.scale
+    return e
 
 
 def criteria(llf: float, k: int, n: int) -> tuple[float, float, float, float]:

@@ -42,18 +42,20 @@ process", Biometrika 66 (1979) 59-65.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from collections.abc import Iterator, Sequence
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from fogts._typing import FloatArray
 from fogts.arma.correlation import dot
 from fogts.arma.region import admissible, spectral_radius
+from fogts.arma.startup_block import banded_innovations
 from fogts.errors import ModelFitError
 
-__all__ = ["Evaluation", "ExactLikelihood", "lag_dot"]
+__all__ = ["CHUNK", "Evaluation", "ExactLikelihood", "Workspace", "lag_dot"]
 
-_TOL_P = 1e-13            # the start-up block is steady when its last row is this close
+CHUNK = 1 << 16           # samples per block of the series-length passes (cache-resident)
 _FD_STEP = 1e-6           # central-difference step for the transient's derivatives
 _HESS_STEP = 1e-5         # central-difference step of the exact gradient for the Hessians
 
@@ -82,48 +84,42 @@ def lag_dot(a: FloatArray, b: FloatArray, i: int, j: int, t0: int) -> float:
     return dot(a[t0 - i:t0 - i + m], b[t0 - j:t0 - j + m])
 
 
-def _psi_weights(phi: FloatArray, theta: FloatArray, nlag: int) -> FloatArray:
-    """psi_0..psi_nlag of x_t = sum psi_j a_{t-j} (psi_j = theta_j + sum_k phi_k psi_{j-k})."""
-    psi = np.zeros(nlag + 1)
-    psi[0] = 1.0
-    for j in range(1, nlag + 1):
-        acc = theta[j - 1] if j <= theta.size else 0.0
-        for k in range(1, min(j, phi.size) + 1):
-            acc += phi[k - 1] * psi[j - k]
-        psi[j] = acc
-    return psi
+class Workspace:
+    """One series-length float64 array, allocated on first use, that likelihood models of the
+    same length may share (one at a time), and the evaluation whose innovations it holds."""
+
+    def __init__(self, n: int) -> None:
+        self.n = n
+        self.array: FloatArray | None = None
+        self.holder: Evaluation | None = None
+
+    def take(self) -> FloatArray:
+        """The array, to be overwritten (it no longer holds anyone's innovations)."""
+        if self.array is None:
+            self.array = np.empty(self.n)
+        self.holder = None
+        return self.array
 
 
-def _arma_acov(phi: FloatArray, theta: FloatArray, psi: FloatArray, nlag: int) -> FloatArray:
-    """Autocovariances gamma(0..nlag-1) of a unit-variance ARMA (Brockwell & Davis eq. 3.3.8)."""
-    p, q = phi.size, theta.size
-    if nlag == 0:
-        return np.zeros(0)
-    th = np.r_[1.0, theta]
-    c = np.array([float(np.dot(th[k:q + 1], psi[:q + 1 - k])) if k <= q else 0.0
-                  for k in range(p + 1)])
-    A = np.eye(p + 1)
-    for k in range(p + 1):
-        for i in range(1, p + 1):
-            A[k, abs(k - i)] -= phi[i - 1]
-    gam = np.linalg.solve(A, c)
-    return gam[:nlag]
-
-
-@dataclass
+@dataclass(eq=False)
 class Evaluation:
-    """The likelihood's pieces at one (phi, theta): innovations, S, D and the objective f."""
+    """The likelihood at one (phi, theta): S, D, the objective f, and what rebuilds the
+    innovations (:meth:`ExactLikelihood.innovations`) without storing a series-length array:
+    the start-up block's innovations and the filter state where the steady part starts."""
 
     phi: FloatArray
     theta: FloatArray
     s: int                 # first index of the steady-state part
-    e: FloatArray          # innovations a_t (unit sigma2 scale: x is fixed, F_t relative)
     F: FloatArray          # relative innovation variances of the transient, length s
-    S: float
-    D: float
-    f: float
+    head: FloatArray       # the block's innovations of the series (s,), or (s, 2) with those of 1
+    S: float = math.nan
+    D: float = math.nan
+    f: float = math.nan
     mu: float = 0.0        # GLS mean (0 without a mean)
     s11: float = 0.0       # sum of the constant's squared innovations / F: Var(mu) = sigma2/s11
+    zi: FloatArray | None = None     # lfilter state at s (None for a pure AR)
+    ones_tail: FloatArray = field(default_factory=lambda: np.zeros(0))  # e_1 from s on ...
+    ones_c: float = 0.0    # ... and the constant it settles to
 
     @property
     def beta(self) -> FloatArray:
@@ -131,10 +127,19 @@ class Evaluation:
 
 
 class ExactLikelihood:
-    """Exact profile likelihood of an ARMA(p, q) on a fixed series x: zero-mean, or with its
-    mean profiled out by GLS (``mean=True``, see :meth:`evaluate`)."""
+    """Exact profile likelihood of an ARMA(p, q) on a fixed series: zero-mean, or with its
+    mean profiled out by GLS (``mean=True``, see :meth:`evaluate`).
 
-    def __init__(self, x: FloatArray, p: int, q: int, mean: bool = False) -> None:
+    The series is ``x / scale - offsets[0] - offsets[1] ...``, formed block by block (the
+    same floating-point operations as on a whole standardised copy, without that copy).
+    One series-length :class:`Workspace` (``work``; models of the same length may share one)
+    holds the innovations of the latest evaluation; every other series-length pass runs in
+    cache-sized blocks (``CHUNK``), the filters carrying their state across blocks.
+    """
+
+    def __init__(self, x: FloatArray, p: int, q: int, mean: bool = False, *,
+                 scale: float = 1.0, offsets: Sequence[float] = (),
+                 work: Workspace | None = None) -> None:
         self.x = x
         self.n = x.shape[0]
         self.p = p
@@ -142,105 +147,63 @@ class ExactLikelihood:
         self.mean = mean
         self.nu = self.n - 1 if mean else self.n   # the observations' degrees of freedom
         self.order = max(p, q, 1)       # lfilter order
+        self.scale = float(scale)
+        self.offsets = tuple(float(o) for o in offsets)
+        self.work = Workspace(self.n) if work is None else work
+
+    def series(self, c0: int, c1: int) -> FloatArray:
+        """Samples c0..c1-1 of the modelled series (a view of x when there is nothing to do)."""
+        seg = self.x[c0:c1]
+        if self.scale != 1.0:
+            seg = seg / self.scale
+        for off in self.offsets:
+            seg = seg - off
+        return seg
+
+    def bounds(self, s: int) -> list[int]:
+        """Block boundaries of a pass: the start-up block [0, s), then ``CHUNK``-long blocks."""
+        return [0, *range(s, self.n, CHUNK), self.n] if s < self.n else [0, self.n]
 
     def transient(self, phis: FloatArray, thetas: FloatArray, s: int | None = None, *,
                   series: FloatArray | None = None, with_ones: bool = False
                   ) -> tuple[int, FloatArray, FloatArray]:
         """Exact innovations for t < s, for B parameter vectors (rows of phis/thetas).
 
-        Ansley (1979): z = (x_1..x_p, W_{p+1}..W_n) with W_t = phi(B) x_t has a banded
-        covariance (bandwidth max(p, q)) and the same innovations as x; its banded Cholesky
-        factor L gives the innovation variances F_t = L_tt^2 and innovations e_t = L_tt (L^-1 z)_t
-        (this is the Kalman filter's output, computed by LAPACK dpbtrf/dtbtrs).  With ``s=None``
-        the length grows (512, x8, ...) until the last row is steady: |F - 1| and the distance of
-        the last Cholesky row from (theta_q..theta_1, 1) below 1e-13, or s = n.
-
-        ``series`` replaces x (e.g. x minus its GLS mean); ``with_ones`` also filters the
-        constant series 1 (the innovations of the mean's regressor), as a last axis of 2.
+        Ansley (1979), :func:`fogts.arma.startup_block.banded_innovations`.  With ``s=None``
+        the length grows (512, x8, ...) until the block is steady, or s = n.  ``series``
+        replaces the modelled series (e.g. minus its GLS mean); ``with_ones`` also filters
+        the constant series 1 (the innovations of the mean's regressor), as a last axis of 2.
 
         Returns ``s`` and the innovations, (B, s) or (B, s, 2), and the relative innovation
         variances, (B, s).
         """
         n = self.n
+
+        def head(length: int) -> FloatArray:
+            return self.series(0, length) if series is None else series[:length]
+
         if s is not None:
-            out = [self._banded(phis[b], thetas[b], s, series=series, with_ones=with_ones)
+            block = head(s)
+            out = [banded_innovations(phis[b], thetas[b], block, with_ones=with_ones)
                    for b in range(phis.shape[0])]
             return s, np.array([o[0] for o in out]), np.array([o[1] for o in out])
         s_try = min(n, max(512, 16 * self.order))
         while True:
-            e, F, steady = self._banded(phis[0], thetas[0], s_try, check=True, series=series,
-                                        with_ones=with_ones)
+            block = head(s_try)
+            e, F, steady = banded_innovations(phis[0], thetas[0], block, check=True,
+                                              with_ones=with_ones)
             if steady or s_try >= n:
                 break
             s_try = min(n, 8 * s_try)
         es, fs = [e], [F]
         for b in range(1, phis.shape[0]):
-            eb, fb, _ = self._banded(phis[b], thetas[b], s_try, series=series,
-                                     with_ones=with_ones)
+            eb, fb, _ = banded_innovations(phis[b], thetas[b], block, with_ones=with_ones)
             es.append(eb)
             fs.append(fb)
         return s_try, np.array(es), np.array(fs)
 
-    def _banded(self, phi: FloatArray, theta: FloatArray, s: int, check: bool = False,
-                series: FloatArray | None = None, with_ones: bool = False
-                ) -> tuple[FloatArray, FloatArray, bool]:
-        from scipy.linalg import lapack
-
-        p, q, m = self.p, self.q, self.order
-        x = (self.x if series is None else series)[:s]
-        z = np.column_stack((x, np.ones(s))) if with_ones else x.copy()
-        if p:
-            b = np.empty(p + 1)
-            b[0] = 1.0
-            b[1:] = -phi
-            if with_ones:
-                z[p:, 0] = np.convolve(x, b, mode="valid")
-                z[p:, 1] = float(np.sum(b))
-            else:
-                z[p:] = np.convolve(x, b, mode="valid")
-        ab = self._band_covariance(phi, theta, s)
-        c, info = lapack.dpbtrf(ab, lower=1)
-        if info != 0:
-            raise ModelFitError(f"the covariance of the first {s} samples is not positive "
-                                f"definite (LAPACK dpbtrf info={info})")
-        w, info = lapack.dtbtrs(c, z, uplo="L")
-        diag = c[0]
-        e = np.asarray(w) * diag[:, None] if with_ones else np.asarray(w).ravel() * diag
-        F = diag * diag
-        steady = False
-        if check:
-            t = s - 1
-            dev = abs(F[t] - 1.0)
-            for d in range(1, m + 1):
-                target = theta[d - 1] if d <= q else 0.0
-                dev = max(dev, abs(c[d, t - d] / diag[t - d] - target))
-            steady = dev < _TOL_P and s > p + q
-        return e, F, steady
-
-    def _band_covariance(self, phi: FloatArray, theta: FloatArray, s: int) -> FloatArray:
-        """The band of Cov(z) in LAPACK's lower storage: ab[d, j] = Cov(z_{j+d}, z_j)."""
-        p, q, m = self.p, self.q, self.order
-        th = np.empty(q + 1)
-        th[0] = 1.0
-        th[1:] = theta
-        psi = _psi_weights(phi, theta, q)
-        gam_x = _arma_acov(phi, theta, psi, p)
-        # the MA(q) autocovariance of W_t = phi(B)x_t everywhere but in the first p columns
-        # (x-x and x-W covariances, Ansley 1979)
-        ab = np.zeros((m + 1, s))
-        for d in range(min(q, m) + 1):
-            ab[d, :s - d] = float(np.dot(th[:q + 1 - d], th[d:q + 1]))
-        for j in range(min(p, s)):
-            for d in range(min(m, s - 1 - j) + 1):
-                if j + d < p:
-                    ab[d, j] = gam_x[d]
-                elif d <= q:
-                    ab[d, j] = float(np.dot(th[d:q + 1], psi[:q + 1 - d]))
-                else:
-                    ab[d, j] = 0.0
-        return ab
-
-    def _polys(self, phi: FloatArray, theta: FloatArray) -> tuple[FloatArray, FloatArray]:
+    def polys(self, phi: FloatArray, theta: FloatArray) -> tuple[FloatArray, FloatArray]:
+        """lfilter's numerator phi(B) and denominator theta(B), both of length order + 1."""
         L = self.order
         b = np.zeros(L + 1)
         b[0] = 1.0
@@ -251,7 +214,7 @@ class ExactLikelihood:
         return b, a
 
     def evaluate(self, phi: FloatArray, theta: FloatArray) -> Evaluation:
-        """Exact innovations, S, D and the profile objective f at (phi, theta).
+        """Exact innovations (into the workspace), S, D and the profile objective f.
 
         With ``mean=True`` the mean is removed by generalised least squares and the
         likelihood is the restricted (marginal) one of the n - 1 contrasts free of the mean
@@ -270,158 +233,161 @@ class ExactLikelihood:
         """
         s, e_tr, f_tr = self.transient(phi[None, :], theta[None, :], with_ones=self.mean)
         n, F = self.n, f_tr[0]
-        e = np.empty(n)
-        e[:s] = e_tr[0][:, 0] if self.mean else e_tr[0]
-        if s < n:
-            self._steady_innovations(phi, theta, s, e)
-        mu = s11 = 0.0
+        ev = Evaluation(phi=phi, theta=theta, s=s, F=F, head=e_tr[0])
+        e = self.work.take()
+        e[:s] = ev.head[:, 0] if self.mean else ev.head
+        for c0, c1, y in self._tail_chunks(ev):
+            e[c0:c1] = y
         if self.mean:
-            mu, s11 = self._remove_gls_mean(phi, theta, s, e, F, e_tr[0][:, 1])
+            self._remove_gls_mean(ev, e)
         S = float(np.dot(e[:s], e[:s] / F))
         if s < n:
             tail = e[s:]
             S += dot(tail, tail)
-        D = float(np.sum(np.log(F))) + (math.log(s11 / n) if self.mean else 0.0)
+        D = float(np.sum(np.log(F))) + (math.log(ev.s11 / n) if self.mean else 0.0)
         if not (math.isfinite(S) and S > 0.0 and math.isfinite(D)):
             raise ModelFitError(f"the likelihood is not finite (S={S}, D={D})")
-        fval = 0.5 * self.nu * math.log(S / self.nu) + 0.5 * D
-        return Evaluation(phi=phi, theta=theta, s=s, e=e, F=F, S=S, D=D, f=fval, mu=mu,
-                          s11=s11)
+        ev.S, ev.D = S, D
+        ev.f = 0.5 * self.nu * math.log(S / self.nu) + 0.5 * D
+        self.work.holder = ev
+        return ev
 
-    def _steady_zi(self, b: FloatArray, a: FloatArray, x: FloatArray, e: FloatArray,
-                   s: int) -> FloatArray:
-        """lfilter's state (direct form II transposed) at s from the past of input and output."""
-        L = self.order
-        zi = np.zeros(L)
-        for i in range(L):
-            for k in range(i + 1, L + 1):
-                zi[i] += b[k] * x[s + i - k] - a[k] * e[s + i - k]
-        return zi
+    def innovations(self, ev: Evaluation) -> FloatArray:
+        """The exact innovations a_t at ``ev`` (unit-sigma2 scale of the modelled series).
 
-    def _steady_innovations(self, phi: FloatArray, theta: FloatArray, s: int,
-                            e: FloatArray) -> None:
-        """Fill e[s:] with the steady-state innovations of x (e[:s] already exact)."""
+        Returns the workspace itself: valid until the next evaluation or derivative; copy
+        it to keep it.  Rebuilt (bit for bit) if a later evaluation has overwritten it.
+        """
+        if self.work.holder is ev and self.work.array is not None:
+            return self.work.array
+        e = self.work.take()
+        s = ev.s
+        e[:s] = ev.head[:, 0] if self.mean else ev.head
+        for c0, c1, y in self._tail_chunks(ev):
+            e[c0:c1] = y
+        if self.mean:
+            self._correct(ev, e, 0)
+        self.work.holder = ev
+        return e
+
+    def innovation_blocks(self, ev: Evaluation) -> Iterator[tuple[int, int, FloatArray]]:
+        """The innovations at ``ev`` block by block, (c0, c1, a[c0:c1]), equal to
+        :meth:`innovations` without its series-length array: the start-up block with the
+        first steady one, then ``CHUNK``-long blocks (a series of up to s + CHUNK samples
+        is one block, so sums over it are those over the whole array)."""
+        s = ev.s
+        y = (ev.head[:, 0] if self.mean else ev.head).copy()
+        if self.mean:
+            self._correct(ev, y, 0)
+        first = True
+        for c0, c1, t in self._tail_chunks(ev):
+            if self.mean:
+                self._correct(ev, t, c0)
+            if first:
+                y = np.concatenate((y, t))
+                first = False
+                yield 0, c1, y
+            else:
+                yield c0, c1, t
+        if first:
+            yield 0, s, y
+
+    def _tail_chunks(self, ev: Evaluation) -> Iterator[tuple[int, int, FloatArray]]:
+        """The steady-state innovations of the series (before the GLS mean's removal) from s
+        on, block by block: the ARMA inversion a_t = x_t - sum phi_i x_{t-i} - sum theta_j
+        a_{t-j}, one lfilter started from the block's last innovations (np.convolve for a
+        pure AR, a FIR filter of the observed past)."""
         from scipy.signal import lfilter
 
-        x = self.x
-        if self.q == 0:
-            # pure AR: a_t = phi(B) x_t is a FIR filter of the observed past (s >= p)
-            e[s:] = np.convolve(x[s - self.p:], np.r_[1.0, -phi], mode="valid")
+        s, n, p = ev.s, self.n, self.p
+        if s >= n:
             return
-        b, a = self._polys(phi, theta)
-        e[s:] = lfilter(b, a, x[s:], zi=self._steady_zi(b, a, x, e, s))[0]
+        if self.q == 0:
+            poly = np.r_[1.0, -ev.phi]
+            for c0 in range(s, n, CHUNK):
+                c1 = min(n, c0 + CHUNK)
+                yield c0, c1, np.convolve(self.series(c0 - p, c1), poly, mode="valid")
+            return
+        b, a = self.polys(ev.phi, ev.theta)
+        if ev.zi is None:
+            L = self.order
+            e_head = ev.head[:, 0] if self.mean else ev.head
+            ev.zi = _steady_zi(b, a, self.series(s - L, s), e_head[s - L:s])
+        zi = ev.zi
+        for c0 in range(s, n, CHUNK):
+            c1 = min(n, c0 + CHUNK)
+            y, zi = lfilter(b, a, self.series(c0, c1), zi=zi)
+            yield c0, c1, y
+
+    def _correct(self, ev: Evaluation, y: FloatArray, c0: int) -> None:
+        """Subtract mu e_1 in place from the innovations y of samples c0..c0+len(y)-1."""
+        s, mu, head = ev.s, ev.mu, ev.ones_tail
+        c1 = c0 + y.shape[0]
+        if c0 < s:
+            y[:min(c1, s) - c0] -= mu * ev.head[c0:min(c1, s), 1]
+        lo, hi = max(c0, s), min(c1, s + head.size)
+        if lo < hi:
+            y[lo - c0:hi - c0] -= mu * head[lo - s:hi - s]
+        lo = max(c0, s + head.size)
+        if lo < c1:
+            y[lo - c0:] -= mu * ev.ones_c
 
     def _ones_tail(self, phi: FloatArray, theta: FloatArray, s: int,
                    ones_tr: FloatArray) -> tuple[FloatArray, float]:
         """Innovations of the constant series 1 from s on: an explicit head, then the constant
         c = phi(1)/theta(1) they converge to geometrically (at the MA roots' rate), reached
-        when the last max(p, q) values are within 1e-14 of it (or at the end of the series)."""
+        when the last max(p, q) values are within 1e-14 of it, or settled within 1e-12 of it
+        (rounding), or at the end of the series."""
         from scipy.signal import lfilter
 
-        b, a = self._polys(phi, theta)
+        b, a = self.polys(phi, theta)
         c = float(np.sum(b) / np.sum(a))
         if self.q == 0:
             return np.zeros(0), c
         L, total = self.order, self.n - s
-        zi = self._steady_zi(b, a, np.ones(s), ones_tr, s)
+        zi = _steady_zi(b, a, np.ones(L), ones_tr[s - L:s])
         pieces: list[FloatArray] = []
-        done, size = 0, 4096
+        done, size, last = 0, 4096, math.inf
         while done < total:
             m = min(size, total - done)
             y, zi = lfilter(b, a, np.ones(m), zi=zi)
             pieces.append(y)
             done += m
-            if m >= L and float(np.max(np.abs(y[-L:] - c))) <= 1e-14 * abs(c):
-                break
+            if m >= L:
+                dev = float(np.max(np.abs(y[-L:] - c)))
+                # settled: within 1e-14 of c, or at the rounding floor of the recursion
+                # (c = phi(1)/theta(1) ~ 0 near a unit AR root), no closer than a piece ago
+                if dev <= 1e-14 * abs(c) or (dev <= 1e-12 and dev >= 0.5 * last):
+                    break
+                last = dev
             size *= 4
         return np.concatenate(pieces), c
 
-    def _remove_gls_mean(self, phi: FloatArray, theta: FloatArray, s: int, e: FloatArray,
-                         F: FloatArray, ones_tr: FloatArray) -> tuple[float, float]:
-        """Subtract mu e_1 from the innovations e of x in place, mu the GLS mean; returns
-        mu and s11 = sum e_1^2 / F (Var(mu) = sigma2 / s11)."""
-        n = self.n
-        w = ones_tr / F
+    def _remove_gls_mean(self, ev: Evaluation, e: FloatArray) -> None:
+        """Subtract mu e_1 from the innovations e of the series in place, mu the GLS mean;
+        sets ev.mu and ev.s11 = sum e_1^2 / F (Var(mu) = sigma2 / s11)."""
+        n, s = self.n, ev.s
+        ones_tr = ev.head[:, 1]
+        w = ones_tr / ev.F
         sx1 = float(np.dot(e[:s], w))
         s11 = float(np.dot(ones_tr, w))
-        head, c = (self._ones_tail(phi, theta, s, ones_tr) if s < n else (np.zeros(0), 0.0))
+        if s < n:
+            ev.ones_tail, ev.ones_c = self._ones_tail(ev.phi, ev.theta, s, ones_tr)
+        head, c = ev.ones_tail, ev.ones_c
         m = head.size
         if s < n:
             sx1 += dot(e[s:s + m], head) + c * float(np.sum(e[s + m:]))
             s11 += dot(head, head) + c * c * (n - s - m)
-        mu = sx1 / s11
-        e[:s] -= mu * ones_tr
-        e[s:s + m] -= mu * head
-        e[s + m:] -= mu * c
-        return mu, s11
+        ev.mu, ev.s11 = sx1 / s11, s11
+        self._correct(ev, e, 0)
 
     def derivatives(self, ev: Evaluation, *, hessian: bool
                     ) -> tuple[FloatArray, FloatArray, FloatArray | None]:
-        """Exact dS/dbeta and dD/dbeta, and (optionally) the Hessian of S (see the module docstring)."""
-        from scipy.signal import lfilter
+        """Exact dS/dbeta and dD/dbeta, and (optionally) the Hessian of S (see the module
+        docstring and :mod:`fogts.arma.likelihood_passes`)."""
+        from fogts.arma.likelihood_passes import derivatives
 
-        theta, s, e = ev.theta, ev.s, ev.e
-        p, q, n = self.p, self.q, self.n
-        # with the GLS mean, the derivatives of S at the fixed mu = mu_hat are those of the
-        # profile (envelope theorem: dS/dmu = 0 there): the series is x - mu_hat, used as such
-        # in the start-up block and through its linearity in the steady sums (no copy of x);
-        # the Hessian below uses x itself, an O(mu_hat) approximation (fit_arma passes a
-        # series whose sample mean is removed, so mu_hat is O(n^-1/2))
-        x, mu = self.x, ev.mu
-        k = p + q
-        beta = ev.beta
-        h = _fd_steps(beta, p, _FD_STEP)
-        pert = np.repeat(beta[None, :], 2 * k, axis=0)
-        idx = np.arange(k)
-        pert[2 * idx, idx] += h
-        pert[2 * idx + 1, idx] -= h
-        _, e_tr, f_tr = self.transient(pert[:, :p], pert[:, p:], s=s, series=x[:s] - mu,
-                                       with_ones=self.mean)
-        d_tr = np.sum(np.log(f_tr), axis=1)
-        if self.mean:
-            d_tr += np.log(self._s11_perturbed(pert, s, e_tr[:, :, 1], f_tr) / n)
-            e_tr = e_tr[:, :, 0]
-        s_tr = np.sum(e_tr * e_tr / f_tr, axis=1)
-        dS = (s_tr[0::2] - s_tr[1::2]) / (2 * h)
-        dD = (d_tr[0::2] - d_tr[1::2]) / (2 * h)
-        a_poly = np.r_[1.0, theta]
-        # adjoint g = theta(B^-1)^-1 a, run back from the end over the whole series: on [s, n)
-        # it is exactly the adjoint of the steady block (for the gradient); before s it serves
-        # the Hessian approximation
-        gfull = np.ascontiguousarray(lfilter([1.0], a_poly, e[::-1])[::-1]) if q else e
-        if s < n:
-            g = gfull[s:]
-            grad_ss = np.empty(k)
-            g_sum = float(np.sum(g)) if mu else 0.0
-            for i in range(1, p + 1):
-                grad_ss[i - 1] = -lag_dot(gfull, x, 0, i, s) + mu * g_sum
-            for j in range(1, q + 1):
-                grad_ss[p + j - 1] = -lag_dot(gfull, e, 0, j, s)
-            if q:
-                # start-up terms: the steady recursion starts from the block's last innovations
-                de = (e_tr[0::2, s - q:s] - e_tr[1::2, s - q:s]) / (2 * h[:, None])  # (k, q)
-                for u in range(min(q, n - s)):
-                    c = np.zeros(k)
-                    for j in range(u + 1, q + 1):
-                        c -= theta[j - 1] * de[:, q + u - j]
-                    grad_ss += g[u] * c
-            dS = dS + 2.0 * grad_ss
-        if not hessian:
-            return dS, dD, None
-        u_ = lfilter([1.0], a_poly, x) if q else x
-        v_ = lfilter([1.0], a_poly, e) if q else e
-        t0 = max(p + q, 2 * q)      # the largest lag used below
-        jac = [(u_, i) for i in range(1, p + 1)] + [(v_, j) for j in range(1, q + 1)]
-        HS = np.empty((k, k))
-        for i in range(k):
-            for j in range(i, k):
-                val = lag_dot(jac[i][0], jac[j][0], jac[i][1], jac[j][1], t0)
-                if i < p <= j:          # phi_i, theta_j
-                    val += lag_dot(gfull, u_, 0, jac[i][1] + jac[j][1], t0)
-                elif i >= p:            # theta_i, theta_j
-                    val += 2.0 * lag_dot(gfull, v_, 0, jac[i][1] + jac[j][1], t0)
-                HS[i, j] = HS[j, i] = 2.0 * val
-        return dS, dD, HS
+        return derivatives(self, ev, hessian=hessian)
 
     def information(self, phi: FloatArray, theta: FloatArray) -> FloatArray:
         """Per-observation information matrix of (phi, theta), Brockwell & Davis eq. 8.8.3."""
@@ -490,3 +456,15 @@ class ExactLikelihood:
         return 0.5 * (d2S + d2S.T), 0.5 * (d2D + d2D.T)
 
 
+
+
+def _steady_zi(b: FloatArray, a: FloatArray, x_prev: FloatArray,
+               e_prev: FloatArray) -> FloatArray:
+    """lfilter's state (direct form II transposed) at s from the last L = len(b) - 1 inputs
+    and outputs before s."""
+    L = b.shape[0] - 1
+    zi = np.zeros(L)
+    for i in range(L):
+        for k in range(i + 1, L + 1):
+            zi[i] += b[k] * x_prev[L + i - k] - a[k] * e_prev[L + i - k]
+    return zi

@@ -126,7 +126,9 @@ def solve(xs: FloatArray, model: ExactLikelihood, phi: FloatArray, theta: FloatA
     """Newton from (phi, theta): presample first on long series, exact polish if ``polish``.
 
     On long series the iterations start on the first ``_PRESAMPLE`` samples (cheaper, and
-    their optimum is close to the full one), then finish on the whole series.  ``polish``
+    their optimum is close to the full one), then finish on the whole series from the
+    presample's optimum; from one within 1e-3 of the region's boundary (a unit AR root) only
+    if the whole series' likelihood is higher there than at (phi, theta).  ``polish``
     continues with the finite-difference Hessian of the exact gradient (short series).
     """
     n, p, q = model.n, model.p, model.q
@@ -134,6 +136,10 @@ def solve(xs: FloatArray, model: ExactLikelihood, phi: FloatArray, theta: FloatA
         pre = newton(ExactLikelihood(xs[:_PRESAMPLE], p, q, mean=model.mean), phi, theta,
                      small_step=1e-4)
         if admissible(pre.ev.phi, pre.ev.theta, margin=1e-3):
+            phi, theta = pre.ev.phi, pre.ev.theta
+        elif admissible(pre.ev.phi, pre.ev.theta, margin=0.0) and \
+                model.evaluate(pre.ev.phi, pre.ev.theta).f < model.evaluate(phi, theta).f:
+            # an optimum near the boundary (a unit AR root): the start if it is the better one
             phi, theta = pre.ev.phi, pre.ev.theta
     res = newton(model, phi, theta)
     if polish:

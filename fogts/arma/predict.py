@@ -30,9 +30,10 @@ import pandas as pd
 
 from fogts._typing import ArrayLike1D, FloatArray
 from fogts._validate import pandas_index, to_float_array
+from fogts.arma.correlation import lag_products
 from fogts.errors import DataError
 
-__all__ = ["Prediction", "one_step_prediction", "predict_arma"]
+__all__ = ["Prediction", "one_step_prediction", "predict_arma", "prediction_summary", "variance"]
 
 
 @dataclass(frozen=True)
@@ -71,17 +72,16 @@ class Prediction:
 
     @property
     def variance_observed(self) -> float:
-        return float(np.var(self.observed))
+        return variance(self.observed)
 
     @property
     def variance_residual(self) -> float:
-        return float(np.var(self.residual))
+        return variance(self.residual)
 
     @property
     def variance_removed(self) -> float:
         """``1 - var(residual) / var(observed)``: the fraction of variance the prediction removes."""
-        vo = self.variance_observed
-        return 1.0 - self.variance_residual / vo if vo > 0 else math.nan
+        return float(self.to_dict()["variance_removed"])
 
     def to_frame(self) -> pd.DataFrame:
         """Columns ``time`` (if known), ``observed``, ``predicted``, ``residual``; the input's
@@ -95,18 +95,38 @@ class Prediction:
 
     def to_dict(self) -> dict[str, Any]:
         """Summary numbers only (the series themselves go to CSV via ``to_frame``)."""
-        return {"model": self.model, "method": self.method, "n": self.n,
-                "variance_observed": self.variance_observed,
-                "variance_residual": self.variance_residual,
-                "variance_removed": self.variance_removed,
-                "std_observed": math.sqrt(self.variance_observed),
-                "std_residual": math.sqrt(self.variance_residual)}
+        return prediction_summary(self.observed, self.residual, model=self.model,
+                                  method=self.method)
 
     def summary(self) -> str:
         return (f"one-step prediction with {self.model} ({self.method}), n = {self.n}: "
                 f"std {math.sqrt(self.variance_observed):.4g} -> "
                 f"{math.sqrt(self.variance_residual):.4g}, "
                 f"{100 * self.variance_removed:.1f} % of the variance removed")
+
+
+def variance(v: FloatArray) -> float:
+    """Population variance, ``np.var(v)``, without its series-length temporary (the squared
+    deviations summed block by block, :func:`fogts.arma.correlation.lag_products`).
+
+    Examples
+    --------
+    >>> variance(np.array([1.0, 2.0, 3.0, 4.0]))
+    1.25
+    """
+    return float(lag_products(v, 0, center=float(v.mean()))[0]) / v.shape[0]
+
+
+def prediction_summary(observed: FloatArray, innovations: FloatArray, *, model: str,
+                       method: str = "exact") -> dict[str, Any]:
+    """:meth:`Prediction.to_dict` of the prediction ``observed - innovations``, without
+    forming it (no series-length array): the variances of the observed series and of the
+    innovations, and the fraction ``1 - var(residual) / var(observed)`` removed."""
+    vo, vr = variance(observed), variance(innovations)
+    return {"model": model, "method": method, "n": int(observed.size),
+            "variance_observed": vo, "variance_residual": vr,
+            "variance_removed": 1.0 - vr / vo if vo > 0 else math.nan,
+            "std_observed": math.sqrt(vo), "std_residual": math.sqrt(vr)}
 
 
 def one_step_prediction(observed: Any, innovations: Any, *, model: str = "",

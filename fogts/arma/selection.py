@@ -122,12 +122,11 @@ class Selection(TableView):
         sel = self.selected
         selected: dict[str, Any] | None = None
         if sel is not None:
-            pred = sel.predict()
             selected = {"model": sel.model, "p": sel.p, "q": sel.q, "rank": sel.rank,
                         "criterion": self.criterion, "value": sel.criterion_value,
                         "white": sel.white, "equation": sel.equation(),
                         "params": dict(sel.params), "sigma2": sel.sigma2,
-                        "prediction": pred.to_dict()}
+                        "prediction": sel.prediction_summary()}
             gm = self.gauss_markov()
             selected["gauss_markov"] = gm.to_dict() if gm is not None else None
         return {

@@ -125,8 +125,8 @@ def _failed_sentence(ranked: Sequence[Candidate]) -> str:
 def _selected_verdict(sel: Candidate, ranked: Sequence[Candidate], criterion: str,
                       corr: Correlogram) -> str:
     crit = criterion.upper()
-    pred = sel.predict()
-    removed = 100.0 * pred.variance_removed
+    removed_fraction = float(sel.prediction_summary()["variance_removed"])
+    removed = 100.0 * removed_fraction
     # candidates of sel's group (white or not) with a lower criterion, ranked below it for a
     # possible common AR/MA factor
     demoted = [c for c in ranked if c.ok and c.white == sel.white
@@ -148,7 +148,7 @@ def _selected_verdict(sel: Candidate, ranked: Sequence[Candidate], criterion: st
             alt = min(simpler, key=lambda c: (c.p + c.q, getattr(c, criterion)))
             text += (f" The simpler {alt.model} is within {CLOSE_CALL:g} {crit} units and also "
                      f"white: the data support it about as well.")
-        if pred.variance_removed < SMALL_PREDICTION:
+        if removed_fraction < SMALL_PREDICTION:
             text += (" The series is nearly white at this sample rate (white rate noise, i.e. "
                      "angle random walk, dominates): decimate to model the slower drift.")
         elif corr.acf_pattern.kind == "none" and corr.pacf_pattern.kind == "none":

@@ -34,8 +34,8 @@ import pandas as pd
 
 from fogts._typing import FloatArray
 from fogts._validate import check_int, to_float_array
-from fogts.arma.correlation import autocorrelation, dot
-from fogts.errors import DataError
+from fogts.arma.correlation import autocorrelation, dot, lag_products
+from fogts.errors import DataError, InsufficientDataError
 
 __all__ = ["BAND_Z", "LB_ALPHA", "CorrelationCheck", "LjungBoxLag", "ResidualDiagnostics",
            "ljung_box", "residual_diagnostics", "rho_a2", "rho_ax3"]
@@ -266,7 +266,11 @@ def residual_diagnostics(resid: Any, x: Any, *, p: int, q: int,
     c_a2 = CorrelationCheck("rho_a2", ra2, band, bool(abs(ra2) <= band))
     c_ax3 = CorrelationCheck("rho_ax3", rax3, band, bool(abs(rax3) <= band))
     maxlag = max(check_int("lags", h, minimum=1, maximum=n - 1) for h in lags)
-    acf = autocorrelation(a, nlags=maxlag)
+    mean = float(a.mean())
+    c = lag_products(a, maxlag, center=mean)   # block-wise: no copy of the residuals
+    if c[0] == 0.0:
+        raise InsufficientDataError("resid is constant; its autocorrelation is undefined")
+    acf = c / c[0]
     lb = ljung_box(a, lags=lags, model_df=p + q, acf=acf)
     reasons = []
     if not c_a2.passed:
@@ -278,7 +282,7 @@ def residual_diagnostics(resid: Any, x: Any, *, p: int, q: int,
         reasons.append(f"Ljung-Box not testable: every lag <= p + q = {p + q}")
     reasons += [f"Ljung-Box p = {x.pvalue:.3g} < {LB_ALPHA} at lag {x.lag}"
                 for x in testable if not x.passed]
-    return ResidualDiagnostics(n=n, mean=float(a.mean()), variance=float(a.var()),
+    return ResidualDiagnostics(n=n, mean=mean, variance=float(c[0]) / n,
                                rho_a2=c_a2, rho_ax3=c_ax3, ljung_box=lb, acf=acf,
                                reasons=tuple(reasons))
 

@@ -389,7 +389,7 @@ def _true_model_ljung_box(x: np.ndarray, theta: float, lags: int) -> float:
     return float(m * (m + 2) * np.sum(r**2 / (m - np.arange(1, lags + 1))))
 
 
-@pytest.mark.huge
+@pytest.mark.large
 def test_every_candidate_fits_white_plus_rate_random_walk_at_2e7() -> None:
     """n = 2e7 (the recipe above, seed 900107), where both ARMA candidates used to fail and a
     non-white AR(3) was selected.  statsmodels cannot be run at this size (it is compared at
@@ -401,11 +401,19 @@ def test_every_candidate_fits_white_plus_rate_random_walk_at_2e7() -> None:
     model's own innovations fail Ljung-Box at lag 10 (Q = 23.4, p = 0.003), so ARMA(1,1)'s
     Q must equal the true model's within 15 % (measured 22.9; the fit's innovations differ
     from the truth's by the fitted coefficients and the start-up) instead of passing; the
-    AR candidates are far from white (Q in the millions).  Not run by CI (about 9 min and
-    5.6 GB peak resident memory): ``pytest -m huge``."""
+    AR candidates are far from white (Q in the millions).  Marked ``large``: CI runs it in
+    its default pass only (measured 2026-11-27: 78 s user + 2 s system CPU, 3.2 min wall at
+    41 % of a core on the shared machine, 0.74 GB peak resident memory with the interpreter
+    and the 160 MB input; it was 9.7 min and 5.6 GB)."""
     n = 20_000_000
     r = np.random.default_rng(900107)
-    x = 0.1 * r.standard_normal(n) + np.cumsum(1e-4 * r.standard_normal(n))
+    x = r.standard_normal(n)      # 0.1 * white + cumsum(1e-4 * white), without temporaries
+    x *= 0.1
+    walk = r.standard_normal(n)
+    walk *= 1e-4
+    np.cumsum(walk, out=walk)
+    x += walk
+    del walk
     ratio = (1e-4 / 0.1) ** 2
     theta_true = (-(2 + ratio) + math.sqrt((2 + ratio) ** 2 - 4)) / 2
     q_true = _true_model_ljung_box(x, theta_true, 10)

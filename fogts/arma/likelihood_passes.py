@@ -1,0 +1,186 @@
+"""The derivatives of the exact ARMA likelihood, in block-wise passes over the series.
+
+The formulas are those of :mod:`fogts.arma.likelihood` (Brockwell & Davis 1991, ch. 8; the
+adjoint of the ARMA inversion for the exact gradient).  What this module adds is the order
+of the work, so that no pass allocates a series-length array:
+
+* the adjoint g = theta(B^-1)^-1 a runs backward over the model's workspace, block by block,
+  overwriting the innovations a it has consumed (the gradient's sums sum_t g_t x_{t-i} and
+  sum_t g_t a_{t-j} are taken block by block before a block is overwritten);
+* the Hessian's filters u = x / theta(B) and v = a / theta(B) run forward, block by block,
+  their lagged sums with each other and with g (now in the workspace) accumulated as they
+  go; the innovations are rebuilt block by block from the evaluation's filter state.
+
+Each block is ``CHUNK`` samples (cache-resident); the filters carry their state across
+blocks, so every filtered value equals that of a whole-series pass.
+
+References
+----------
+P. J. Brockwell and R. A. Davis, *Time Series: Theory and Methods*, 2nd ed., 1991.
+"""
+
+from __future__ import annotations
+
+from itertools import pairwise
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from fogts._typing import FloatArray
+from fogts.arma.correlation import dot
+
+if TYPE_CHECKING:
+    from fogts.arma.likelihood import Evaluation, ExactLikelihood
+
+__all__ = ["derivatives"]
+
+
+def _startup_part(model: ExactLikelihood, ev: Evaluation
+                  ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+    """The start-up block's contributions to dS and dD by central differences, the steps,
+    and the block's innovations at the perturbed parameters (rows +h, -h per parameter)."""
+    from fogts.arma.likelihood import _FD_STEP, _fd_steps
+
+    p, q, n, s = model.p, model.q, model.n, ev.s
+    k = p + q
+    beta = ev.beta
+    h = _fd_steps(beta, p, _FD_STEP)
+    pert = np.repeat(beta[None, :], 2 * k, axis=0)
+    idx = np.arange(k)
+    pert[2 * idx, idx] += h
+    pert[2 * idx + 1, idx] -= h
+    # with the GLS mean, the derivatives of S at the fixed mu = mu_hat are those of the
+    # profile (envelope theorem: dS/dmu = 0 there): the series is x - mu_hat, used as such
+    # in the start-up block and through its linearity in the steady sums
+    _, e_tr, f_tr = model.transient(pert[:, :p], pert[:, p:], s=s,
+                                    series=model.series(0, s) - ev.mu, with_ones=model.mean)
+    d_tr = np.sum(np.log(f_tr), axis=1)
+    if model.mean:
+        d_tr += np.log(model._s11_perturbed(pert, s, e_tr[:, :, 1], f_tr) / n)
+        e_tr = e_tr[:, :, 0]
+    s_tr = np.sum(e_tr * e_tr / f_tr, axis=1)
+    dS = (s_tr[0::2] - s_tr[1::2]) / (2 * h)
+    dD = (d_tr[0::2] - d_tr[1::2]) / (2 * h)
+    return dS, dD, h, e_tr
+
+
+def _adjoint_pass(model: ExactLikelihood, ev: Evaluation, e: FloatArray
+                  ) -> tuple[FloatArray, FloatArray, float, FloatArray]:
+    """Backward over the workspace e (the innovations): g = theta(B^-1)^-1 e in place.
+
+    Returns sum_{t>=s} g_t x_{t-i} (i = 1..p), sum_{t>=s} g_t e_{t-j} (j = 1..q),
+    sum_{t>=s} g_t, and g_s..g_{s+q-1}.  For a pure AR g = e, left in place.
+    """
+    from scipy.signal import lfilter
+
+    p, q, s = model.p, model.q, ev.s
+    a_poly = np.r_[1.0, ev.theta]
+    bounds = model.bounds(s)
+    gx, ge = np.zeros(p), np.zeros(q)
+    g_sum = 0.0
+    g_first = np.zeros(0)
+    zr = np.zeros(q)
+    for c0, c1 in reversed(list(pairwise(bounds))):
+        lo = max(0, c0 - q)
+        ext = e[lo:c1].copy()            # the block's innovations and the q before it
+        off = c0 - lo
+        if q:
+            gr, zr = lfilter([1.0], a_poly, ext[off:][::-1], zi=zr)
+            g = np.ascontiguousarray(gr[::-1])
+        else:
+            g = ext[off:]
+        if c0 >= s and c0 < c1:
+            m = c1 - c0
+            g_sum += float(np.sum(g))
+            xs = model.series(c0 - p, c1)
+            for i in range(1, p + 1):
+                gx[i - 1] += dot(g, xs[p - i:p - i + m])
+            for j in range(1, q + 1):
+                ge[j - 1] += dot(g, ext[off - j:off - j + m])
+            if c0 == s:
+                g_first = g[:q].copy()
+        if q:
+            e[c0:c1] = g
+    return gx, ge, g_sum, g_first
+
+
+def _hessian_pass(model: ExactLikelihood, ev: Evaluation, g_buf: FloatArray | None
+                  ) -> FloatArray:
+    """Forward: the Hessian of S from u = x/theta(B), v = a/theta(B) and g (``g_buf``;
+    None for a pure AR, where g = a), sums over t >= max(p + q, 2q)."""
+    from scipy.signal import lfilter
+
+    p, q = model.p, model.q
+    k = p + q
+    t0 = max(p + q, 2 * q)      # the largest lag used below
+    K = max(t0, 1)
+    a_poly = np.r_[1.0, ev.theta]
+    jac = [(0, i) for i in range(1, p + 1)] + [(1, j) for j in range(1, q + 1)]
+    HS = np.zeros((k, k))
+    zu, zv = np.zeros(q), np.zeros(q)
+    prev = [np.zeros(K), np.zeros(K)]
+    for c0, c1, e in model.innovation_blocks(ev):
+        if c1 <= c0:
+            continue
+        xs = model.series(c0, c1)
+        if q:
+            uc, zu = lfilter([1.0], a_poly, xs, zi=zu)
+            vc, zv = lfilter([1.0], a_poly, e, zi=zv)
+        else:
+            uc, vc = xs, e
+        ext = [np.concatenate((prev[0], uc)), np.concatenate((prev[1], vc))]
+        g = e if g_buf is None else g_buf[c0:c1]
+        ta = max(c0, t0)
+        if ta < c1:
+            a0, a1 = K + ta - c0, K + c1 - c0      # positions of t = ta, c1 in ext
+            for i in range(k):
+                for j in range(i, k):
+                    (si, li), (sj, lj) = jac[i], jac[j]
+                    val = dot(ext[si][a0 - li:a1 - li], ext[sj][a0 - lj:a1 - lj])
+                    if i < p <= j:          # phi_i, theta_j
+                        val += dot(g[ta - c0:], ext[0][a0 - li - lj:a1 - li - lj])
+                    elif i >= p:            # theta_i, theta_j
+                        val += 2.0 * dot(g[ta - c0:], ext[1][a0 - li - lj:a1 - li - lj])
+                    HS[i, j] += 2.0 * val
+        prev = [ext[0][-K:].copy(), ext[1][-K:].copy()]
+    return np.triu(HS) + np.triu(HS, 1).T
+
+
+def derivatives(model: ExactLikelihood, ev: Evaluation, *, hessian: bool
+                ) -> tuple[FloatArray, FloatArray, FloatArray | None]:
+    """Exact dS/dbeta and dD/dbeta at ``ev``, and (optionally) the Hessian of S.
+
+    The gradient: the start-up block's part by central differences of the block, the steady
+    part from the adjoint; the Hessian from the derivatives of a_t = phi(B)/theta(B) x_t
+    (see :mod:`fogts.arma.likelihood`), neglecting O(1) start-up terms against O(n) sums.
+    The Hessian uses the series itself, not minus mu_hat (an O(mu_hat) approximation;
+    ``fit_arma`` passes a series whose sample mean is removed, so mu_hat is O(n^-1/2)).
+    """
+    p, q, n, s = model.p, model.q, model.n, ev.s
+    theta, mu = ev.theta, ev.mu
+    k = p + q
+    dS, dD, h, e_tr = _startup_part(model, ev)
+    e = model.innovations(ev)
+    gx, ge, g_sum, g_first = _adjoint_pass(model, ev, e)
+    if q:
+        model.work.holder = None      # the workspace now holds the adjoint g
+    if s < n:
+        grad_ss = np.empty(k)
+        g_sum = g_sum if mu else 0.0
+        for i in range(1, p + 1):
+            grad_ss[i - 1] = -gx[i - 1] + mu * g_sum
+        for j in range(1, q + 1):
+            grad_ss[p + j - 1] = -ge[j - 1]
+        if q:
+            # start-up terms: the steady recursion starts from the block's last innovations
+            de = (e_tr[0::2, s - q:s] - e_tr[1::2, s - q:s]) / (2 * h[:, None])  # (k, q)
+            for u in range(min(q, n - s)):
+                c = np.zeros(k)
+                for j in range(u + 1, q + 1):
+                    c -= theta[j - 1] * de[:, q + u - j]
+                grad_ss += g_first[u] * c
+        dS = dS + 2.0 * grad_ss
+    if not hessian:
+        return dS, dD, None
+    return dS, dD, _hessian_pass(model, ev, e if q else None)
+
