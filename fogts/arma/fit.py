@@ -26,10 +26,10 @@ from fogts._typing import ArrayLike1D, FloatArray
 from fogts._validate import check_choice, check_int, to_float_array
 from fogts.arma.fit_result import ArmaFit, criteria, fitted_series, model_name, param_names
 from fogts.arma.likelihood import Evaluation, ExactLikelihood
-from fogts.arma.optimiser import _PRESAMPLE, NewtonResult, maximise
+from fogts.arma.optimiser import PRESAMPLE, NewtonResult, maximise
 from fogts.arma.region import UNIT_ROOT_GAP, spectral_radius, unit_root_gap
 from fogts.arma.standard_errors import standard_errors
-from fogts.arma.start_values import _START_SAMPLES, hannan_rissanen, normal_equations
+from fogts.arma.start_values import START_SAMPLES, hannan_rissanen, normal_equations
 from fogts.errors import ConvergenceWarning, DataError, InsufficientDataError, ModelFitError
 
 __all__ = ["ArmaFit", "FitMethod", "fit_arma", "min_nobs", "model_name", "param_names"]
@@ -313,7 +313,7 @@ def fit_arma(x: ArrayLike1D, p: int, q: int, *, method: FitMethod = "fast",
     try:
         if method == "fast":
             # the likelihood forms the series block by block: only its head is kept
-            head = xs[:max(_START_SAMPLES, _PRESAMPLE)].copy()
+            head = xs[:max(START_SAMPLES, PRESAMPLE)].copy()
             offsets = (offset, float(np.mean(xs)))
             del xs
             with np.errstate(over="raise", invalid="raise", divide="raise", under="ignore"):

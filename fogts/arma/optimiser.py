@@ -24,10 +24,10 @@ from fogts._typing import FloatArray
 from fogts.arma.likelihood import Evaluation, ExactLikelihood
 from fogts.arma.region import UNIT_ROOT_GAP, admissible, shrink_into_region, unit_root_gap
 
-__all__ = ["NewtonResult", "maximise", "newton", "solve"]
+__all__ = ["PRESAMPLE", "NewtonResult", "maximise", "newton", "solve"]
 
 _MAX_ITER = 100
-_PRESAMPLE = 100_000      # long series: Newton first runs on this many leading samples
+PRESAMPLE = 100_000      # long series: Newton first runs on this many leading samples
 _SMALL_STEP = 1e-6        # a Newton step this small is the last one
 
 
@@ -125,15 +125,15 @@ def solve(xs: FloatArray, model: ExactLikelihood, phi: FloatArray, theta: FloatA
           polish: bool) -> NewtonResult:
     """Newton from (phi, theta): presample first on long series, exact polish if ``polish``.
 
-    On long series the iterations start on the first ``_PRESAMPLE`` samples (cheaper, and
+    On long series the iterations start on the first ``PRESAMPLE`` samples (cheaper, and
     their optimum is close to the full one), then finish on the whole series from the
     presample's optimum; from one within 1e-3 of the region's boundary (a unit AR root) only
     if the whole series' likelihood is higher there than at (phi, theta).  ``polish``
     continues with the finite-difference Hessian of the exact gradient (short series).
     """
     n, p, q = model.n, model.p, model.q
-    if n > 4 * _PRESAMPLE:
-        pre = newton(ExactLikelihood(xs[:_PRESAMPLE], p, q, mean=model.mean), phi, theta,
+    if n > 4 * PRESAMPLE:
+        pre = newton(ExactLikelihood(xs[:PRESAMPLE], p, q, mean=model.mean), phi, theta,
                      small_step=1e-4)
         if admissible(pre.ev.phi, pre.ev.theta, margin=1e-3):
             phi, theta = pre.ev.phi, pre.ev.theta
@@ -179,7 +179,7 @@ def second_starts(xs: FloatArray, p: int, q: int, base_ar: FloatArray, base_ma: 
     """Further starts for a nearly redundant fit: the mirrored pair and statsmodels' start.
 
     The mirrored pair negates both nearly cancelling roots (the other side of the ridge);
-    statsmodels' ``start_params`` (on at most ``_PRESAMPLE`` samples, demeaned if ``mean``)
+    statsmodels' ``start_params`` (on at most ``PRESAMPLE`` samples, demeaned if ``mean``)
     is the start of its own optimiser, so its basin is explored too.
     """
     from statsmodels.tsa.arima.model import ARIMA
@@ -192,7 +192,7 @@ def second_starts(xs: FloatArray, p: int, q: int, base_ar: FloatArray, base_ma: 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         try:
-            y = xs[:_PRESAMPLE] - (float(np.mean(xs[:_PRESAMPLE])) if mean else 0.0)
+            y = xs[:PRESAMPLE] - (float(np.mean(xs[:PRESAMPLE])) if mean else 0.0)
             sp = np.asarray(ARIMA(y, order=(p, 0, q), trend="n").start_params)
             starts.append((sp[:p].copy(), sp[p:p + q].copy()))
         except (ValueError, np.linalg.LinAlgError):

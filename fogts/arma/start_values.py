@@ -15,9 +15,9 @@ from fogts.arma.correlation import dot
 from fogts.arma.likelihood import lag_dot
 from fogts.arma.region import admissible, shrink_into_region
 
-__all__ = ["hannan_rissanen", "normal_equations"]
+__all__ = ["START_SAMPLES", "hannan_rissanen", "normal_equations"]
 
-_START_SAMPLES = 200_000  # Hannan-Rissanen start values use at most this many samples
+START_SAMPLES = 200_000  # Hannan-Rissanen start values use at most this many samples
 
 
 def normal_equations(y: FloatArray, cols: list[tuple[FloatArray, int]], t0: int) -> FloatArray:
@@ -37,7 +37,7 @@ def normal_equations(y: FloatArray, cols: list[tuple[FloatArray, int]], t0: int)
 
 
 def hannan_rissanen(xs: FloatArray, p: int, q: int) -> tuple[FloatArray, FloatArray]:
-    """Hannan & Rissanen (1982) start values from the first ``_START_SAMPLES`` samples.
+    """Hannan & Rissanen (1982) start values from the first ``START_SAMPLES`` samples.
 
     A long Yule-Walker AR fit gives innovation estimates; x_t is then regressed on its p lags and
     q lagged innovation estimates.  Pure AR models use least squares directly.
@@ -45,7 +45,7 @@ def hannan_rissanen(xs: FloatArray, p: int, q: int) -> tuple[FloatArray, FloatAr
     from scipy.linalg import solve_toeplitz
     from scipy.signal import lfilter
 
-    y = xs[:_START_SAMPLES]
+    y = xs[:START_SAMPLES]
     m = y.shape[0]
     if q == 0:
         phi = normal_equations(y, [(y, i) for i in range(1, p + 1)], p)

@@ -118,7 +118,7 @@ def _write_prediction(analyses: list[AxisSelection], target: Path) -> bool:
     return True
 
 
-def _duration_text(seconds: float) -> str:
+def duration_text(seconds: float) -> str:
     return (f"{seconds / 3600:.3g} h" if seconds >= 3600 else
             f"{seconds / 60:.3g} min" if seconds >= 60 else f"{seconds:.3g} s")
 
@@ -135,7 +135,7 @@ def _print_selection(analysis: AxisSelection, json_out: str | None) -> None:
         out.print(Text(text, style), soft_wrap=True)
 
     say(f"read      {analysis.file}: {run.n:,} samples of {prepared.axis!r} at "
-        f"{run.fs_hz:g} Hz ({_duration_text(run.duration_s)}), rate in {run.units}")
+        f"{run.fs_hz:g} Hz ({duration_text(run.duration_s)}), rate in {run.units}")
     for i, step in enumerate(prepared.steps):
         say(f"{'prepared' if i == 0 else '':<10}{step}")
     say(f"{'modelled':<10}{sel.n:,} samples at {prepared.fs_hz:g} Hz")

@@ -24,6 +24,8 @@ from typing import TYPE_CHECKING, Any
 
 from fogts.io.run import Run
 
+__all__ = ["ReportContext", "analyse_run"]
+
 if TYPE_CHECKING:
     from fogts.allan.misfit import FitCheck
     from fogts.allan.noise_model import NoiseModel
@@ -34,7 +36,7 @@ if TYPE_CHECKING:
 
 
 @dataclass
-class _Context:
+class ReportContext:
     """What the sections share: the run, options, and results computed once."""
 
     run: Run
@@ -116,11 +118,11 @@ class _Context:
         return self.compensation[i]
 
 
-def _analyses(run: Run, quality: Any, options: dict[str, Any]) -> _Context:
+def analyse_run(run: Run, quality: Any, options: dict[str, Any]) -> ReportContext:
     """The report's analyses of ``run``; its hygiene is assessed first (default gap policy)
     when ``quality`` is None, and the run it returns is the one analysed."""
     if quality is None:
         from fogts.preprocess.hygiene import assess_run
 
         run, quality = assess_run(run)
-    return _Context(run=run, quality=quality, options=options)
+    return ReportContext(run=run, quality=quality, options=options)

@@ -17,7 +17,8 @@ from fogts.report.page import Block
 if TYPE_CHECKING:
     from fogts.tables import Table as FogtsTable
 
-__all__ = ["MAX_SVG_BYTES", "figure_block", "table_block"]
+__all__ = ["MAX_SVG_BYTES", "figure_block", "fmt_num", "fmt_pval", "html_table", "table_block",
+           "yes_no"]
 
 #: Figures larger than this as SVG are embedded as PNG instead.
 MAX_SVG_BYTES = 1_500_000
@@ -52,7 +53,7 @@ def figure_block(fig: Any, *, id: str, alt: str, caption: str = "",
                  alt=alt, caption=caption, width=width, height=height)
 
 
-def _num(v: Any, digits: int = 4) -> str:
+def fmt_num(v: Any, digits: int = 4) -> str:
     """A number for a table cell: ``digits`` significant digits, "–" for missing."""
     if v is None:
         return "–"
@@ -75,7 +76,7 @@ def _num(v: Any, digits: int = 4) -> str:
     return f"{f:.{max(digits - 1, 1)}e}"
 
 
-def _pval(p: Any) -> str:
+def fmt_pval(p: Any) -> str:
     """A p-value: 3 significant digits, "< 1e-4" below that."""
     try:
         f = float(p)
@@ -95,16 +96,16 @@ def _fixed(v: Any, decimals: int = 2) -> str:
     return f"{f:.{decimals}f}" if math.isfinite(f) else "–"
 
 
-def _yes_no(v: Any) -> str:
+def yes_no(v: Any) -> str:
     """A check's outcome: "yes", "no", or "–" when it was not made."""
     return "–" if v is None else ("yes" if v else "no")
 
 
-def _table(caption: str, columns: Sequence[str], rows: Sequence[Sequence[Any]], *,
+def html_table(caption: str, columns: Sequence[str], rows: Sequence[Sequence[Any]], *,
            numeric: Sequence[bool] | None = None, highlight: Sequence[int] = ()) -> Block:
-    """A table block; cells that are not strings are formatted with :func:`_num`, and a
+    """A table block; cells that are not strings are formatted with :func:`fmt_num`, and a
     column is right-aligned (``numeric``) by default when none of its cells is a string."""
-    cells = tuple(tuple(c if isinstance(c, str) else _num(c) for c in r) for r in rows)
+    cells = tuple(tuple(c if isinstance(c, str) else fmt_num(c) for c in r) for r in rows)
     if numeric is None:
         numeric = [all(not isinstance(r[j], str) for r in rows) if rows else False
                    for j in range(len(columns))]

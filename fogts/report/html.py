@@ -42,12 +42,12 @@ from typing import TYPE_CHECKING, Any
 from fogts import progress
 from fogts.errors import DataError
 from fogts.io.run import Run
-from fogts.report.analyses import _analyses, _Context
+from fogts.report.analyses import ReportContext, analyse_run
 from fogts.report.blocks import MAX_SVG_BYTES as MAX_SVG_BYTES
-from fogts.report.blocks import _num, figure_block
+from fogts.report.blocks import figure_block, fmt_num
 from fogts.report.page import Block, HtmlReport, Section
-from fogts.report.sections import _AXIS_BUILDERS, _RUN_BUILDERS, _TITLES, _section
-from fogts.report.text import _duration_text
+from fogts.report.sections import AXIS_BUILDERS, RUN_BUILDERS, SECTION_TITLES, make_section
+from fogts.report.text import duration_text
 
 if TYPE_CHECKING:
     from fogts.allan.datasheet import NoiseSpec
@@ -136,7 +136,7 @@ def build_report(
     check_choice("output_units", output_units, OUTPUT_UNITS)
     wanted, bias_average_s, davar_window_s = _checked_arguments(
         run, parts, kind, taus, criterion, bias_average_s, davar_window_s)
-    ctx = _analyses(run, quality, {"outliers": outliers, "detrend": detrend,
+    ctx = analyse_run(run, quality, {"outliers": outliers, "detrend": detrend,
                                    "decimate": decimate, "kind": kind, "taus": taus,
                                    "criterion": criterion, "davar_window_s": davar_window_s,
                                    "bias_average_s": bias_average_s,
@@ -177,7 +177,7 @@ def _checked_arguments(run: Any, parts: Sequence[str], kind: str, taus: str, cri
     return wanted, bias_average_s, davar_window_s
 
 
-def _collect_sections(ctx: _Context, wanted: Sequence[str]
+def _collect_sections(ctx: ReportContext, wanted: Sequence[str]
                       ) -> tuple[list[Section], list[tuple[str, str]]]:
     """The wanted parts in :data:`PARTS` order: their sections, and the parts left out with
     the reason."""
@@ -187,20 +187,20 @@ def _collect_sections(ctx: _Context, wanted: Sequence[str]
     tick = progress.ticker(f"report: {len(parts)} parts", len(parts))
     for done, part in enumerate(parts):
         tick(done)
-        if part in _RUN_BUILDERS:
-            sections.append(_section(part, part, _TITLES[part],
-                                     partial(_RUN_BUILDERS[part], ctx)))
+        if part in RUN_BUILDERS:
+            sections.append(make_section(part, part, SECTION_TITLES[part],
+                                     partial(RUN_BUILDERS[part], ctx)))
             continue
         reason = _omission(ctx, part)
         if reason is not None:
-            omitted.append((_TITLES[part], reason))
+            omitted.append((SECTION_TITLES[part], reason))
         else:
             sections.extend(_axis_sections(ctx, part))
     tick(len(parts))
     return sections, omitted
 
 
-def _omission(ctx: _Context, part: str) -> str | None:
+def _omission(ctx: ReportContext, part: str) -> str | None:
     """Why ``part`` does not apply to the run, or None; for ``davar`` this also settles the
     window (``ctx.options["davar_window_s"]``)."""
     run = ctx.run
@@ -215,14 +215,14 @@ def _omission(ctx: _Context, part: str) -> str | None:
     return None
 
 
-def _axis_sections(ctx: _Context, part: str) -> list[Section]:
+def _axis_sections(ctx: ReportContext, part: str) -> list[Section]:
     """One section of ``part`` per rate axis (titled with the axis when there are several)."""
     run = ctx.run
-    builder = _AXIS_BUILDERS[part]
+    builder = AXIS_BUILDERS[part]
     sections = []
     for i in range(run.n_axes):
         suffix = f" — axis {run.axes[i]}" if run.n_axes > 1 else ""
-        sections.append(_section(f"{part}-{i + 1}", part, _TITLES[part] + suffix,
+        sections.append(make_section(f"{part}-{i + 1}", part, SECTION_TITLES[part] + suffix,
                                  partial(builder, ctx, i)))
     return sections
 
@@ -236,8 +236,8 @@ def _assemble(run: Run, title: str | None, sections: list[Section],
         else run.source
     return HtmlReport(
         title=title if title else f"Gyro report: {name}",
-        source=f"{run.source} — {run.n:,} samples at {_num(run.fs_hz, 6)} Hz "
-               f"({_duration_text(run.duration_s)}), rate in {run.units}",
+        source=f"{run.source} — {run.n:,} samples at {fmt_num(run.fs_hz, 6)} Hz "
+               f"({duration_text(run.duration_s)}), rate in {run.units}",
         generated=_dt.datetime.now(_dt.UTC).strftime("%Y-%m-%d %H:%M UTC"),
         version=__version__, sections=tuple(sections), omitted=tuple(omitted))
 

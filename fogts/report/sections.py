@@ -1,7 +1,7 @@
 """The HTML report's sections: each builder renders results of
-:class:`fogts.report.analyses._Context` as blocks (figures, tables, text).
+:class:`fogts.report.analyses.ReportContext` as blocks (figures, tables, text).
 
-A builder returns the blocks of one section or raises; :func:`_section` turns the exception
+A builder returns the blocks of one section or raises; :func:`make_section` turns the exception
 into a section that shows its message, so one failed analysis does not cost the whole
 report.  ``i`` is the axis index of per-axis sections.
 """
@@ -15,10 +15,12 @@ from contextlib import contextmanager
 from typing import Any
 
 from fogts.errors import DataError
-from fogts.report.analyses import _Context
-from fogts.report.blocks import _num, _pval, _table, _yes_no, figure_block, table_block
+from fogts.report.analyses import ReportContext
+from fogts.report.blocks import figure_block, fmt_num, fmt_pval, html_table, table_block, yes_no
 from fogts.report.page import Block, Section
-from fogts.report.text import _duration_text, error_message, run_info, warning_texts
+from fogts.report.text import duration_text, error_message, run_info, warning_texts
+
+__all__ = ["AXIS_BUILDERS", "RUN_BUILDERS", "SECTION_TITLES", "make_section"]
 
 #: One sentence per part: what it shows and how to read it.
 _HOW = {
@@ -52,7 +54,7 @@ _HOW = {
                "removing it, claimed as an improvement only when the model is significant.",
 }
 
-_TITLES = {"summary": "Summary", "input": "Input and preprocessing", "timeseries": "Time series",
+SECTION_TITLES = {"summary": "Summary", "input": "Input and preprocessing", "timeseries": "Time series",
            "allan": "Allan deviation and noise coefficients", "arma": "ARMA model selection",
            "prediction": "One-step prediction and residual diagnostics",
            "davar": "Dynamic Allan deviation", "thermal": "Thermal model"}
@@ -70,7 +72,7 @@ def _collect_warnings(sink: list[str]) -> Iterator[None]:
     sink.extend(t for t in warning_texts(caught) if t not in sink)
 
 
-def _section(sid: str, part: str, title: str, build: Callable[[list[str]], list[Block]]
+def make_section(sid: str, part: str, title: str, build: Callable[[list[str]], list[Block]]
              ) -> Section:
     """Run ``build`` (collecting its warnings as notes) into a section, or an error section
     with the exception's message."""
@@ -85,21 +87,21 @@ def _section(sid: str, part: str, title: str, build: Callable[[list[str]], list[
                    notes=tuple(notes))
 
 
-def _axis_label(ctx: _Context, i: int) -> str:
+def _axis_label(ctx: ReportContext, i: int) -> str:
     return f"axis {ctx.run.axes[i]}" if ctx.run.n_axes > 1 else ctx.run.axes[i]
 
 
 # --------------------------------------------------------------------------- whole run
 
 
-def _input_rows(ctx: _Context, info: dict[str, Any]) -> list[tuple[str, str]]:
+def _input_rows(ctx: ReportContext, info: dict[str, Any]) -> list[tuple[str, str]]:
     """The "What was read" table: source, sampling, columns, units, time base."""
     gaps, jitter = info["gaps"], info["jitter"]
     rows: list[tuple[str, str]] = [
         ("source", str(info["source"])),
         ("samples", f"{info['n']:,}"),
-        ("sample rate", f"{_num(info['fs_hz'], 6)} Hz (from {info['fs_source']})"),
-        ("duration", _duration_text(info["duration_s"])),
+        ("sample rate", f"{fmt_num(info['fs_hz'], 6)} Hz (from {info['fs_source']})"),
+        ("duration", duration_text(info["duration_s"])),
         ("columns", ", ".join(info["columns"])),
         ("rate axes", f"{', '.join(info['axes'])} [{info['units']}]"),
         ("rate unit from", "ASSUMED (no unit in the column names; pass --units)"
@@ -111,16 +113,16 @@ def _input_rows(ctx: _Context, info: dict[str, Any]) -> list[tuple[str, str]]:
     if info["time_from_column"]:
         rows.append(("time base", f"{'regular' if jitter['regular'] else 'IRREGULAR'}: "
                                   f"{gaps['count']} gap(s) longer than "
-                                  f"{_num(gaps['threshold_s'])} s (longest "
-                                  f"{_num(gaps['max_s'])} s); jitter {_num(jitter['std_s'])} s"))
+                                  f"{fmt_num(gaps['threshold_s'])} s (longest "
+                                  f"{fmt_num(gaps['max_s'])} s); jitter {fmt_num(jitter['std_s'])} s"))
     else:
         rows.append(("time base", "none in the file: built from the sample rate"))
     return rows
 
 
-def _input_blocks(ctx: _Context, notes: list[str]) -> list[Block]:
+def _input_blocks(ctx: ReportContext, notes: list[str]) -> list[Block]:
     info = run_info(ctx.run)
-    blocks = [_table("What was read", ["item", "value"], _input_rows(ctx, info),
+    blocks = [html_table("What was read", ["item", "value"], _input_rows(ctx, info),
                      numeric=[False, False])]
     issues = tuple(ctx.quality.warnings()) if ctx.quality is not None else ()
     blocks.append(Block(kind="list", caption="Data quality (units, missing cells, gaps, "
@@ -128,7 +130,7 @@ def _input_blocks(ctx: _Context, notes: list[str]) -> list[Block]:
                                                       "missing cells, no gaps, no glitches",)))
     stats = [[name, st["mean"], st["std"], st["min"], st["max"]]
              for name, st in info["stats"].items()]
-    blocks.append(_table("Statistics of the raw data", ["column", "mean", "std", "min", "max"],
+    blocks.append(html_table("Statistics of the raw data", ["column", "mean", "std", "min", "max"],
                          stats, numeric=[False, True, True, True, True]))
     if info["comments"]:
         shown = list(info["comments"][:20])
@@ -147,7 +149,7 @@ def _input_blocks(ctx: _Context, notes: list[str]) -> list[Block]:
     return blocks
 
 
-def _timeseries_blocks(ctx: _Context, notes: list[str]) -> list[Block]:
+def _timeseries_blocks(ctx: ReportContext, notes: list[str]) -> list[Block]:
     from fogts.report.plots import plot_timeseries
 
     fig = plot_timeseries(ctx.run)
@@ -156,7 +158,7 @@ def _timeseries_blocks(ctx: _Context, notes: list[str]) -> list[Block]:
                                  "column, so spikes stay visible.")]
 
 
-def _summary_blocks(ctx: _Context, notes: list[str]) -> list[Block]:
+def _summary_blocks(ctx: ReportContext, notes: list[str]) -> list[Block]:
     """The one-page summary (:mod:`fogts.report.summary`) of every axis; with a spec, a
     verdict naming the terms that fail it."""
     from pathlib import Path
@@ -182,7 +184,7 @@ def _summary_blocks(ctx: _Context, notes: list[str]) -> list[Block]:
 # --------------------------------------------------------------------------- per axis
 
 
-def _allan_blocks(ctx: _Context, i: int, notes: list[str]) -> list[Block]:
+def _allan_blocks(ctx: ReportContext, i: int, notes: list[str]) -> list[Block]:
     from fogts.report.plots import plot_allan
 
     with _collect_warnings(notes):
@@ -201,11 +203,11 @@ def _allan_blocks(ctx: _Context, i: int, notes: list[str]) -> list[Block]:
                                    "interval; beyond ±3 the fit misses the point."),
               table_block(terms), Block(kind="paragraph", text=terms.caption),
               *_fit_check_blocks(ctx.get_fit_check(i)),
-              Block(kind="paragraph", text=model.readoff.describe(_num)),
+              Block(kind="paragraph", text=model.readoff.describe(fmt_num)),
               table_block(res.points_table())]
     if res.dropped:
         blocks.append(Block(kind="list", caption="Taus not computed",
-                            items=tuple(f"τ = {_num(d.tau_s)} s: {d.reason}"
+                            items=tuple(f"τ = {fmt_num(d.tau_s)} s: {d.reason}"
                                         for d in res.dropped)))
     return blocks
 
@@ -217,7 +219,7 @@ def _fit_check_blocks(check: Any) -> list[Block]:
     return [Block(kind="verdict", good=check.ok, text=f"Fit check: {text}.")]
 
 
-def _arma_blocks(ctx: _Context, i: int, notes: list[str]) -> list[Block]:
+def _arma_blocks(ctx: ReportContext, i: int, notes: list[str]) -> list[Block]:
     sel = ctx.get_selection(i)
     candidates = sel.candidate_table()
     blocks: list[Block] = [
@@ -227,7 +229,7 @@ def _arma_blocks(ctx: _Context, i: int, notes: list[str]) -> list[Block]:
     if best is not None:
         blocks.append(Block(kind="pre", caption=f"Selected model: {best.model}",
                             text=best.equation()))
-        blocks.append(_table("Parameters of the selected model (statsmodels names)",
+        blocks.append(html_table("Parameters of the selected model (statsmodels names)",
                              ["parameter", "estimate", "± std. error", "t"],
                              [[name, r["estimate"], r["bse"], r["t"]]
                               for name, r in best.to_frame().iterrows()],
@@ -242,18 +244,18 @@ def _residual_blocks(best: Any) -> list[Block]:
     if d is None:
         return []
     rows: list[list[Any]] = [
-        ["ρ_a,2 = Σ a_t a_{t−2} / Σ a_t² (residuals at lag 2)", d.rho_a2.value, f"|value| ≤ {_num(d.rho_a2.band, 3)}",
-         _yes_no(d.rho_a2.passed)],
+        ["ρ_a,2 = Σ a_t a_{t−2} / Σ a_t² (residuals at lag 2)", d.rho_a2.value, f"|value| ≤ {fmt_num(d.rho_a2.band, 3)}",
+         yes_no(d.rho_a2.passed)],
         ["ρ_ax,3: residuals against the data 3 steps back", d.rho_ax3.value,
-         f"|value| ≤ {_num(d.rho_ax3.band, 3)}", _yes_no(d.rho_ax3.passed)]]
+         f"|value| ≤ {fmt_num(d.rho_ax3.band, 3)}", yes_no(d.rho_ax3.passed)]]
     for lb in d.ljung_box:
-        pt = _pval(lb.pvalue)
+        pt = fmt_pval(lb.pvalue)
         rows.append([f"Ljung–Box Q at lag {lb.lag} ({lb.df} df)",
-                     f"{_num(lb.q)} (p {pt if pt.startswith('<') else '= ' + pt})",
+                     f"{fmt_num(lb.q)} (p {pt if pt.startswith('<') else '= ' + pt})",
                      "p > 0.05",
-                     _yes_no(lb.passed)])
+                     yes_no(lb.passed)])
     rows.append(["residual mean", d.mean, "", ""])
-    return [_table(f"Residual diagnostics of {best.model} (n = {d.n})",
+    return [html_table(f"Residual diagnostics of {best.model} (n = {d.n})",
                    ["statistic", "value", "white if", "pass"], rows,
                    numeric=[False, True, False, False]),
             Block(kind="verdict", good=bool(d.white), text=(
@@ -261,7 +263,7 @@ def _residual_blocks(best: Any) -> list[Block]:
                 else "The residuals are not white: " + "; ".join(d.reasons)))]
 
 
-def _prediction_blocks(ctx: _Context, i: int, notes: list[str]) -> list[Block]:
+def _prediction_blocks(ctx: ReportContext, i: int, notes: list[str]) -> list[Block]:
     from fogts.report.plots import plot_selection
 
     sel = ctx.get_selection(i)
@@ -273,7 +275,7 @@ def _prediction_blocks(ctx: _Context, i: int, notes: list[str]) -> list[Block]:
                      alt=f"ARMA diagnostics of {_axis_label(ctx, i)}",
                      caption="Data ACF and PACF with their bands, the residual ACF, the "
                              "residual Q-Q plot and the one-step prediction against the data."),
-        _table(f"One-step-ahead prediction with {pred.model} ({pred.method})", ["", "value"],
+        html_table(f"One-step-ahead prediction with {pred.model} ({pred.method})", ["", "value"],
                [[f"std of the prepared data [{units}]", math.sqrt(pred.variance_observed)],
                 [f"std of the one-step residual a_t [{units}]",
                  math.sqrt(pred.variance_residual)],
@@ -283,7 +285,7 @@ def _prediction_blocks(ctx: _Context, i: int, notes: list[str]) -> list[Block]:
     ]
 
 
-def _davar_blocks(ctx: _Context, i: int, notes: list[str]) -> list[Block]:
+def _davar_blocks(ctx: ReportContext, i: int, notes: list[str]) -> list[Block]:
     from fogts.report.plots import plot_dynamic_allan
 
     res = ctx.get_dynamic_allan(i)
@@ -291,12 +293,12 @@ def _davar_blocks(ctx: _Context, i: int, notes: list[str]) -> list[Block]:
     ns = res.nonstationarity
     return [figure_block(fig, id=f"davar-{i}",
                          alt=f"dynamic Allan deviation of {_axis_label(ctx, i)}",
-                         caption=f"{res.kind}, window {_num(res.window_s)} s, step "
-                                 f"{_num(res.step_s)} s, {res.shape[0]} windows."),
+                         caption=f"{res.kind}, window {fmt_num(res.window_s)} s, step "
+                                 f"{fmt_num(res.step_s)} s, {res.shape[0]} windows."),
             Block(kind="verdict", good=bool(ns.stationary), text=ns.summary())]
 
 
-def _thermal_blocks(ctx: _Context, i: int, notes: list[str]) -> list[Block]:
+def _thermal_blocks(ctx: ReportContext, i: int, notes: list[str]) -> list[Block]:
     from fogts.report.plots import plot_compensation
     from fogts.startup.thermal_model import TERM_LETTERS
 
@@ -317,18 +319,18 @@ def _thermal_blocks(ctx: _Context, i: int, notes: list[str]) -> list[Block]:
                      caption="Raw and compensated rate (top) and temperature (bottom)."),
         Block(kind="pre", caption="Fitted drift model (fitted to the raw rate)",
               text=model.equation()),
-        _table("Coefficients", ["term", "letter", "value", "± std. error"], rows,
+        html_table("Coefficients", ["term", "letter", "value", "± std. error"], rows,
                numeric=[False, False, True, True]),
-        _table(f"Bias stability (1σ of {b.average_s:g} s averages, {b.unit})",
+        html_table(f"Bias stability (1σ of {b.average_s:g} s averages, {b.unit})",
                ["", "bias stability", "windows"],
                [["before compensation", b.value, b.n_windows],
                 [after_label, a.value, a.n_windows]],
                numeric=[False, True, True]),
         *_out_of_sample_blocks(res),
         Block(kind="paragraph", text=(
-            f"R² = {_num(model.r2)}; residual std {_num(model.residual_std)} {model.units}; "
-            f"fitted over T = {_num(model.temperature_range_degC[0])} … "
-            f"{_num(model.temperature_range_degC[1])} °C. For the full start-up pipeline "
+            f"R² = {fmt_num(model.r2)}; residual std {fmt_num(model.residual_std)} {model.units}; "
+            f"fitted over T = {fmt_num(model.temperature_range_degC[0])} … "
+            f"{fmt_num(model.temperature_range_degC[1])} °C. For the full start-up pipeline "
             "(EMD trend, ARMA Kalman filter, then this fit) run 'fogts compensate --emd'.")),
     ]
 
@@ -340,16 +342,16 @@ def _out_of_sample_blocks(res: Any) -> list[Block]:
         return []
     rows = [[f.label + ("" if f.scored else " (not scored: extrapolates)"), f.before, f.after,
              f.ratio] for f in cv.folds]
-    return [_table(f"Bias stability out of sample ({cv.scheme}, {cv.average_s:g} s averages, "
+    return [html_table(f"Bias stability out of sample ({cv.scheme}, {cv.average_s:g} s averages, "
                    "deg/h)", ["held out", "before", "after", "before / after"], rows,
                    numeric=[False, True, True, True]),
             Block(kind="paragraph", text=cv.summary()[0].upper() + cv.summary()[1:] + ".")]
 
 
 #: Builders of the sections that show the whole run, by part.
-_RUN_BUILDERS: dict[str, Callable[[_Context, list[str]], list[Block]]] = {
+RUN_BUILDERS: dict[str, Callable[[ReportContext, list[str]], list[Block]]] = {
     "summary": _summary_blocks, "input": _input_blocks, "timeseries": _timeseries_blocks}
 #: Builders of the sections drawn once per rate axis, by part.
-_AXIS_BUILDERS: dict[str, Callable[[_Context, int, list[str]], list[Block]]] = {
+AXIS_BUILDERS: dict[str, Callable[[ReportContext, int, list[str]], list[Block]]] = {
     "allan": _allan_blocks, "arma": _arma_blocks, "prediction": _prediction_blocks,
     "davar": _davar_blocks, "thermal": _thermal_blocks}

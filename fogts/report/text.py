@@ -18,8 +18,8 @@ import numpy as np
 
 from fogts.io.run import Run
 
-__all__ = ["error_message", "info_text", "json_dumps", "run_info", "to_jsonable",
-           "warning_texts"]
+__all__ = ["duration_text", "error_message", "info_text", "json_dumps", "run_info",
+           "to_jsonable", "warning_texts"]
 
 
 def to_jsonable(obj: Any) -> Any:
@@ -122,7 +122,7 @@ def run_info(run: Run) -> dict[str, Any]:
     }
 
 
-def _duration_text(seconds: float) -> str:
+def duration_text(seconds: float) -> str:
     if seconds >= 3600:
         return f"{seconds / 3600:.3g} h ({seconds:.6g} s)"
     if seconds >= 60:
@@ -137,7 +137,7 @@ def info_text(info: Mapping[str, Any]) -> str:
         f"source      {info['source']}",
         f"samples     {info['n']}",
         f"sample rate {info['fs_hz']:.6g} Hz (from {info['fs_source']})",
-        f"duration    {_duration_text(info['duration_s'])}",
+        f"duration    {duration_text(info['duration_s'])}",
         f"columns     {', '.join(info['columns'])}",
         f"rate axes   {', '.join(info['axes'])}  [{info['units']}]",
     ]

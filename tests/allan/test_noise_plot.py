@@ -37,9 +37,9 @@ def test_plot_allan_single_curve(tmp_path: object) -> None:
 ])
 def test_value_pm_text_keeps_the_digits_the_error_supports(value: float, stderr: float,
                                                             text: str) -> None:
-    from fogts.report.plots import _value_pm_tex
+    from fogts.report.plots import value_pm_tex
 
-    assert _value_pm_tex(value, stderr) == text
+    assert value_pm_tex(value, stderr) == text
 
 
 def test_plot_allan_shows_every_readoff_with_its_line() -> None:

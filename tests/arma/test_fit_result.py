@@ -76,7 +76,7 @@ def test_fit_without_resid_recomputes_exactly(order: tuple[int, int], standardiz
 
 def test_long_record_path_recomputes_exactly(monkeypatch: pytest.MonkeyPatch) -> None:
     """The presample-then-full-series Newton path (thresholds lowered as in tests/arma/test_optimiser.py)."""
-    monkeypatch.setattr(optimiser, "_PRESAMPLE", 2_000)
+    monkeypatch.setattr(optimiser, "PRESAMPLE", 2_000)
     monkeypatch.setattr(fitmod, "_FD_HESSIAN_MAX_N", 5_000)
     x = arma_series([1.2, -0.5], [0.4], 10_000, 98, scale=5.0)
     for p, q in ((2, 1), (1, 1), (2, 0)):

@@ -43,7 +43,7 @@ def test_nearly_redundant_fit_tries_more_starts() -> None:
 def test_long_record_path(monkeypatch: pytest.MonkeyPatch) -> None:
     """The long-record path - Newton on a presample, then on the whole series; bse from the
     analytic Hessian (relative error ~20/n) - with its thresholds lowered to run at n = 10,000."""
-    monkeypatch.setattr(optimiser, "_PRESAMPLE", 2_000)
+    monkeypatch.setattr(optimiser, "PRESAMPLE", 2_000)
     monkeypatch.setattr(fitmod, "_FD_HESSIAN_MAX_N", 5_000)
     n = 10_000
     x = simulate([1.2, -0.5], [0.4], n, 98, 5.0)

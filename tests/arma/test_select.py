@@ -346,6 +346,7 @@ def _statsmodels_aic_loop(x: np.ndarray) -> tuple[tuple[int, int], dict]:
     return min(fits, key=lambda k: fits[k].aic), fits
 
 
+@pytest.mark.slow
 def test_ar1_data_pick_arma21_no_more_often_than_statsmodels() -> None:
     """AR(1), phi = 0.6, n = 2000, seeds 0-19: ``select_arma`` selects ARMA(2,1) no more often
     than statsmodels' ``trend="c"`` AIC loop on the same series.  An ARMA(2,1) whose AR and

@@ -34,6 +34,7 @@ def test_local_pool_17_ok_3_errors(pool_run: tuple[Path, Result], files: Path) -
     assert not [p for p in out.rglob("*.tmp*")]
 
 
+@pytest.mark.slow
 def test_dask_local_cluster(files: Path, tmp_path: Path) -> None:
     distributed = pytest.importorskip("distributed", reason="dask[distributed] not installed "
                                       "(pip install 'fogts[dask]')")

@@ -24,6 +24,7 @@ from tests.batch.cases import check_summary, fake_analysis
 runner = CliRunner()
 
 
+@pytest.mark.slow
 def test_kill_midway_then_resume(files: Path, tmp_path: Path,
                                  pool_run: tuple[Path, Result]) -> None:
     """SIGKILL a batch after a few runs, then --resume: every run once, none lost."""

@@ -7,7 +7,7 @@ import base64
 import numpy as np
 from matplotlib.figure import Figure
 
-from fogts.report.blocks import _fixed, _num, _pval, _table, _yes_no, figure_block
+from fogts.report.blocks import _fixed, figure_block, fmt_num, fmt_pval, html_table, yes_no
 
 
 def test_figure_block_is_deterministic_and_falls_back_to_png() -> None:
@@ -24,18 +24,18 @@ def test_figure_block_is_deterministic_and_falls_back_to_png() -> None:
 
 
 def test_cells() -> None:
-    assert [_num(None), _num(np.bool_(True)), _num(np.int64(7)), _num(float("nan"))] == \
+    assert [fmt_num(None), fmt_num(np.bool_(True)), fmt_num(np.int64(7)), fmt_num(float("nan"))] == \
         ["–", "yes", "7", "–"]
-    assert [_num(0.0), _num(12345.6), _num(0.012345678), _num(2.5e-7), _num("x")] == \
+    assert [fmt_num(0.0), fmt_num(12345.6), fmt_num(0.012345678), fmt_num(2.5e-7), fmt_num("x")] == \
         ["0", "12346", "0.01235", "2.500e-07", "x"]
-    assert [_pval(0.04321), _pval(1e-9), _pval(None), _pval(float("inf"))] == \
+    assert [fmt_pval(0.04321), fmt_pval(1e-9), fmt_pval(None), fmt_pval(float("inf"))] == \
         ["0.0432", "< 1e-4", "–", "–"]
     assert [_fixed(3.14159), _fixed("x"), _fixed(float("nan"))] == ["3.14", "–", "–"]
-    assert [_yes_no(None), _yes_no(True), _yes_no(False)] == ["–", "yes", "no"]
+    assert [yes_no(None), yes_no(True), yes_no(False)] == ["–", "yes", "no"]
 
 
 def test_table_formats_numbers_and_right_aligns_numeric_columns() -> None:
-    t = _table("c", ["name", "value"], [["a", 1.23456789], ["b", None]])
+    t = html_table("c", ["name", "value"], [["a", 1.23456789], ["b", None]])
     assert t.kind == "table" and t.rows == (("a", "1.235"), ("b", "–"))
     assert t.numeric == (False, True)
-    assert _table("empty", ["x"], []).numeric == (False,)
+    assert html_table("empty", ["x"], []).numeric == (False,)

@@ -177,7 +177,7 @@ def test_a_failing_part_becomes_an_error_section(tmp_path: Path,
     def broken(self: object, i: int) -> object:
         raise ModelFitError(f"every candidate failed {EVIL}")
 
-    monkeypatch.setattr(analyses._Context, "get_selection", broken)
+    monkeypatch.setattr(analyses.ReportContext, "get_selection", broken)
     src = tmp_path / "r.csv"
     _write_recording(src, n=3000, temperature=False)
     rep = build_report(read_run(src), parts=("timeseries", "arma", "prediction"))

@@ -10,20 +10,20 @@ from scipy.signal import lfilter
 
 from fogts.arma import select_arma
 from fogts.report.plots import plot_selection
-from fogts.report.plots._common import _envelope, _mpl_text, _thin_step, _time_unit
+from fogts.report.plots._common import minmax_envelope, mpl_text, thin_step, time_unit
 
 
 def test_time_unit_thresholds() -> None:
-    assert _time_unit(0.0) == (1.0, "s")
-    assert _time_unit(179.9) == (1.0, "s")
-    assert _time_unit(180.0) == (60.0, "min")
-    assert _time_unit(3 * 3600.0) == (3600.0, "h")
+    assert time_unit(0.0) == (1.0, "s")
+    assert time_unit(179.9) == (1.0, "s")
+    assert time_unit(180.0) == (60.0, "min")
+    assert time_unit(3 * 3600.0) == (3600.0, "h")
 
 
 def test_thin_step_keeps_at_most_max_points() -> None:
-    assert _thin_step(100, 1000) == 1
-    assert _thin_step(10_001, 1000) == 11
-    assert len(range(0, 10_001, _thin_step(10_001, 1000))) <= 1000
+    assert thin_step(100, 1000) == 1
+    assert thin_step(10_001, 1000) == 11
+    assert len(range(0, 10_001, thin_step(10_001, 1000))) <= 1000
 
 
 def test_envelope_keeps_the_extremes_of_every_block() -> None:
@@ -31,7 +31,7 @@ def test_envelope_keeps_the_extremes_of_every_block() -> None:
     y = rng.normal(size=1003)
     y[500] = 40.0  # a spike must survive the thinning
     t = np.arange(y.size, dtype=float)
-    tc, lo, hi, mean = _envelope(t, y, 100)
+    tc, lo, hi, mean = minmax_envelope(t, y, 100)
     assert tc.size == lo.size == hi.size == mean.size + 1  # a shorter last block
     assert hi.max() == pytest.approx(40.0, rel=1e-12)
     assert lo.min() == pytest.approx(y.min(), rel=1e-12)
@@ -40,7 +40,7 @@ def test_envelope_keeps_the_extremes_of_every_block() -> None:
 
 
 def test_mpl_text_escapes_mathtext() -> None:
-    assert _mpl_text("a$b$") == r"a\$b\$"
+    assert mpl_text("a$b$") == r"a\$b\$"
 
 
 def test_selection_figure_without_a_fitted_model() -> None:

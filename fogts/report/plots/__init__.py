@@ -12,8 +12,8 @@ and :mod:`~fogts.report.plots.startup` (Kalman filter, thermal compensation, nor
 
 from __future__ import annotations
 
-# _value_pm_tex: the term-label format, tested on its own (tests import it from here)
-from fogts.report.plots._common import _value_pm_tex as _value_pm_tex
+# value_pm_tex: the term-label format, tested on its own (tests import it from here)
+from fogts.report.plots._common import value_pm_tex as value_pm_tex
 from fogts.report.plots.allan import plot_allan, plot_allan_comparison, plot_allan_overlay
 from fogts.report.plots.arma import plot_selection
 from fogts.report.plots.startup import plot_compensation, plot_kalman, plot_north_seeking

@@ -7,13 +7,15 @@ import numpy as np
 
 from fogts._typing import FloatArray
 
+__all__ = ["minmax_envelope", "mpl_text", "num_tex", "thin_step", "time_unit", "value_pm_tex"]
 
-def _mpl_text(text: str) -> str:
+
+def mpl_text(text: str) -> str:
     """Escape ``$`` so untrusted names are never parsed as mathtext."""
     return str(text).replace("$", r"\$")
 
 
-def _time_unit(span_s: float) -> tuple[float, str]:
+def time_unit(span_s: float) -> tuple[float, str]:
     """The time unit of an axis spanning ``span_s`` seconds: (seconds per unit, unit name);
     hours from 3 h on, minutes from 3 min on, else seconds."""
     if span_s >= 3 * 3600:
@@ -23,12 +25,12 @@ def _time_unit(span_s: float) -> tuple[float, str]:
     return 1.0, "s"
 
 
-def _thin_step(n: int, max_points: int) -> int:
+def thin_step(n: int, max_points: int) -> int:
     """Stride that keeps at most ``max_points`` of ``n`` samples (every k-th one)."""
     return max(1, int(np.ceil(n / max_points)))
 
 
-def _envelope(t: FloatArray, y: FloatArray, bins: int
+def minmax_envelope(t: FloatArray, y: FloatArray, bins: int
               ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
     """Min-max envelope of ``y`` in ``bins`` equal-count blocks.
 
@@ -52,7 +54,7 @@ def _envelope(t: FloatArray, y: FloatArray, bins: int
     return tc, lo, hi, head.mean(axis=1)
 
 
-def _num_tex(v: float) -> str:
+def num_tex(v: float) -> str:
     """A number with 3 significant digits, in scientific notation when far from 1."""
     if not np.isfinite(v):
         return "n/a"
@@ -62,7 +64,7 @@ def _num_tex(v: float) -> str:
     return rf"{mant}$\times$10$^{{{int(exp)}}}$"
 
 
-def _value_pm_tex(value: float, stderr: float) -> str:
+def value_pm_tex(value: float, stderr: float) -> str:
     """``value ± stderr`` rounded to the standard error's two significant digits.
 
     The two share one power of ten when the value is outside [0.01, 1e4), e.g.
@@ -70,7 +72,7 @@ def _value_pm_tex(value: float, stderr: float) -> str:
     many digits of the value mean something.
     """
     if not (np.isfinite(stderr) and stderr > 0 and np.isfinite(value) and value != 0):
-        return _num_tex(value) + (rf" ± {_num_tex(stderr)}" if np.isfinite(stderr) else "")
+        return num_tex(value) + (rf" ± {num_tex(stderr)}" if np.isfinite(stderr) else "")
     exp = 0 if 1e-2 <= abs(value) < 1e4 else int(np.floor(np.log10(abs(value))))
     scale = 10.0 ** exp
     decimals = max(0, 1 - int(np.floor(np.log10(stderr / scale))))

@@ -8,7 +8,7 @@ from typing import Any
 import numpy as np
 from matplotlib.figure import Figure
 
-from fogts.report.plots._common import _mpl_text, _num_tex, _time_unit, _value_pm_tex
+from fogts.report.plots._common import mpl_text, num_tex, time_unit, value_pm_tex
 from fogts.report.plots.allan_fit import (
     draw_outside_points,
     draw_residuals,
@@ -120,7 +120,7 @@ def _term_lines(ax: Any, model: Any, fine: Any, ylim: tuple[float, float]) -> No
         flag = "" if term.identifiable else " (not identifiable)"
         ax.plot(fine[shown], line[shown], "--", color=tcolour, lw=1.3,
                 label=f"{term.name}: slope {slope}, {term.name} = "
-                      f"{_value_pm_tex(term.value, term.stderr)} "
+                      f"{value_pm_tex(term.value, term.stderr)} "
                       f"{_TERM_UNIT_TEX[term.name]}{flag}", zorder=2)
 
 
@@ -145,9 +145,9 @@ def _readoff_points(ax: Any, res: Any, model: Any, xlim: tuple[float, float],
     """The classic slope read-offs (for comparison): the -1/2 line at tau = 1 s (N), the
     +1/2 line at tau = 3 s (K) and the minimum / 0.664 (B), where inside the axes."""
     ro = model.readoff
-    names = {"N": f"read-off N = {_num_tex(ro.N)} {_TERM_UNIT_TEX['N']} (−1/2 line at τ = 1 s)",
-             "K": f"read-off K = {_num_tex(ro.K)} {_TERM_UNIT_TEX['K']} (+1/2 line at τ = 3 s)",
-             "B": f"read-off B = {_num_tex(ro.B)} {_TERM_UNIT_TEX['B']} (minimum / 0.664)"}
+    names = {"N": f"read-off N = {num_tex(ro.N)} {_TERM_UNIT_TEX['N']} (−1/2 line at τ = 1 s)",
+             "K": f"read-off K = {num_tex(ro.K)} {_TERM_UNIT_TEX['K']} (+1/2 line at τ = 3 s)",
+             "B": f"read-off B = {num_tex(ro.B)} {_TERM_UNIT_TEX['B']} (minimum / 0.664)"}
     for name, tau_ro, dev_ro in ro.points:
         if (np.isfinite(dev_ro) and xlim[0] <= tau_ro <= xlim[1]
                 and ylim[0] <= dev_ro <= ylim[1]):
@@ -164,12 +164,12 @@ def _draw_curves(ax: Any, curves: list[Any], models: list[Any], xlim: tuple[floa
     fine = np.logspace(np.log10(xlim[0]), np.log10(xlim[1]), 400)
     for i, (res, model) in enumerate(zip(curves, models, strict=True)):
         colour = "0.15" if single else f"C{i}"
-        label = _KIND_SYMBOL.get(res.kind, res.kind) if single else _mpl_text(res.axis)
+        label = _KIND_SYMBOL.get(res.kind, res.kind) if single else mpl_text(res.axis)
         _allan_curve(ax, res, colour, label, span if single else None)
         if model is None:
             continue
         fit_label = (f"fitted total ({model.method.upper()})" if single
-                     else f"{_mpl_text(res.axis)}: fit")
+                     else f"{mpl_text(res.axis)}: fit")
         fitted = inside_span(fine, span) if single and span is not None else fine > 0
         ax.plot(fine[fitted], model.curve(fine[fitted]), "-",
                 color="0.15" if single else colour, lw=1.8, alpha=0.9, label=fit_label,
@@ -191,15 +191,15 @@ def _decorate(ax: Any, curves: list[Any], xlim: tuple[float, float],
     units = curves[0].units
     kind = curves[0].kind
     ax.set_xlabel("averaging time τ [s]")
-    ax.set_ylabel(f"{_KIND_SYMBOL.get(kind, kind)} σ(τ) [{_mpl_text(units)}]")
+    ax.set_ylabel(f"{_KIND_SYMBOL.get(kind, kind)} σ(τ) [{mpl_text(units)}]")
     ax.grid(True, which="major", alpha=0.45)
     ax.grid(True, which="minor", alpha=0.15)
     res = curves[0]
     if getattr(res, "fs_hz", 0) and getattr(res, "n_samples", 0):
         span = res.n_samples / res.fs_hz
-        scale, unit = _time_unit(span)
+        scale, unit = time_unit(span)
         who = res.axis if len(curves) == 1 else f"{len(curves)} axes"
-        ax.set_title(_mpl_text(f"{who}: {res.n_samples} samples at {res.fs_hz:g} Hz "
+        ax.set_title(mpl_text(f"{who}: {res.n_samples} samples at {res.fs_hz:g} Hz "
                                f"({span / scale:.3g} {unit})"), loc="left", fontsize="medium")
     ax.legend(loc="best", fontsize="small", framealpha=0.85)
 
@@ -325,7 +325,7 @@ def plot_allan_comparison(comparison: Any, *, width_in: float = 7.5) -> Figure:
                    zorder=0, label="not used by the fits")
     _log_axes(ax)
     ax.set_xlabel(r"averaging time $\tau$ (s)")
-    ax.set_ylabel(_mpl_text(f"Allan deviation ({comparison.before.units})"))
+    ax.set_ylabel(mpl_text(f"Allan deviation ({comparison.before.units})"))
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize="small")
     ax.set_title("Allan deviation before and after filtering", fontsize="medium")
@@ -366,7 +366,7 @@ def plot_allan_overlay(results: Any, labels: Any, noise: Any = None, *,
     units = {getattr(r, "units", "") for r in curves}
     for i, (res, label, fit) in enumerate(zip(curves, names, fits, strict=True)):
         colour = _OVERLAY_COLOURS[i % len(_OVERLAY_COLOURS)]
-        _allan_curve(ax, res, colour, _mpl_text(label))
+        _allan_curve(ax, res, colour, mpl_text(label))
         dev = np.asarray(res.dev, dtype=np.float64)
         ok = np.isfinite(dev) & (dev > 0)
         if ok.any():
@@ -378,7 +378,7 @@ def plot_allan_overlay(results: Any, labels: Any, noise: Any = None, *,
     _log_axes(ax)
     ax.set_xlabel(r"averaging time $\tau$ (s)")
     unit = units.pop() if len(units) == 1 else "mixed units"
-    ax.set_ylabel(_mpl_text(f"Allan deviation ({unit})"))
+    ax.set_ylabel(mpl_text(f"Allan deviation ({unit})"))
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize="small", title="▼ minimum; line: IEEE-952 fit", title_fontsize="small")
     ax.set_title("Allan deviation comparison (lower-left is better)", fontsize="medium")

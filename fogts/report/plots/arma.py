@@ -8,7 +8,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from fogts._typing import FloatArray
-from fogts.report.plots._common import _mpl_text
+from fogts.report.plots._common import mpl_text
 
 __all__ = ["plot_selection"]
 
@@ -46,7 +46,7 @@ def _residual_acf_panel(ax: Any, best: Any) -> None:
     ax.axhspan(-diag.band, diag.band, color="C2", alpha=0.15, lw=0, label=_BAND_LABEL)
     _stem(ax, rl, diag.acf[1:], "C2")
     lb = ", ".join(f"Q({x.lag}) p={x.pvalue:.2g}" for x in diag.ljung_box)
-    ax.set_title(_mpl_text(f"{best.model} residual ACF ({lb})"), loc="left", fontsize="medium")
+    ax.set_title(mpl_text(f"{best.model} residual ACF ({lb})"), loc="left", fontsize="medium")
     ax.set_xlabel("lag")
     ax.legend(loc="upper right", fontsize="small", framealpha=0.85)
     ax.grid(alpha=0.3)
@@ -78,8 +78,8 @@ def _prediction_panel(ax: Any, best: Any, units: str, window: int) -> None:
     ax.plot(t, pred.observed[:k], "-", lw=0.8, color="0.55", label="observed x_t")
     ax.plot(t, pred.predicted[:k], "-", lw=1.0, color="C1", label="one-step prediction")
     ax.set_xlabel("time [s]" if pred.time is not None else "sample")
-    ax.set_ylabel(_mpl_text(f"drift [{units}]") if units else "drift")
-    ax.set_title(_mpl_text(f"one-step prediction with {best.model}, first {k} of {pred.n} "
+    ax.set_ylabel(mpl_text(f"drift [{units}]") if units else "drift")
+    ax.set_title(mpl_text(f"one-step prediction with {best.model}, first {k} of {pred.n} "
                            f"samples: removes {100 * pred.variance_removed:.1f} % of the "
                            "variance"), loc="left", fontsize="medium")
     ax.legend(loc="upper right", fontsize="small", framealpha=0.85, ncol=2)
@@ -129,12 +129,12 @@ def plot_selection(selection: Any, *, window: int = 400, width_in: float = 10.0)
             ax.text(0.5, 0.5, "no candidate could be fitted", ha="center", va="center",
                     transform=ax.transAxes)
             ax.set_axis_off()
-        fig.suptitle(_mpl_text(selection.verdict[:120]), fontsize="medium")
+        fig.suptitle(mpl_text(selection.verdict[:120]), fontsize="medium")
         return fig
     _residual_acf_panel(ax_racf, best)
     _qq_panel(ax_qq, best)
     _prediction_panel(ax_pred, best, selection.units, window)
     verdict = "white residuals" if best.white else "residuals NOT white"
-    fig.suptitle(_mpl_text(f"selected {best.model} by {selection.criterion.upper()} "
+    fig.suptitle(mpl_text(f"selected {best.model} by {selection.criterion.upper()} "
                            f"({verdict}):  {best.equation()}"), fontsize="medium")
     return fig

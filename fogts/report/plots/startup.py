@@ -7,7 +7,7 @@ from typing import Any
 import numpy as np
 from matplotlib.figure import Figure
 
-from fogts.report.plots._common import _mpl_text, _thin_step
+from fogts.report.plots._common import mpl_text, thin_step
 
 __all__ = ["plot_compensation", "plot_kalman", "plot_north_seeking"]
 
@@ -37,7 +37,7 @@ def plot_kalman(result: Any, *, time_s: Any = None, units: str = "", max_points:
     """
     obs = np.asarray(result.observed, dtype=float)
     t = np.arange(obs.size, dtype=float) if time_s is None else np.asarray(time_s, dtype=float)
-    step = _thin_step(obs.size, max_points)
+    step = thin_step(obs.size, max_points)
     fig = Figure(figsize=(width_in, 4.0), layout="constrained")
     ax = fig.add_subplot()
     ax.plot(t[::step], obs[::step], lw=0.5, color="0.65", label="observed")
@@ -46,8 +46,8 @@ def plot_kalman(result: Any, *, time_s: Any = None, units: str = "", max_points:
     if np.isfinite(smoothed).any():
         ax.plot(t[::step], smoothed[::step], lw=0.8, color="C3", label="smoothed")
     ax.set_xlabel("time [s]" if time_s is not None else "sample")
-    ax.set_ylabel(f"rate [{_mpl_text(units)}]" if units else "rate")
-    ax.set_title(_mpl_text(f"Kalman filter, {result.model} + white noise "
+    ax.set_ylabel(f"rate [{mpl_text(units)}]" if units else "rate")
+    ax.set_title(mpl_text(f"Kalman filter, {result.model} + white noise "
                            f"(H = {result.measurement_noise:.3g}, {result.method})"))
     ax.legend(loc="upper right", fontsize="small")
     ax.grid(alpha=0.3)
@@ -73,8 +73,8 @@ def plot_compensation(result: Any, *, max_points: int = 20000, width_in: float =
     """
     frame = result.to_frame()
     t = frame["time"].to_numpy()
-    step = _thin_step(t.size, max_points)
-    units = _mpl_text(result.run.units)
+    step = thin_step(t.size, max_points)
+    units = mpl_text(result.run.units)
     fig = Figure(figsize=(width_in, 6.0), layout="constrained")
     ax1, ax2 = fig.subplots(2, 1, sharex=True, height_ratios=(2, 1))
     ax1.plot(t[::step], frame["raw"].to_numpy()[::step], lw=0.5, color="0.65", label="raw rate")
@@ -86,7 +86,7 @@ def plot_compensation(result: Any, *, max_points: int = 20000, width_in: float =
     ax1.set_ylabel(f"rate [{units}]")
     b, a = result.before, result.after
     ax1.set_title(f"bias stability (1σ, {b.average_s:g} s average): {b.value:.3g} → "
-                  f"{a.value:.3g} {_mpl_text(b.unit)}")
+                  f"{a.value:.3g} {mpl_text(b.unit)}")
     ax1.legend(loc="upper right", fontsize="small")
     ax1.grid(alpha=0.3)
     ax2.plot(t[::step], frame["temperature"].to_numpy()[::step], lw=1.0, color="C3")

@@ -8,7 +8,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from fogts._typing import FloatArray
-from fogts.report.plots._common import _envelope, _mpl_text, _time_unit
+from fogts.report.plots._common import minmax_envelope, mpl_text, time_unit
 
 __all__ = ["plot_dynamic_allan", "plot_timeseries"]
 
@@ -46,16 +46,16 @@ def plot_timeseries(run: Any, *, max_points: int = 4000, width_in: float = 10.0)
     fig = Figure(figsize=(width_in, 1.0 + 2.0 * rows), layout="constrained")
     axes = fig.subplots(rows, 1, sharex=True, squeeze=False)[:, 0]
     t = np.asarray(run.time, dtype=np.float64)
-    scale, unit = _time_unit(float(t[-1] - t[0]) if t.size > 1 else 0.0)
+    scale, unit = time_unit(float(t[-1] - t[0]) if t.size > 1 else 0.0)
     ts = t / scale
-    series = [(run.axis(i), f"{_mpl_text(name)} [{run.units}]", "C0")
+    series = [(run.axis(i), f"{mpl_text(name)} [{run.units}]", "C0")
               for i, name in enumerate(run.axes)]
     if has_temp:
         series.append((np.asarray(run.temperature, dtype=np.float64), "temperature [°C]",
                        "C3"))
     for ax, (y, label, color) in zip(axes, series, strict=True):
         if y.size > max_points:
-            tc, lo, hi, mean = _envelope(ts, y, max_points // 2)
+            tc, lo, hi, mean = minmax_envelope(ts, y, max_points // 2)
             ax.fill_between(tc, lo, hi, color=color, alpha=0.35, linewidth=0,
                             label="min-max per block")
             ax.plot(tc[:mean.size], mean, color=color, lw=0.8, label="block mean")
@@ -67,7 +67,7 @@ def plot_timeseries(run: Any, *, max_points: int = 4000, width_in: float = 10.0)
         ax.grid(True, alpha=0.3)
     axes[-1].set_xlabel(f"time [{unit}]")
     name = str(run.source).replace("\\", "/").rsplit("/", 1)[-1]
-    axes[0].set_title(_mpl_text(f"{name}: {run.n:,} samples at {run.fs_hz:.6g} Hz"),
+    axes[0].set_title(mpl_text(f"{name}: {run.n:,} samples at {run.fs_hz:.6g} Hz"),
                       fontsize="medium", loc="left")
     return fig
 
@@ -109,7 +109,7 @@ def _stationarity_strip(strip: Any, res: Any, t: FloatArray, j: int, small: bool
     strip.tick_params(labelbottom=False, labelsize="small")
     strip.grid(True, alpha=0.3)
     verdict = "stationary" if stat.stationary else "not stationary"
-    strip.set_title(_mpl_text(f"{res.axis}: {res.kind}, window {res.window_s:g} s, step "
+    strip.set_title(mpl_text(f"{res.axis}: {res.kind}, window {res.window_s:g} s, step "
                               f"{res.step_s:g} s\n{verdict} (non-stationarity score "
                               f"{stat.score:.3g}, p = {stat.pvalue:.2g})"),
                     fontsize="small" if small else "medium", loc="left")
@@ -188,7 +188,7 @@ def plot_dynamic_allan(result: Any, *, width_in: float = 10.0) -> Figure:
     dev_all = np.concatenate([c.dev[np.isfinite(c.dev) & (c.dev > 0)] for c in curves])
     norm = LogNorm(vmin=float(dev_all.min()), vmax=float(dev_all.max())) if dev_all.size \
         else None
-    scale, unit = _time_unit(max(float(c.times_s[-1] + c.window_s / 2) for c in curves))
+    scale, unit = time_unit(max(float(c.times_s[-1] + c.window_s / 2) for c in curves))
     mesh = None
     for col, res in enumerate(curves):
         strip = fig.add_subplot(grid[0, col])
