@@ -13,7 +13,7 @@ from fogts._typing import FloatArray
 from fogts.arma.fit_result import ArmaFit, param_lines
 from fogts.arma.predict import Prediction, one_step_prediction, predict_arma, prediction_summary
 from fogts.arma.redundancy import RedundancyFlag
-from fogts.arma.roots import Roots
+from fogts.arma.roots import Roots, unit_circle_root
 from fogts.arma.whiteness import ResidualDiagnostics
 from fogts.errors import ModelFitError
 
@@ -141,12 +141,16 @@ class Candidate:
 
     @property
     def notes(self) -> str:
-        """Short notes for the candidate table: a failed fit, nearly cancelling AR/MA
-        roots, a common AR/MA factor that cannot be ruled out (the reduced model and the
-        Wald statistic), parameters that are not significant, no convergence."""
+        """Short notes for the candidate table: a failed fit, an MA root on the unit circle
+        (within 1/n), nearly cancelling AR/MA roots, a common AR/MA factor that cannot be
+        ruled out (the reduced model and the Wald statistic), parameters that are not
+        significant, no convergence."""
         if not self.ok:
             return f"fit failed: {self.reason}"
         notes = []
+        if (self.roots is not None and self.fit is not None
+                and unit_circle_root(self.roots.ma_inverse, self.fit.nobs) is not None):
+            notes.append("MA root on the unit circle (not invertible)")
         if self.flagged("near_cancellation"):
             notes.append("AR/MA roots nearly cancel")
         for f in self.flagged("common_factor"):

@@ -26,8 +26,11 @@ models (Box, Jenkins & Reinsel 1994, sec. 7.3.5).  The AIC alone does not guard 
 under the reduced model the location of the cancelling pair is a parameter the data do not
 identify, so the likelihood gain of the extra pair is a supremum over that location and
 exceeds AIC's penalty more often than the chi-squared asymptotics assume (Davies 1987,
-*Biometrika* 74, 33-43).  The verdict names a candidate ranked down this way and the numbers
-of its test.  The other redundancy flags (a near-cancelling AR/MA root pair, an insignificant
+*Biometrika* 74, 33-43).  So does a candidate with an MA root on the unit circle (within 1/n,
+:func:`fogts.arma.verdict.on_unit_circle`): its innovations cannot be recovered from the
+data, so it cannot drive a prediction or a Kalman filter, and at short record lengths the
+restricted-likelihood estimate piles up there by chance (Davis & Dunsmuir 1996).  The
+verdict names a candidate ranked down either way, with its numbers.  The other redundancy flags (a near-cancelling AR/MA root pair, an insignificant
 coefficient) only inform: the criterion already penalises the extra parameters.
 """
 
@@ -58,6 +61,7 @@ from fogts.arma.verdict import (
     QUANT_MAX_LEVELS,
     SMALL_PREDICTION,
     quantization_note,
+    ranks_down,
     write_verdict,
 )
 from fogts.arma.whiteness import residual_diagnostics
@@ -196,7 +200,7 @@ def _rank(cands: list[Candidate], criterion: str) -> list[Candidate]:
     order = {id(c): i for i, c in enumerate(cands)}
 
     def key(c: Candidate) -> tuple[int, int, float, int, int]:
-        return (0 if c.white else 1, 1 if c.flagged("common_factor") else 0,
+        return (0 if c.white else 1, 1 if ranks_down(c) else 0,
                 float(getattr(c, criterion)), c.p + c.q, order[id(c)])
 
     ok = sorted((c for c in cands if c.ok), key=key)

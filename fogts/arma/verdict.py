@@ -15,7 +15,7 @@ from fogts.arma.roots import unit_circle_root
 from fogts.arma.whiteness import BAND_Z
 
 __all__ = ["CLOSE_CALL", "QUANT_CHECK_SAMPLES", "QUANT_MAX_LEVELS", "SMALL_PREDICTION",
-           "on_unit_circle", "quantization_note", "write_verdict"]
+           "on_unit_circle", "quantization_note", "ranks_down", "write_verdict"]
 
 #: A simpler white candidate within this many criterion units of the selected one is named in
 #: the verdict (Burnham & Anderson, *Model Selection and Multimodel Inference*, 2nd ed.,
@@ -40,6 +40,13 @@ def on_unit_circle(c: Candidate) -> complex | None:
     if c.roots is None or c.fit is None:
         return None
     return unit_circle_root(c.roots.ma_inverse, c.fit.nobs)
+
+
+def ranks_down(c: Candidate) -> bool:
+    """Whether the candidate ranks after the others of its group (white or not): its AR and
+    MA parts may share a root (not identified), or an MA root lies on the unit circle (not
+    invertible).  See :mod:`fogts.arma.select`, "Ranking rule"."""
+    return bool(c.flagged("common_factor")) or on_unit_circle(c) is not None
 
 
 def quantization_note(raw: FloatArray | None, units: str | None) -> str | None:
@@ -81,20 +88,43 @@ def _cancellation_sentence(sel: Candidate, ranked: Sequence[Candidate], criterio
             f"{sel.model}.")
 
 
+def _among(demoted: Sequence[Candidate]) -> str:
+    """How "the white candidates" is qualified when some with a lower criterion ranked down."""
+    why = []
+    if any(c.flagged("common_factor") for c in demoted):
+        why.append("a possible common AR/MA factor")
+    if any(on_unit_circle(c) is not None for c in demoted):
+        why.append("an MA root on the unit circle")
+    return f" without {' or '.join(why)}" if why else ""
+
+
 def _common_factor_sentence(sel: Candidate, demoted: Sequence[Candidate],
                             criterion: str) -> str:
     """Why a candidate with a lower criterion (``demoted``, in ``sel``'s white or not-white
     group) was ranked below ``sel``: its AR and MA parts may share a root
-    (:func:`fogts.arma.redundancy.common_factor`); else the caution that ``sel`` itself may
-    have such a factor."""
+    (:func:`fogts.arma.redundancy.common_factor`) or an MA root lies on the unit circle;
+    else the caution that ``sel`` itself may have a common factor."""
     crit = criterion.upper()
     if demoted:
         low = min(demoted, key=lambda c: getattr(c, criterion))
         gap = getattr(sel, criterion) - getattr(low, criterion)
         return (f" {low.model} has a lower {crit} (by {gap:.1f}) but ranks below it: "
-                f"{low.flagged('common_factor')[0].message}.")
+                f"{_ranked_down_reason(low)}.")
     own = sel.flagged("common_factor")
     return f" Caution: {own[0].message}." if own else ""
+
+
+def _ranked_down_reason(c: Candidate) -> str:
+    """The reason ``c`` ranks down (:func:`ranks_down`), with its numbers."""
+    flags = c.flagged("common_factor")
+    if flags:
+        return flags[0].message
+    mu = on_unit_circle(c)
+    assert mu is not None
+    return (f"its MA inverse root {mu.real:.6g}{mu.imag:+.3g}j lies on the unit circle "
+            "(within 1/n), so it is not invertible and its innovations cannot be recovered "
+            "from the data (a boundary pile-up of the estimate, or an over-differenced or "
+            "filtered series)")
 
 
 def write_verdict(sel: Candidate | None, ranked: Sequence[Candidate], criterion: str,
@@ -130,8 +160,8 @@ def _selected_verdict(sel: Candidate, ranked: Sequence[Candidate], criterion: st
     # candidates of sel's group (white or not) with a lower criterion, ranked below it for a
     # possible common AR/MA factor
     demoted = [c for c in ranked if c.ok and c.white == sel.white
-               and c.flagged("common_factor") and getattr(c, criterion) < getattr(sel, criterion)]
-    among = " without a possible common AR/MA factor" if demoted else ""
+               and ranks_down(c) and getattr(c, criterion) < getattr(sel, criterion)]
+    among = _among(demoted)
     if sel.white and on_unit_circle(sel) is not None:
         return (_non_invertible_verdict(sel, ranked, criterion, among)
                 + _common_factor_sentence(sel, demoted, criterion))

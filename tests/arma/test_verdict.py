@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import re
+import warnings
 
 import numpy as np
 import pytest
@@ -118,3 +119,24 @@ def test_a_candidate_ranked_down_for_a_common_factor_is_explained_with_its_numbe
     r, z, se = float(m.group(4)), float(m.group(5)), float(m.group(6))
     assert abs(r) / se == pytest.approx(z, rel=0.03)       # 3 and 2 significant digits
     assert z < 1.96 and z == pytest.approx(abs(flag.details["z"]), abs=0.005)
+
+
+def test_a_candidate_on_the_unit_circle_ranks_down_and_is_named() -> None:
+    """AR(1) data, phi = 0.6, n = 2000, seed 78: ARMA(2,1)'s restricted-likelihood estimate
+    piles up at theta = 1 (MA inverse root -1) with the lowest AIC (1.9 below AR(1)).  A
+    model whose innovations cannot be recovered from the data cannot drive a prediction, so
+    it ranks after the invertible white candidates: AR(1) is selected, the table notes the
+    root and the verdict names the ranked-down model with its AIC gap."""
+    x = arma_series([0.6], [], 2000, 78)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        sel = select_arma(x)
+    assert sel.best is not None and sel.best.model == "AR(1)"
+    last = sel.candidates[-1]
+    assert last.model == "ARMA(2,1)" and last.aic < sel.best.aic
+    assert "MA root on the unit circle" in last.notes
+    m = re.search(r"ARMA\(2,1\) has a lower AIC \(by (\d+\.\d)\) but ranks below it: its MA "
+                  r"inverse root -1\+0j lies on the unit circle", sel.verdict)
+    assert m is not None, sel.verdict
+    assert float(m.group(1)) == pytest.approx(sel.best.aic - last.aic, abs=0.05)
+    assert "without an MA root on the unit circle" in sel.verdict
