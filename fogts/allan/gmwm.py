@@ -77,6 +77,7 @@ from fogts.allan.gmwm_core import (
     model_parts,
     model_wv,
     select_model,
+    solution_covariance,
     theta_covariance,
     whitener,
 )
@@ -170,22 +171,18 @@ def fit_gmwm(allan_result: Any, *, terms: Sequence[str] | str = NOISE_TERMS,
     if 0 < n_boot < 20:
         raise DataError(f"n_bootstrap must be 0 or at least 20, got {n_bootstrap!r}")
     curve = read_fit_curve(allan_result)
-    powers = tuple(TERM_POWER[n] for n in names if n != "B")
-    gm_counts = range(0 if powers else 1, (max_gm if "B" in names else 0) + 1)
-    if len(gm_counts) == 0:
-        raise DataError(f"terms {', '.join(names)} with max_gm = 0 leave no term to fit; "
-                        "add one of Q, N, K, R or allow Gauss-Markov terms (max_gm >= 1)")
-    data, w, pilot = _prepare(curve, len(powers) + 2 * gm_counts[-1])
-    best, tried = select_model(data, w, powers, gm_counts, pilot)
-    v_fit = _fit_covariance(best, data)
-    cov = theta_covariance(best, w, v_fit)
+    structures = _structures(names, max_gm)
+    data, w, pilot = _prepare(curve, max(s.n_params for s in structures))
+    best, tried = select_model(data, w, structures, pilot)
+    v_fit = solution_covariance(best, data)
+    cov = theta_covariance(best, v_fit)
     stderr = ("GMWM asymptotic sandwich covariance with the model covariance of the "
               f"{curve.kind} estimates")
     if n_boot:
-        cov = _bootstrap_cov(best, data, w, v_fit, n_boot, rng)
+        cov = _bootstrap_cov(best, data, v_fit, n_boot, rng)
         stderr = (f"parametric bootstrap of the wavelet variances ({n_boot} replicates, "
                   "Gaussian with the model covariance at the fit)")
-    return _noise_model(curve, names, data, w, best, cov, tried, confidence, significance,
+    return _noise_model(curve, names, data, best, cov, tried, confidence, significance,
                         stderr, n_boot)
 
 
@@ -195,6 +192,17 @@ def _gmwm_terms(terms: Sequence[str] | str) -> tuple[str, ...]:
         raise DataError(f"terms {', '.join(extras)} are not fitted by method='gmwm'; its "
                         "Gauss-Markov terms come with B; use terms from Q, N, B, K, R")
     return names
+
+
+def _structures(names: tuple[str, ...], max_gm: int) -> list[Composite]:
+    """The starting models: the requested power laws (with flicker if B is requested),
+    and, if B is, the power laws other than flicker with 1..max_gm Gauss-Markov terms."""
+    powers = tuple(TERM_POWER[n] for n in names)
+    out = [Composite(powers, 0)]
+    if "B" in names:
+        others = tuple(p for p in powers if p != TERM_POWER["B"])
+        out += [Composite(others, k) for k in range(1, max_gm + 1)]
+    return out
 
 
 def _check_count(name: str, value: Any, lo: int, hi: int) -> int:
@@ -250,14 +258,7 @@ def _pilot(curve: FitCurve, avar: np.ndarray, scale: float) -> dict[int, float]:
     return {int(p): float(a) * s / scale for p, a in zip(powers, fit.a, strict=True)}
 
 
-def _fit_covariance(sol: GmwmSolution, data: WvData) -> np.ndarray:
-    parts = model_parts(sol.theta, sol.model, data)
-    k = len(sol.model.powers)
-    return model_covariance_wv(data, parts[:k], list(sol.model.powers), parts[k:])
-
-
-def _bootstrap_cov(sol: GmwmSolution, data: WvData, w: np.ndarray, v_fit: np.ndarray,
-                   n_boot: int, rng: np.random.Generator | int | None) -> np.ndarray:
+def _bootstrap_cov(sol: GmwmSolution, data: WvData, v_fit: np.ndarray, n_boot: int, rng: np.random.Generator | int | None) -> np.ndarray:
     """Covariance of theta (and, as a last row/column, log a_B) over WV replicates."""
     gen = np.random.default_rng(rng)
     mu = model_wv(sol.theta, sol.model, data)
@@ -266,7 +267,7 @@ def _bootstrap_cov(sol: GmwmSolution, data: WvData, w: np.ndarray, v_fit: np.nda
     for _ in range(n_boot):
         nu = mu + low @ gen.standard_normal(mu.size)
         rep = WvData(data.tau, nu, data.scale, data.dt, data.n_samples, data.basis)
-        draws.append(fit_composite(sol.model, rep, w, [sol.theta]).theta)
+        draws.append(fit_composite(sol.model, rep, sol.w, [sol.theta]).theta)
     return np.atleast_2d(np.cov(np.array(draws), rowvar=False))
 
 
@@ -291,8 +292,7 @@ def _b_gradient(theta: np.ndarray, model: Composite, data: WvData) -> np.ndarray
     return grad
 
 
-def _noise_model(curve: FitCurve, names: tuple[str, ...], data: WvData, w: np.ndarray,
-                 best: GmwmSolution, cov: np.ndarray, tried: list[GmwmSolution],
+def _noise_model(curve: FitCurve, names: tuple[str, ...], data: WvData, best: GmwmSolution, cov: np.ndarray, tried: list[GmwmSolution],
                  confidence: float, significance: float, stderr: str, n_boot: int
                  ) -> NoiseModel:
     quantity = quantity_of(curve.units)
@@ -306,7 +306,7 @@ def _noise_model(curve: FitCurve, names: tuple[str, ...], data: WvData, w: np.nd
             terms.append(_fitted_term(name, log_a, se_log, data.scale, factor, z, quantity))
             a_out.append(math.exp(log_a) * data.scale)
         else:
-            terms.append(_dropped_term(name, best, data, w, factor, z, quantity))
+            terms.append(_dropped_term(name, best, data, factor, z, quantity))
             a_out.append(0.0)
     dof = float(data.tau.size - best.model.n_params)
     p_value = float(chi2.sf(best.j_stat, dof)) if dof > 0 else math.nan
@@ -316,7 +316,7 @@ def _noise_model(curve: FitCurve, names: tuple[str, ...], data: WvData, w: np.nd
         criterion="J + 2.01 p ln ln n (MMSC-HQIC)",
         candidates=tuple((s.model.label(), s.criterion(data.n_samples)) for s in tried),
         stderr=stderr, n_bootstrap=n_boot)
-    weight = 1.0 / np.diag(np.linalg.inv(w.T @ w))  # w^T w = V_0^{-1}
+    weight = 1.0 / np.diag(np.linalg.inv(best.w.T @ best.w))  # w^T w = V^{-1}
     model = NoiseModel(
         terms=tuple(terms), confidence=confidence, method="gmwm", kind=curve.kind,
         units=curve.units, axis=curve.axis, deg_per_hour_factor=factor, tau_s=curve.tau,
@@ -360,12 +360,12 @@ def _fitted_term(name: str, log_a: float, se_log: float, scale: float, factor: f
                      z_score=1.0 / se_log if se_log > 0 else math.inf)
 
 
-def _dropped_term(name: str, best: GmwmSolution, data: WvData, w: np.ndarray,
-                  factor: float, z: float, quantity: str) -> NoiseTerm:
+def _dropped_term(name: str, best: GmwmSolution, data: WvData, factor: float, z: float,
+                  quantity: str) -> NoiseTerm:
     """A term the model choice left out: 0 with an upper limit from its GLS estimate
     added to the chosen fit (module docstring)."""
-    x = w @ power_law_wv(1.0, TERM_POWER[name], data.tau)
-    r = w @ (data.nu - model_wv(best.theta, best.model, data))
+    x = best.w @ power_law_wv(1.0, TERM_POWER[name], data.tau)
+    r = best.w @ (data.nu - model_wv(best.theta, best.model, data))
     cols = np.column_stack([-best.jac_w, x])
     est = gls_solve(cols, r)
     se = math.sqrt(max(float(np.linalg.pinv(cols.T @ cols)[-1, -1]), 0.0))

@@ -30,8 +30,8 @@ estimation with application to dynamic panel data models", *J. Econometrics* 101
     wins (:math:`J` the objective at the optimum, ``p`` parameters, ``n`` samples of the
     record; their BIC-type :math:`p\\ln n` needs :math:`z > 3.7` for a term to enter at
     1e6 samples, which drops rate random walks that the curve does show);
-    :func:`select_model` runs a backward elimination of the power laws for each number of
-    Gauss-Markov terms.
+    :func:`select_model` runs a backward elimination of the power laws from each starting
+    structure (the requested power laws with flicker, or with ``k`` Gauss-Markov terms).
 """
 
 from __future__ import annotations
@@ -48,14 +48,14 @@ from fogts.allan.covariance import RANDOM_TERMS
 from fogts.allan.wv_models import GM_PEAK, ar1_wv, power_law_wv
 
 __all__ = ["Composite", "GmwmSolution", "WvData", "fit_composite", "model_covariance_wv",
-           "select_model"]
+           "select_model", "solution_covariance"]
 
-#: The power laws a GMWM composite model can hold: Q, N, K, R (B is the Gauss-Markov sum).
-GMWM_POWERS: tuple[int, ...] = (-2, -1, 1, 2)
 _SPREADS: tuple[float, ...] = (4.0, 16.0, 64.0)
 #: A Gauss-Markov correlation time is at most tau_max / 8: its Allan hump (peak at 1.89 T)
 #: then lies two octaves inside the data, and a longer one is a rate random walk to the data.
 T_MAX_DIVISOR = 8.0
+#: Re-weightings of each full model with the covariance at its fit (iterated GMWM).
+V_STEPS = 2
 #: Q of Andrews & Lu's MMSC-HQIC, J + Q p ln ln n (they require Q > 2).
 HQ_FACTOR = 2.01
 _FD_STEP = 1e-5
@@ -80,7 +80,7 @@ class WvData:
 
 @dataclass(frozen=True)
 class Composite:
-    """A composite model: the power laws ``powers`` (subset of Q, N, K, R by power) and
+    """A composite model: the power laws ``powers`` (subset of Q, N, B, K, R by power) and
     ``n_gm`` Gauss-Markov terms; theta = log a of each power law, then (log s2, log T)
     of each Gauss-Markov term."""
 
@@ -92,7 +92,7 @@ class Composite:
         return len(self.powers) + 2 * self.n_gm
 
     def label(self) -> str:
-        names = {-2: "Q", -1: "N", 1: "K", 2: "R"}
+        names = {-2: "Q", -1: "N", 0: "B", 1: "K", 2: "R"}
         parts = [names[p] for p in self.powers] + (
             [f"{self.n_gm} GM"] if self.n_gm else [])
         return " + ".join(parts) if parts else "(empty)"
@@ -104,7 +104,7 @@ class GmwmSolution:
 
     ``theta`` (logs, scaled units), ``j_stat`` (the objective at the optimum),
     ``jac_w`` (Jacobian of the whitened residual, ``-L^{-1} A``), ``nfev``,
-    ``converged``."""
+    ``converged``, and the whitening matrix ``w`` it was fitted with."""
 
     model: Composite
     theta: FloatArray
@@ -112,6 +112,7 @@ class GmwmSolution:
     jac_w: FloatArray
     nfev: int
     converged: bool
+    w: FloatArray
 
     def criterion(self, n_samples: int) -> float:
         """MMSC-HQIC of Andrews & Lu (2001): ``J + 2.01 p ln ln n``."""
@@ -176,6 +177,13 @@ def model_covariance_wv(data: WvData, parts: list[FloatArray], powers: list[int]
     return np.asarray(0.5 * (cov + cov.T), dtype=np.float64)
 
 
+def solution_covariance(sol: GmwmSolution, data: WvData) -> FloatArray:
+    """:func:`model_covariance_wv` at a fitted composite model."""
+    parts = model_parts(sol.theta, sol.model, data)
+    k = len(sol.model.powers)
+    return model_covariance_wv(data, parts[:k], list(sol.model.powers), parts[k:])
+
+
 def _log_slope(v: FloatArray, tau: FloatArray) -> FloatArray:
     if tau.size < 2:
         return np.zeros_like(tau)
@@ -214,7 +222,7 @@ def fit_composite(model: Composite, data: WvData, w: FloatArray,
         res = least_squares(resid, x0, jac=jac, bounds=(lo, hi), method="trf",
                             x_scale=1.0, max_nfev=200 * max(model.n_params, 1))
         sol = GmwmSolution(model, np.asarray(res.x), float(2.0 * res.cost),
-                           np.asarray(res.jac), int(res.nfev), bool(res.status > 0))
+                           np.asarray(res.jac), int(res.nfev), bool(res.status > 0), w)
         if best is None or sol.j_stat < best.j_stat:
             best = sol
     assert best is not None
@@ -266,16 +274,19 @@ def _flicker_region(data: WvData, pilot: dict[int, float]) -> tuple[float, float
     return b, float(np.exp(np.mean(np.log(data.tau[top]))))
 
 
-def select_model(data: WvData, w: FloatArray, powers: tuple[int, ...], gm_counts: range,
+def select_model(data: WvData, w: FloatArray, structures: list[Composite],
                  pilot: dict[int, float]) -> tuple[GmwmSolution, list[GmwmSolution]]:
-    """The MMSC-BIC choice (module docstring) and every model fitted on the way."""
+    """The MMSC-HQIC choice (module docstring) among the ``structures`` and their
+    sub-models, and every model fitted on the way."""
     tried: list[GmwmSolution] = []
     best: GmwmSolution | None = None
-    for k in gm_counts:
-        full = Composite(powers, k)
+    for full in structures:
         current = fit_composite(full, data, w, pilot_starts(full, data, pilot))
+        for _ in range(V_STEPS):  # re-weight with V at the fit (iterated GMWM)
+            w_k = whitener(solution_covariance(current, data))
+            current = fit_composite(full, data, w_k, [current.theta])
         tried.append(current)
-        current = _eliminate(current, data, w, tried)
+        current = _eliminate(current, data, current.w, tried)
         if best is None or current.criterion(data.n_samples) < best.criterion(data.n_samples):
             best = current
     assert best is not None
@@ -302,10 +313,10 @@ def _eliminate(current: GmwmSolution, data: WvData, w: FloatArray,
     return current
 
 
-def theta_covariance(sol: GmwmSolution, w: FloatArray, v: FloatArray) -> FloatArray:
-    """The sandwich ``(A'WA)^-1 A'W V W A (A'WA)^-1`` with ``W = w'w`` (module docstring);
-    ``jac_w = -w A``."""
-    jw = sol.jac_w
+def theta_covariance(sol: GmwmSolution, v: FloatArray) -> FloatArray:
+    """The sandwich ``(A'WA)^-1 A'W V W A (A'WA)^-1`` with ``W = w'w`` the solution's
+    weights (module docstring); ``jac_w = -w A``."""
+    jw, w = sol.jac_w, sol.w
     bread = np.linalg.pinv(jw.T @ jw)
     meat_root = jw.T @ w            # -A' W  (up to sign, which cancels)
     meat = meat_root @ v @ meat_root.T
