@@ -59,6 +59,8 @@ V_STEPS = 2
 #: Q of Andrews & Lu's MMSC-HQIC, J + Q p ln ln n (they require Q > 2).
 HQ_FACTOR = 2.01
 _FD_STEP = 1e-5
+_TOL = 1e-6            # relative change of J (or of the log parameters) at convergence
+_NFEV_PER_PARAM = 40
 
 
 @dataclass(frozen=True)
@@ -220,7 +222,8 @@ def fit_composite(model: Composite, data: WvData, w: FloatArray,
     for x0 in starts:
         x0 = np.clip(x0, lo + 1e-9, hi - 1e-9)
         res = least_squares(resid, x0, jac=jac, bounds=(lo, hi), method="trf",
-                            x_scale=1.0, max_nfev=200 * max(model.n_params, 1))
+                            x_scale=1.0, ftol=_TOL, xtol=_TOL, gtol=_TOL,
+                            max_nfev=_NFEV_PER_PARAM * max(model.n_params, 1))
         sol = GmwmSolution(model, np.asarray(res.x), float(2.0 * res.cost),
                            np.asarray(res.jac), int(res.nfev), bool(res.status > 0), w)
         if best is None or sol.j_stat < best.j_stat:

@@ -239,6 +239,6 @@ def test_the_noise_module_keeps_its_names() -> None:
     assert noise.SlopeReadoff is readout.SlopeReadoff
     assert noise.parse_terms is terms.parse_terms and noise.terms_from_c is terms.terms_from_c
     assert noise.FITTABLE_KINDS == noise_input.FITTABLE_KINDS == ("adev", "oadev", "totdev")
-    assert noise.FIT_METHODS == noise_lsq.FIT_METHODS == ("wls", "gls", "ols")
+    assert noise.FIT_METHODS == noise_lsq.FIT_METHODS == ("wls", "gls", "ols", "gmwm")
     assert noise.COVERAGE_SHARE == noise_selection.COVERAGE_SHARE
     assert all(hasattr(noise, name) for name in noise.__all__)
