@@ -42,15 +42,15 @@ def _truths(case: str) -> dict[str, float]:
 
 def _gm_estimate(model: Any) -> dict[str, tuple[float, bool]]:
     """The GMWM fit's single GM (value, covered), NaN if it did not choose exactly one."""
-    gms = model.gmwm.gauss_markov if model.gmwm is not None else ()
+    gms: tuple[Any, ...] = model.gmwm.gauss_markov if model.gmwm is not None else ()
     truth = _truths("white + RW + GM")
     if len(gms) != 1:
         return {"GM sigma": (math.nan, False), "GM T_c": (math.nan, False)}
     g = gms[0]
-    out = {}
-    for key, v, se in (("GM sigma", g.sigma, g.sigma_stderr), ("GM T_c", g.t_c, g.t_c_stderr)):
-        out[key] = (v, abs(math.log(truth[key] / v)) <= se / v)
-    return out
+    pairs = {"GM sigma": (float(g.sigma), float(g.sigma_stderr)),
+             "GM T_c": (float(g.t_c), float(g.t_c_stderr))}
+    return {key: (v, abs(math.log(truth[key] / v)) <= se / v)
+            for key, (v, se) in pairs.items()}
 
 
 def one_run(case: str, seed: int, fs_hz: float, duration: str) -> dict[str, Any]:
@@ -72,10 +72,10 @@ def one_run(case: str, seed: int, fs_hz: float, duration: str) -> dict[str, Any]
         for t in truth:
             if t.startswith("GM"):
                 if method == "gmwm":
-                    out[(t, method)] = _gm_estimate(model)[t]
+                    out[f"{t}|{method}"] = _gm_estimate(model)[t]
                 continue
             term = model[t]
-            out[(t, method)] = (term.value, bool(term.ci_low <= truth[t] <= term.ci_high))
+            out[f"{t}|{method}"] = (term.value, bool(term.ci_low <= truth[t] <= term.ci_high))
         if method == "gmwm" and model.gmwm is not None:
             out["model"] = model.gmwm.model
             out["j_ok"] = model.gmwm.consistent
@@ -94,11 +94,11 @@ def study(*, seeds: int, fs_hz: float = 100.0, duration: str = "3h",
         for t, true in _truths(case).items():
             cell: dict[str, float] = {"truth": true}
             for method in METHODS:
-                if (t, method) not in rows[0]:
+                if f"{t}|{method}" not in rows[0]:
                     continue
-                vals = np.array([r[(t, method)][0] for r in rows])
+                vals = np.array([r[f"{t}|{method}"][0] for r in rows])
                 cell[method] = float(np.nanmedian(np.abs(vals / true - 1.0)))
-                cell[f"{method}_cov"] = float(np.mean([r[(t, method)][1] for r in rows]))
+                cell[f"{method}_cov"] = float(np.mean([r[f"{t}|{method}"][1] for r in rows]))
             summary[case][t] = cell
         summary[case]["_fits"] = {
             "j_ok": float(np.mean([r.get("j_ok", False) for r in rows])),
