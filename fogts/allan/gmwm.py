@@ -23,8 +23,11 @@ Where the WV and its covariance come from
 Two steps
     1. A pilot: the five-term EDF-weighted fit (:mod:`fogts.allan.noise_lsq`) gives
        :math:`V_0 = V(\\text{pilot})` and the starting values; :math:`\\Omega = V_0^{-1}`.
-    2. The GMWM fit of each composite model -- power laws Q, N, K, R and ``k = 0..max_gm``
-       Gauss-Markov (AR(1)) terms -- and the choice among them by :math:`J + 2.01\\,p\\ln\\ln n`
+    2. The GMWM fit of each composite model -- the requested power laws with flicker
+       (Haar WV flat, :math:`(2\\ln 2/\\pi)B^2/2`), or the power laws Q, N, K, R with
+       ``k = 1..max_gm`` Gauss-Markov (AR(1)) terms in place of flicker, each refitted
+       twice with the covariance at its own fit (iterated GMWM), then backward
+       elimination of power laws -- and the choice among them by :math:`J + 2.01\\,p\\ln\\ln n`
        (MMSC-HQIC; :mod:`fogts.allan.gmwm_core`).  The standard errors are the sandwich
        :math:`(A^T\\Omega A)^{-1}A^T\\Omega V_1\\Omega A(A^T\\Omega A)^{-1}` with
        :math:`V_1` the covariance at the fit (Gauss-Markov terms represented by their local
