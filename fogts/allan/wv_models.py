@@ -105,7 +105,7 @@ def ar1_wv(s2: float, t_c: float, tau: FloatArray, dt: float) -> FloatArray:
     >>> round(float(ar1_wv(1.0, 1e-9, np.array([1.0]), 1.0)[0]), 6)   # white: s2 / (2 m)
     0.5
     >>> round(float(ar1_wv(2.0, 10.0, np.array([1e4]), 1.0)[0]) * 1e4, 2)  # ~ s2 T_c / tau
-    19.97
+    19.99
     """
     tau = np.asarray(tau, dtype=np.float64)
     delta = dt / t_c
