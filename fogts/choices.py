@@ -40,8 +40,9 @@ __all__ = [
 Kind = Literal["adev", "oadev", "mdev", "hdev", "ohdev", "totdev"]
 KINDS: tuple[str, ...] = get_args(Kind)
 
-#: Fits of the IEEE-952 terms to an Allan curve: EDF-weighted, full covariance, unweighted.
-FitMethod = Literal["wls", "gls", "ols"]
+#: Fits of the IEEE-952 terms to an Allan curve: EDF-weighted, full covariance, unweighted,
+#: generalized method of wavelet moments.
+FitMethod = Literal["wls", "gls", "ols", "gmwm"]
 FIT_METHODS: tuple[str, ...] = get_args(FitMethod)
 
 #: Criteria that rank ARMA candidates.

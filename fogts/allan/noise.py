@@ -127,11 +127,16 @@ def fit_noise(
         with their nonlinear parameter profiled and a likelihood-ratio test of whether
         adding each is significant (:mod:`fogts.allan.noise_extra`; results in
         ``NoiseModel.extra_terms``).
-    method : {"wls", "gls", "ols"}
+    method : {"wls", "gls", "ols", "gmwm"}
         ``"wls"``: weights from each point's EDF (default).  ``"gls"``: generalized least
         squares with the full covariance of the estimates (:mod:`fogts.allan.noise_lsq`;
         falls back to ``"wls"`` where that covariance is not available).  ``"ols"``:
         unweighted least squares on sigma^2 (the traditional fit; comparison only).
+        ``"gmwm"``: the generalized method of wavelet moments with a composite model of
+        power laws and up to three Gauss-Markov terms for B
+        (:func:`fogts.allan.gmwm.fit_gmwm`, with its defaults; ``significance`` is the
+        level of its J test, 0.05 if None; oadev or adev curves with ``m``,
+        ``n_samples`` and ``fs_hz``; terms M and S are not available).
     confidence : float
         Level of the coefficient intervals, in (0, 1).
     significance : float or None
@@ -191,6 +196,11 @@ def fit_noise(
     method = check_choice("method", method, FIT_METHODS)  # type: ignore[assignment]
     confidence = check_fraction("confidence", confidence)
     significance = _check_significance(significance)
+    if method == "gmwm":
+        from fogts.allan.gmwm import fit_gmwm  # gmwm builds on this module's pieces
+
+        return fit_gmwm(allan_result, terms=terms, confidence=confidence,
+                        significance=significance if significance is not None else 0.05)
     curve = read_fit_curve(allan_result)
     n_params = len(names) + 2 * len(extras)  # M and S: an amplitude and a parameter each
     if curve.tau.size < n_params:

@@ -15,6 +15,7 @@ import pandas as pd
 from scipy.stats import norm
 
 from fogts._typing import FloatArray
+from fogts.allan.gmwm_result import GmwmSummary
 from fogts.allan.markov import ExtraTerm
 from fogts.allan.readout import SlopeReadoff
 from fogts.allan.terms import TERM_POWER, term_rows
@@ -134,8 +135,11 @@ class NoiseModel(TableView):
     confidence : float
         Level of every term's interval.
     method : str
-        ``"wls"`` (EDF-weighted IRLS, the default), ``"gls"`` (full model covariance) or
-        ``"ols"`` (unweighted, the traditional fit; for comparison).
+        ``"wls"`` (EDF-weighted IRLS, the default), ``"gls"`` (full model covariance),
+        ``"ols"`` (unweighted, the traditional fit; for comparison) or ``"gmwm"`` (the
+        generalized method of wavelet moments, :mod:`fogts.allan.gmwm`; B is then the
+        flicker equivalent of a Gauss-Markov sum, and :meth:`curve` the five-term curve
+        with that B, while ``fitted_dev`` is the GMWM model itself).
     kind, units, axis : str
         From the Allan result; ``units`` is the rate unit of the curve.
     deg_per_hour_factor : float
@@ -177,6 +181,9 @@ class NoiseModel(TableView):
     quantity : str
         ``"rate"`` (a gyro; terms in IEEE 952's degree units) or ``"accel"`` (an
         accelerometer; terms in :data:`fogts.units.ACCEL_TERM_UNIT`), from ``units``.
+    gmwm : GmwmSummary or None
+        For ``method="gmwm"``: the composite model, its Gauss-Markov components and the J
+        test (:mod:`fogts.allan.gmwm_result`); None otherwise.
     """
 
     terms: tuple[NoiseTerm, ...]
@@ -205,6 +212,7 @@ class NoiseModel(TableView):
     _a: tuple[float, ...] = field(default=(), repr=False)
     extra_terms: tuple[ExtraTerm, ...] = ()
     quantity: str = "rate"
+    gmwm: GmwmSummary | None = None
 
     # -------------------------------------------------------------- access
     def __getitem__(self, name: str) -> NoiseTerm:
@@ -313,6 +321,7 @@ class NoiseModel(TableView):
             "warnings": list(self.warnings),
             **({"extra_terms": {e.name: e.to_dict() for e in self.extra_terms}}
                if self.extra_terms else {}),
+            **({"gmwm": self.gmwm.to_dict()} if self.gmwm is not None else {}),
         }
 
     def upper_limit(self, name: str, level: float = 0.95) -> float:
@@ -388,6 +397,8 @@ class NoiseModel(TableView):
                          f"(drop if z < {norm.ppf(1 - self.significance):.3f}); dropped: "
                          + (", ".join(self.dropped) or "none"))
         lines += [e.describe() for e in self.extra_terms]
+        if self.gmwm is not None:
+            lines.append(self.gmwm.describe())
         lines += [f"warning: {w}" for w in self.warnings]
         return "\n".join(lines)
 
