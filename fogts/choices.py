@@ -42,7 +42,7 @@ KINDS: tuple[str, ...] = get_args(Kind)
 
 #: Fits of the IEEE-952 terms to an Allan curve: EDF-weighted, full covariance, unweighted,
 #: generalized method of wavelet moments.
-FitMethod = Literal["wls", "gls", "ols", "gmwm"]
+FitMethod = Literal["wls", "gls", "ols", "gmwm", "ml"]
 FIT_METHODS: tuple[str, ...] = get_args(FitMethod)
 
 #: Criteria that rank ARMA candidates.

@@ -127,7 +127,7 @@ def fit_noise(
         with their nonlinear parameter profiled and a likelihood-ratio test of whether
         adding each is significant (:mod:`fogts.allan.noise_extra`; results in
         ``NoiseModel.extra_terms``).
-    method : {"wls", "gls", "ols", "gmwm"}
+    method : {"wls", "gls", "ols", "gmwm", "ml"}
         ``"wls"``: weights from each point's EDF (default).  ``"gls"``: generalized least
         squares with the full covariance of the estimates (:mod:`fogts.allan.noise_lsq`;
         falls back to ``"wls"`` where that covariance is not available).  ``"ols"``:
@@ -136,7 +136,9 @@ def fit_noise(
         power laws and up to three Gauss-Markov terms for B
         (:func:`fogts.allan.gmwm.fit_gmwm`, with its defaults; ``significance`` is the
         level of its J test, 0.05 if None; oadev or adev curves with ``m``,
-        ``n_samples`` and ``fs_hz``; terms M and S are not available).
+        ``n_samples`` and ``fs_hz``; terms M and S are not available).  ``"ml"``: exact
+        Gaussian maximum likelihood needs the record itself, so here it raises a
+        DataError that points to :func:`fogts.allan.ml.fit_noise_ml`.
     confidence : float
         Level of the coefficient intervals, in (0, 1).
     significance : float or None
@@ -196,6 +198,10 @@ def fit_noise(
     method = check_choice("method", method, FIT_METHODS)  # type: ignore[assignment]
     confidence = check_fraction("confidence", confidence)
     significance = _check_significance(significance)
+    if method == "ml":
+        raise DataError("method='ml' needs the rate record, which an Allan curve does not "
+                        "carry; call fogts.allan.ml.fit_noise_ml(rate, fs_hz, units=...) "
+                        "on the series instead")
     if method == "gmwm":
         from fogts.allan.gmwm import fit_gmwm  # gmwm builds on this module's pieces
 

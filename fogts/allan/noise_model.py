@@ -17,6 +17,7 @@ from scipy.stats import norm
 from fogts._typing import FloatArray
 from fogts.allan.gmwm_result import GmwmSummary
 from fogts.allan.markov import ExtraTerm
+from fogts.allan.ml_result import MlSummary
 from fogts.allan.readout import SlopeReadoff
 from fogts.allan.terms import TERM_POWER, term_rows
 from fogts.choices import OutputUnits
@@ -139,7 +140,9 @@ class NoiseModel(TableView):
         ``"ols"`` (unweighted, the traditional fit; for comparison) or ``"gmwm"`` (the
         generalized method of wavelet moments, :mod:`fogts.allan.gmwm`; B is then the
         flicker equivalent of a Gauss-Markov sum, and :meth:`curve` the five-term curve
-        with that B, while ``fitted_dev`` is the GMWM model itself).
+        with that B, while ``fitted_dev`` is the GMWM model itself) or ``"ml"`` (exact
+        Gaussian maximum likelihood of the record, :mod:`fogts.allan.ml`; ``chi2``,
+        ``dof`` and ``model_error`` are NaN).
     kind, units, axis : str
         From the Allan result; ``units`` is the rate unit of the curve.
     deg_per_hour_factor : float
@@ -184,6 +187,10 @@ class NoiseModel(TableView):
     gmwm : GmwmSummary or None
         For ``method="gmwm"``: the composite model, its Gauss-Markov components and the J
         test (:mod:`fogts.allan.gmwm_result`); None otherwise.
+    ml : MlSummary or None
+        For ``method="ml"`` (:func:`fogts.allan.ml.fit_noise_ml`): the state-space model,
+        its Gauss-Markov components, the log-likelihood and the decimation
+        (:mod:`fogts.allan.ml_result`); None otherwise.
     """
 
     terms: tuple[NoiseTerm, ...]
@@ -213,6 +220,7 @@ class NoiseModel(TableView):
     extra_terms: tuple[ExtraTerm, ...] = ()
     quantity: str = "rate"
     gmwm: GmwmSummary | None = None
+    ml: MlSummary | None = None
 
     # -------------------------------------------------------------- access
     def __getitem__(self, name: str) -> NoiseTerm:
@@ -322,6 +330,7 @@ class NoiseModel(TableView):
             **({"extra_terms": {e.name: e.to_dict() for e in self.extra_terms}}
                if self.extra_terms else {}),
             **({"gmwm": self.gmwm.to_dict()} if self.gmwm is not None else {}),
+            **({"ml": self.ml.to_dict()} if self.ml is not None else {}),
         }
 
     def upper_limit(self, name: str, level: float = 0.95) -> float:
@@ -364,10 +373,12 @@ class NoiseModel(TableView):
                  shown[t.name]["stderr"], (shown[t.name]["ci_low"], shown[t.name]["ci_high"]),
                  shown[t.name]["unit"], t.c_coeff, self._table_note(t, units))
                 for t in self.terms]
+        fitted = (f"the record ({self.ml.n_used} samples)" if self.ml is not None
+                  else f"{self.kind} on {self.tau_s.size} taus {self.tau_s[0]:.4g}.."
+                       f"{self.tau_s[-1]:.4g} s")
         return Table.build(
-            f"IEEE-952 noise terms of {self.axis} ({self.method.upper()} fit of {self.kind} "
-            f"on {self.tau_s.size} taus {self.tau_s[0]:.4g}..{self.tau_s[-1]:.4g} s, input "
-            f"in {self.units})", columns, rows,
+            f"IEEE-952 noise terms of {self.axis} ({self.method.upper()} fit of {fitted}, "
+            f"input in {self.units})", columns, rows,
             caption="C_n: coefficient of tau^n in sigma^2(tau) = sum C_n tau^n ("
                     + ("specific force in m/s^2" if self.quantity == "accel" else "rate in deg/h")
                     + ", tau in s). Upper limit: a term at zero, dropped, or fitted with z < 2 "
@@ -385,20 +396,26 @@ class NoiseModel(TableView):
         return f"{self.axis!r} {self.method.upper()}: " + ", ".join(parts)
 
     def summary(self) -> str:
+        """The term table, the read-offs and the method's own account of the fit: the
+        chi-square, model error and term selection of the least-squares fits, the J test
+        of the GMWM, the likelihood and decimation of ML."""
         lines = [self.term_table().to_text()]
         lines.append(self.readoff.describe(lambda v: f"{v:.4e}"))
-        lines.append(f"chi2 = {self.chi2:.4g} on {self.dof:.4g} dof; model error "
-                     f"{self.model_error:.3g} (relative, on sigma^2); "
-                     f"{self.iterations} iteration(s)"
-                     + ("" if self.converged else " (NOT converged)")
-                     + f"; edf from {self.edf_source}")
-        if self.significance is not None:
+        if self.gmwm is None and self.ml is None:
+            lines.append(f"chi2 = {self.chi2:.4g} on {self.dof:.4g} dof; model error "
+                         f"{self.model_error:.3g} (relative, on sigma^2); "
+                         f"{self.iterations} iteration(s)"
+                         + ("" if self.converged else " (NOT converged)")
+                         + f"; edf from {self.edf_source}")
+        if self.significance is not None and self.gmwm is None and self.ml is None:
             lines.append(f"term selection: one-sided tests at {100 * self.significance:g} % "
                          f"(drop if z < {norm.ppf(1 - self.significance):.3f}); dropped: "
                          + (", ".join(self.dropped) or "none"))
         lines += [e.describe() for e in self.extra_terms]
         if self.gmwm is not None:
             lines.append(self.gmwm.describe())
+        if self.ml is not None:
+            lines.append(self.ml.describe())
         lines += [f"warning: {w}" for w in self.warnings]
         return "\n".join(lines)
 
