@@ -43,6 +43,7 @@ _MODULE_NAMES: dict[str, str] = {
     "fogts.allan.confidence": "confidence_table",
     "fogts.allan.bias": "totdev_bias",
     "fogts.allan.noise": "fit_noise",
+    "fogts.allan.ml": "fit_noise_ml",
     "fogts.allan.noise_model": "NoiseModel NoiseTerm",
     "fogts.allan.readout": "read_curve CurveReadout",
     "fogts.allan.compare": "compare_allan AllanComparison",
@@ -113,6 +114,7 @@ if TYPE_CHECKING:  # the names of _MODULE_NAMES, static for type checkers and ID
     from fogts.allan.confidence import confidence_table
     from fogts.allan.dynamic import dynamic_allan
     from fogts.allan.dynamic_result import DynamicAllanResult
+    from fogts.allan.ml import fit_noise_ml
     from fogts.allan.noise import fit_noise
     from fogts.allan.noise_model import NoiseModel, NoiseTerm
     from fogts.allan.plausibility import PlausibilityReport, check_plausibility

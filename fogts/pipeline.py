@@ -253,9 +253,12 @@ class AllanAnalysis:
         }
 
 
-def _fit(result: AllanResult, s: AllanSettings) -> NoiseModel | None:
+def _fit(result: AllanResult, s: AllanSettings, series: Any = None,
+         fs_hz: float | None = None) -> NoiseModel | None:
     from fogts.allan.noise import FITTABLE_KINDS, fit_noise
 
+    if s.method == "ml" and series is not None and fs_hz is not None:
+        return _fit_ml(result, s, series, fs_hz)
     if result.kind not in FITTABLE_KINDS:
         warnings.warn(f"noise terms are fitted to adev, oadev or totdev curves only; "
                       f"not fitted to {result.kind}", FogtsWarning, stacklevel=1)
@@ -263,6 +266,25 @@ def _fit(result: AllanResult, s: AllanSettings) -> NoiseModel | None:
     return fit_noise(result, terms=s.terms, method=s.method,  # type: ignore[arg-type]
                      confidence=s.confidence, significance=s.significance,
                      tau_range=s.fit_range)
+
+
+def _fit_ml(result: AllanResult, s: AllanSettings, series: Any, fs_hz: float
+            ) -> NoiseModel:
+    """``method="ml"``: :func:`fogts.allan.ml.fit_noise_ml` on the (prepared) series, with
+    the terms it models (Q, M and S are left out, with a warning)."""
+    from fogts.allan.ml import ML_TERMS, fit_noise_ml
+    from fogts.errors import DataError
+
+    if s.fit_range is not None:
+        raise DataError("--fit-tau-min/--fit-tau-max do not apply to method 'ml' (it fits "
+                        "the record, not the curve); leave them out")
+    terms = tuple(t for t in s.terms if t in ML_TERMS)
+    left = [t for t in s.terms if t not in ML_TERMS]
+    if left:
+        warnings.warn(f"method 'ml' does not model {', '.join(left)}; fitted "
+                      f"{', '.join(terms)}", FogtsWarning, stacklevel=2)
+    return fit_noise_ml(series, fs_hz, units=result.units, axis=result.axis, terms=terms,
+                        confidence=s.confidence)
 
 
 def _allan(source: Any, s: AllanSettings, axis: int | None, units: str | None = None
@@ -298,9 +320,10 @@ def analyse_allan_axis(run: Run, axis: int, settings: AllanSettings | None = Non
         prepared = prepare(run, axis=axis, outliers=s.outliers, detrend=s.detrend,
                            decimate=s.decimate, stationarity=False)
         res = _allan(prepared, s, None, run.unit_of(axis))
+        model = _fit(res, s, prepared.x, prepared.fs_hz)
     else:
         res = _allan(run, s, axis, run.unit_of(axis))
-    model = _fit(res, s)
+        model = _fit(res, s, run.axis(axis), run.fs_hz)
     check = None
     if s.check_allantools:
         from fogts.allan.peer import allantools_check

@@ -41,6 +41,14 @@ def _ml_gm(model: Any) -> dict[str, tuple[float, bool]]:
             for key, (v, se) in pairs.items()}
 
 
+def _ml_gm_se(model: Any) -> dict[str, float]:
+    gms: tuple[Any, ...] = model.ml.gauss_markov if model.ml is not None else ()
+    if len(gms) != 1:
+        return {"GM sigma": math.nan, "GM T_c": math.nan}
+    g = gms[0]
+    return {"GM sigma": g.sigma_stderr / g.sigma, "GM T_c": g.t_c_stderr / g.t_c}
+
+
 def _fit(method: str, run: Any, curve: Any, fs_hz: float) -> Any:
     from fogts.allan.ml import fit_noise_ml
     from fogts.allan.noise import fit_noise
@@ -71,9 +79,12 @@ def one_run(case: str, seed: int, fs_hz: float, duration: str) -> dict[str, Any]
             if t.startswith("GM"):
                 if gm:
                     out[f"{t}|{method}"] = gm[t]
+                if method == "ml":
+                    out[f"{t}|ml|se"] = _ml_gm_se(model)[t]
                 continue
             term = model[t]
             out[f"{t}|{method}"] = (term.value, bool(term.ci_low <= truth[t] <= term.ci_high))
+            out[f"{t}|{method}|se"] = term.stderr / term.value if term.value > 0 else math.nan
         if method == "ml" and model.ml is not None:
             out["ml_model"] = model.ml.model
     return out
@@ -96,6 +107,7 @@ def study(*, seeds: int, fs_hz: float = 100.0, duration: str = "3h",
                 vals = np.array([r[f"{t}|{method}"][0] for r in rows])
                 cell[method] = float(np.nanmedian(np.abs(vals / true - 1.0)))
                 cell[f"{method}_cov"] = float(np.mean([r[f"{t}|{method}"][1] for r in rows]))
+            cell["ml_se"] = float(np.nanmedian([r[f"{t}|ml|se"] for r in rows]))
             summary[case][t] = cell
         models = [r.get("ml_model", "") for r in rows]
         summary[case]["_fits"] = {
@@ -108,9 +120,10 @@ def study(*, seeds: int, fs_hz: float = 100.0, duration: str = "3h",
 def markdown(summary: dict[str, dict[str, dict[str, float]]], *, seeds: int,
              fs_hz: float, duration: str) -> str:
     lines = [f"ML beside WLS and GMWM: {seeds} seeds per case, {duration} at {fs_hz:g} Hz. "
-             "Median |relative error| (ML/WLS ratio) and 68.3 % interval coverage.", "",
+             "Median |relative error| (ML/WLS ratio), 68.3 % interval coverage, and ML's "
+             "median relative standard error (observed information).", "",
              "| case | term | WLS error | GMWM error | ML error | ML/WLS | WLS cov. "
-             "| GMWM cov. | ML cov. |", "|---|---|---:|---:|---:|---:|---:|---:|---:|"]
+             "| GMWM cov. | ML cov. | ML se |", "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|"]
     for case, terms in summary.items():
         for t, c in terms.items():
             if t == "_fits":
@@ -119,7 +132,8 @@ def markdown(summary: dict[str, dict[str, dict[str, float]]], *, seeds: int,
             ratio = c["ml"] / wls if wls > 0 else math.nan
             lines.append(f"| {case} | {t} | {_pct(wls)} | {_pct(c['gmwm'])} | "
                          f"{_pct(c['ml'])} | {ratio:.2f} | {_pct(c.get('wls_cov', math.nan), 0)}"
-                         f" | {_pct(c['gmwm_cov'], 0)} | {_pct(c['ml_cov'], 0)} |")
+                         f" | {_pct(c['gmwm_cov'], 0)} | {_pct(c['ml_cov'], 0)} | "
+                         f"{_pct(c['ml_se'])} |")
     lines += ["", "| case | ML chose the flicker model | median fit (s): WLS / GMWM / ML |",
               "|---|---:|---:|"]
     for case, terms in summary.items():

@@ -17,7 +17,8 @@ The model (continuous time, observed as interval averages)
     angle noise, an MA(1) with unit root in the rate) is not in the model.
 
 Temporal aggregation of a flow (Harvey 1989, *Forecasting, Structural Time Series Models and
-the Kalman Filter*, Cambridge, sec. 6.3 and 9.3)
+the Kalman Filter*, Cambridge, on temporal aggregation and on continuous-time models of flow
+variables, observed as integrals over the sampling interval)
     The mean of ``L`` consecutive samples is the average over :math:`\\Delta = L\\,\\delta t`:
     the same model observed with the interval :math:`\\Delta`, so decimation by block means
     changes only :math:`\\Delta` and the likelihood of the block means is exact.  Over one

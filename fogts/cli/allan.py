@@ -37,8 +37,14 @@ def _allan_tables(res: AllanResult, model: NoiseModel | None, check: dict[str, A
     if model is not None:
         common.print_out(common.rich_table(model.term_table(units)), quiet_json=quiet_json)
         common.say([model.readoff.describe(units=units)], quiet_json)
-        common.say([f"fit: chi2 = {model.chi2:.4g} on {model.dof:.4g} dof, model error "
-              f"{model.model_error:.3g}; standard errors: {model.stderr_method}"], quiet_json)
+        if model.ml is not None:
+            common.say([model.ml.describe()], quiet_json)
+        elif model.gmwm is not None:
+            common.say([model.gmwm.describe()], quiet_json)
+        else:
+            common.say([f"fit: chi2 = {model.chi2:.4g} on {model.dof:.4g} dof, model error "
+                        f"{model.model_error:.3g}; standard errors: {model.stderr_method}"],
+                       quiet_json)
         common.say([e.describe() for e in model.extra_terms], quiet_json)
     if check is not None:
         worst = check["max_rel_diff"]
@@ -58,7 +64,7 @@ def allan_cmd(
     taus: Annotated[str, typer.Option("--taus", help="Tau grid: octave, decade, dense, all, or taus in s separated by commas.")] = "octave",
     confidence: Annotated[float, typer.Option("--confidence", help="Confidence level of the deviation and coefficient intervals.")] = 0.683,
     terms: Annotated[str, typer.Option("--terms", help="Noise terms to fit, from Q,N,B,K,R; add M (first-order Markov noise: T_c and q_c) and/or S (a sinusoid: f_0 and Omega_0), each with a likelihood-ratio test of whether adding it is significant.")] = "Q,N,B,K,R",
-    method: Annotated[choices.FitMethod, typer.Option("--method", help="Noise fit: wls (EDF weights), gls (full covariance), ols (unweighted, comparison only).")] = "wls",
+    method: Annotated[choices.FitMethod, typer.Option("--method", help="Noise fit: wls (EDF weights), gls (full covariance), ols (unweighted, comparison only), gmwm (generalized method of wavelet moments, B as up to three Gauss-Markov terms), ml (exact Gaussian maximum likelihood of the record by the Kalman filter: N, B, K, R; Q is not modelled).")] = "wls",
     fit_tau_min: Annotated[float | None, typer.Option("--fit-tau-min", help="Fit the noise terms only from this tau (s) on, e.g. to leave out a sampling filter's effect at the shortest taus.")] = None,
     fit_tau_max: Annotated[float | None, typer.Option("--fit-tau-max", help="Fit the noise terms only up to this tau (s).")] = None,
     keep_all_terms: Annotated[bool, typer.Option("--keep-all-terms", help="Keep every --terms term in the fit even when the data do not support it (default: drop terms that are not significant at 5 % and visible at fewer than two taus).")] = False,

@@ -200,7 +200,7 @@ def small_curve() -> object:
 
 
 def test_bad_method_lists_gmwm(small_curve: object) -> None:
-    with pytest.raises(DataError, match=r"method must be one of wls, gls, ols, gmwm; got 'fast'"):
+    with pytest.raises(DataError, match=r"method must be one of wls, gls, ols, gmwm, ml; got 'fast'"):
         fit_noise(small_curve, method="fast")  # type: ignore[arg-type]
 
 

@@ -220,7 +220,7 @@ def test_confidence_level_is_carried() -> None:
     ({"terms": ["N", 3]}, DataError, r"terms must be drawn from Q, N, B, K, R; got 3"),
     ({"terms": "N,n"}, DataError, "terms must not repeat a term"),
     ({"terms": 5}, DataError, "terms must be a sequence of Q, N, B, K, R, got 5"),
-    ({"method": "lsq"}, DataError, r"method must be one of wls, gls, ols, gmwm; got 'lsq'"),
+    ({"method": "lsq"}, DataError, r"method must be one of wls, gls, ols, gmwm, ml; got 'lsq'"),
     ({"confidence": 1.5}, DataError, r"confidence must be in \(0, 1\), got 1.5"),
     ({"significance": 0.0}, DataError, r"significance must be in \(0, 1\), got 0.0"),
     ({"significance": 0.5}, DataError, r"significance must be in \(0, 0.5\) or None, got 0.5"),
@@ -239,6 +239,6 @@ def test_the_noise_module_keeps_its_names() -> None:
     assert noise.SlopeReadoff is readout.SlopeReadoff
     assert noise.parse_terms is terms.parse_terms and noise.terms_from_c is terms.terms_from_c
     assert noise.FITTABLE_KINDS == noise_input.FITTABLE_KINDS == ("adev", "oadev", "totdev")
-    assert noise.FIT_METHODS == noise_lsq.FIT_METHODS == ("wls", "gls", "ols", "gmwm")
+    assert noise.FIT_METHODS == noise_lsq.FIT_METHODS == ("wls", "gls", "ols", "gmwm", "ml")
     assert noise.COVERAGE_SHARE == noise_selection.COVERAGE_SHARE
     assert all(hasattr(noise, name) for name in noise.__all__)
