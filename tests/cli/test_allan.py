@@ -324,3 +324,17 @@ def test_a_missing_spec_is_named(gyro_npy: Path, tmp_path: Path) -> None:
     code, _, err = _run([gyro_npy, "--fs", FS, "--spec", tmp_path / "none.yaml"])
     assert code == 2
     assert error_output(err).startswith("error: --spec file not found: '")
+
+
+def test_method_ml_fits_the_record(gyro_npy: Path, tmp_path: Path) -> None:
+    """--method ml: fit_noise_ml on the series (Q left out with a warning), the ML block in
+    the JSON and its account of the fit in the text."""
+    out = tmp_path / "ml.json"
+    code, stdout, stderr = _run([gyro_npy, "--fs", FS, "--units", "deg/h", "--method", "ml",
+                                 "--terms", "Q,N,K", "--json", out])
+    assert code == 0, stderr
+    assert "does not model Q" in stderr
+    axis = json.loads(out.read_text())["axes"][0]
+    assert axis["noise_fit"]["method"] == "ml" and axis["noise_fit"]["ml"]["model"] == "N + K"
+    assert axis["noise"]["N"]["value"] == pytest.approx(N_TRUE, rel=0.01)
+    assert "ML model: N + K" in stdout
