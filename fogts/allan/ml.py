@@ -70,7 +70,14 @@ from fogts._validate import check_choice, check_fraction, check_int, check_posit
 from fogts.allan.gmwm import _fitted_term, log_b_equivalent
 from fogts.allan.gmwm_core import Composite, WvData, model_wv
 from fogts.allan.gmwm_result import GaussMarkovTerm
-from fogts.allan.ml_model import BlockData, Structure, block_data, final_state, log_likelihood
+from fogts.allan.ml_model import (
+    BlockData,
+    Structure,
+    block_data,
+    conditional_limit,
+    final_state,
+    log_likelihood,
+)
 from fogts.allan.ml_result import MlSummary
 from fogts.allan.noise_input import FitCurve, read_fit_curve
 from fogts.allan.noise_model import NoiseModel, NoiseTerm
@@ -169,7 +176,8 @@ def fit_noise_ml(rate: FloatArray | Sequence[float], fs_hz: float, *, units: str
     st, theta, ll, converged = best.st, best.theta, best.ll, best.converged
     cov = _observed_cov(theta, st, data)
     cands = tuple((f.st.label(), b) for f, b in zip(fits, bic, strict=True))
-    return _noise_model(curve, names, st, theta, cov, data, ll, converged, cands, confidence)
+    model = _noise_model(curve, names, st, theta, cov, data, ll, converged, cands, confidence)
+    return _zero_terms(model, best, cov, data)
 
 
 def _ml_terms(terms: Sequence[str] | str) -> tuple[str, ...]:
@@ -252,6 +260,7 @@ class _Fit:
     theta: FloatArray
     ll: float
     converged: bool
+    lower: FloatArray
 
 
 def _candidates(names: tuple[str, ...], b_model: str, max_gm: int, data: BlockData,
@@ -325,7 +334,8 @@ def _fit(st: Structure, data: BlockData, starts: list[FloatArray]) -> _Fit:
     res = minimize(nll, theta0, method="L-BFGS-B", bounds=bounds,
                    options={"maxiter": 200, "ftol": 1e-10, "gtol": 1e-6})
     theta = np.asarray(res.x, dtype=np.float64)
-    return _Fit(st, theta, -float(res.fun) * data.n_blocks, bool(res.success))
+    return _Fit(st, theta, -float(res.fun) * data.n_blocks, bool(res.success),
+                np.array(lo, dtype=np.float64))
 
 
 def _observed_cov(theta: FloatArray, st: Structure, data: BlockData) -> FloatArray:
@@ -416,6 +426,30 @@ def _gm_terms(theta: FloatArray, cov: FloatArray, st: Structure, data: BlockData
         se_t = math.sqrt(max(float(cov[i + 1, i + 1]), 0.0))
         out.append(GaussMarkovTerm(sigma, sigma * se_s, t_c, t_c * se_t))
     return tuple(sorted(out, key=lambda g: g.t_c))
+
+
+def _zero_terms(model: NoiseModel, fit: _Fit, cov: FloatArray, data: BlockData
+                ) -> NoiseModel:
+    """N, K or a flicker B whose variance ended at the optimiser's lower bound, or where
+    the likelihood has no curvature in it (no positive variance in ``cov``: the
+    likelihood is flat towards zero): value 0, ``at_bound``, and as the interval's upper
+    end the conditional likelihood-ratio bound at the model's confidence."""
+    st, z = fit.st, float(norm.ppf(0.5 + model.confidence / 2))
+    index = {"N": 0, "K": int(st.white), "B": int(st.white) + int(st.rw)}
+    present = {"N": st.white, "K": st.rw, "B": bool(st.flicker)}
+    terms, a_out = list(model.terms), list(model._a)
+    for j, term in enumerate(terms):
+        i = index.get(term.name, -1)
+        if i < 0 or not present[term.name] or (fit.theta[i] > fit.lower[i] + 1e-3
+                                                and cov[i, i] > 0):
+            continue
+        log_hi = conditional_limit(fit.theta, i, st, data, z)
+        ratio = math.sqrt(math.exp(log_hi - fit.theta[i]))   # C_hi / C at the bound
+        terms[j] = dataclasses.replace(
+            term, value=0.0, stderr=math.nan, ci_low=0.0, ci_high=term.value * ratio,
+            c_coeff=0.0, c_stderr=math.nan, at_bound=True, z_score=0.0)
+        a_out[j] = 0.0
+    return dataclasses.replace(model, terms=tuple(terms), _a=tuple(a_out))
 
 
 def _noise_model(curve: FitCurve, names: tuple[str, ...], st: Structure, theta: FloatArray,

@@ -69,7 +69,8 @@ from statsmodels.tsa.statespace.kalman_filter import MEMORY_CONSERVE, KalmanFilt
 
 from fogts._typing import FloatArray
 
-__all__ = ["BlockData", "Structure", "block_data", "log_likelihood", "state_space"]
+__all__ = ["BlockData", "Structure", "block_data", "conditional_limit", "log_likelihood",
+           "state_space"]
 
 _SMALL_H = 1e-3
 #: A flicker pole with ``T < LUMP_SHARE * Delta`` enters the block means as white
@@ -305,3 +306,24 @@ def final_state(theta: FloatArray, st: Structure, data: BlockData
     res = kf.filter()
     return (np.asarray(res.filtered_state[:, -1], dtype=np.float64),
             np.asarray(res.filtered_state_cov[:, :, -1], dtype=np.float64))
+
+
+def conditional_limit(theta: FloatArray, i: int, st: Structure, data: BlockData, z: float
+                      ) -> float:
+    """The largest ``theta[i]`` with ``2 (logL(theta) - logL) <= z^2``, the other parameters
+    held at ``theta`` (a likelihood-ratio bound for a variance the fit puts at zero;
+    conditional, not profiled, so somewhat narrow); bisection on the log scale."""
+    ll0 = log_likelihood(theta, st, data)
+
+    def excess(v: float) -> float:
+        t = np.array(theta, dtype=np.float64)
+        t[i] = v
+        return 2.0 * (ll0 - log_likelihood(t, st, data)) - z * z
+
+    lo = hi = float(theta[i])
+    while excess(hi) < 0 and hi < lo + 60:
+        hi += 2.0
+    for _ in range(30):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if excess(mid) < 0 else (lo, mid)
+    return hi

@@ -149,6 +149,18 @@ def test_flicker_model_and_summary() -> None:
     assert model.axis == "x"
 
 
+def test_an_unmeasured_rate_random_walk_is_an_upper_limit() -> None:
+    """White + GM without a random walk, fitted with K: K is reported as a limit (at zero
+    with a likelihood-ratio bound, or fitted with z < 2), never as a measured value."""
+    run = simulate_gyro({"N": 0.01, "q_c": GM_CASE["q_c"], "T_c": 30.0}, fs_hz=FS,
+                        duration_s=2000, rng=1)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        model = fit_noise_ml(run.rate, FS, b_model="gm", max_gm=1)
+    assert model["K"].is_limit and 0 < model.upper_limit("K") < 1.0
+    assert not model["N"].is_limit
+
+
 def test_gmwm_summary_has_no_term_selection_line() -> None:
     run = simulate_gyro({"N": 0.01, "K": 1.0}, fs_hz=FS, duration_s=2000, rng=1)
     with warnings.catch_warnings():
