@@ -56,6 +56,8 @@ The within-block part (decimation ``L > 1``)
     variance of an average over ``D``; the random walk from the covariance of interval
     means of Brownian motion; the ramp left out).  Exact when white noise dominates within
     a block, and independent of the block means only then; ``decimate=1`` avoids it.
+    Measured against ``decimate=1`` (tests/README.md): shifts of log N, B, K within 0.1
+    standard errors at ``L = 20``, standard errors 0-10 % larger.
 """
 
 from __future__ import annotations
