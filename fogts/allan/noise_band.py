@@ -53,12 +53,12 @@ Interval
     fit, only ``ci_low`` and ``ci_high`` move.
 
     * Q and N, measured below the flicker's region, get the *union* of the two models'
-      intervals, :math:`[\hat a_j + \min(\delta_j, 0) - z\,se,\; \hat a_j +
-      \max(\delta_j, 0) + z\,se]`, clipped at 0 (N's upper end: a rolled-off flicker
+      intervals, :math:`[\\hat a_j + \\min(\\delta_j, 0) - z\\,se,\\; \\hat a_j +
+      \\max(\\delta_j, 0) + z\\,se]`, clipped at 0 (N's upper end: a rolled-off flicker
       leaves more of the short-tau variance to N).
     * B and K, which the limit moves only through their trade-off with N, get the central
       interval of the two models' equal-weight mixture
-      :math:`\tfrac12 N(\hat a_j, se^2) + \tfrac12 N(\hat a_j + \delta_j, se^2)`
+      :math:`\\tfrac12 N(\\hat a_j, se^2) + \\tfrac12 N(\\hat a_j + \\delta_j, se^2)`
       (a model-averaged interval with equal model weights: Hoeting, Madigan, Raftery &
       Volinsky, *Stat. Sci.* 14(4), 1999, eq. 1; Burnham & Anderson, *Model Selection and
       Multimodel Inference*, 2nd ed., 2002, sec. 4.3), clipped at 0
@@ -72,11 +72,11 @@ Interval
     it; for B the flat fit is 0.70 standard errors low and the band-limited fit 0.46
     high, for K 0.42 high and 0.03 low, so the truth lies between the two fits, which the
     mixture covers and the union over-covers (B 80-83 %).  Measured alternatives: the full
-    profile-likelihood interval over :math:`T` (the union of :math:`\hat a_j(T) \pm
-    se\sqrt{z^2 - \Delta D(T)}`) over-covers on flat flicker: N 83-93 % at 5 Hz; the same
+    profile-likelihood interval over :math:`T` (the union of :math:`\\hat a_j(T) \\pm
+    se\\sqrt{z^2 - \\Delta D(T)}`) over-covers on flat flicker: N 83-93 % at 5 Hz; the same
     union for K over the upper limit :math:`T_{max}` covers K in 80-82 % of the tactical
     records; the mixture for N covers it in 59 % of the MEMS records; a mixture weighted
-    by Akaike weights :math:`\propto e^{-D/2 - 1}` leaves MEMS B at 55 % (the band-limited
+    by Akaike weights :math:`\\propto e^{-D/2 - 1}` leaves MEMS B at 55 % (the band-limited
     fit gets nearly all the weight and over-shoots).
 """
 
