@@ -49,6 +49,7 @@ import numpy as np
 
 from fogts._typing import FloatArray
 from fogts.arma.correlation import dot
+from fogts.arma.region import spectral_radius
 from fogts.arma.startup_block import (
     TOL_FLOOR,
     TOL_STEADY,
@@ -137,18 +138,42 @@ def _next_chunk(g: FloatArray, b: FloatArray, series: SeriesFn, c0: int, c1: int
     return ab, z
 
 
+#: A settled deviation above ``TOL_FLOOR`` but at most this is taken as a rounding floor
+#: when the exact deviation has provably decayed below it (see :func:`_is_steady`).
+FLOOR_MAX = 1e-8
+
+
 def _is_steady(c: FloatArray, F: FloatArray, theta: FloatArray, c1: int,
-               devs: list[tuple[int, float]]) -> bool:
-    """The test of :func:`fogts.arma.startup_block.banded_innovations` at row c1 - 1 (the
-    chunk's last): deviation below ``TOL_STEADY``, or below ``TOL_FLOOR`` and no smaller
-    than half that at the last chunk end at most half-way (``devs``, appended to)."""
+               devs: list[tuple[int, float]], rho: float) -> bool:
+    """Whether row c1 - 1 (the chunk's last) is the steady filter's.
+
+    As :func:`fogts.arma.startup_block.banded_innovations`: the deviation is below
+    ``TOL_STEADY``, or below ``TOL_FLOOR`` and settled (no smaller than half the deviation
+    at the last chunk end at most half-way; ``devs`` is appended to).  Beyond that, a
+    settled deviation up to ``FLOOR_MAX`` is a rounding floor when the exact one is known
+    to be below ``TOL_STEADY``: the Riccati recursion of the factor's rows converges
+    geometrically at rate rho^2, rho the largest inverse MA root modulus (Brockwell & Davis
+    1991, sec. 5.3), so the exact deviation at c1 is at most rho^(2 (c1 - t1)) times that
+    at the first chunk end t1; this is required to be 1e-3 TOL_STEADY (a margin for the
+    computed deviation at t1 and for a polynomial factor).  Near the unit circle the
+    floor, the recursion's rounding amplified by ~1/(1 - rho^2), is quantised and not
+    monotone in rho: 1.1e-11 at rho = 1 - 1e-5 (above ``TOL_FLOOR``, where the whole-block
+    rule never stops), 7.7e-12 at 1 - 3e-6.  Switching there changes the innovations by
+    the exact deviation, not by the floor, which is the block's own rounding.
+    """
     L, m = c.shape[1], c.shape[0] - 1
     if L <= m:
         return False
     dev = row_deviation(c, F, theta, L - 1)
     half = [d for t, d in devs if t <= c1 // 2]
     devs.append((c1, dev))
-    return dev < TOL_STEADY or (dev < TOL_FLOOR and bool(half) and dev >= 0.5 * half[-1])
+    if dev < TOL_STEADY:
+        return True
+    if not half or dev < 0.5 * half[-1]:
+        return False
+    t1, d1 = devs[0]
+    return dev < TOL_FLOOR or (dev <= FLOOR_MAX
+                               and rho ** (2 * (c1 - t1)) * d1 <= 1e-3 * TOL_STEADY)
 
 
 def chunks(phi: FloatArray, theta: FloatArray, series: SeriesFn, n: int, *,
@@ -166,7 +191,7 @@ def chunks(phi: FloatArray, theta: FloatArray, series: SeriesFn, n: int, *,
         The series' length.
     stop
         The block's length s; ``None``: until a chunk's last row passes the steadiness test
-        (the last chunk yielded ends at s), or n.
+        (the last chunk yielded ends at s; see :func:`_is_steady`), or n.
     with_ones
         Also the innovations of the constant series 1, as a second column.
     cap
@@ -185,6 +210,7 @@ def chunks(phi: FloatArray, theta: FloatArray, series: SeriesFn, n: int, *,
     b = np.r_[1.0, -phi]
     state: tuple[FloatArray, FloatArray] | None = None
     devs: list[tuple[int, float]] = []
+    rho = spectral_radius(-theta)
     c0 = 0
     while c0 < end:
         c1 = min(end, c0 + size)
@@ -194,7 +220,7 @@ def chunks(phi: FloatArray, theta: FloatArray, series: SeriesFn, n: int, *,
         else:
             ab, z = _next_chunk(g, b, series, c0, c1, state, with_ones)
         c, e, F, w = factor_solve(ab, z, c1)
-        steady = stop is None and c1 > p + q and _is_steady(c, F, theta, c1, devs)
+        steady = stop is None and c1 > p + q and _is_steady(c, F, theta, c1, devs, rho)
         if c1 - c0 >= m:
             w2 = w.reshape(c1 - c0, -1)[-m:]
             state = (_trailing(c, m), w2.copy() if with_ones else w2[:, 0].copy())

@@ -113,3 +113,29 @@ def test_chunks_are_one_banded_cholesky() -> None:
     np.testing.assert_allclose(np.concatenate([c.F for c in parts]), F, rtol=1e-14)
     e2 = np.concatenate([c.e for c in parts])
     assert np.max(np.abs(e2 - e)) <= 1e-12 * np.max(np.abs(e))
+
+
+def test_a_rounding_floor_above_tol_floor_still_ends_the_block() -> None:
+    """theta = -(1 - 1e-5): the factor's rows settle at a rounding floor |F_t - 1| =
+    1.1e-11 from t ~ 1e6 on, above TOL_FLOOR, where the whole-block rule grows the block
+    to the series (the 1e8 white + random walk failure).  The chunked rule stops at the
+    second chunk end, s = 2^21: settled, and rho^(2 * 2^20) = 8e-10 bounds the exact
+    deviation by 1e-20.  Reference: the same block factored to the end (n = 2.6e6) in
+    chunks, on a series of this model; S agrees to 1e-10 (measured 1e-12; against a
+    long-double banded Cholesky the steady switch is off by 6.0e-12 and the factor to
+    the end by 6.9e-12: the floor is the factor's own rounding)."""
+    from fogts.arma.startup_block import TOL_FLOOR
+
+    n = (1 << 21) + (1 << 19)
+    x = arma_series([0.5], [-(1.0 - 1e-5)], n, 7)
+    phi, theta = np.array([0.5]), np.array([-(1.0 - 1e-5)])
+    model = ExactLikelihood(x, 1, 1)
+    ev = model.evaluate(phi, theta)
+    assert ev.streamed and ev.s == 1 << 21
+    S = 0.0
+    devs: list[float] = []
+    for ch in startup_stream.chunks(phi, theta, lambda a, b: x[a:b], n, stop=n):
+        S += float(np.sum(ch.e * ch.e / ch.F))
+        devs.append(abs(float(ch.F[-1]) - 1.0))
+    assert min(devs) > TOL_FLOOR
+    assert ev.S == pytest.approx(S, rel=1e-10)
