@@ -65,8 +65,9 @@ if TYPE_CHECKING:
 
 __all__ = ["CAP", "Chunk", "blocks", "chunks", "evaluate", "perturbed_sums", "rebuild"]
 
-#: Rows of a start-up block held in memory at once (a 2^20-row chunk with the constant's
-#: column: ~10 arrays of 8 MB).  Longer blocks are factored in chunks of this length.
+#: Rows of a start-up block held in memory at once (a pass over 2^20-row chunks peaks at
+#: 187 MB with the constant's column, 134 MB without; tracemalloc).  Longer blocks are
+#: factored in chunks of this length.
 CAP = 1 << 20
 
 SeriesFn = Callable[[int, int], FloatArray]
