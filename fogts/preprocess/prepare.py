@@ -248,9 +248,8 @@ def prepare(
     if np.ptp(x) == 0:
         raise InsufficientDataError(f"{name!r} is constant (every value is {x[0]:g}); nothing "
                                     "to model")
-    time = np.arange(x.size, dtype=np.float64) / fs
-    if run is not None and run.time.size == x.size:
-        time = run.time
+    time = (run.time if run is not None and run.time.size == x.size
+            else np.arange(x.size, dtype=np.float64) / fs)
     steps: list[str] = []
     n_input = x.size
 
