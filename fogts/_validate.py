@@ -16,7 +16,7 @@ import pandas as pd
 from fogts._typing import FloatArray
 from fogts.errors import DataError, InsufficientDataError
 
-__all__ = ["as_rng", "check_choice", "check_fraction", "check_int", "check_positive",
+__all__ = ["all_finite", "as_rng", "check_choice", "check_fraction", "check_int", "check_positive",
            "finite_or_none", "is_pandas", "pandas_index", "to_float_array"]
 
 
@@ -76,6 +76,26 @@ def pandas_index(x: object) -> pd.Index | None:
     return x.index if isinstance(x, pd.Series | pd.DataFrame) else None
 
 
+def all_finite(arr: np.ndarray) -> bool:
+    """Whether every value of the float array ``arr`` is finite.
+
+    One summing pass that allocates nothing: NaN and inf propagate through a sum, so a
+    finite sum settles it; a non-finite sum (a NaN or inf, or finite values that overflow)
+    is settled value by value.
+
+    Examples
+    --------
+    >>> all_finite(np.array([1.0, 2.0])), all_finite(np.array([1.0, np.nan]))
+    (True, False)
+    >>> all_finite(np.array([1e308, 1e308]))   # the sum overflows, the values do not
+    True
+    """
+    with np.errstate(over="ignore", invalid="ignore"):
+        if math.isfinite(float(np.sum(arr))):
+            return True
+    return bool(np.isfinite(arr).all())
+
+
 def to_float_array(x: Any, name: str = "x", *, min_length: int = 2,
                    allow_nonfinite: bool = False, ndim: int = 1) -> FloatArray:
     """Convert ``x`` to a contiguous float64 array and check it.
@@ -105,7 +125,7 @@ def to_float_array(x: Any, name: str = "x", *, min_length: int = 2,
     if arr.shape[0] < min_length:
         raise InsufficientDataError(
             f"{name} needs at least {min_length} samples, got {arr.shape[0]}")
-    if not allow_nonfinite:
+    if not allow_nonfinite and not all_finite(arr):
         bad = ~np.isfinite(arr)
         if bad.any():
             pos = int(np.argwhere(bad)[0][0])

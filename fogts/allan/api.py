@@ -17,7 +17,7 @@ import numpy.typing as npt
 import pandas as pd
 
 from fogts._typing import ArrayLike1D, FloatArray, IntArray
-from fogts._validate import check_choice, check_fraction
+from fogts._validate import all_finite, check_choice, check_fraction
 from fogts.allan.bias import totdev_bias
 from fogts.allan.confidence import confidence_table, curve_table
 from fogts.allan.decimated import DecimatedSums
@@ -175,8 +175,7 @@ def _check_bias_correction(bias_correction: Any, kind: str, confidence: float | 
 
 def _with_gaps(y: FloatArray, name: str, kind: str) -> bool:
     """Whether a Run's axis holds NaN for missing samples (``gaps="nan"``); inf is refused."""
-    finite = np.isfinite(y)
-    if finite.all():
+    if all_finite(y):
         return False
     if np.isinf(y).any():
         raise DataError(f"axis {name!r} holds inf; rate data must be finite")

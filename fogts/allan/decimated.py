@@ -109,10 +109,12 @@ def _add_segment(acc: OrderSums, w: FloatArray, own: int, start: int) -> None:
     if own <= 0:
         return
     head = w[:own]
-    acc.sumsq += float(np.dot(head, head))
+    # einsum, not np.dot: OpenBLAS threads a ddot this long, and on a busy host the thread
+    # hand-offs cost ~6x the CPU of the whole Allan computation (measured at 1e7 samples)
+    acc.sumsq += float(np.einsum("i,i->", head, head))
     pairs = min(own, w.size - 1, acc.count - 1 - start)
     if pairs > 0:
-        acc.lag1 += float(np.dot(w[:pairs], w[1 : pairs + 1]))
+        acc.lag1 += float(np.einsum("i,i->", w[:pairs], w[1 : pairs + 1]))
     if start == 0:
         acc.first = float(w[0])
     if start + own == acc.count:

@@ -36,7 +36,9 @@ Standard errors and confidence intervals
     instability's region (Q, N) then also cover the fit with a band-limited flicker
     (:mod:`fogts.allan.noise_band`): a flat B line extrapolated to short taus where real
     bias instability has rolled off moves N by about one of its (very small) standard
-    errors.
+    errors; B's and K's intervals are the equal-weight mixture of the flat and the
+    band-limited fit's (the roll-off moves them, through their trade-off with N, by up to
+    about one standard error).
 """
 
 from __future__ import annotations

@@ -14,7 +14,9 @@ two pieces:
   started from the past of x and a_t (np.convolve for a pure AR).
 
 s starts at 512 and grows by 8x until the block is steady (up to s = n: then it is all exact
-banded Cholesky, e.g. an MA root on the unit circle).
+banded Cholesky, e.g. an MA root on the unit circle).  A block longer than
+``startup_stream.CAP`` samples is not held in memory: :mod:`fogts.arma.startup_stream`
+continues the same banded Cholesky in chunks and keeps only sums and the filter's state.
 
 sigma2 is concentrated out (sigma2_hat = S/n), leaving the profile objective
 
@@ -42,7 +44,7 @@ process", Biometrika 66 (1979) 59-65.
 from __future__ import annotations
 
 import math
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -120,6 +122,7 @@ class Evaluation:
     zi: FloatArray | None = None     # lfilter state at s (None for a pure AR)
     ones_tail: FloatArray = field(default_factory=lambda: np.zeros(0))  # e_1 from s on ...
     ones_c: float = 0.0    # ... and the constant it settles to
+    streamed: bool = False  # a block too long to hold: F and head are empty (startup_stream)
 
     @property
     def beta(self) -> FloatArray:
@@ -187,20 +190,32 @@ class ExactLikelihood:
             out = [banded_innovations(phis[b], thetas[b], block, with_ones=with_ones)
                    for b in range(phis.shape[0])]
             return s, np.array([o[0] for o in out]), np.array([o[1] for o in out])
-        s_try = min(n, max(512, 16 * self.order))
-        while True:
-            block = head(s_try)
-            e, F, steady = banded_innovations(phis[0], thetas[0], block, check=True,
-                                              with_ones=with_ones)
-            if steady or s_try >= n:
-                break
-            s_try = min(n, 8 * s_try)
+        grown = self._grow(phis[0], thetas[0], head, with_ones, n)
+        assert grown is not None
+        s_try, block, e, F = grown
         es, fs = [e], [F]
         for b in range(1, phis.shape[0]):
             eb, fb, _ = banded_innovations(phis[b], thetas[b], block, with_ones=with_ones)
             es.append(eb)
             fs.append(fb)
         return s_try, np.array(es), np.array(fs)
+
+    def _grow(self, phi: FloatArray, theta: FloatArray, head: Callable[[int], FloatArray],
+              with_ones: bool, cap: int
+              ) -> tuple[int, FloatArray, FloatArray, FloatArray] | None:
+        """The steady start-up block (s, the series' block, its innovations and F), grown
+        512, x8, ... up to n; None if it would grow past ``cap`` samples."""
+        n = self.n
+        s_try = min(n, max(512, 16 * self.order))
+        while True:
+            block = head(s_try)
+            e, F, steady = banded_innovations(phi, theta, block, check=True,
+                                              with_ones=with_ones)
+            if steady or s_try >= n:
+                return s_try, block, e, F
+            s_try = min(n, 8 * s_try)
+            if s_try > cap:
+                return None
 
     def polys(self, phi: FloatArray, theta: FloatArray) -> tuple[FloatArray, FloatArray]:
         """lfilter's numerator phi(B) and denominator theta(B), both of length order + 1."""
@@ -231,9 +246,15 @@ class ExactLikelihood:
         unit circle (theta(1) = 0, where s11 grows like n^3) gains about log(n)/2
         (Tunnicliffe Wilson 1989, *J. R. Statist. Soc. B* 51, 15-27).
         """
-        s, e_tr, f_tr = self.transient(phi[None, :], theta[None, :], with_ones=self.mean)
-        n, F = self.n, f_tr[0]
-        ev = Evaluation(phi=phi, theta=theta, s=s, F=F, head=e_tr[0])
+        from fogts.arma import startup_stream
+
+        grown = self._grow(phi, theta, lambda k: self.series(0, k), self.mean,
+                           startup_stream.CAP)
+        if grown is None:
+            return startup_stream.evaluate(self, phi, theta)
+        s, _, head, F = grown
+        n = self.n
+        ev = Evaluation(phi=phi, theta=theta, s=s, F=F, head=head)
         e = self.work.take()
         e[:s] = ev.head[:, 0] if self.mean else ev.head
         for c0, c1, y in self._tail_chunks(ev):
@@ -260,6 +281,10 @@ class ExactLikelihood:
         """
         if self.work.holder is ev and self.work.array is not None:
             return self.work.array
+        if ev.streamed:
+            from fogts.arma.startup_stream import rebuild
+
+            return rebuild(self, ev)
         e = self.work.take()
         s = ev.s
         e[:s] = ev.head[:, 0] if self.mean else ev.head
@@ -275,6 +300,11 @@ class ExactLikelihood:
         :meth:`innovations` without its series-length array: the start-up block with the
         first steady one, then ``CHUNK``-long blocks (a series of up to s + CHUNK samples
         is one block, so sums over it are those over the whole array)."""
+        if ev.streamed:
+            from fogts.arma.startup_stream import blocks
+
+            yield from blocks(self, ev)
+            return
         s = ev.s
         y = (ev.head[:, 0] if self.mean else ev.head).copy()
         if self.mean:
@@ -345,7 +375,7 @@ class ExactLikelihood:
         if self.q == 0:
             return np.zeros(0), c
         L, total = self.order, self.n - s
-        zi = _steady_zi(b, a, np.ones(L), ones_tr[s - L:s])
+        zi = _steady_zi(b, a, np.ones(L), ones_tr[-L:])
         pieces: list[FloatArray] = []
         done, size, last = 0, 4096, math.inf
         while done < total:
@@ -454,8 +484,6 @@ class ExactLikelihood:
             d2S[:, j] = (grads[0][0] - grads[1][0]) / (2 * hs)
             d2D[:, j] = (grads[0][1] - grads[1][1]) / (2 * hs)
         return 0.5 * (d2S + d2S.T), 0.5 * (d2D + d2D.T)
-
-
 
 
 def _steady_zi(b: FloatArray, a: FloatArray, x_prev: FloatArray,

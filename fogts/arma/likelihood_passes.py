@@ -38,13 +38,19 @@ __all__ = ["derivatives"]
 def _startup_part(model: ExactLikelihood, ev: Evaluation
                   ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
     """The start-up block's contributions to dS and dD by central differences, the steps,
-    and the block's innovations at the perturbed parameters (rows +h, -h per parameter)."""
+    and the block's innovations at the perturbed parameters (rows +h, -h per parameter;
+    for a streamed block only its last q)."""
     from fogts.arma.likelihood import _FD_STEP, _fd_steps
 
     p, q, n, s = model.p, model.q, model.n, ev.s
     k = p + q
     beta = ev.beta
     h = _fd_steps(beta, p, _FD_STEP)
+    if ev.streamed:
+        from fogts.arma.startup_stream import perturbed_sums
+
+        dS, dD, e_last = perturbed_sums(model, ev, h)
+        return dS, dD, h, e_last
     pert = np.repeat(beta[None, :], 2 * k, axis=0)
     idx = np.arange(k)
     pert[2 * idx, idx] += h
@@ -173,7 +179,7 @@ def derivatives(model: ExactLikelihood, ev: Evaluation, *, hessian: bool
             grad_ss[p + j - 1] = -ge[j - 1]
         if q:
             # start-up terms: the steady recursion starts from the block's last innovations
-            de = (e_tr[0::2, s - q:s] - e_tr[1::2, s - q:s]) / (2 * h[:, None])  # (k, q)
+            de = (e_tr[0::2, -q:] - e_tr[1::2, -q:]) / (2 * h[:, None])  # (k, q)
             for u in range(min(q, n - s)):
                 c = np.zeros(k)
                 for j in range(u + 1, q + 1):

@@ -19,7 +19,8 @@ import numpy as np
 from fogts._typing import FloatArray
 from fogts.errors import ModelFitError
 
-__all__ = ["TOL_STEADY", "banded_innovations"]
+__all__ = ["TOL_FLOOR", "TOL_STEADY", "ansley_z", "banded_innovations", "factor_solve",
+           "row_deviation"]
 
 TOL_STEADY = 1e-13     # the block is steady when its last row is this close to the filter's
 TOL_FLOOR = 1e-11      # ... or this close, and no closer than half-way through the block
@@ -95,11 +96,25 @@ def banded_innovations(phi: FloatArray, theta: FloatArray, x: FloatArray, *,
     ModelFitError
         The block's covariance is not positive definite (a non-stationary phi).
     """
-    from scipy.linalg import lapack
-
     p, q = phi.size, theta.size
     m = max(p, q, 1)
     s = x.shape[0]
+    c, e, F, _ = factor_solve(_band_covariance(phi, theta, s), ansley_z(phi, x, with_ones), s)
+    steady = False
+    if check and s > p + q:
+        dev = row_deviation(c, F, theta, s - 1)
+        # a near-unit AR root puts a rounding floor of ~1e-13 under the deviation: settled
+        # there (no smaller at the last row than at the middle one), the block is as steady
+        # as floating point makes it
+        steady = dev < TOL_STEADY or (dev < TOL_FLOOR and s // 2 > m
+                                      and dev >= 0.5 * row_deviation(c, F, theta, s // 2))
+    return e, F, steady
+
+
+def ansley_z(phi: FloatArray, x: FloatArray, with_ones: bool) -> FloatArray:
+    """Ansley's z = (x_1..x_p, phi(B)x_{p+1..s}) of the block ``x``, with the constant
+    series' as a second column (``with_ones``)."""
+    p, s = phi.size, x.shape[0]
     z = np.column_stack((x, np.ones(s))) if with_ones else x.copy()
     if p:
         b = np.empty(p + 1)
@@ -110,27 +125,35 @@ def banded_innovations(phi: FloatArray, theta: FloatArray, x: FloatArray, *,
             z[p:, 1] = float(np.sum(b))
         else:
             z[p:] = np.convolve(x, b, mode="valid")
-    ab = _band_covariance(phi, theta, s)
+    return z
+
+
+def factor_solve(ab: FloatArray, z: FloatArray, s: int
+                 ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+    """The banded Cholesky factor ``c`` of the band ``ab`` (LAPACK dpbtrf, lower storage),
+    the innovations e = diag(c) (c^-1 z), the relative variances F = diag(c)^2 and the
+    forward solution w = c^-1 z (LAPACK dtbtrs); ``s`` (the first row's index in the
+    series) only names the rows in the error.
+
+    Raises
+    ------
+    ModelFitError
+        The band is not positive definite (a non-stationary phi).
+    """
+    from scipy.linalg import lapack
+
     c, info = lapack.dpbtrf(ab, lower=1)
     if info != 0:
         raise ModelFitError(f"the covariance of the first {s} samples is not positive "
                             f"definite (LAPACK dpbtrf info={info})")
     w, info = lapack.dtbtrs(c, z, uplo="L")
+    w = np.asarray(w)
     diag = c[0]
-    e = np.asarray(w) * diag[:, None] if with_ones else np.asarray(w).ravel() * diag
-    F = diag * diag
-    steady = False
-    if check and s > p + q:
-        dev = _row_deviation(c, F, theta, s - 1)
-        # a near-unit AR root puts a rounding floor of ~1e-13 under the deviation: settled
-        # there (no smaller at the last row than at the middle one), the block is as steady
-        # as floating point makes it
-        steady = dev < TOL_STEADY or (dev < TOL_FLOOR and s // 2 > m
-                                      and dev >= 0.5 * _row_deviation(c, F, theta, s // 2))
-    return e, F, steady
+    e = w * diag[:, None] if z.ndim == 2 else w.ravel() * diag
+    return c, e, diag * diag, w
 
 
-def _row_deviation(c: FloatArray, F: FloatArray, theta: FloatArray, t: int) -> float:
+def row_deviation(c: FloatArray, F: FloatArray, theta: FloatArray, t: int) -> float:
     """max(|F_t - 1|, distance of the Cholesky row t from (theta_m..theta_1, 1)), LAPACK's
     lower band storage ``c``."""
     m = c.shape[0] - 1

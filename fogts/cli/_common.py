@@ -81,6 +81,9 @@ app = typer.Typer(
     no_args_is_help=True,
     add_completion=False,
     pretty_exceptions_enable=False,
+    # paragraphs reflow to the terminal and [..] stays literal (rich markup would eat a
+    # JSON shape such as {"axes": [...]} and break lines where the docstring does)
+    rich_markup_mode="markdown",
 )
 # Outside a terminal (pipes, CI logs, CliRunner) rich would wrap tables at 80 columns.
 _WIDTH = None if sys.stdout.isatty() else 120

@@ -21,7 +21,7 @@ from fogts.pipeline import ReadSettings
 def batch_cmd(
     patterns: Annotated[list[str], typer.Argument(help="Input files or glob patterns (quote them to let fogts expand '**').")],
     output: Annotated[Path, typer.Option("--output", "-o", help="Summary table (.csv or .parquet): one row per run and axis.")],
-    json_dir: Annotated[Path | None, typer.Option("--json-dir", help="Folder for the per-run JSON (default: <summary name>_runs beside the summary).")] = None,
+    json_dir: Annotated[Path | None, typer.Option("--json-dir", help="Folder for the per-run JSON (default: `SUMMARY_runs` beside the summary).")] = None,
     workers: Annotated[int | None, typer.Option("--workers", help="Local worker processes (default: the number of CPUs).")] = None,
     scheduler: Annotated[str | None, typer.Option("--scheduler", help="Dask scheduler address (tcp://host:8786): run on that cluster instead of locally (needs the fogts\\[dask] extra).")] = None,
     resume: Annotated[bool, typer.Option("--resume", help="Skip runs whose per-run JSON already exists (delete a failed run's JSON to retry it).")] = False,

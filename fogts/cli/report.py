@@ -18,7 +18,7 @@ from fogts.pipeline import ReadSettings
 def report_cmd(
     file: common.FileArg,
     output: Annotated[Path, typer.Option("--output", "-o", help="HTML file to write (self-contained: figures embedded, no network needed).")],
-    title: Annotated[str | None, typer.Option("--title", help="Document title (default: 'Gyro report: <file name>').")] = None,
+    title: Annotated[str | None, typer.Option("--title", help="Document title (default: `Gyro report: FILE`).")] = None,
     outliers: Annotated[float | None, typer.Option("--outliers", help="Replace samples beyond this many robust sigmas before the ARMA analysis.")] = None,
     detrend: Annotated[int | None, typer.Option("--detrend", help="Polynomial order removed before the ARMA analysis.")] = None,
     decimate: Annotated[int | None, typer.Option("--decimate", help="Block-average K samples before the ARMA analysis.")] = None,

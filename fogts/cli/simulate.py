@@ -69,13 +69,13 @@ def _coefficients(text: str | None, option: str) -> dict[str, float] | None:
 simulate_app = typer.Typer(
     help="Simulate a static gyro record: 'noise' from IEEE-952 coefficients, 'startup' a cold "
          "start with thermal drift (optionally a four-position north seeking).",
-    no_args_is_help=True)
+    no_args_is_help=True, rich_markup_mode="markdown")
 common.app.add_typer(simulate_app, name="simulate")
 
 OutputOpt = Annotated[Path, typer.Option("--output", "-o", help="Output file: .csv, .csv.gz, .tsv, .txt or .parquet. The true parameters go to OUTPUT.json beside it.")]
 DurationOpt = Annotated[str | None, typer.Option("--duration", help="Record length: 3h, 90min, 600s, 1d, 1h30min or seconds (default 1h).")]
 BiasOpt = Annotated[float, typer.Option("--bias", help="Constant rate offset in deg/h.")]
-ThermalOpt = Annotated[str | None, typer.Option("--thermal", help="Temperature-driven drift D = a T dT + b T^2 + c T + d dT^2 + e dT + f, as 'T*dT=a,T2=b,T=c,dT2=d,dT=e,1=f' (deg/h; dT in degC/s); with 'noise' it needs --temperature-profile; 'startup' default: T*dT=0.4,T2=0.0015,T=-0.12,dT2=120,dT=25,1=2.")]
+ThermalOpt = Annotated[str | None, typer.Option("--thermal", help="Temperature-driven drift D = a T dT + b T^2 + c T + d dT^2 + e dT + f, as `T*dT=a,T2=b,T=c,dT2=d,dT=e,1=f` (deg/h; dT in degC/s); with 'noise' it needs --temperature-profile; 'startup' default: `T*dT=0.4,T2=0.0015,T=-0.12,dT2=120,dT=25,1=2`.")]
 SeedOpt = Annotated[int | None, typer.Option("--seed", help="Random seed (default: a fresh one, recorded in the sidecar JSON).")]
 OutUnitsOpt = Annotated[str, typer.Option("--units", help="Unit of the output rate: deg/h, deg/s, rad/s, arcsec/s (coefficients stay in deg/h-based units).")]
 DecimalsOpt = Annotated[int | None, typer.Option("--decimals", help="Round the rate and temperature to this many decimals (smaller files).")]

@@ -39,7 +39,7 @@ from fogts.io.limits import check_regular_file, read_capped
 from fogts.io.matlab import mat_table
 from fogts.io.missing import NAN_POLICIES, apply_missing_drop, interpolate_missing, missing_report
 from fogts.io.rosbag import is_ros2_bag, rosbag_table
-from fogts.io.run import MissingReport, Run
+from fogts.io.run import MissingReport, RegularTime, Run
 from fogts.io.table import MIN_SAMPLES, Table, numeric_column
 from fogts.io.text import text_file_table
 from fogts.io.timebase import sample_rate, sampling_report, step_stats, time_base
@@ -273,19 +273,22 @@ def _table_to_run(table: Table, *, rate_column: str | Sequence[str] | None,
         # Dropped rows of a record without time stamps stay visible as gaps.
         time = kept_rows / fs
         dt, steps = np.diff(time), None
-    if time is None:
-        time = np.arange(table.frame.shape[0], dtype=np.float64)
-        time /= fs  # in place: one array, not two
+    # Without stamps the time base is k / fs: formed on first use of Run.time, not here.
+    rows = table.frame.shape[0]
     if nan == "interpolate":
-        filled = [interpolate_missing(c, time, name)
+        at = time if time is not None else RegularTime(rows, fs).array()
+        filled = [interpolate_missing(c, at, name)
                   for c, name in zip(rate_cols, roles.rate, strict=True)]
         rate_cols = [c for c, _ in filled]
         missing = missing_report(nan, roles.rate, [m for _, m in filled], temperature)
         if temperature is not None:
-            temperature = interpolate_missing(temperature, time, str(roles.temperature))[0]
+            temperature = interpolate_missing(temperature, at, str(roles.temperature))[0]
+        del at
     rate_cols, angle = to_rate(kind, rate_cols, float(fs))
     if kind == "angle":  # n angles give n - 1 rates, each timed at the start of its step
-        time, dt, steps = time[:-1], dt[:-1] if dt is not None else None, None
+        rows -= 1
+        time, dt, steps = (time[:-1] if time is not None else None,
+                           dt[:-1] if dt is not None else None, None)
         temperature = temperature[:-1] if temperature is not None else None
     for name, col in zip(roles.rate, rate_cols, strict=True):
         if np.ptp(col[:1024]) == 0 and np.ptp(col) == 0:  # a varying head settles it
@@ -301,7 +304,7 @@ def _table_to_run(table: Table, *, rate_column: str | Sequence[str] | None,
         unit, unit_source = axis_units[0], acc_source
     return Run(
         rate=np.ascontiguousarray(rate, dtype=np.float64),
-        time=time,
+        time=time if time is not None else RegularTime(rows, fs),  # type: ignore[arg-type]
         fs_hz=float(fs),
         units=unit,
         axes=roles.rate,

@@ -16,7 +16,7 @@ import pandas as pd
 from fogts._typing import FloatArray
 from fogts.errors import DataError
 
-__all__ = ["MissingReport", "Run", "SamplingReport"]
+__all__ = ["MissingReport", "RegularTime", "Run", "SamplingReport", "held_time"]
 
 
 @dataclass(frozen=True)
@@ -112,6 +112,75 @@ class MissingReport:
                 f"row {self.first_rows[0] if self.first_rows else '-'})")
 
 
+class RegularTime:
+    """Stand-in for :attr:`Run.time` of a regular time base built from the sample rate:
+    ``k / fs_hz`` for ``k < n``, formed (``arange(n) / fs_hz``, in place) on the first access
+    of ``run.time`` and kept from then on.
+
+    A reader without a time column passes ``time=RegularTime(n, fs_hz)`` so that a record of
+    1e8 samples does not carry an 800 MB time array that the Allan chain never reads;
+    :func:`held_time` tells callers whether the array exists without forming it.
+
+    Examples
+    --------
+    >>> RegularTime(4, 8.0).array().tolist()
+    [0.0, 0.125, 0.25, 0.375]
+    """
+
+    __slots__ = ("fs_hz", "n")
+
+    def __init__(self, n: int, fs_hz: float) -> None:
+        self.n = int(n)
+        self.fs_hz = float(fs_hz)
+
+    def array(self) -> FloatArray:
+        """``arange(n) / fs_hz`` (the values the readers always formed)."""
+        t = np.arange(self.n, dtype=np.float64)
+        t /= self.fs_hz  # in place: one array, not two
+        return t
+
+    def __reduce__(self) -> tuple[type[RegularTime], tuple[int, float]]:
+        return RegularTime, (self.n, self.fs_hz)
+
+    def __repr__(self) -> str:
+        return f"RegularTime(n={self.n}, fs_hz={self.fs_hz!r})"
+
+
+class _TimeField:
+    """The data descriptor behind :attr:`Run.time`: it stores what the constructor was given
+    and turns a :class:`RegularTime` into its array on first access (cached in the
+    instance).  Reading it on the class raises AttributeError, so that the dataclass sees a
+    field without default and its signature is unchanged."""
+
+    def __get__(self, obj: Any, owner: Any = None) -> FloatArray:
+        if obj is None:
+            raise AttributeError("time")
+        value = obj.__dict__["time"]
+        if isinstance(value, RegularTime):
+            value = value.array()
+            obj.__dict__["time"] = value
+        return value  # type: ignore[no-any-return]
+
+    def __set__(self, obj: Any, value: Any) -> None:
+        obj.__dict__["time"] = value
+
+
+def held_time(run: Run) -> FloatArray | None:
+    """``run.time`` if the array exists; None for a regular time base not formed yet, whose
+    ``k``-th time is ``k / run.fs_hz`` exactly (:class:`RegularTime`).  For callers that need
+    a few time stamps, not the array.
+
+    Examples
+    --------
+    >>> run = Run(rate=np.ones(3), time=RegularTime(3, 2.0), fs_hz=2.0, units="deg/h",
+    ...           axes=("rate",))
+    >>> held_time(run) is None, run.time.tolist(), held_time(run) is not None
+    (True, [0.0, 0.5, 1.0], True)
+    """
+    value = run.__dict__["time"]
+    return None if isinstance(value, RegularTime) else value  # type: ignore[no-any-return]
+
+
 @dataclass(frozen=True)
 class Run:
     """One gyro recording.
@@ -121,7 +190,9 @@ class Run:
     rate : ndarray of float64, shape (n,) or (n, n_axes)
         Angular rate in ``units``.
     time : ndarray of float64, shape (n,)
-        Seconds since the first sample.
+        Seconds since the first sample.  The constructor also takes a
+        :class:`RegularTime` (a regular time base from the sample rate, as the readers pass
+        without a time column): the array is then formed on first access.
     fs_hz : float
         Sample rate (from the median time step, or given).
     units : str
@@ -242,3 +313,9 @@ class Run:
         if self.temperature is not None:
             data["temperature"] = self.temperature
         return pd.DataFrame(data)
+
+
+# Set after the class is made, so that the dataclass sees ``time`` as a plain field without
+# default (its signature and fields are unchanged); instances then store it through the
+# descriptor, which forms a RegularTime on first access.
+setattr(Run, "time", _TimeField())  # noqa: B010

@@ -158,19 +158,38 @@ def _strided(x: FloatArray, limit: int = SCALE_SAMPLES) -> FloatArray:
 
 
 def _jump_rows(x: FloatArray, med: float, limit_x: float, limit_d: float) -> IntArray:
-    """Rows beyond ``limit_x`` from the median whose step in or out exceeds ``limit_d``."""
+    """Rows beyond ``limit_x`` from the median whose step in or out exceeds ``limit_d``.
+
+    One pass over ``x`` in chunks with reused buffers finds the far rows (few: the
+    threshold is many sigmas); the steps are then taken at those rows only.  The step into
+    row ``r`` is ``x[r] - x[r-1]`` (``r >= 1``), the step out ``x[r+1] - x[r]``
+    (``r <= n - 2``), as ``numpy.diff`` forms them.
+    """
+    n = x.size
+    k = min(CHUNK, n)
+    dev = np.empty(k, dtype=np.float64)
+    far = np.empty(k, dtype=np.bool_)
     found: list[IntArray] = []
-    for start in range(0, x.size, CHUNK):
-        lo, hi = max(start - 1, 0), min(start + CHUNK + 1, x.size)
-        seg = x[lo:hi]
-        far = np.abs(seg - med) > limit_x
-        step = np.abs(np.diff(seg)) > limit_d
-        jump = np.zeros(seg.size, dtype=bool)
-        jump[1:] |= step
-        jump[:-1] |= step
-        rows = np.flatnonzero(far & jump) + lo
-        found.append(rows[(rows >= start) & (rows < start + CHUNK)])
+    for start in range(0, n, CHUNK):
+        seg = x[start:start + CHUNK]
+        d = np.subtract(seg, med, out=dev[:seg.size])
+        np.abs(d, out=d)
+        rows = np.flatnonzero(np.greater(d, limit_x, out=far[:seg.size])) + start
+        if rows.size:
+            found.append(rows[_steps_beyond(x, rows, limit_d)])
     return np.unique(np.concatenate(found)) if found else np.empty(0, np.int64)
+
+
+def _steps_beyond(x: FloatArray, rows: IntArray, limit_d: float) -> np.ndarray:
+    """Whether the step into or out of each of ``rows`` exceeds ``limit_d``."""
+    jump = np.zeros(rows.size, dtype=np.bool_)
+    has_in = rows >= 1
+    r = rows[has_in]
+    jump[has_in] = np.abs(x[r] - x[r - 1]) > limit_d
+    has_out = rows <= x.size - 2
+    r = rows[has_out]
+    jump[has_out] |= np.abs(x[r + 1] - x[r]) > limit_d
+    return jump
 
 
 def _run_bounds(far_of: Any, row: int, n: int) -> tuple[int, int]:

@@ -27,7 +27,7 @@ import pandas as pd
 from fogts._validate import check_choice
 from fogts.choices import GAP_POLICIES, GapPolicy
 from fogts.errors import DataError
-from fogts.io.run import MissingReport, Run
+from fogts.io.run import MissingReport, Run, held_time
 from fogts.preprocess.gaps import Gap, GapReport, fill_gaps_nan, find_gaps, segment_run
 from fogts.preprocess.glitches import GLITCH_SIGMAS, Glitch, GlitchReport, detect_glitches
 
@@ -172,7 +172,8 @@ def assess_run(run: Run, *, gaps: GapPolicy = "warn", glitches: bool = True,
     n_input = run.n
     if segment is not None:
         run = segment_run(run, *segment)
-    found = tuple(detect_glitches(run.axis(i), time_s=run.time, threshold=glitch_threshold,
+    found = tuple(detect_glitches(run.axis(i), time_s=held_time(run), fs_hz=run.fs_hz,
+                                  threshold=glitch_threshold,
                                   axis=name, units=run.units)
                   for i, name in enumerate(run.axes)) if glitches else ()
     if gaps == "nan" and report.n_gaps:

@@ -27,7 +27,7 @@ import numpy as np
 import pandas as pd
 
 from fogts._typing import ArrayLike1D, FloatArray
-from fogts._validate import check_positive, to_float_array
+from fogts._validate import all_finite, check_positive, to_float_array
 from fogts.errors import DataError
 from fogts.io.run import Run
 from fogts.units import parse_sensor_unit
@@ -286,6 +286,8 @@ def _checked_columns(rate: FloatArray, axes: tuple[str, ...], min_length: int,
     """``rate`` as float64, each axis checked (and named in the error) as one series; NaN
     (a missing sample) passes with ``allow_nan``, inf never."""
     arr = to_float_array(rate, "rate", min_length=min_length, allow_nonfinite=True, ndim=2)
+    if all_finite(arr):
+        return arr
     bad = np.isinf(arr) if allow_nan else ~np.isfinite(arr)
     if np.any(bad):
         for i, axis_name in enumerate(axes):  # the first bad axis raises, naming itself

@@ -18,7 +18,7 @@ import pandas as pd
 from fogts._typing import ArrayLike1D, FloatArray, IntArray
 from fogts._validate import check_int, check_positive
 from fogts.errors import DataError, InsufficientDataError
-from fogts.io.run import Run
+from fogts.io.run import RegularTime, Run, held_time
 from fogts.preprocess.glitches import MAD_TO_SIGMA
 from fogts.preprocess.inputs import ensure_series
 
@@ -248,9 +248,7 @@ def prepare(
     if np.ptp(x) == 0:
         raise InsufficientDataError(f"{name!r} is constant (every value is {x[0]:g}); nothing "
                                     "to model")
-    time = np.arange(x.size, dtype=np.float64) / fs
-    if run is not None and run.time.size == x.size:
-        time = run.time
+    base = _time_base(run, x.size, fs)
     steps: list[str] = []
     n_input = x.size
 
@@ -261,16 +259,19 @@ def prepare(
                      f"sigma (|x - median| > {report.threshold:.6g}) by linear interpolation")
 
     k, dropped_tail = 1, 0
+    time = base if not isinstance(base, RegularTime) else None
     if decimate is not None and decimate != 1:
         k = check_int("decimate", decimate, minimum=2)
         if x.size // k < MIN_PREPARE_SAMPLES:
             raise InsufficientDataError(f"decimate={k} leaves {x.size // k} samples; at least "
                                         f"{MIN_PREPARE_SAMPLES} are needed")
-        x, time, index, dropped_tail = _block_average(x, time, index, k)
+        x, time, index, dropped_tail = _block_average(x, base, index, k)
         fs = fs / k
         steps.append(f"decimated by block averaging over {k} samples -> {fs:g} Hz"
                      + (f" (dropped {dropped_tail} tail samples)" if dropped_tail else ""))
 
+    if time is None:  # no decimation: the full time axis
+        time = base.array() if isinstance(base, RegularTime) else base
     order: int | None = None
     coefs: tuple[float, ...] = ()
     if detrend is not None:
@@ -313,12 +314,30 @@ def _replace_outliers(x: FloatArray, sigma_factor: float) -> tuple[FloatArray, O
     return out, OutlierReport(sigma_factor, threshold, idx.astype(np.int64), x[idx].copy())
 
 
-def _block_average(x: FloatArray, time: FloatArray, index: pd.Index | None, k: int
-                   ) -> tuple[FloatArray, FloatArray, pd.Index | None, int]:
+def _time_base(run: Run | None, n: int, fs: float) -> FloatArray | RegularTime:
+    """The time of ``n`` samples: the run's when it has as many, else ``k / fs``; a regular
+    base is left unformed (:class:`~fogts.io.run.RegularTime`: block averaging needs every
+    ``k``-th time only)."""
+    if run is not None:
+        held = held_time(run)
+        if held is None and run.n == n:
+            return RegularTime(n, run.fs_hz)
+        if held is not None and held.size == n:
+            return held
+        if held is None and run.time.size == n:  # a RegularTime of another length than rate
+            return run.time
+    return RegularTime(n, fs)
+
+
+def _block_average(x: FloatArray, time: FloatArray | RegularTime, index: pd.Index | None,
+                   k: int) -> tuple[FloatArray, FloatArray, pd.Index | None, int]:
     m = x.size // k
     tail = x.size - m * k
     xd = x[: m * k].reshape(m, k).mean(axis=1)
-    td = time[: m * k : k].copy()
+    if isinstance(time, RegularTime):  # every k-th of arange(n) / fs, the same values
+        td = np.arange(0, m * k, k, dtype=np.float64) / time.fs_hz
+    else:
+        td = time[: m * k : k].copy()
     idx = index[: m * k : k] if index is not None else None
     return xd, td, idx, tail
 

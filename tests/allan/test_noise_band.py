@@ -16,7 +16,7 @@ from scipy.stats import norm
 from fogts.allan import allan_deviation
 from fogts.allan.markov import markov_avar
 from fogts.allan.noise import NoiseModel, NoiseTerm, fit_noise
-from fogts.allan.noise_band import flicker_share
+from fogts.allan.noise_band import flicker_share, mixture_interval
 from fogts.allan.result import AllanResult
 from tests.allan.gauss_markov_sum import GaussMarkovGyro
 
@@ -113,12 +113,33 @@ def test_flat_flicker_curve_keeps_its_intervals(mems_record: AllanResult) -> Non
         assert (t.ci_low, t.ci_high) == pytest.approx(_plain(t), rel=1e-12)
 
 
-def test_k_is_not_widened_on_the_exact_gauss_markov_curve(mems_record: AllanResult) -> None:
-    """Only the terms below B's region (Q, N) are widened; B and K keep a +- z se(a)."""
+def test_b_and_k_intervals_reach_the_truth_on_the_exact_gauss_markov_curve(
+        mems_record: AllanResult) -> None:
+    """On the exact Gauss–Markov-sum curve the flat fit has B low and K high (0.70 and
+    0.42 standard errors); the equal-weight mixture with the band-limited fit moves B's
+    interval up and K's down so that both reach the truth, and each still contains its
+    value."""
     model = _fit(_exact_curve(_gyro().expected_avar(mems_record.tau_s, FS_HZ), mems_record))
-    for name in ("B", "K"):
-        t = model[name]
-        assert (t.ci_low, t.ci_high) == pytest.approx(_plain(t), rel=1e-12)
+    b, k = model["B"], model["K"]
+    assert b.value < MEMS["B"] and k.value > MEMS["K"]
+    assert _plain(b)[1] < b.ci_high and k.ci_low < _plain(k)[0]
+    for t in (b, k):
+        assert t.ci_low <= MEMS[t.name] <= t.ci_high
+        assert t.ci_low <= t.value <= t.ci_high
+
+
+@pytest.mark.parametrize("shift", [-3.0, -0.5, 0.0, 0.7, 4.0])
+def test_mixture_interval_is_the_central_interval_of_the_mixture(shift: float) -> None:
+    """The ends are the 15.85 % and 84.15 % quantiles of N(a, se^2)/2 + N(a + d, se^2)/2."""
+    a, se = 10.0, 1.0
+    lo, hi = mixture_interval(a, se, shift, 0.683)
+
+    def cdf(x: float) -> float:
+        return float(0.5 * (norm.cdf(x - a) + norm.cdf(x - a - shift)))
+
+    assert cdf(lo) == pytest.approx(0.1585, abs=1e-9)
+    assert cdf(hi) == pytest.approx(0.8415, abs=1e-9)
+    assert mixture_interval(a, 0.0, shift, 0.683) == (min(a, a + shift), max(a, a + shift))
 
 
 @pytest.mark.parametrize("kw", [{"method": "ols"}, {"terms": "N,K"}])

@@ -176,3 +176,17 @@ def test_help_and_readme_name_only_data_generation_seeds() -> None:
     assert "## Methods and references" in readme
     assert _stray_seeds("\n".join(helps)) == []
     assert _stray_seeds(readme) == []
+
+
+def test_help_keeps_brackets_and_reflows_paragraphs() -> None:
+    """The help is rendered as markdown: a JSON shape in square brackets stays literal (rich
+    markup ate ``[one such document per axis]``) and each docstring paragraph reflows to
+    the terminal width instead of breaking where the source line ends."""
+    select = " ".join(runner.invoke(app, ["select", "--help"]).stdout.split())
+    assert '{"axes": [one such document per axis]}' in select
+    allan = runner.invoke(app, ["allan", "--help"]).stdout
+    assert '{"inputs": [one such object per file], "summary"}' in " ".join(allan.split())
+    lines = [ln.strip() for ln in allan.splitlines()]
+    assert not any(ln in ("standard", "--spec,") for ln in lines)   # no orphaned line ends
+    thermal = runner.invoke(app, ["simulate", "noise", "--help"]).stdout
+    assert "T*dT=a," in thermal and "T*dT=0.4," in thermal   # no "*" taken as emphasis

@@ -8,6 +8,7 @@ import pytest
 
 from fogts.errors import DataError, InsufficientDataError
 from fogts.io.reader import read_run
+from fogts.io.run import RegularTime, Run, held_time
 from fogts.preprocess.prepare import MAD_TO_SIGMA, prepare
 from tests.conftest import shared_path
 
@@ -128,3 +129,21 @@ def test_bad_data() -> None:
         prepare(np.r_[np.zeros(50), np.ones(50)], fs_hz=1.0, outliers=1e-9)
     with pytest.raises(DataError, match="axis index must be in"):
         prepare(read_run(_white(100), fs_hz=1.0), axis=3)
+
+
+def test_a_regular_time_base_is_not_formed_to_decimate() -> None:
+    """A Run read without time stamps (RegularTime): block averaging takes every k-th time
+    (the same values as from the array) and leaves the run's time unformed."""
+    y = np.random.default_rng(7).standard_normal(10_007)
+    t = np.arange(y.size, dtype=np.float64) / 50.0
+
+    def run_with(time: object) -> Run:
+        return Run(rate=y, time=time, fs_hz=50.0, units="deg/h", axes=("rate",))  # type: ignore[arg-type]
+
+    lazy = run_with(RegularTime(y.size, 50.0))
+    got = prepare(lazy, decimate=10, stationarity=False)
+    ref = prepare(run_with(t), decimate=10, stationarity=False)
+    assert held_time(lazy) is None
+    assert np.array_equal(got.time, ref.time) and np.array_equal(got.x, ref.x)
+    full = prepare(run_with(RegularTime(y.size, 50.0)), stationarity=False)
+    assert np.array_equal(full.time, t)

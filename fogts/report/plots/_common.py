@@ -3,11 +3,13 @@ written for matplotlib's mathtext."""
 
 from __future__ import annotations
 
+from typing import Protocol
+
 import numpy as np
 
 from fogts._typing import FloatArray
 
-__all__ = ["minmax_envelope", "mpl_text", "num_tex", "thin_step", "time_unit", "value_pm_tex"]
+__all__ = ["Sliced", "minmax_envelope", "mpl_text", "num_tex", "thin_step", "time_unit", "value_pm_tex"]
 
 
 def mpl_text(text: str) -> str:
@@ -30,9 +32,17 @@ def thin_step(n: int, max_points: int) -> int:
     return max(1, int(np.ceil(n / max_points)))
 
 
-def minmax_envelope(t: FloatArray, y: FloatArray, bins: int
+class Sliced(Protocol):
+    """An ndarray, or anything whose slices are arrays (a time axis formed slice by slice)."""
+
+    def __getitem__(self, sl: slice, /) -> FloatArray: ...
+
+
+def minmax_envelope(t: Sliced, y: FloatArray, bins: int
               ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
     """Min-max envelope of ``y`` in ``bins`` equal-count blocks.
+
+    ``t`` is only sliced (two strided slices and the tail), so it need not be an array.
 
     Returns
     -------

@@ -8,9 +8,38 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from fogts._typing import FloatArray
+from fogts.io.run import Run, held_time
 from fogts.report.plots._common import minmax_envelope, mpl_text, time_unit
 
 __all__ = ["plot_dynamic_allan", "plot_timeseries"]
+
+
+class _TimeAxis:
+    """The plotted time, ``run.time / scale``, formed slice by slice: the envelope of a
+    1e8-sample record reads two strided slices and a tail, not a full-length copy, and a
+    regular time base from the sample rate (:class:`fogts.io.run.RegularTime`) is not formed
+    at all (its ``k``-th time is ``k / fs_hz``, the same floating-point value)."""
+
+    def __init__(self, run: Any) -> None:
+        self._held = held_time(run) if isinstance(run, Run) else np.asarray(run.time, float)
+        self._fs = float(run.fs_hz)
+        self.size = int(run.n)
+        self.scale = 1.0
+
+    def _seconds(self, sl: slice) -> FloatArray:
+        if self._held is not None:
+            return np.asarray(self._held[sl], dtype=np.float64)
+        return np.arange(*sl.indices(self.size), dtype=np.float64) / self._fs
+
+    @property
+    def span_s(self) -> float:
+        """Last minus first time (0 for one sample)."""
+        if self.size < 2:
+            return 0.0
+        return float(self._seconds(slice(-1, None))[0] - self._seconds(slice(0, 1))[0])
+
+    def __getitem__(self, sl: slice) -> FloatArray:
+        return self._seconds(sl) / self.scale
 
 
 def plot_timeseries(run: Any, *, max_points: int = 4000, width_in: float = 10.0) -> Figure:
@@ -45,9 +74,9 @@ def plot_timeseries(run: Any, *, max_points: int = 4000, width_in: float = 10.0)
     rows = run.n_axes + (1 if has_temp else 0)
     fig = Figure(figsize=(width_in, 1.0 + 2.0 * rows), layout="constrained")
     axes = fig.subplots(rows, 1, sharex=True, squeeze=False)[:, 0]
-    t = np.asarray(run.time, dtype=np.float64)
-    scale, unit = time_unit(float(t[-1] - t[0]) if t.size > 1 else 0.0)
-    ts = t / scale
+    ts = _TimeAxis(run)
+    scale, unit = time_unit(ts.span_s)
+    ts.scale = scale
     series = [(run.axis(i), f"{mpl_text(name)} [{run.units}]", "C0")
               for i, name in enumerate(run.axes)]
     if has_temp:
@@ -62,7 +91,7 @@ def plot_timeseries(run: Any, *, max_points: int = 4000, width_in: float = 10.0)
             if ax is axes[0]:
                 ax.legend(loc="upper right", fontsize="small", frameon=False)
         else:
-            ax.plot(ts, y, color=color, lw=0.6)
+            ax.plot(ts[:], y, color=color, lw=0.6)
         ax.set_ylabel(label)
         ax.grid(True, alpha=0.3)
     axes[-1].set_xlabel(f"time [{unit}]")
