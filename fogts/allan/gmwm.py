@@ -102,7 +102,7 @@ from fogts.errors import (
 )
 from fogts.units import base_unit_factor, quantity_of
 
-__all__ = ["GMWM_KINDS", "MAX_GM", "fit_gmwm"]
+__all__ = ["GMWM_KINDS", "MAX_GM", "fit_gmwm", "fitted_term", "log_b_equivalent"]
 
 #: Allan kinds whose estimates have a model covariance (fogts.allan.covariance).
 GMWM_KINDS: tuple[str, ...] = ("oadev", "adev")
@@ -306,7 +306,7 @@ def _noise_model(curve: FitCurve, names: tuple[str, ...], data: WvData, best: Gm
     for name in names:
         if name in logs:
             log_a, se_log = logs[name]
-            terms.append(_fitted_term(name, log_a, se_log, data.scale, factor, z, quantity))
+            terms.append(fitted_term(name, log_a, se_log, data.scale, factor, z, quantity))
             a_out.append(math.exp(log_a) * data.scale)
         else:
             terms.append(_dropped_term(name, best, data, factor, z, quantity))
@@ -350,7 +350,7 @@ def _term_logs(names: tuple[str, ...], best: GmwmSolution, cov: np.ndarray, data
     return out
 
 
-def _fitted_term(name: str, log_a: float, se_log: float, scale: float, factor: float,
+def fitted_term(name: str, log_a: float, se_log: float, scale: float, factor: float,
                  z: float, quantity: str) -> NoiseTerm:
     row = term_rows(quantity)[name]
     c = math.sqrt(math.exp(log_a) * scale) * factor

@@ -43,7 +43,7 @@ from fogts.allan.terms import TERM_POWER
 from fogts.errors import DataError
 
 __all__ = ["EXTRA_FAMILIES", "EXTRA_POWER", "EXTRA_TERMS", "ExtendedCovariance", "ExtraFamily", "ExtraTerm",
-           "markov_avar", "sinusoid_avar", "split_terms"]
+           "flicker_poles", "markov_avar", "sinusoid_avar", "split_terms"]
 
 #: The optional terms: M (first-order Markov) and S (sinusoid), fitted after the five.
 EXTRA_TERMS: tuple[str, ...] = ("M", "S")
@@ -279,3 +279,27 @@ class ExtendedCovariance(CovarianceModel):
         cov = np.einsum("ijpq,ip,jq->ij", self.basis, coef, coef)
         return np.asarray(0.5 * (cov + cov.T), dtype=np.float64)
 
+
+FLICKER_PPD = 3           # Markov poles per decade of correlation time
+FLICKER_LO_DECADES = 2    # poles start at dt / 10**2
+FLICKER_HI_FACTOR = 10.0  # ... and end at >= 10 x the record length
+
+
+def flicker_poles(fs_hz: float, duration_s: float) -> tuple[FloatArray, FloatArray]:
+    """Correlation times T_i (s) and driving amplitudes q_i (per unit B, deg/h/sqrt(s) per
+    deg/h) of the Markov sum that approximates flicker noise over a record.
+
+    Three poles per decade from ``dt/100`` (on a grid aligned with dt) to at least
+    ``10 x duration``, with q_i^2 = 2 Delta B^2 / (pi T_i) and Delta = ln(10)/3, so that
+    sum_i (q_i T_i)^2 / (1 + (2 pi f T_i)^2) ~ B^2 / (2 pi f), the two-sided flicker PSD of
+    IEEE 952 Table C.1; the ripple of the sum keeps the Allan plateau within 0.5 % of
+    :data:`~fogts.allan.terms.B_PLATEAU` B from tau = 1/fs to half the record (Keshner, "1/f noise", Proc. IEEE 70(3), 1982,
+    for the superposition of Lorentzian spectra).
+    """
+    dt = 1.0 / fs_hz
+    k_lo = -FLICKER_LO_DECADES * FLICKER_PPD
+    k_hi = math.ceil(FLICKER_PPD * math.log10(FLICKER_HI_FACTOR * duration_s / dt))
+    T = dt * 10.0 ** (np.arange(k_lo, k_hi + 1) / FLICKER_PPD)
+    delta = math.log(10.0) / FLICKER_PPD
+    q = np.sqrt(2.0 * delta / (math.pi * T))
+    return T, q

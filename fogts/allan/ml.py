@@ -20,7 +20,7 @@ The model and its likelihood (:mod:`fogts.allan.ml_model`)
     the model.
 
 Bias instability: a flicker component or free Gauss-Markov terms (``b_model``)
-    ``"flicker"``: the Markov sum of :func:`fogts.simulate.streams.flicker_poles` (three
+    ``"flicker"``: the Markov sum of :func:`fogts.allan.markov.flicker_poles` (three
     first-order Gauss-Markov poles per decade from ``dt/100`` to ten times the record,
     pole variances ``Delta B^2/pi``, ``Delta = ln(10)/3``; Keshner, "1/f noise",
     *Proc. IEEE* 70(3), 1982, 212-218), one amplitude ``B`` -- flicker's flat Allan
@@ -67,7 +67,7 @@ from statsmodels.tools.numdiff import approx_hess3
 
 from fogts._typing import FloatArray
 from fogts._validate import check_choice, check_fraction, check_int, check_positive, to_float_array
-from fogts.allan.gmwm import _fitted_term, log_b_equivalent
+from fogts.allan.gmwm import fitted_term, log_b_equivalent
 from fogts.allan.gmwm_core import Composite, WvData, model_wv
 from fogts.allan.gmwm_result import GaussMarkovTerm
 from fogts.allan.ml_model import (
@@ -226,7 +226,7 @@ def _start(st: Structure, data: BlockData, pilot: dict[str, float]) -> FloatArra
     """Starting logs (scaled units): the pilot's N and K, and ``n_gm`` Gauss-Markov terms
     spread over the pilot's bias-instability region, each of variance
     ``Delta a_0 / (2 ln 2)`` for a spacing ``e^Delta`` (the pole weights of a Markov-sum
-    flicker, :func:`fogts.simulate.streams.flicker_poles`)."""
+    flicker, :func:`fogts.allan.markov.flicker_poles`)."""
     s2 = data.scale**2
     dur = data.n_used * data.dt
     a_n = max(pilot["N"], data.dt * s2 * 1e-3) / s2
@@ -280,9 +280,9 @@ def _candidates(names: tuple[str, ...], b_model: str, max_gm: int, data: BlockDa
 
 def _flicker_poles(data: BlockData) -> tuple[tuple[float, float], ...]:
     """The poles ``(T_i, w_i)`` of the Markov-sum flicker over this record, ``w_i =
-    q_i^2 T_i / 2`` per unit B^2 (:func:`fogts.simulate.streams.flicker_poles`: three
+    q_i^2 T_i / 2`` per unit B^2 (:func:`fogts.allan.markov.flicker_poles`: three
     per decade, Keshner 1982)."""
-    from fogts.simulate.streams import flicker_poles
+    from fogts.allan.markov import flicker_poles
 
     t, q = flicker_poles(1.0 / data.dt, data.n_used * data.dt)
     return tuple((float(ti), float(qi**2 * ti / 2)) for ti, qi in zip(t, q, strict=True))
@@ -411,7 +411,7 @@ def _drift_term(st: Structure, theta: FloatArray, data: BlockData, factor: float
     se_r = math.sqrt(max(float(pcov[1, 1]), 0.0)) * data.scale
     if r == 0.0:
         r = 1e-300
-    return _fitted_term("R", math.log(r * r / 2), 2 * se_r / r, 1.0, factor, z, quantity)
+    return fitted_term("R", math.log(r * r / 2), 2 * se_r / r, 1.0, factor, z, quantity)
 
 
 def _gm_terms(theta: FloatArray, cov: FloatArray, st: Structure, data: BlockData,
@@ -459,7 +459,7 @@ def _noise_model(curve: FitCurve, names: tuple[str, ...], st: Structure, theta: 
     z = float(norm.ppf(0.5 + confidence / 2))
     wv = _wv_data(curve, data)
     logs = _term_logs(theta, cov, st, data, wv)
-    terms = [_fitted_term(n, *logs[n], 1.0, factor, z, quantity) for n in names if n in logs]
+    terms = [fitted_term(n, *logs[n], 1.0, factor, z, quantity) for n in names if n in logs]
     if "R" in names:
         terms.append(_drift_term(st, theta, data, factor, z, quantity))
     order = {n: i for i, n in enumerate(ML_TERMS)}

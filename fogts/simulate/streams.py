@@ -23,6 +23,7 @@ import scipy.signal
 
 from fogts._typing import FloatArray
 from fogts._validate import check_int
+from fogts.allan.markov import flicker_poles
 from fogts.arma.spec import ArmaSpec
 from fogts.choices import FLICKER_METHODS, FlickerMethod
 from fogts.errors import FogtsWarning
@@ -36,9 +37,6 @@ __all__ = ["DEFAULT_CHUNK", "FLICKER_METHODS", "ArmaStream", "FlickerMethod", "a
 DEFAULT_CHUNK = 1 << 20
 #: One independent random stream per term (fixed order: never reorder, only append).
 STREAMS = ("Q", "N", "B", "K", "markov", "sine", "arma")
-_FLICKER_PPD = 3           # Markov poles per decade of correlation time
-_FLICKER_LO_DECADES = 2    # poles start at dt / 10**2
-_FLICKER_HI_FACTOR = 10.0  # ... and end at >= 10 x the record length
 #: Largest burn-in of an ARMA stream, in samples.
 _BURN_IN_CAP = 1_000_000
 
@@ -207,26 +205,6 @@ class ArmaStream(TermStream):
             return e + self.spec.const
         y, self.zi = scipy.signal.lfilter(self.b, self.a, e, zi=self.zi)
         return np.asarray(y, dtype=np.float64) + self.spec.const
-
-
-def flicker_poles(fs_hz: float, duration_s: float) -> tuple[FloatArray, FloatArray]:
-    """Correlation times T_i (s) and driving amplitudes q_i (per unit B, deg/h/sqrt(s) per
-    deg/h) of the Markov sum that approximates flicker noise over a record.
-
-    Three poles per decade from ``dt/100`` (on a grid aligned with dt) to at least
-    ``10 x duration``, with q_i^2 = 2 Delta B^2 / (pi T_i) and Delta = ln(10)/3, so that
-    sum_i (q_i T_i)^2 / (1 + (2 pi f T_i)^2) ~ B^2 / (2 pi f), the two-sided flicker PSD of
-    IEEE 952 Table C.1; the ripple of the sum keeps the Allan plateau within 0.5 % of
-    :data:`~fogts.allan.terms.B_PLATEAU` B from tau = 1/fs to half the record (Keshner, "1/f noise", Proc. IEEE 70(3), 1982,
-    for the superposition of Lorentzian spectra).
-    """
-    dt = 1.0 / fs_hz
-    k_lo = -_FLICKER_LO_DECADES * _FLICKER_PPD
-    k_hi = math.ceil(_FLICKER_PPD * math.log10(_FLICKER_HI_FACTOR * duration_s / dt))
-    T = dt * 10.0 ** (np.arange(k_lo, k_hi + 1) / _FLICKER_PPD)
-    delta = math.log(10.0) / _FLICKER_PPD
-    q = np.sqrt(2.0 * delta / (math.pi * T))
-    return T, q
 
 
 def kasdin_flicker(n: int, b: float, g: np.random.Generator) -> FloatArray:
