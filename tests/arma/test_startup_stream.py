@@ -84,7 +84,11 @@ def test_chunked_block_still_switches_to_the_steady_filter(monkeypatch: pytest.M
     stops at s = 32768 (its 8x growth).  Both switch where the rows are within 1e-13 of the
     steady filter's; a row deviation delta changes the innovations after it by up to
     delta / (1 - |theta|) = 1e-10, decaying at theta's rate, so S agrees to 1e-10
-    (measured 6e-12), D to 1e-9 (its tail, sum log F_t < 1e-13 per step, is dropped).  The
+    (measured 6e-12).  D agrees to 1e-8: its dropped tail, sum log F_t ~ theta^2t (1 -
+    theta^2) summed from 12288 on, is ~2e-11, but the 12288 log F_t themselves come from two
+    factorisations whose rows differ in the last bits, and their rounding adds up (measured
+    1.7e-9 under OPENBLAS_CORETYPE=Prescott, below 1e-9 with the default kernel); 1e-8 in
+    D is 5e-9 in the log-likelihood, far below the 0.01 AIC units a ranking reads.  The
     gradient's steady part takes the rows after s as the steady filter's, and their
     dependence on theta is O(t theta^2t): both gradients are within 2e-7 of central
     differences of S (measured), so they are compared to 1e-6."""
@@ -92,7 +96,7 @@ def test_chunked_block_still_switches_to_the_steady_filter(monkeypatch: pytest.M
     assert ev_w.s == 32768
     assert ev_c.streamed and ev_c.s == 12288
     assert ev_c.S == pytest.approx(ev_w.S, rel=1e-10)
-    assert ev_c.D == pytest.approx(ev_w.D, abs=1e-9)
+    assert ev_c.D == pytest.approx(ev_w.D, abs=1e-8)
     assert ev_c.mu == pytest.approx(ev_w.mu, rel=1e-10, abs=1e-15)
     dS_w, _, _ = whole.derivatives(ev_w, hessian=False)
     dS_c, _, _ = chunked.derivatives(ev_c, hessian=False)
