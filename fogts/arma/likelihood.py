@@ -13,10 +13,9 @@ two pieces:
   inversion a_t = x_t - sum phi_i x_{t-i} - sum theta_j a_{t-j}: one scipy.signal.lfilter pass
   started from the past of x and a_t (np.convolve for a pure AR).
 
-s starts at 512 and grows by 8x until the block is steady (up to s = n: then it is all exact
-banded Cholesky, e.g. an MA root on the unit circle).  A block longer than
-``startup_stream.CAP`` samples is not held in memory: :mod:`fogts.arma.startup_stream`
-continues the same banded Cholesky in chunks and keeps only sums and the filter's state.
+s starts at 512 and grows by 8x until the block is steady (up to s = n, e.g. an MA root on
+the unit circle).  Past ``startup_stream.CAP`` samples :mod:`fogts.arma.startup_stream`
+continues the same banded Cholesky in chunks, keeping only sums and the filter's state.
 
 sigma2 is concentrated out (sigma2_hat = S/n), leaving the profile objective
 
@@ -266,10 +265,13 @@ class ExactLikelihood:
             tail = e[s:]
             S += dot(tail, tail)
         D = float(np.sum(np.log(F))) + (math.log(ev.s11 / n) if self.mean else 0.0)
+        return self.finish(ev, S, D)
+
+    def finish(self, ev: Evaluation, S: float, D: float) -> Evaluation:
+        """Set S, D and f = nu/2 log(S/nu) + D/2 on ``ev``, the workspace's latest."""
         if not (math.isfinite(S) and S > 0.0 and math.isfinite(D)):
             raise ModelFitError(f"the likelihood is not finite (S={S}, D={D})")
-        ev.S, ev.D = S, D
-        ev.f = 0.5 * self.nu * math.log(S / self.nu) + 0.5 * D
+        ev.S, ev.D, ev.f = S, D, 0.5 * self.nu * math.log(S / self.nu) + 0.5 * D
         self.work.holder = ev
         return ev
 

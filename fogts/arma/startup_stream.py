@@ -58,7 +58,6 @@ from fogts.arma.startup_block import (
     factor_solve,
     row_deviation,
 )
-from fogts.errors import ModelFitError
 
 if TYPE_CHECKING:
     from fogts.arma.likelihood import Evaluation, ExactLikelihood
@@ -273,12 +272,7 @@ def evaluate(model: ExactLikelihood, phi: FloatArray, theta: FloatArray) -> Eval
         D += math.log(ev.s11 / n)
     if s < n:
         S += dot(e[s:], e[s:])
-    if not (math.isfinite(S) and S > 0.0 and math.isfinite(D)):
-        raise ModelFitError(f"the likelihood is not finite (S={S}, D={D})")
-    ev.S, ev.D = S, D
-    ev.f = 0.5 * model.nu * math.log(S / model.nu) + 0.5 * D
-    model.work.holder = ev
-    return ev
+    return model.finish(ev, S, D)
 
 
 def _remove_mean(model: ExactLikelihood, ev: Evaluation, e: FloatArray, sx1: float,
