@@ -60,8 +60,9 @@ def _fit(method: str, run: Any, curve: Any, fs_hz: float) -> Any:
         return fit_noise(curve, method=method)  # type: ignore[arg-type]
 
 
-def one_run(case: str, seed: int, fs_hz: float, duration: str) -> dict[str, Any]:
-    """Simulate one record and fit it with each method."""
+def one_run(case: str, seed: int, fs_hz: float, duration: str,
+            methods: tuple[str, ...] = METHODS) -> dict[str, Any]:
+    """Simulate one record and fit it with each of ``methods``."""
     from fogts.allan import allan_deviation
     from fogts.simulate.gyro import simulate_gyro
 
@@ -69,7 +70,7 @@ def one_run(case: str, seed: int, fs_hz: float, duration: str) -> dict[str, Any]
     run = simulate_gyro(CASES[case], fs_hz=fs_hz, duration_s=duration, rng=seed)
     curve = allan_deviation(run, taus="octave")
     out: dict[str, Any] = {"case": case, "seed": seed}
-    for method in METHODS:
+    for method in methods:
         t0 = time.perf_counter()
         model = _fit(method, run, curve, fs_hz)
         out[f"{method}_s"] = time.perf_counter() - t0
@@ -87,13 +88,17 @@ def one_run(case: str, seed: int, fs_hz: float, duration: str) -> dict[str, Any]
             out[f"{t}|{method}|se"] = term.stderr / term.value if term.value > 0 else math.nan
         if method == "ml" and model.ml is not None:
             out["ml_model"] = model.ml.model
+        if method == "gmwm" and model.gmwm is not None:
+            out["j_ok"] = model.gmwm.consistent
     return out
 
 
-def study(*, seeds: int, fs_hz: float = 100.0, duration: str = "3h",
-          workers: int | None = 1) -> dict[str, dict[str, dict[str, float]]]:
-    """Per case and term: ``{method: median |rel err|, method_cov: coverage}``."""
-    jobs = [(c, FIRST_SEED + s, fs_hz, duration) for c in CASES for s in range(seeds)]
+def study(*, seeds: int, fs_hz: float = 100.0, duration: str = "3h", workers: int | None = 1,
+          methods: tuple[str, ...] = METHODS) -> dict[str, dict[str, dict[str, float]]]:
+    """Per case and term: ``{method: median |rel err|, method_cov: coverage}`` (and ML's
+    median relative standard error); per case ``_fits``: median fit times, how often the
+    GMWM J test accepts and ML chose the flicker model."""
+    jobs = [(c, FIRST_SEED + s, fs_hz, duration, methods) for c in CASES for s in range(seeds)]
     runs = run_jobs(one_run, jobs, workers)
     summary: dict[str, dict[str, dict[str, float]]] = {}
     for case in CASES:
@@ -101,45 +106,63 @@ def study(*, seeds: int, fs_hz: float = 100.0, duration: str = "3h",
         summary[case] = {}
         for t, true in _truths(case).items():
             cell: dict[str, float] = {"truth": true}
-            for method in METHODS:
+            for method in methods:
                 if f"{t}|{method}" not in rows[0]:
                     continue
                 vals = np.array([r[f"{t}|{method}"][0] for r in rows])
                 cell[method] = float(np.nanmedian(np.abs(vals / true - 1.0)))
                 cell[f"{method}_cov"] = float(np.mean([r[f"{t}|{method}"][1] for r in rows]))
-            cell["ml_se"] = float(np.nanmedian([r[f"{t}|ml|se"] for r in rows]))
+            if "ml" in methods:
+                cell["ml_se"] = float(np.nanmedian([r[f"{t}|ml|se"] for r in rows]))
             summary[case][t] = cell
-        models = [r.get("ml_model", "") for r in rows]
-        summary[case]["_fits"] = {
-            **{f"{m}_s": float(np.median([r[f"{m}_s"] for r in rows])) for m in METHODS},
-            "ml_flicker": float(np.mean(["B" in m.split(" + ") for m in models])),
-        }
+        fits = {f"{m}_s": float(np.median([r[f"{m}_s"] for r in rows])) for m in methods}
+        if "gmwm" in methods:
+            fits["j_ok"] = float(np.mean([r.get("j_ok", False) for r in rows]))
+        if "ml" in methods:
+            models = [r.get("ml_model", "") for r in rows]
+            fits["ml_flicker"] = float(np.mean(["B" in m.split(" + ") for m in models]))
+        summary[case]["_fits"] = fits
     return summary
 
 
+_LABEL = {"wls": "WLS", "gmwm": "GMWM", "ml": "ML"}
+
+
 def markdown(summary: dict[str, dict[str, dict[str, float]]], *, seeds: int,
-             fs_hz: float, duration: str) -> str:
-    lines = [f"ML beside WLS and GMWM: {seeds} seeds per case, {duration} at {fs_hz:g} Hz. "
-             "Median |relative error| (ML/WLS ratio), 68.3 % interval coverage, and ML's "
-             "median relative standard error (observed information).", "",
-             "| case | term | WLS error | GMWM error | ML error | ML/WLS | WLS cov. "
-             "| GMWM cov. | ML cov. | ML se |", "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|"]
+             fs_hz: float, duration: str, methods: tuple[str, ...] = METHODS) -> str:
+    """The study's tables: per case and term each method's median |relative error| (and its
+    ratio to WLS's), 68.3 % coverage, and ML's median relative standard error."""
+    names = [_LABEL[m] for m in methods]
+    others = [m for m in methods if m != "wls"]
+    head = (["case", "term"] + [f"{n} error" for n in names]
+            + [f"{_LABEL[m]}/WLS" for m in others] + [f"{n} cov." for n in names]
+            + (["ML se"] if "ml" in methods else []))
+    lines = [f"{' beside '.join(reversed(names))}: {seeds} seeds per case, {duration} at "
+             f"{fs_hz:g} Hz. Median |relative error|, its ratio to WLS's, 68.3 % interval "
+             "coverage" + (", and ML's median relative standard error (observed "
+                           "information)." if "ml" in methods else "."), "",
+             "| " + " | ".join(head) + " |", "|---|---|" + "---:|" * (len(head) - 2)]
     for case, terms in summary.items():
         for t, c in terms.items():
             if t == "_fits":
                 continue
             wls = c.get("wls", math.nan)
-            ratio = c["ml"] / wls if wls > 0 else math.nan
-            lines.append(f"| {case} | {t} | {_pct(wls)} | {_pct(c['gmwm'])} | "
-                         f"{_pct(c['ml'])} | {ratio:.2f} | {_pct(c.get('wls_cov', math.nan), 0)}"
-                         f" | {_pct(c['gmwm_cov'], 0)} | {_pct(c['ml_cov'], 0)} | "
-                         f"{_pct(c['ml_se'])} |")
-    lines += ["", "| case | ML chose the flicker model | median fit (s): WLS / GMWM / ML |",
-              "|---|---:|---:|"]
+            cells = ([_pct(c.get(m, math.nan)) for m in methods]
+                     + [f"{c.get(m, math.nan) / wls:.2f}" if wls > 0 else "–" for m in others]
+                     + [_pct(c.get(f"{m}_cov", math.nan), 0) for m in methods]
+                     + ([_pct(c["ml_se"])] if "ml" in methods else []))
+            lines.append(f"| {case} | {t} | " + " | ".join(cells) + " |")
+    lines += ["", "| case | median fit (s): " + " / ".join(names)
+              + (" | GMWM J test accepts" if "gmwm" in methods else "")
+              + (" | ML chose the flicker model" if "ml" in methods else "") + " |",
+              "|---|---:|" + ("---:|" if "gmwm" in methods else "")
+              + ("---:|" if "ml" in methods else "")]
     for case, terms in summary.items():
         f = terms["_fits"]
-        lines.append(f"| {case} | {_pct(f['ml_flicker'], 0)} | {f['wls_s']:.2f} / "
-                     f"{f['gmwm_s']:.2f} / {f['ml_s']:.2f} |")
+        row = f"| {case} | " + " / ".join(f"{f[f'{m}_s']:.2f}" for m in methods)
+        row += f" | {_pct(f['j_ok'], 0)}" if "gmwm" in methods else ""
+        row += f" | {_pct(f['ml_flicker'], 0)}" if "ml" in methods else ""
+        lines.append(row + " |")
     return "\n".join(lines) + "\n"
 
 
