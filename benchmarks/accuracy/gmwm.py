@@ -42,9 +42,11 @@ def _truths(case: str) -> dict[str, float]:
             "GM sigma": truth["q_c"] * math.sqrt(truth["T_c"] / 2.0), "GM T_c": truth["T_c"]}
 
 
-def _gm_estimate(model: Any) -> dict[str, tuple[float, bool]]:
-    """The GMWM fit's single GM (value, covered), NaN if it did not choose exactly one."""
-    gms: tuple[Any, ...] = model.gmwm.gauss_markov if model.gmwm is not None else ()
+def _gm_estimate(model: Any, method: str = "gmwm") -> dict[str, tuple[float, bool]]:
+    """The fit's single Gauss-Markov term (value, covered) from ``model.gmwm`` or
+    ``model.ml`` (``method``), NaN if it did not choose exactly one."""
+    summary = getattr(model, method)
+    gms: tuple[Any, ...] = summary.gauss_markov if summary is not None else ()
     truth = _truths("white + RW + GM")
     if len(gms) != 1:
         return {"GM sigma": (math.nan, False), "GM T_c": (math.nan, False)}

@@ -28,19 +28,6 @@ from benchmarks.accuracy.roundtrip import FIRST_SEED, GRADES, run_jobs
 METHODS = ("wls", "gmwm", "ml")
 
 
-def _ml_gm(model: Any) -> dict[str, tuple[float, bool]]:
-    """The ML fit's single Gauss-Markov term (value, covered), NaN unless it chose one."""
-    gms: tuple[Any, ...] = model.ml.gauss_markov if model.ml is not None else ()
-    truth = _truths("white + RW + GM")
-    if len(gms) != 1:
-        return {"GM sigma": (math.nan, False), "GM T_c": (math.nan, False)}
-    g = gms[0]
-    pairs = {"GM sigma": (float(g.sigma), float(g.sigma_stderr)),
-             "GM T_c": (float(g.t_c), float(g.t_c_stderr))}
-    return {key: (v, abs(math.log(truth[key] / v)) <= se / v)
-            for key, (v, se) in pairs.items()}
-
-
 def _ml_gm_se(model: Any) -> dict[str, float]:
     gms: tuple[Any, ...] = model.ml.gauss_markov if model.ml is not None else ()
     if len(gms) != 1:
@@ -74,8 +61,7 @@ def one_run(case: str, seed: int, fs_hz: float, duration: str,
         t0 = time.perf_counter()
         model = _fit(method, run, curve, fs_hz)
         out[f"{method}_s"] = time.perf_counter() - t0
-        gm = (_gm_estimate(model) if method == "gmwm" else
-              _ml_gm(model) if method == "ml" else {})
+        gm = _gm_estimate(model, method) if method in ("gmwm", "ml") else {}
         for t in truth:
             if t.startswith("GM"):
                 if gm:
