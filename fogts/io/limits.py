@@ -26,12 +26,13 @@ import re
 import stat
 import zipfile
 from pathlib import Path
+from typing import Any, NamedTuple
 
 from fogts.errors import DataError
 from fogts.io.paths import file_kind
 
-__all__ = ["MAX_LINE_BYTES", "check_regular_file", "first_long_line", "max_input_bytes",
-           "read_capped", "too_big"]
+__all__ = ["MAX_LINE_BYTES", "NpyHeader", "check_regular_file", "first_long_line",
+           "max_input_bytes", "read_capped", "too_big"]
 
 #: Longest text line accepted (a gyro record's line is well under 1 KiB).
 MAX_LINE_BYTES = 1 << 20
@@ -193,9 +194,19 @@ def _read_chunks(stream: gzip.GzipFile, source: str, limit: int) -> bytes:
     return b"".join(chunks)
 
 
-def check_npy(path: Path) -> None:
+class NpyHeader(NamedTuple):
+    """What an ``.npy`` header declares: the shape, the memory order, the element type and
+    where the data start."""
+
+    shape: tuple[int, ...]
+    fortran_order: bool
+    dtype: Any
+    offset: int
+
+
+def check_npy(path: Path) -> NpyHeader:
     """Refuse an ``.npy`` whose header declares more than the input limit, or more data
-    than the file holds (truncated), before loading it."""
+    than the file holds (truncated), before loading it; its header otherwise."""
     import numpy as np
 
     st = check_regular_file(path)
@@ -207,18 +218,19 @@ def check_npy(path: Path) -> None:
                       else np.lib.format.read_array_header_2_0(fh))
         except ValueError as exc:
             raise DataError(f"{source!r} is not a valid .npy file ({exc})") from None
-        offset = fh.tell()
-    shape, _, dtype = header
-    if dtype.hasobject:
-        return  # np.load(allow_pickle=False) refuses it with its own message
-    n_bytes = int(np.prod(shape, dtype=np.int64)) * dtype.itemsize
+        found = NpyHeader(tuple(header[0]), bool(header[1]), header[2], fh.tell())
+    if found.dtype.hasobject:
+        return found  # np.load(allow_pickle=False) refuses it with its own message
+    n_bytes = int(np.prod(found.shape, dtype=np.int64)) * found.dtype.itemsize
     limit = max_input_bytes()
     if n_bytes > limit:
-        raise too_big(source, f"the array {tuple(shape)} of {dtype} needs {_human(n_bytes)},",
-                       limit)
-    if offset + n_bytes > st.st_size:
-        raise DataError(f"{source!r} is truncated: its header declares {tuple(shape)} {dtype} "
-                        f"({n_bytes} bytes) but the file holds {st.st_size - offset}")
+        raise too_big(source, f"the array {found.shape} of {found.dtype} needs "
+                      f"{_human(n_bytes)},", limit)
+    if found.offset + n_bytes > st.st_size:
+        raise DataError(f"{source!r} is truncated: its header declares {found.shape} "
+                        f"{found.dtype} ({n_bytes} bytes) but the file holds "
+                        f"{st.st_size - found.offset}")
+    return found
 
 
 def check_npz(path: Path) -> None:

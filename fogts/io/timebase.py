@@ -83,9 +83,8 @@ def _datetime_seconds(index: pd.DatetimeIndex | pd.TimedeltaIndex) -> tuple[Floa
 
 def _check_monotonic(time: FloatArray, name: str, table: Table) -> FloatArray:
     dt = np.diff(time)
-    bad = dt <= 0
-    if bad.any():
-        i = int(np.argmax(bad)) + 1
+    if dt.size and dt.min() <= 0:  # a pass without allocation before the search
+        i = int(np.argmax(dt <= 0)) + 1
         kind = "duplicated" if dt[i - 1] == 0 else "decreasing"
         raise DataError(f"time column {name!r} is {kind} at {where(table, i)}: "
                         f"t={time[i]:.9g} after t={time[i - 1]:.9g}; time stamps must be "
@@ -145,16 +144,16 @@ def sampling_report(dt: FloatArray | None, fs_hz: float, fs_source: str, *,
     if dt is None:
         return SamplingReport(nominal, 0, nominal, (), 0.0, 0.0, True, False, nominal, fs_source)
     median, mean = steps if steps is not None else step_stats(dt)
-    gaps = dt > GAP_FACTOR * nominal
-    gap_at = np.flatnonzero(gaps)
-    normal = dt[~gaps] if gap_at.size else dt
+    longest = float(dt.max())
+    gap_at = _steps_above(dt, GAP_FACTOR * nominal, longest)
+    normal = np.delete(dt, gap_at) if gap_at.size else dt
     jitter = float(np.std(normal)) if normal.size > 1 else 0.0
     gap_rows = tuple(int(i) for i in gap_at[:100])
     jitter_rel = jitter / nominal
     return SamplingReport(
         median_dt_s=median,
         n_gaps=int(gap_at.size),
-        max_gap_s=float(dt.max()),
+        max_gap_s=longest,
         gap_rows=gap_rows,
         jitter_s=jitter,
         jitter_rel=jitter_rel,
@@ -163,6 +162,14 @@ def sampling_report(dt: FloatArray | None, fs_hz: float, fs_source: str, *,
         mean_dt_s=mean,
         fs_source=fs_source,
     )
+
+
+def _steps_above(dt: FloatArray, threshold: float, longest: float) -> np.ndarray:
+    """Indices of the steps longer than ``threshold``; ``longest`` (``dt.max()``) spares
+    the search in the usual case of none."""
+    if longest <= threshold:
+        return np.empty(0, dtype=np.intp)
+    return np.flatnonzero(dt > threshold)
 
 
 def _round_rate(fs: float) -> float:
@@ -195,7 +202,7 @@ def sample_rate(dt: FloatArray | None, given: float | None, from_file: float | N
         return given, "given"
     if dt is not None:
         median, mean = steps if steps is not None else step_stats(dt)
-        long = dt[dt > GAP_FACTOR * median]
+        long = dt[_steps_above(dt, GAP_FACTOR * median, float(dt.max()))]
         if long.size <= 0.05 * dt.size or _whole_multiples(long / median):
             return _round_rate(1.0 / median), "median step"
         # stacklevel 4: the warning names the caller of read_run

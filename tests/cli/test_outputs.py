@@ -166,6 +166,9 @@ def test_main_turns_any_escaped_exception_into_one_line(
 
     monkeypatch.setattr(fogts.cli, "app", broken)
     monkeypatch.setattr(fogts.cli, "_hoist_global_flags", lambda argv: argv)
+    # The app's callback, which sets --debug, never runs here: an earlier test's --debug
+    # on the same worker must not leak in.
+    monkeypatch.setitem(fogts.cli._common._STATE, "debug", False)
     with pytest.raises(SystemExit) as exc:
         main(["info", "x.csv"])
     assert exc.value.code == 2

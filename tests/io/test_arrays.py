@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import numpy as np
@@ -61,3 +62,54 @@ def test_3d_array_refused() -> None:
 def test_bad_npy_signature(tmp_path: Path) -> None:
     with pytest.raises(DataError, match=r"not a valid .npy file \(wrong signature\)"):
         read_run(write_file(tmp_path, "x.npy", b"garbage"), fs_hz=1.0)
+
+
+@pytest.mark.parametrize("shape", [(3 * (1 << 16) + 5,), ((1 << 16) + 7, 3), (5,)])
+def test_npy_chunked_read_is_np_load(tmp_path: Path, shape: tuple[int, ...]) -> None:
+    """The chunked, checked read of a float64 ``.npy`` (chunks of 2^16 values) gives
+    ``np.load``'s values bit for bit, across chunk edges and for several axes."""
+    x = np.random.default_rng(1).normal(size=shape)
+    np.save(tmp_path / "x.npy", x)
+    run = read_run(tmp_path / "x.npy", fs_hz=10.0)
+    np.testing.assert_array_equal(run.rate, x)
+
+
+@pytest.mark.parametrize(("bad", "shown"), [(np.nan, "nan"), (np.inf, "inf"),
+                                            (1e200, "the value 1e+200")])
+def test_npy_bad_value_in_a_later_chunk_is_named(tmp_path: Path, bad: float, shown: str
+                                                 ) -> None:
+    x = np.zeros((1 << 17) + 3)
+    x[(1 << 16) + 9] = bad  # in the second chunk
+    np.save(tmp_path / "x.npy", x)
+    with pytest.raises(DataError,
+                       match=re.escape(f"column 'rate' has {shown} at row {(1 << 16) + 9}")):
+        read_run(tmp_path / "x.npy", fs_hz=10.0)
+
+
+@pytest.mark.parametrize("arr", [np.arange(10.0).astype(">f8"), np.arange(10, dtype=np.float32),
+                                 np.asfortranarray(np.arange(20.0).reshape(10, 2))])
+def test_npy_other_layouts_load_as_before(tmp_path: Path, arr: np.ndarray) -> None:
+    """Big-endian, float32 and Fortran-ordered arrays take ``np.load``; same values."""
+    np.save(tmp_path / "x.npy", arr)
+    run = read_run(tmp_path / "x.npy", fs_hz=10.0)
+    np.testing.assert_array_equal(run.rate, arr.astype(np.float64))
+
+
+def test_npy_that_shrinks_while_read_is_refused(tmp_path: Path,
+                                                monkeypatch: pytest.MonkeyPatch) -> None:
+    """A file cut short after its header was checked (e.g. still being written): a clear
+    error, not a half-filled array."""
+    import fogts.io.arrays as arrays
+
+    np.save(tmp_path / "x.npy", np.zeros(1000))
+    real = arrays.check_npy
+
+    def check_then_truncate(path: Path) -> object:
+        header = real(path)
+        with open(path, "r+b") as fh:
+            fh.truncate(header.offset + 800)
+        return header
+
+    monkeypatch.setattr(arrays, "check_npy", check_then_truncate)
+    with pytest.raises(DataError, match="is truncated: it ended while its data were read"):
+        read_run(tmp_path / "x.npy", fs_hz=10.0)
