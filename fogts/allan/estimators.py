@@ -56,7 +56,7 @@ from fogts.errors import DataError
 
 __all__ = ["ESTIMATORS", "EstimatorOutput", "PhasedEstimate", "adev", "estimate_from_angle",
            "estimate_with_sums", "hdev", "mdev", "oadev", "ohdev", "phase_deviations",
-           "phase_from_rate", "totdev"]
+           "phase_from_rate", "thread_count", "totdev"]
 
 #: Below this many (terms x taus) the thread pool costs more than it saves.
 _PARALLEL_MIN_WORK = 4_000_000
@@ -133,7 +133,9 @@ _SUM_OF_SQUARES: dict[str, SumOfSquares] = {
 }
 
 
-def _workers(workers: int | None, n_taus: int, work: int) -> int:
+def thread_count(workers: int | None, n_taus: int, work: int) -> int:
+    """Threads to spread ``n_taus`` taus over: ``workers`` when given (at most one a
+    tau), else all cores once the ``work`` (terms summed over the taus) pays for a pool."""
     if workers is not None:
         return min(check_int("workers", workers, minimum=1), max(n_taus, 1))
     if work < _PARALLEL_MIN_WORK or n_taus < 2:
@@ -249,7 +251,7 @@ def _run_phased(kind: str, y: Any, fs_hz: float, m: npt.ArrayLike, workers: int 
         raise DataError(f"angle must have one point more than the rate ({arr.size + 1}), "
                         f"got shape {angle.shape}")
     x = phase_from_rate(arr) if angle is None else phase_from_angle(angle, fs)
-    nw = _workers(workers, mm.size, int(terms.sum()))
+    nw = thread_count(workers, mm.size, int(terms.sum()))
 
     def job(idx: list[int]) -> list[tuple[float, DecimatedSums | None]]:
         if len(idx) > 1:
