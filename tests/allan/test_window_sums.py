@@ -37,3 +37,20 @@ def test_kernel_devs_of_one_window_is_the_estimator() -> None:
     m = np.array([1, 4, 16])
     out = kernel_devs(y, kind="hdev", m=m, starts=np.array([0, 300]), win_n=500, fs=2.0)
     np.testing.assert_allclose(out[1], hdev(y[300:800], fs_hz=2.0, m=m).dev, rtol=1e-15)
+
+
+@pytest.mark.parametrize("kind", CUMSUM_KINDS)
+def test_taus_on_threads_give_the_serial_numbers(monkeypatch: pytest.MonkeyPatch,
+                                                 kind: str) -> None:
+    """Each tau's column is computed alone, so the thread pool changes no sum: the same
+    array bit for bit as one thread (the pool runs whenever the machine has two cores)."""
+    y = np.random.default_rng(11).normal(size=20_000)
+    win_n, step = 4000, 1000
+    m = np.array([1, 3, 10, 30, 100, 300])
+    starts = np.arange((y.size - win_n) // step + 1, dtype=np.int64) * step
+    terms = n_terms(kind, m, win_n)
+    monkeypatch.setattr(window_sums, "thread_count", lambda *_: 3)
+    threaded = cumsum_devs(y, kind=kind, m=m, terms=terms, starts=starts)
+    monkeypatch.setattr(window_sums, "thread_count", lambda *_: 1)
+    serial = cumsum_devs(y, kind=kind, m=m, terms=terms, starts=starts)
+    assert np.array_equal(threaded, serial)
