@@ -86,6 +86,11 @@ class Transient:
 class Nonstationarity:
     """How much the deviation varies between windows, against chance.
 
+    :func:`~fogts.allan.dynamic.dynamic_allan` computes it from the windows' variances
+    (:attr:`DynamicAllanResult.nonstationarity`).  A record is called non-stationary only
+    when the change is both significant and large (``min_change``): a long record makes a
+    tiny change significant.
+
     Attributes
     ----------
     tau_s : float

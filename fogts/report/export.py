@@ -52,6 +52,9 @@ _FILTER_TERMS = ("N", "K")
 class ExportedTerm:
     """One term of one axis as exported: its SI value and whether it is only a limit.
 
+    :func:`exported_terms` gives one for each term a filter needs (N and K); each export
+    format writes them in its own layout and names, with :attr:`comment` where it has room.
+
     Attributes
     ----------
     axis : str
