@@ -132,7 +132,7 @@ class SpecCheck:
     Attributes
     ----------
     name : str
-        The IEEE-952 term, as the datasheet names it (``"N"``, ``"K"``, ``"B"``, ...).
+        The term: ``"N"``, ``"B"`` or ``"K"`` (:data:`SPEC_TERMS`).
     limit_deg : float
         The limit in degree units.
     compared_deg : float or None

@@ -52,8 +52,9 @@ _FILTER_TERMS = ("N", "K")
 class ExportedTerm:
     """One term of one axis as exported: its SI value and whether it is only a limit.
 
-    :func:`exported_terms` gives one for each term a filter needs (N and K); each export
-    format writes them in its own layout and names, with :attr:`comment` where it has room.
+    :func:`exported_terms` gives one for each term a filter needs (N and K); the Kalibr and
+    imu_utils files note its :attr:`comment` in a comment, the JSON export ``is_limit`` as
+    ``"upper_limit"``.
 
     Attributes
     ----------
