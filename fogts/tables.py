@@ -13,13 +13,13 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
     import pandas as pd
 
-__all__ = ["Column", "Table", "TableView", "format_cell"]
+__all__ = ["Column", "Table", "TableView", "fields_dict", "format_cell"]
 
 #: What an empty, NaN or infinite cell shows.
 MISSING = "–"
@@ -35,6 +35,15 @@ class Column:
     digits: int = 4
     fixed: bool = False
     signed: bool = False
+
+
+def fields_dict(result: Any, **keys: str) -> dict[str, Any]:
+    """The fields of a dataclass result as its ``to_dict`` mapping, in field order.
+
+    ``keys`` renames fields: ``fields_dict(term, t_c="t_c_s")`` writes the field ``t_c``
+    under ``"t_c_s"``.  The values are the fields themselves (no copy, no recursion).
+    """
+    return {keys.get(f.name, f.name): getattr(result, f.name) for f in fields(result)}
 
 
 def format_cell(value: Any, column: Column) -> str:

@@ -126,9 +126,13 @@ def _limit(source: str, name: str, value: Any) -> float:
 class SpecCheck:
     """One term against its datasheet limit.
 
+    :func:`check_spec` makes one per term of the :class:`NoiseSpec`, fitted or not;
+    ``to_dict`` writes ``name`` as ``"term"`` and adds the :attr:`verdict`.
+
     Attributes
     ----------
     name : str
+        The term: ``"N"``, ``"B"`` or ``"K"`` (:data:`SPEC_TERMS`).
     limit_deg : float
         The limit in degree units.
     compared_deg : float or None

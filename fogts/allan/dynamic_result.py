@@ -86,6 +86,11 @@ class Transient:
 class Nonstationarity:
     """How much the deviation varies between windows, against chance.
 
+    :func:`~fogts.allan.dynamic.dynamic_allan` computes it from the windows' variances
+    (:attr:`DynamicAllanResult.nonstationarity`).  A significant score alone does not make
+    the record non-stationary: the change (or a transient) must also reach ``min_change``,
+    since a long record makes a tiny change significant.
+
     Attributes
     ----------
     tau_s : float

@@ -7,6 +7,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
+from fogts.tables import fields_dict
+
 __all__ = ["GaussMarkovTerm", "GmwmSummary"]
 
 
@@ -28,9 +30,8 @@ class GaussMarkovTerm:
     t_c: float
     t_c_stderr: float
 
-    def to_dict(self) -> dict[str, float]:
-        return {"sigma": self.sigma, "sigma_stderr": self.sigma_stderr, "t_c_s": self.t_c,
-                "t_c_stderr": self.t_c_stderr}
+    def to_dict(self) -> dict[str, Any]:
+        return fields_dict(self, t_c="t_c_s")
 
 
 @dataclass(frozen=True)

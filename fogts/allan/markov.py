@@ -164,6 +164,8 @@ class ExtraTerm:
     Attributes
     ----------
     name, description : str
+        The family's letter and words (:class:`ExtraFamily`): ``"M"``, first-order Markov
+        (correlated) noise, or ``"S"``, a sinusoid.
     amplitude, amplitude_stderr : float
         ``q_c`` (deg/h/sqrt(s)) or ``Omega_0`` (deg/h); the standard error includes the
         parameter's uncertainty (profile delta method, :mod:`fogts.allan.noise_extra`).

@@ -29,7 +29,7 @@ import pandas as pd
 from fogts._typing import FloatArray
 from fogts.allan.terms import B_PLATEAU, TERM_SLOPE, TERMS, from_seconds, term_rows
 from fogts.errors import DataError, InsufficientDataError
-from fogts.tables import Column, Table
+from fogts.tables import Column, Table, fields_dict
 from fogts.units import term_in_units, term_unit
 
 __all__ = ["CurveReadout", "DominantRange", "SlopeReadoff", "read_curve", "slope_readoff"]
@@ -45,8 +45,7 @@ class DominantRange:
     slope: float
 
     def to_dict(self) -> dict[str, Any]:
-        return {"term": self.term, "tau_from": self.tau_from_s, "tau_to": self.tau_to_s,
-                "slope": self.slope}
+        return fields_dict(self, tau_from_s="tau_from", tau_to_s="tau_to")
 
 
 @dataclass(frozen=True)

@@ -45,10 +45,9 @@ class GaussMarkov:
     white : float
         Standard deviation per sample of the white noise beside the process (ARMA(1,1);
         0 for AR(1); NaN otherwise).
-    rad_s_per_unit : float
-        One rate unit in rad/s: the factor of :attr:`sigma_si`, :attr:`q_si` and
-        :attr:`white_si`, the same three in rad/s and rad/s/sqrt(s).
     units : str
+        The rate unit of ``sigma``, ``q`` and ``white``; :attr:`rad_s_per_unit` follows
+        from it.
     model : str
         The ARMA model it was derived from.
     """
@@ -59,9 +58,14 @@ class GaussMarkov:
     sigma: float
     q: float
     white: float
-    rad_s_per_unit: float
     units: str
     model: str
+
+    @property
+    def rad_s_per_unit(self) -> float:
+        """One rate unit in rad/s: the factor of :attr:`sigma_si`, :attr:`q_si` and
+        :attr:`white_si`, the same three in rad/s and rad/s/sqrt(s)."""
+        return float(convert_rate(1.0, self.units, "rad/s"))
 
     @property
     def sigma_si(self) -> float:
@@ -113,9 +117,8 @@ def gauss_markov(candidate: Candidate, fs_hz: float | None, units: str | None
     sigma = math.sqrt(var_w / (1.0 - phi * phi)) if var_w > 0 else math.nan
     q = sigma * math.sqrt(2.0 / tau_c)
     white = math.sqrt(var_e) if var_e >= 0 else math.nan
-    to_si = float(convert_rate(1.0, units, "rad/s"))
     return GaussMarkov(phi=phi, dt_s=dt, tau_c_s=tau_c, sigma=sigma, q=q, white=white,
-                       rad_s_per_unit=to_si, units=units, model=candidate.model)
+                       units=units, model=candidate.model)
 
 
 def _split(candidate: Candidate, phi: float) -> tuple[float, float]:

@@ -19,11 +19,18 @@ import numpy as np
 from fogts._typing import FloatArray
 from fogts.errors import ModelFitError
 
-__all__ = ["TOL_FLOOR", "TOL_STEADY", "ansley_z", "banded_innovations", "factor_solve",
-           "row_deviation"]
+__all__ = ["TOL_FLOOR", "TOL_STEADY", "ansley_z", "band_orders", "banded_innovations",
+           "factor_solve", "row_deviation"]
 
 TOL_STEADY = 1e-13     # the block is steady when its last row is this close to the filter's
 TOL_FLOOR = 1e-11      # ... or this close, and no closer than half-way through the block
+
+
+def band_orders(phi: FloatArray, theta: FloatArray) -> tuple[int, int, int]:
+    """``(p, q, m)``: the AR and MA orders and the half-bandwidth ``m = max(p, q, 1)`` of the
+    start-up block's covariance (Ansley's z is an MA(q) beyond its first p rows)."""
+    p, q = phi.size, theta.size
+    return p, q, max(p, q, 1)
 
 
 def _psi_weights(phi: FloatArray, theta: FloatArray, nlag: int) -> FloatArray:
@@ -56,8 +63,7 @@ def _arma_acov(phi: FloatArray, theta: FloatArray, psi: FloatArray, nlag: int) -
 
 def _band_covariance(phi: FloatArray, theta: FloatArray, s: int) -> FloatArray:
     """The band of Cov(z) in LAPACK's lower storage: ab[d, j] = Cov(z_{j+d}, z_j)."""
-    p, q = phi.size, theta.size
-    m = max(p, q, 1)
+    p, q, m = band_orders(phi, theta)
     th = np.empty(q + 1)
     th[0] = 1.0
     th[1:] = theta
@@ -96,8 +102,7 @@ def banded_innovations(phi: FloatArray, theta: FloatArray, x: FloatArray, *,
     ModelFitError
         The block's covariance is not positive definite (a non-stationary phi).
     """
-    p, q = phi.size, theta.size
-    m = max(p, q, 1)
+    p, q, m = band_orders(phi, theta)
     s = x.shape[0]
     c, e, F, _ = factor_solve(_band_covariance(phi, theta, s), ansley_z(phi, x, with_ones), s)
     steady = False

@@ -55,6 +55,7 @@ from fogts.arma.startup_block import (
     TOL_STEADY,
     _band_covariance,
     ansley_z,
+    band_orders,
     factor_solve,
     row_deviation,
 )
@@ -202,8 +203,7 @@ def chunks(phi: FloatArray, theta: FloatArray, series: SeriesFn, n: int, *,
     ModelFitError
         A chunk's covariance is not positive definite (a non-stationary phi).
     """
-    p, q = phi.size, theta.size
-    m = max(p, q, 1)
+    p, q, m = band_orders(phi, theta)
     size = max(CAP if cap is None else cap, 2 * (p + m))
     end = n if stop is None else stop
     g = _ma_acov(theta, m)

@@ -121,6 +121,10 @@ class BatchOptions(InputColumns):
 class RunOutcome:
     """The result of analysing one file.
 
+    A worker returns one per file; ``resume`` rebuilds it from the per-run JSON of a file
+    already done (:func:`~fogts.batch.files.load_resumed`).  :meth:`to_dict` leaves out the
+    ``document`` and ``persist``.
+
     Attributes
     ----------
     file : str

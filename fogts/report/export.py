@@ -52,6 +52,10 @@ _FILTER_TERMS = ("N", "K")
 class ExportedTerm:
     """One term of one axis as exported: its SI value and whether it is only a limit.
 
+    :func:`exported_terms` gives one for each term a filter needs (N and K); the Kalibr and
+    imu_utils files note its :attr:`comment` in a comment, the JSON export ``is_limit`` as
+    ``"upper_limit"``.
+
     Attributes
     ----------
     axis : str

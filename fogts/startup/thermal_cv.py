@@ -65,6 +65,10 @@ EXTRAPOLATION_TOL = 0.05
 class CvFold:
     """One held-out part: a run or a time block.
 
+    Its fold model is fitted without this part (and, for a block, without the guard bands
+    beside it) and judged on it alone: :attr:`ratio` above 1 means the compensation helped
+    where it was not fitted.
+
     Attributes
     ----------
     label : str
@@ -101,11 +105,16 @@ class CvFold:
 class ThermalCrossValidation:
     """Out-of-sample bias-stability gain of the thermal model (:func:`thermal_cross_validation`).
 
+    Two or more runs are cross-validated by holding out one run at a time, a single run by
+    holding out contiguous time blocks; a block that would need the model to extrapolate in
+    temperature is not scored.
+
     Attributes
     ----------
     scheme : str
         ``"held-out runs"`` or ``"time blocks"``.
     folds : tuple of CvFold
+        Every held-out part, scored or not, in the order of the runs or blocks.
     ratio : float
         Geometric mean of the scored folds' before/after ratios (NaN when none is scored).
     low, high : float

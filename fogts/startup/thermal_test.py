@@ -45,6 +45,10 @@ DEFAULT_ALPHA = 0.001
 class ThermalSignificance:
     """The verdict on a temperature dependence, from :func:`thermal_significance`.
 
+    The likelihood-ratio test of a local level with the thermal regressors against one
+    without them (module docstring); an untestable record (a span below
+    :data:`MIN_SPAN_DEGC`) is never significant and has NaN statistic and p-value.
+
     Attributes
     ----------
     testable : bool
