@@ -61,6 +61,7 @@ _MODULE_NAMES: dict[str, str] = {
     "fogts.simulate.gyro": "simulate_gyro",
     "fogts.simulate.arma_series": "simulate_arma",
     "fogts.simulate.noise_spec": "NoiseSpec",
+    "fogts.simulate.bootstrap": "bootstrap_noise NoiseBootstrap",
     "fogts.arma.spec": "ArmaSpec",
     "fogts.startup.simulator": "simulate_startup",
     "fogts.preprocess.filters": "lowpass moving_average FilterResult",
@@ -148,6 +149,7 @@ if TYPE_CHECKING:  # the names of _MODULE_NAMES, static for type checkers and ID
     from fogts.report import plots
     from fogts.report.html import build_report, write_report
     from fogts.simulate.arma_series import simulate_arma
+    from fogts.simulate.bootstrap import NoiseBootstrap, bootstrap_noise
     from fogts.simulate.gyro import simulate_gyro
     from fogts.simulate.noise_spec import NoiseSpec
     from fogts.startup.compensation import bias_stability, compensate

@@ -23,6 +23,7 @@ if TYPE_CHECKING:
     from fogts.allan.api import TauSpec
     from fogts.allan.misfit import FitCheck
     from fogts.allan.noise import NoiseModel
+    from fogts.allan.noise_compare import MethodComparison
     from fogts.allan.plausibility import PlausibilityReport
     from fogts.allan.readout import CurveReadout
     from fogts.allan.result import AllanResult
@@ -100,7 +101,8 @@ def load(path: str | os.PathLike[str], settings: ReadSettings | None = None
 class AllanSettings:
     """The Allan analysis of one axis: estimator, tau grid and confidence
     (:func:`fogts.allan_deviation`), the noise fit (:func:`fogts.fit_noise`; ``significance``
-    None keeps every term), optional preparation (:func:`fogts.prepare`: the data are
+    None keeps every term; ``compare_methods``: further methods fitted beside ``method``,
+    shown side by side in :attr:`AxisAllan.comparison`), optional preparation (:func:`fogts.prepare`: the data are
     analysed raw unless ``outliers``, ``detrend`` or ``decimate`` is given), the allantools
     cross-check and the thread count."""
 
@@ -109,6 +111,7 @@ class AllanSettings:
     confidence: float = 0.683
     terms: tuple[str, ...] = _ALL_TERMS
     method: str = "wls"
+    compare_methods: tuple[str, ...] = ()
     significance: float | None = 0.05
     bias_correction: bool = False
     outliers: float | None = None
@@ -157,6 +160,9 @@ class AxisAllan:
         (:func:`fogts.allan.misfit.check_fit`), over the fit range.
     fit_range : (float or None, float or None) or None
         The tau range the noise terms were fitted over (None: every point).
+    comparison : MethodComparison or None
+        With ``AllanSettings.compare_methods``: every method's fit side by side, ``model``
+        (the primary fit) first.
     """
 
     result: AllanResult
@@ -168,6 +174,7 @@ class AxisAllan:
     outliers_effect: dict[str, Any] | None = None
     fit_check: FitCheck | None = None
     fit_range: tuple[float | None, float | None] | None = None
+    comparison: MethodComparison | None = None
 
     @property
     def notes(self) -> list[str]:
@@ -219,6 +226,8 @@ class AxisAllan:
             out["fit_check"] = self.fit_check.to_dict()
         if self.fit_range is not None:
             out["fit_range"] = list(self.fit_range)
+        if self.comparison is not None:
+            out["methods"] = self.comparison.to_dict()
         return out
 
 
@@ -320,10 +329,12 @@ def analyse_allan_axis(run: Run, axis: int, settings: AllanSettings | None = Non
         prepared = prepare(run, axis=axis, outliers=s.outliers, detrend=s.detrend,
                            decimate=s.decimate, stationarity=False)
         res = _allan(prepared, s, None, run.unit_of(axis))
-        model = _fit(res, s, prepared.x, prepared.fs_hz)
+        series, fs_hz = prepared.x, prepared.fs_hz
     else:
         res = _allan(run, s, axis, run.unit_of(axis))
-        model = _fit(res, s, run.axis(axis), run.fs_hz)
+        series, fs_hz = run.axis(axis), run.fs_hz
+    model = _fit(res, s, series, fs_hz)
+    comparison = _compare(res, s, series, fs_hz, model)
     check = None
     if s.check_allantools:
         from fogts.allan.peer import allantools_check
@@ -336,9 +347,35 @@ def analyse_allan_axis(run: Run, axis: int, settings: AllanSettings | None = Non
                      check=check, outliers_effect=effect,
                      plausibility=_plausibility(model, run.units)
                      if model is not None and model.quantity == "rate" else None,
-                     fit_range=s.fit_range,
+                     fit_range=s.fit_range, comparison=comparison,
                      fit_check=_fit_check(res if s.fit_range is None else res.within(*s.fit_range),
                                           model))
+
+
+def _compare(result: AllanResult, s: AllanSettings, series: Any, fs_hz: float,
+             model: NoiseModel | None) -> MethodComparison | None:
+    """The fits by ``s.compare_methods`` beside ``model``; their warnings say which method
+    they come from."""
+    import dataclasses
+    import re
+
+    from fogts.allan.noise_compare import side_by_side
+
+    if not s.compare_methods or model is None:
+        return None
+    models = [model]
+    for method in s.compare_methods:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            other = _fit(result, dataclasses.replace(s, method=method), series, fs_hz)
+        for w in caught:  # "method 'gmwm': noise term Q ...", not "...: axis 'x': ..."
+            text = re.sub(r"^axis '[^']*': ", "", str(w.message))
+            tag = f"method {method!r}"
+            warnings.warn(text if text.startswith(tag) else f"{tag}: {text}", w.category,
+                          stacklevel=2)
+        if other is not None:  # None: a curve fit of a kind without terms (warned)
+            models.append(other)
+    return side_by_side(models) if len(models) > 1 else None
 
 
 def _fit_check(result: AllanResult, model: NoiseModel | None) -> FitCheck | None:

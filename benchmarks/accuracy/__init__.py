@@ -4,6 +4,10 @@
   ``allan_deviation`` -> ``fit_noise`` -> coefficients, by sensor grade.
 * :mod:`benchmarks.accuracy.gauss_markov`: interval coverage when bias instability is a
   Gauss–Markov sum (an independent simulator in the test code), not ideal flicker.
+* :mod:`benchmarks.accuracy.gmwm`, :mod:`benchmarks.accuracy.ml`: the GMWM and ML fits
+  beside WLS on the same records.
+* :mod:`benchmarks.accuracy.adis_consistency`: six real ADIS16405 recordings, the spread of
+  each term across them against its standard errors (chi-square), WLS, GMWM and ML.
 
 ``metrics(quick)`` is the entry point of the benchmark runner (``python -m benchmarks``).
 """

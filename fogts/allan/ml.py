@@ -63,7 +63,6 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import minimize
 from scipy.stats import norm
-from statsmodels.tools.numdiff import approx_hess3
 
 from fogts._typing import FloatArray
 from fogts._validate import check_choice, check_fraction, check_int, check_positive, to_float_array
@@ -77,6 +76,7 @@ from fogts.allan.ml_model import (
     conditional_limit,
     final_state,
     log_likelihood,
+    observed_cov,
 )
 from fogts.allan.ml_result import MlSummary
 from fogts.allan.noise_input import FitCurve, read_fit_curve
@@ -174,7 +174,7 @@ def fit_noise_ml(rate: FloatArray | Sequence[float], fs_hz: float, *, units: str
     bic = [_bic(f, data) for f in fits]
     best = fits[int(np.argmin(bic))]
     st, theta, ll, converged = best.st, best.theta, best.ll, best.converged
-    cov = _observed_cov(theta, st, data)
+    cov = observed_cov(theta, st, data, theta > best.lower + 1e-3)
     cands = tuple((f.st.label(), b) for f, b in zip(fits, bic, strict=True))
     model = _noise_model(curve, names, st, theta, cov, data, ll, converged, cands, confidence)
     return _zero_terms(model, best, cov, data)
@@ -336,16 +336,6 @@ def _fit(st: Structure, data: BlockData, starts: list[FloatArray]) -> _Fit:
     theta = np.asarray(res.x, dtype=np.float64)
     return _Fit(st, theta, -float(res.fun) * data.n_blocks, bool(res.success),
                 np.array(lo, dtype=np.float64))
-
-
-def _observed_cov(theta: FloatArray, st: Structure, data: BlockData) -> FloatArray:
-    """Inverse observed information in the log parameters (pseudo-inverse if singular)."""
-    hess = approx_hess3(theta, lambda t: -log_likelihood(t, st, data), epsilon=1e-4)
-    hess = 0.5 * (hess + hess.T)
-    try:
-        return np.asarray(np.linalg.inv(hess), dtype=np.float64)
-    except np.linalg.LinAlgError:
-        return np.asarray(np.linalg.pinv(hess), dtype=np.float64)
 
 
 def _wv_data(curve: FitCurve, data: BlockData) -> WvData:

@@ -120,6 +120,28 @@ _INPUT_OPTIONS: list[tuple[str, Any, Any]] = [
     ("topic", TopicOpt, None), ("input", InputOpt, None), ("accel_units", AccelUnitsOpt, None),
     ("nan", NanOpt, "error"), ("gaps", GapsOpt, "warn"),
 ]
+def fit_methods(text: str) -> str:
+    """Check ``--method``: one noise-fit method or several separated by commas, each once
+    (a typer callback: a bad value is a usage error naming the option)."""
+    names = [m.strip() for m in text.split(",")]
+    allowed = ", ".join(repr(m) for m in choices.FIT_METHODS)
+    if not any(names):
+        raise typer.BadParameter(f"{text!r} names no method; give one or more of {allowed}, "
+                                 "separated by commas")
+    for m in names:
+        if m not in choices.FIT_METHODS:
+            raise typer.BadParameter(f"{m!r} is not one of {allowed}" + (
+                f" (in {text!r}; several methods are separated by commas)" if m != text
+                else "."))
+    twice = [m for i, m in enumerate(names) if m in names[:i]]
+    if twice:
+        raise typer.BadParameter(f"{twice[0]!r} is given twice in {text!r}; give each "
+                                 "method once")
+    return ",".join(names)
+
+
+MethodOpt = Annotated[str, typer.Option("--method", callback=fit_methods, metavar="|".join(choices.FIT_METHODS) + "[,...]", help="Noise fit: wls (EDF weights), gls (full covariance), ols (unweighted, comparison only), gmwm (generalized method of wavelet moments, B as up to three Gauss-Markov terms), ml (exact Gaussian maximum likelihood of the record by the Kalman filter: N, B, K, R; Q is not modelled). Several, separated by commas (e.g. wls,gmwm,ml): the first is the fit every other output shows; all are shown side by side (a table, and 'methods' in the JSON).")]
+
 KindOpt = Annotated[choices.Kind, typer.Option("--kind", help="Allan estimator (noise terms are fitted to adev, oadev and totdev).")]
 CriterionOpt = Annotated[choices.Criterion, typer.Option("--criterion", help="ARMA ranking criterion.")]
 

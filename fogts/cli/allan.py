@@ -64,7 +64,7 @@ def allan_cmd(
     taus: Annotated[str, typer.Option("--taus", help="Tau grid: octave, decade, dense, all, or taus in s separated by commas.")] = "octave",
     confidence: Annotated[float, typer.Option("--confidence", help="Confidence level of the deviation and coefficient intervals.")] = 0.683,
     terms: Annotated[str, typer.Option("--terms", help="Noise terms to fit, from Q,N,B,K,R; add M (first-order Markov noise: T_c and q_c) and/or S (a sinusoid: f_0 and Omega_0), each with a likelihood-ratio test of whether adding it is significant.")] = "Q,N,B,K,R",
-    method: Annotated[choices.FitMethod, typer.Option("--method", help="Noise fit: wls (EDF weights), gls (full covariance), ols (unweighted, comparison only), gmwm (generalized method of wavelet moments, B as up to three Gauss-Markov terms), ml (exact Gaussian maximum likelihood of the record by the Kalman filter: N, B, K, R; Q is not modelled).")] = "wls",
+    method: common.MethodOpt = "wls",
     fit_tau_min: Annotated[float | None, typer.Option("--fit-tau-min", help="Fit the noise terms only from this tau (s) on, e.g. to leave out a sampling filter's effect at the shortest taus.")] = None,
     fit_tau_max: Annotated[float | None, typer.Option("--fit-tau-max", help="Fit the noise terms only up to this tau (s).")] = None,
     keep_all_terms: Annotated[bool, typer.Option("--keep-all-terms", help="Keep every --terms term in the fit even when the data do not support it (default: drop terms that are not significant at 5 % and visible at fewer than two taus).")] = False,
@@ -91,7 +91,8 @@ def allan_cmd(
     is given. JSON for one file: {"input", "axes": [{"axis", "kind", "units", "points",
     "noise", "noise_si", "curve", ...} per axis], "summary", ...} (the top-level copy of the
     first axis is deprecated); several files give {"inputs": [one such object per file],
-    "summary"}.
+    "summary"}. With several methods (--method wls,gmwm,ml) the first is the fit all of
+    this shows, and each axis adds "methods": every method's terms side by side.
 
     Exit code 1 if a term FAILs its --spec limit, 2 on bad input.
     """
@@ -109,8 +110,10 @@ def allan_cmd(
         five, extras = split_terms(terms)
         term_names = five + extras
         common.check_output_names(plot=plot, csv=csv_out)
+        methods = method.split(",")
         settings = AllanSettings(kind=kind, taus=tau_spec, confidence=confidence,
-                                 terms=term_names, method=method,
+                                 terms=term_names, method=methods[0],
+                                 compare_methods=tuple(methods[1:]),
                                  significance=None if keep_all_terms else 0.05,
                                  bias_correction=bias_correction, outliers=outliers,
                                  detrend=detrend, decimate=decimate,
@@ -158,6 +161,9 @@ def allan_cmd(
                 if ax.notes:
                     common.say([f"{ax.result.axis}: {line}" for line in ax.notes], json_out)
                 _allan_tables(ax.result, ax.model, ax.check, json_out, output_units)
+                if ax.comparison is not None:
+                    common.print_out(common.rich_table(ax.comparison.table(output_units)),
+                                     quiet_json=json_out)
                 _curve_table(ax.result, ax.readout, json_out)
                 if ax.fit_check is not None:
                     common.say([f"fit check: {ax.fit_check.verdict}"], json_out)

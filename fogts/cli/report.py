@@ -28,6 +28,7 @@ def report_cmd(
     davar_window: Annotated[float | None, typer.Option("--davar-window", help="Dynamic Allan window in seconds (default: a tenth of the record).")] = None,
     output_units: common.OutputUnitsOpt = "deg",
     spec: common.SpecOpt = None,
+    method: common.MethodOpt = "wls",
     read: ReadSettings = common.DEFAULT_READ,
 ) -> None:
     """Write one self-contained HTML report of a recording.
@@ -45,7 +46,7 @@ def report_cmd(
         rep = build_report(run, quality=quality, title=title, outliers=outliers, detrend=detrend,
                            decimate=decimate, kind=kind, taus=taus, criterion=criterion,
                            davar_window_s=davar_window, output_units=output_units,
-                           spec=limits)
+                           spec=limits, methods=method.split(","))
         write_report(output, rep)
         failed = [s for s in rep.sections if s.status != "ok"]
         for s in failed:

@@ -7,8 +7,9 @@ builders in :mod:`fogts.report.sections` only render what this module returns.
 The Allan and ARMA analyses are those of ``fogts allan`` and ``fogts select``
 (:mod:`fogts.pipeline`), per axis ``i``:
 
-* ``get_allan(i)`` / ``get_noise(i)``: :func:`fogts.pipeline.analyse_allan_axis` of the raw
-  rate (``kind``, ``taus``; the noise fit with its defaults);
+* ``get_allan(i)`` / ``get_noise(i)`` / ``get_comparison(i)``:
+  :func:`fogts.pipeline.analyse_allan_axis` of the raw rate (``kind``, ``taus``; the noise
+  fit by the first of ``methods``, the others beside it);
 * ``get_prepared(i)`` / ``get_selection(i)``: :func:`fogts.pipeline.analyse_selection` with
   the report's ``outliers``, ``detrend``, ``decimate`` and ``criterion``;
 * ``get_dynamic_allan(i)``: :func:`fogts.allan.dynamic.dynamic_allan` (``davar_window_s``);
@@ -28,6 +29,7 @@ __all__ = ["ReportContext", "analyse_run"]
 
 if TYPE_CHECKING:
     from fogts.allan.misfit import FitCheck
+    from fogts.allan.noise_compare import MethodComparison
     from fogts.allan.noise_model import NoiseModel
     from fogts.allan.result import AllanResult
     from fogts.arma.selection import Selection
@@ -57,8 +59,10 @@ class ReportContext:
 
             with warnings.catch_warnings(record=True) as caught:
                 warnings.simplefilter("always")
+                methods = self.options.get("methods", ("wls",))
                 self.allan_axes[i] = analyse_allan_axis(self.run, i, AllanSettings(
-                    kind=self.options["kind"], taus=self.options["taus"]))
+                    kind=self.options["kind"], taus=self.options["taus"], method=methods[0],
+                    compare_methods=tuple(methods[1:])))
             self.allan_warnings[i] = [w.message for w in caught
                                       if isinstance(w.message, Warning)]
         for message in self.allan_warnings[i]:
@@ -80,6 +84,9 @@ class ReportContext:
 
     def get_noise(self, i: int) -> NoiseModel | None:
         return self._allan_axis(i).model
+
+    def get_comparison(self, i: int) -> MethodComparison | None:
+        return self._allan_axis(i).comparison
 
     def get_fit_check(self, i: int) -> FitCheck | None:
         return self._allan_axis(i).fit_check

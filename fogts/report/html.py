@@ -90,6 +90,7 @@ def build_report(
     bias_average_s: float = 10.0,
     output_units: OutputUnits = "deg",
     spec: NoiseSpec | None = None,
+    methods: Sequence[str] = ("wls",),
 ) -> HtmlReport:
     """Run the analyses on ``run`` and collect the report's sections.
 
@@ -120,6 +121,10 @@ def build_report(
     spec : NoiseSpec, optional
         Datasheet limits (:class:`fogts.allan.datasheet.NoiseSpec`): PASS/FAIL per term in
         the summary.
+    methods : sequence of str
+        Noise-fit methods (:data:`fogts.choices.FIT_METHODS`), each once; the first is the
+        fit the report shows, and with more than one the Allan section adds a table of
+        every method's terms side by side (:mod:`fogts.allan.noise_compare`).
 
     Returns
     -------
@@ -128,7 +133,7 @@ def build_report(
     Raises
     ------
     DataError
-        An unknown part, or ``run`` is not a Run.
+        An unknown part or method, a method twice, or ``run`` is not a Run.
     """
     from fogts._validate import check_choice
     from fogts.choices import OUTPUT_UNITS
@@ -140,7 +145,8 @@ def build_report(
                                    "decimate": decimate, "kind": kind, "taus": taus,
                                    "criterion": criterion, "davar_window_s": davar_window_s,
                                    "bias_average_s": bias_average_s,
-                                   "output_units": output_units, "spec": spec})
+                                   "output_units": output_units, "spec": spec,
+                                   "methods": _checked_methods(methods)})
     sections, omitted = _collect_sections(ctx, wanted)
     return _assemble(ctx.run, title, sections, omitted)
 
@@ -175,6 +181,24 @@ def _checked_arguments(run: Any, parts: Sequence[str], kind: str, taus: str, cri
     if davar_window_s is not None:
         davar_window_s = check_positive("davar_window_s", davar_window_s)
     return wanted, bias_average_s, davar_window_s
+
+
+def _checked_methods(methods: Sequence[str]) -> tuple[str, ...]:
+    """``methods``: one or more of the fit methods, each once."""
+    from fogts._validate import check_choice
+    from fogts.choices import FIT_METHODS
+
+    picked = (methods,) if isinstance(methods, str) else tuple(methods)
+    if not picked:
+        raise DataError(f"methods must name one or more of {', '.join(FIT_METHODS)}, got "
+                        f"{methods!r}")
+    for m in picked:
+        check_choice("methods", m, FIT_METHODS)
+    twice = [m for i, m in enumerate(picked) if m in picked[:i]]
+    if twice:
+        raise DataError(f"methods must name each method once; {twice[0]!r} is given twice "
+                        f"in {methods!r}")
+    return picked
 
 
 def _collect_sections(ctx: ReportContext, wanted: Sequence[str]

@@ -202,6 +202,7 @@ def _allan_blocks(ctx: ReportContext, i: int, notes: list[str]) -> list[Block]:
                                    "each point's residual (data − fit) in half-widths of its "
                                    "interval; beyond ±3 the fit misses the point."),
               table_block(terms), Block(kind="paragraph", text=terms.caption),
+              *_comparison_blocks(ctx.get_comparison(i)),
               *_fit_check_blocks(ctx.get_fit_check(i)),
               Block(kind="paragraph", text=model.readoff.describe(fmt_num)),
               table_block(res.points_table())]
@@ -210,6 +211,14 @@ def _allan_blocks(ctx: ReportContext, i: int, notes: list[str]) -> list[Block]:
                             items=tuple(f"τ = {fmt_num(d.tau_s)} s: {d.reason}"
                                         for d in res.dropped)))
     return blocks
+
+
+def _comparison_blocks(comparison: Any) -> list[Block]:
+    """Every method's terms side by side, when more than one method ran."""
+    if comparison is None:
+        return []
+    table = comparison.table()
+    return [table_block(table), Block(kind="paragraph", text=table.caption)]
 
 
 def _fit_check_blocks(check: Any) -> list[Block]:

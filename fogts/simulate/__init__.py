@@ -4,7 +4,8 @@ Modules: :mod:`~fogts.simulate.noise_spec` (the coefficients and their closed-fo
 variance), :mod:`~fogts.simulate.streams` (one random stream per noise term),
 :mod:`~fogts.simulate.temperature` (temperature profiles and thermal drift),
 :mod:`~fogts.simulate.arma_series` (ARMA series) and :mod:`~fogts.simulate.gyro`
-(:func:`simulate_gyro`, the record).  :class:`ArmaSpec` lives in :mod:`fogts.arma.spec`.
+(:func:`simulate_gyro`, the record); :mod:`~fogts.simulate.bootstrap` re-simulates a
+fitted noise model for bootstrap standard errors (:func:`bootstrap_noise`).  :class:`ArmaSpec` lives in :mod:`fogts.arma.spec`.
 """
 
 from __future__ import annotations

@@ -193,3 +193,27 @@ def test_bad_arguments_are_named(kwargs: dict[str, object], match: str) -> None:
     fs = args.pop("fs_hz")
     with pytest.raises(DataError, match=match):
         fit_noise_ml(rate, fs, **args)  # type: ignore[arg-type]
+
+
+def test_observed_cov_holds_an_unidentified_parameter_fixed(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    """-log L = x'Hx / 2 with H indefinite in its middle parameter (negative curvature, as
+    a variance the data do not identify, seen on ADIS16405 run 4 Z): that parameter is
+    held fixed (zero row) and the others' covariance is the inverse of their own 2x2 block
+    of H, not a block of the inverse of the whole (whose diagonal is negative there).  A
+    parameter at its bound (``free`` False) is held too.  Tolerance 1e-6: approx_hess3's
+    central differences are exact on a quadratic up to rounding."""
+    import fogts.allan.ml_model as mm
+
+    h = np.array([[4.0, 0.3, 1.0], [0.3, -0.01, 0.2], [1.0, 0.2, 2.0]])
+    monkeypatch.setattr(mm, "log_likelihood", lambda t, st, data: -0.5 * float(t @ h @ t))
+    theta = np.array([0.1, -0.2, 0.3])
+    assert np.any(np.diag(np.linalg.inv(h)) < 0)
+    cov = mm.observed_cov(theta, None, None, np.ones(3, dtype=bool))  # type: ignore[arg-type]
+    keep = np.ix_([0, 2], [0, 2])
+    np.testing.assert_allclose(cov[keep], np.linalg.inv(h[keep]), rtol=1e-6)
+    assert np.all(cov[1] == 0.0) and np.all(cov[:, 1] == 0.0)
+    bound = mm.observed_cov(theta, None, None,  # type: ignore[arg-type]
+                            np.array([True, True, False]))
+    assert np.all(bound[2] == 0.0)
+    np.testing.assert_allclose(bound[0, 0], 1.0 / 4.0, rtol=1e-6)  # then b drops: a alone

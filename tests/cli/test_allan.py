@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import json
-import math
 import re
 from pathlib import Path
 
@@ -13,25 +12,10 @@ import pytest
 from typer.testing import CliRunner
 
 from fogts.cli import app
+from tests.cli.conftest import FS, K_TRUE, N_TRUE
 from tests.conftest import error_output, shared_path
 
 runner = CliRunner()
-
-FS = 100.0
-N_TRUE, K_TRUE = 0.05, 10.0  # deg/sqrt(h), deg/h^1.5
-
-
-@pytest.fixture(scope="module")
-def gyro_npy(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    """40 min of white rate noise (ARW N) plus a rate random walk (RRW K) in deg/h."""
-    n = int(40 * 60 * FS)
-    rng = np.random.default_rng(11)
-    y = (60 * N_TRUE * math.sqrt(FS) * rng.standard_normal(n)
-         + np.cumsum(K_TRUE / 60 / math.sqrt(FS) * rng.standard_normal(n)))
-    path = tmp_path_factory.mktemp("allan") / "gyro.npy"
-    np.save(path, y)
-    return path
-
 
 def _run(args: list[str]) -> tuple[int, str, str]:
     res = runner.invoke(app, ["allan", *[str(a) for a in args]])
