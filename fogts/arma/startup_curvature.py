@@ -23,17 +23,22 @@ Biometrika 61 (1974) 383-385.
 
 from __future__ import annotations
 
+import math
 from typing import TYPE_CHECKING
 
 import numpy as np
 
 from fogts._typing import FloatArray
 from fogts.arma.region import admissible, spectral_radius
+from fogts.arma.startup_block import banded_innovations
 
 if TYPE_CHECKING:
     from fogts.arma.likelihood import Evaluation, ExactLikelihood
 
-__all__ = ["CURVATURE_STEP", "d_hessian"]
+__all__ = ["CURVATURE_STEP", "STREAMED_BLOCK", "d_hessian"]
+
+#: Samples of a streamed start-up block whose D's curvature :func:`d_hessian` takes.
+STREAMED_BLOCK = 1 << 18
 
 #: Largest central-difference step of the second differences of D (halved until every
 #: perturbed model is stationary and invertible).
@@ -42,15 +47,19 @@ CURVATURE_STEP = 1e-5
 
 def _d_values(model: ExactLikelihood, betas: FloatArray, s: int) -> FloatArray:
     """D at each row of ``betas`` with a start-up block of ``s`` samples (the same terms as
-    :meth:`ExactLikelihood.evaluate`: sum log F_t, and log(s11 / n) with the GLS mean)."""
+    :meth:`ExactLikelihood.evaluate`: sum log F_t, and log(s11 / n) with the GLS mean),
+    one row at a time (one block's factor in memory)."""
     p = model.p
     zeros = np.zeros(s)
-    _, e_tr, f_tr = model.transient(betas[:, :p], betas[:, p:], s=s, series=zeros,
-                                    with_ones=model.mean)
-    d = np.sum(np.log(f_tr), axis=1)
-    if model.mean:
-        d += np.log(model._s11_perturbed(betas, s, e_tr[:, :, 1], f_tr) / model.n)
-    return np.asarray(d, dtype=np.float64)
+    out = np.empty(betas.shape[0])
+    for r, beta in enumerate(betas):
+        e, F, _ = banded_innovations(beta[:p], beta[p:], zeros, with_ones=model.mean)
+        d = float(np.sum(np.log(F)))
+        if model.mean:
+            s11 = model._s11_perturbed(beta[None, :], s, e[None, :, 1], F[None, :])[0]
+            d += math.log(s11 / model.n)
+        out[r] = d
+    return out
 
 
 def _steps(beta: FloatArray, p: int) -> FloatArray:
@@ -77,14 +86,18 @@ def _steps(beta: FloatArray, p: int) -> FloatArray:
 
 def d_hessian(model: ExactLikelihood, ev: Evaluation) -> FloatArray:
     """Hessian of D at ``ev`` by central second differences of D (data-free, see the module
-    docstring); zeros for a start-up block too long to hold (``ev.streamed``).
+    docstring).  For a start-up block too long to hold (``ev.streamed``) it is that of its
+    first ``STREAMED_BLOCK`` samples, the filter taken as steady after them (the unit AR
+    root's term -log(1 - phi) sits in the first few samples): an approximation, which the
+    Newton steps tolerate (their gradient is exact).
 
     Second differences: H_ii = (D(+2h_i) - 2 D + D(-2h_i)) / (4 h_i^2),
     H_ij = (D(+h_i+h_j) - D(+h_i-h_j) - D(-h_i+h_j) + D(-h_i-h_j)) / (4 h_i h_j).
     """
     k = model.p + model.q
-    if ev.streamed or k == 0:
+    if k == 0:
         return np.zeros((k, k))
+    s = ev.s if not ev.streamed else min(ev.s, STREAMED_BLOCK)
     beta = ev.beta
     h = _steps(beta, model.p)
     eye = np.eye(k)
@@ -92,7 +105,7 @@ def d_hessian(model: ExactLikelihood, ev: Evaluation) -> FloatArray:
     pairs = [(i, j) for i in range(k) for j in range(i + 1, k)]
     rows += [beta + si * h[i] * eye[i] + sj * h[j] * eye[j]
              for i, j in pairs for si in (1, -1) for sj in (1, -1)]
-    d = _d_values(model, np.array(rows), ev.s)
+    d = _d_values(model, np.array(rows), s)
     H = np.empty((k, k))
     for i in range(k):
         H[i, i] = (d[1 + 2 * i] - 2.0 * d[0] + d[2 + 2 * i]) / (4.0 * h[i] * h[i])
