@@ -26,7 +26,10 @@ Speed figures (ratio = peer seconds / fogts seconds, > 1 means fogts is faster):
 * the typical gyro record at n = 1e8 (full run only): white noise (sd 0.1) plus a rate
   random walk (increments 1e-4, seed 900107) through ``select_arma``, once, under
   tracemalloc: its wall and CPU time, its peak extra memory and whether all five candidates
-  were fitted (no peer: 800 MB of input).
+  were fitted (no peer: 800 MB of input);
+* the same record end to end (full run only): the whole ``fogts select`` command on it as a
+  ``.npy``, in a fresh interpreter: wall and CPU time and peak RSS as a multiple of the
+  input (:mod:`benchmarks.arma_cli`).
 
 Accuracy figures, from the same fits: the largest |parameter difference| to statsmodels
 (acceptance: 1e-4, compared where both reach the same optimum), the largest AIC excess of
@@ -61,6 +64,7 @@ from typing import Any
 
 import numpy as np
 
+from benchmarks.arma_cli import cli_metrics
 from benchmarks.metric import Metric, accuracy_metric, speed_metric
 from benchmarks.render import measured_markdown, write_table
 from benchmarks.timing import LoadProbe, timed_once
@@ -390,6 +394,7 @@ def metrics(quick: bool) -> list[Metric]:
         out += _comparison_metrics(1_000_000, kind="nearly white", with_r=False)
         out += _huge_metrics(10_000_000)
         out += _white_rw_metrics(100_000_000)
+        out += cli_metrics(100_000_000, white_plus_random_walk, "n=1e8")
     return out
 
 

@@ -16,6 +16,7 @@ from fogts.arma.redundancy import RedundancyFlag
 from fogts.arma.roots import Roots, unit_circle_root
 from fogts.arma.whiteness import ResidualDiagnostics
 from fogts.errors import ModelFitError
+from fogts.io.run import RegularTime
 
 __all__ = ["Candidate"]
 
@@ -56,7 +57,8 @@ class Candidate:
     warnings : tuple of str
         Convergence and numerical warnings of the fit.
     data, index, time
-        The fitted series, its index and time axis (for :meth:`predict`).
+        The fitted series, its index and time axis (for :meth:`predict`; a regular time
+        axis may be held as a :class:`~fogts.io.run.RegularTime`, formed by ``predict``).
     """
 
     model: str
@@ -73,7 +75,7 @@ class Candidate:
     warnings: tuple[str, ...]
     data: FloatArray | None = field(default=None, repr=False, compare=False)
     index: pd.Index | None = field(default=None, repr=False, compare=False)
-    time: FloatArray | None = field(default=None, repr=False, compare=False)
+    time: FloatArray | RegularTime | None = field(default=None, repr=False, compare=False)
 
     @property
     def ok(self) -> bool:
@@ -190,8 +192,9 @@ class Candidate:
         if x is not None:
             return predict_arma(x, ar=self.ar, ma=self.ma, model=self.model, time=time)
         assert self.data is not None
+        time = self.time.array() if isinstance(self.time, RegularTime) else self.time
         return one_step_prediction(self.data, self.fit.resid, model=self.model,
-                                   index=self.index, time=self.time)
+                                   index=self.index, time=time)
 
     def prediction_summary(self) -> dict[str, Any]:
         """``predict().to_dict()`` on the fitted series, without forming the prediction's

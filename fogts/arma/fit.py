@@ -24,6 +24,7 @@ import numpy as np
 
 from fogts._typing import ArrayLike1D, FloatArray
 from fogts._validate import check_choice, check_int, to_float_array
+from fogts.arma.blockwise import BLOCKWISE_MIN_N, lagged_products, scale_and_offsets
 from fogts.arma.fit_result import ArmaFit, criteria, fitted_series, model_name, param_names
 from fogts.arma.likelihood import Evaluation, ExactLikelihood
 from fogts.arma.optimiser import PRESAMPLE, NewtonResult, maximise
@@ -116,9 +117,23 @@ def _check_not_explosive(xs: FloatArray) -> None:
     1979 asymptotics: n(rho_hat - 1) rarely exceeds 2); an explosive x_t = c x_{t-1} + e_t with
     |c| > 1 gives |c| itself.  The threshold is 1 + 10/n.
     """
-    n = xs.shape[0]
-    k = 3
-    coef = normal_equations(xs, [(xs, i) for i in range(1, k + 1)], k)
+    _check_ar_roots(normal_equations(xs, [(xs, i) for i in range(1, 4)], 3), xs.shape[0])
+
+
+def _check_not_explosive_blockwise(x: FloatArray, scale: float, offset: float) -> None:
+    """:func:`_check_not_explosive` of ``x / scale - offset``, formed block by block."""
+    M = lagged_products(x, scale, offset, 3)
+    try:
+        coef = np.linalg.solve(M[1:, 1:], M[1:, 0])
+    except np.linalg.LinAlgError:
+        coef = np.linalg.lstsq(M[1:, 1:], M[1:, 0], rcond=None)[0]
+    _check_ar_roots(np.asarray(coef), x.shape[0])
+
+
+def _check_ar_roots(coef: FloatArray, n: int) -> None:
+    """Raise ModelFitError if the AR(3) coefficients ``coef`` have a root of modulus
+    > 1 + 10/n."""
+    k = coef.size
     rho = spectral_radius(coef)
     if rho > 1.0 + 10.0 / n:
         raise ModelFitError(
@@ -306,20 +321,29 @@ def fit_arma(x: ArrayLike1D, p: int, q: int, *, method: FitMethod = "fast",
     check_choice("method", method, _METHODS)
     arr = _prepare(x, p, q)
     n = arr.shape[0]
-    scale = float(np.std(arr)) if standardize else 1.0
-    xs, offset = fitted_series(arr, scale, standardize, mean)
-    _check_not_explosive(xs)
     name = model_name(p, q)
+    if method == "fast" and n > BLOCKWISE_MIN_N:
+        # no standardised copy: its statistics block by block (rounding-level differences)
+        scale, offset, offset2 = scale_and_offsets(arr, standardize, mean)
+        _check_not_explosive_blockwise(arr, scale, offset)
+        head = arr[:max(START_SAMPLES, PRESAMPLE)] / scale - offset
+        xs = None
+    else:
+        scale = float(np.std(arr)) if standardize else 1.0
+        xs, offset = fitted_series(arr, scale, standardize, mean)
+        _check_not_explosive(xs)
     try:
         if method == "fast":
-            # the likelihood forms the series block by block: only its head is kept
-            head = xs[:max(START_SAMPLES, PRESAMPLE)].copy()
-            offsets = (offset, float(np.mean(xs)))
-            del xs
+            if xs is not None:
+                # the likelihood forms the series block by block: only its head is kept
+                head = xs[:max(START_SAMPLES, PRESAMPLE)].copy()
+                offset2 = float(np.mean(xs))
+                del xs
             with np.errstate(over="raise", invalid="raise", divide="raise", under="ignore"):
-                out = _fit_fast(arr, head, scale if standardize else 1.0, offsets, p, q,
-                                mean)
+                out = _fit_fast(arr, head, scale if standardize else 1.0, (offset, offset2),
+                                p, q, mean)
         else:
+            assert xs is not None
             out = _fit_statsmodels(xs, p, q, mean)
     except ModelFitError as exc:
         raise ModelFitError(f"{name}: {exc}") from exc

@@ -18,6 +18,7 @@ import numpy as np
 import pandas as pd
 
 from fogts._typing import FloatArray
+from fogts.arma.blockwise import BLOCKWISE_MIN_N, mean_of
 from fogts.arma.likelihood import ExactLikelihood
 from fogts.tables import Column, Table, TableView
 
@@ -267,7 +268,9 @@ def _exact_innovations(x: FloatArray, fit: ArmaFit) -> FloatArray:
     mean = fit.mean is not None
     offsets: tuple[float, ...] = ()
     if mean:
-        offsets = (float(np.mean(x / fit.scale if fit.standardized else x)),)
+        scale = fit.scale if fit.standardized else 1.0
+        offsets = (mean_of(x, scale, 0.0) if x.shape[0] > BLOCKWISE_MIN_N
+                   else float(np.mean(x / fit.scale if fit.standardized else x)),)
     model = ExactLikelihood(x, fit.p, fit.q, mean=mean,
                             scale=fit.scale if fit.standardized else 1.0, offsets=offsets)
     with np.errstate(over="raise", invalid="raise", divide="raise", under="ignore"):

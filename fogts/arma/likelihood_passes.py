@@ -79,9 +79,13 @@ def _adjoint_pass(model: ExactLikelihood, ev: Evaluation, e: FloatArray
     """
     from scipy.signal import lfilter
 
+    from fogts.arma.likelihood import CHUNK
+
     p, q, s = model.p, model.q, ev.s
     a_poly = np.r_[1.0, ev.theta]
-    bounds = model.bounds(s)
+    # the start-up block too in CHUNK-long blocks: a streamed one can be as long as the
+    # series, and a block's copy and reversed filter output are three of its length
+    bounds = sorted({*range(0, s, CHUNK), *model.bounds(s)})
     gx, ge = np.zeros(p), np.zeros(q)
     g_sum = 0.0
     g_first = np.zeros(0)

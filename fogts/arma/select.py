@@ -75,7 +75,7 @@ from fogts.errors import (
 )
 
 if TYPE_CHECKING:
-    from fogts.io.run import Run
+    from fogts.io.run import RegularTime, Run
     from fogts.preprocess.prepare import Prepared
 
 __all__ = ["CLOSE_CALL", "CRITERIA", "DEFAULT_FIVE", "MAX_ORDER", "MIN_SELECT_SAMPLES",
@@ -91,7 +91,7 @@ MIN_SELECT_SAMPLES = 50
 class _Input:
     x: FloatArray
     index: pd.Index | None
-    time: FloatArray | None
+    time: FloatArray | RegularTime | None
     fs_hz: float | None
     units: str | None
     info: dict[str, Any]
@@ -114,7 +114,7 @@ def _selection_input(x: ArrayLike1D | Run | Prepared, fs_hz: float | None) -> _I
         raw = None   # the quantization check only applies to undecimated data
         if run is not None and p.axis in run.axes and p.decimate == 1:
             raw = run.axis(p.axis)
-        return _Input(p.x, p.index, p.time, p.fs_hz, p.units, info, p.to_dict(), raw)
+        return _Input(p.x, p.index, p.lazy_time, p.fs_hz, p.units, info, p.to_dict(), raw)
     arr, fs = inp.values, inp.fs_hz
     time = None if fs is None else np.arange(arr.shape[0], dtype=np.float64) / fs
     mean = float(arr.mean()) if arr.size else 0.0

@@ -8,9 +8,10 @@ product of gradients, differs by several percent).  With sigma2 concentrated out
 
 and its Hessian at s2 = S/n follows from the gradient of S and the Hessians of S and D of
 :mod:`fogts.arma.likelihood`: exact ones (central differences of the exact gradient) or, on
-long series, the analytic Hessian of the last Newton step, where D's O(1) curvature is
-dropped.  Both are evaluated at the optimum itself, so the standard errors do not depend on
-the path the iterations took (nor on the data's scale or the BLAS kernel).
+long series, the analytic Hessian of the last Newton step (with D's curvature from the
+start-up block above 4e5 samples, :mod:`fogts.arma.startup_curvature`; dropped below).
+Both are evaluated at the optimum itself, so the standard errors do not depend on the path
+the iterations took (nor on the data's scale or the BLAS kernel).
 """
 
 from __future__ import annotations

@@ -156,8 +156,8 @@ def _print_selection(analysis: AxisSelection, json_out: str | None) -> None:
             say(f"  {gm.summary()}")
         for f in best.flags:
             say(f"  note: {f.message}")
-        bp = best.predict()
-        say(f"  one-step prediction: std {bp.variance_observed ** 0.5:.4g} -> "
-            f"{bp.variance_residual ** 0.5:.4g} {prepared.units} "
-            f"({100 * bp.variance_removed:.1f} % of the variance removed)")
+        bp = best.prediction_summary()   # no series-length arrays (predict() makes two)
+        say(f"  one-step prediction: std {bp['variance_observed'] ** 0.5:.4g} -> "
+            f"{bp['variance_residual'] ** 0.5:.4g} {prepared.units} "
+            f"({100 * bp['variance_removed']:.1f} % of the variance removed)")
     say(f"verdict   {sel.verdict}", "green" if sel.exit_code == 0 else "red")

@@ -18,7 +18,7 @@ import pandas as pd
 from fogts._typing import ArrayLike1D, FloatArray, IntArray
 from fogts._validate import check_int, check_positive
 from fogts.errors import DataError, InsufficientDataError
-from fogts.io.run import RegularTime, Run, held_time
+from fogts.io.run import RegularTime, Run, _TimeField, held_time
 from fogts.preprocess.glitches import MAD_TO_SIGMA
 from fogts.preprocess.inputs import ensure_series
 
@@ -108,7 +108,8 @@ class Prepared:
     axis : str
         Name of the axis.
     time : ndarray of float64
-        Time of each prepared sample in seconds (block start after decimation).
+        Time of each prepared sample in seconds (block start after decimation); a regular
+        time base is formed on first access (:attr:`lazy_time` does not form it).
     index : pandas.Index or None
         The input Series' index (decimated alongside), to re-wrap outputs.
     steps : tuple of str
@@ -144,6 +145,12 @@ class Prepared:
     dropped_tail: int = 0
     stationarity: StationarityReport | None = None
     run: Run | None = field(default=None, repr=False)
+
+    @property
+    def lazy_time(self) -> FloatArray | RegularTime:
+        """``time`` without forming it: a :class:`~fogts.io.run.RegularTime` for a regular
+        time base not formed yet (a 1e8-sample record's would be 800 MB), else the array."""
+        return self.__dict__["time"]  # type: ignore[no-any-return]
 
     @property
     def n(self) -> int:
@@ -259,7 +266,8 @@ def prepare(
                      f"sigma (|x - median| > {report.threshold:.6g}) by linear interpolation")
 
     k, dropped_tail = 1, 0
-    time = base if not isinstance(base, RegularTime) else None
+    # no decimation: the full time axis (a regular one formed on first access of .time)
+    time: FloatArray | RegularTime = base
     if decimate is not None and decimate != 1:
         k = check_int("decimate", decimate, minimum=2)
         if x.size // k < MIN_PREPARE_SAMPLES:
@@ -270,13 +278,12 @@ def prepare(
         steps.append(f"decimated by block averaging over {k} samples -> {fs:g} Hz"
                      + (f" (dropped {dropped_tail} tail samples)" if dropped_tail else ""))
 
-    if time is None:  # no decimation: the full time axis
-        time = base.array() if isinstance(base, RegularTime) else base
     order: int | None = None
     coefs: tuple[float, ...] = ()
     if detrend is not None:
         order = check_int("detrend", detrend, minimum=0, maximum=10)
-        x, coefs = _remove_polynomial(x, time, order)
+        x, coefs = _remove_polynomial(
+            x, time.array() if isinstance(time, RegularTime) else time, order)
         steps.append(f"removed a polynomial trend of order {order}" if order else
                      "removed the mean (trend order 0)")
     elif demean:
@@ -288,7 +295,8 @@ def prepare(
     if stat is not None:
         steps.append(f"stationarity: {stat.verdict} (ADF p={stat.adf_pvalue:.3g}, "
                      f"KPSS p={stat.kpss_pvalue:.3g})")
-    return Prepared(x=np.ascontiguousarray(x), fs_hz=fs, units=units, axis=name, time=time,
+    return Prepared(x=np.ascontiguousarray(x), fs_hz=fs, units=units, axis=name,
+                    time=time,  # type: ignore[arg-type]  # formed by _TimeField on access
                     index=index, steps=tuple(steps), n_input=n_input, outliers=report,
                     trend_order=order, trend_coefficients=coefs,
                     decimate=k, dropped_tail=dropped_tail, stationarity=stat, run=run)
@@ -382,3 +390,6 @@ def _stationarity(x: FloatArray) -> StationarityReport:
         verdict = "inconclusive"
     return StationarityReport(float(adf.statistic), adf_p, int(adf.lags), float(kp.statistic),
                               kpss_p, int(kp.lags), int(y.size), block, verdict, tuple(notes))
+
+
+setattr(Prepared, "time", _TimeField())  # noqa: B010  (formed on first access)

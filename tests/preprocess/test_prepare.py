@@ -147,3 +147,23 @@ def test_a_regular_time_base_is_not_formed_to_decimate() -> None:
     assert np.array_equal(got.time, ref.time) and np.array_equal(got.x, ref.x)
     full = prepare(run_with(RegularTime(y.size, 50.0)), stationarity=False)
     assert np.array_equal(full.time, t)
+
+
+def test_a_regular_time_base_is_formed_only_on_access() -> None:
+    """Without decimation a regular time base stays a RegularTime (a 1e8-sample record's
+    array would be 800 MB) until ``time`` is read; selection and its summary never read it,
+    ``predict()`` forms the same values."""
+    from fogts.arma.select import select_arma
+
+    y = np.random.default_rng(8).standard_normal(3000)
+    run = Run(rate=y, time=RegularTime(y.size, 20.0), fs_hz=20.0, units="deg/h",
+              axes=("rate",))
+    prep = prepare(run, stationarity=False)
+    assert isinstance(prep.lazy_time, RegularTime)
+    sel = select_arma(prep, candidates="AR(1)")
+    assert sel.best is not None
+    sel.best.prediction_summary()
+    assert isinstance(prep.lazy_time, RegularTime)
+    t = np.arange(y.size, dtype=np.float64) / 20.0
+    assert np.array_equal(sel.best.predict().time, t)
+    assert np.array_equal(prep.time, t) and prep.lazy_time is prep.time
