@@ -47,9 +47,11 @@ class NewtonResult:
     HD: FloatArray | None = None
 
 
-#: With ``d_curvature``, a step accepted only after this much damping (five halvings)
-#: ends the run unconverged (:func:`solve` then iterates without D's curvature).
+#: With ``d_curvature``, this many steps in a row accepted only after this much damping
+#: (five halvings) end the run unconverged (:func:`solve` then iterates without D's
+#: curvature); a single damped step near a unit root is normal.
 _HD_GIVE_UP_STEP = 1.0 / 32
+_HD_GIVE_UP_RUN = 3
 
 
 def newton(model: ExactLikelihood, phi: FloatArray, theta: FloatArray, *,
@@ -73,6 +75,7 @@ def newton(model: ExactLikelihood, phi: FloatArray, theta: FloatArray, *,
     converged = False
     n_iter = 0
     dS = dD = HS = HD = None
+    damped = 0  # damped steps in a row
     for n_iter in range(1, max_iter + 1):
         if exact:
             dS, dD, _ = model.derivatives(ev, hessian=False)
@@ -121,11 +124,13 @@ def newton(model: ExactLikelihood, phi: FloatArray, theta: FloatArray, *,
                             "stationarity/invertibility boundary")
             break
         ev = accepted
-        if d_curvature and t < _HD_GIVE_UP_STEP:
+        damped = damped + 1 if t < _HD_GIVE_UP_STEP else 0
+        if d_curvature and damped >= _HD_GIVE_UP_RUN:
             # D's start-up-block curvature misleads here (seen along a near-cancelling AR/MA
             # pair: 100 iterations of ~30 halvings each on 1e6 white-noise block means);
             # the caller starts again without it
-            msgs.append(f"step damped to {t:.3g} at iteration {n_iter} with D's curvature")
+            msgs.append(f"steps damped below {_HD_GIVE_UP_STEP:g} at iterations "
+                        f"{n_iter - damped + 1}-{n_iter} with D's curvature")
             break
         if model.mean and unit_root_gap(ev.phi) < UNIT_ROOT_GAP:
             # the restricted likelihood runs to the unit root, outside the region
