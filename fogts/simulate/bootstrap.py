@@ -49,6 +49,10 @@ MIN_REPLICATES = 10
 _FIVE = ("Q", "N", "B", "K", "R")
 
 
+#: The per-term values of a :class:`NoiseBootstrap`, as its frame's columns and JSON keys.
+_PER_TERM = ("estimate", "stderr", "boot_mean", "boot_stderr", "ci_low", "ci_high")
+
+
 @dataclass(frozen=True, repr=False)
 class NoiseBootstrap(TableView):
     """Bootstrap standard errors and percentile intervals of a noise fit's terms.
@@ -115,16 +119,14 @@ class NoiseBootstrap(TableView):
 
     def to_frame(self) -> pd.DataFrame:
         """One row per term: estimate, stderr, boot_mean, boot_stderr, ci_low, ci_high."""
-        cols = ("estimate", "stderr", "boot_mean", "boot_stderr", "ci_low", "ci_high")
-        return pd.DataFrame({c: getattr(self, c) for c in cols},
+        return pd.DataFrame({c: getattr(self, c) for c in _PER_TERM},
                             index=pd.Index(self.terms, name="term"))
 
     def to_dict(self) -> dict[str, Any]:
-        cols = ("estimate", "stderr", "boot_mean", "boot_stderr", "ci_low", "ci_high")
         return {"method": self.method, "confidence": self.confidence,
                 "n_replicates": self.n_replicates, "n_failed": self.n_failed,
                 "failures": list(self.failures), "simulated": self.simulated,
-                "terms": {t: {c: finite_or_none(getattr(self, c)[i]) for c in cols}
+                "terms": {t: {c: finite_or_none(getattr(self, c)[i]) for c in _PER_TERM}
                           for i, t in enumerate(self.terms)}}
 
     def table(self) -> Table:
