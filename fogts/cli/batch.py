@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Mapping
 from pathlib import Path
-from typing import Annotated, Any
+from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 from rich.table import Table
@@ -13,6 +13,9 @@ from fogts import choices
 from fogts.cli import _common as common
 from fogts.cli.progress import bar_enabled, shows_progress
 from fogts.pipeline import ReadSettings
+
+if TYPE_CHECKING:
+    from rich.progress import Progress
 
 
 @common.app.command("batch")
@@ -44,16 +47,6 @@ def batch_cmd(
 
     Exit code 0 if every run is ok, 1 if any failed.
     """
-    from rich.progress import (
-        BarColumn,
-        MofNCompleteColumn,
-        Progress,
-        SpinnerColumn,
-        TextColumn,
-        TimeElapsedColumn,
-        TimeRemainingColumn,
-    )
-
     from fogts.batch import BatchOptions, BatchProgress, run_batch
 
     with common.guard({"summary_path": "--output", "patterns": "PATTERNS",
@@ -65,13 +58,7 @@ def batch_cmd(
                                decimate=decimate, criterion=criterion, select=not no_select,
                                nan=read.nan, gaps=read.gaps, output_units=output_units,
                                spec=limits)
-        bar = Progress(SpinnerColumn(), TextColumn("{task.description}"), BarColumn(),
-                       MofNCompleteColumn(),
-                       TextColumn("failed {task.fields[failed]}, remaining "
-                                  "{task.fields[remaining]}"),
-                       TimeElapsedColumn(), TextColumn("ETA"), TimeRemainingColumn(),
-                       console=common.err_console, transient=False,
-                       disable=not bar_enabled())
+        bar = _runs_bar()
         task_id: list[Any] = []
 
         def on_progress(p: BatchProgress) -> None:
@@ -91,18 +78,43 @@ def batch_cmd(
             common.err_console.print(f"warning: {line}", markup=False, soft_wrap=True)
         errors = [r for r in result.rows if r["status"] == "error"]
         if errors:
-            from rich.text import Text
-
-            failed = Table(title="failed runs", title_justify="left")
-            for c in ("file", "axis", "error"):
-                failed.add_column(c)
-            for r in errors:  # Text(): file names and messages are not rich markup
-                failed.add_row(Text(r["file"]), Text(r["axis"] or ""), Text(r["error"]))
-            common.console.print(failed)
+            common.console.print(_failed_runs_table(errors))
     if result.interrupted:
         common.err_console.print("error: interrupted; rerun with --resume to finish", markup=False)
         raise typer.Exit(common.ExitCode.ERROR)
     raise typer.Exit(common.ExitCode.NEGATIVE if errors else common.ExitCode.OK)
+
+
+def _runs_bar() -> Progress:
+    """The batch's progress bar on stderr: runs done of all, failed, remaining, ETA."""
+    from rich.progress import (
+        BarColumn,
+        MofNCompleteColumn,
+        Progress,
+        SpinnerColumn,
+        TextColumn,
+        TimeElapsedColumn,
+        TimeRemainingColumn,
+    )
+
+    return Progress(SpinnerColumn(), TextColumn("{task.description}"), BarColumn(),
+                    MofNCompleteColumn(),
+                    TextColumn("failed {task.fields[failed]}, remaining "
+                               "{task.fields[remaining]}"),
+                    TimeElapsedColumn(), TextColumn("ETA"), TimeRemainingColumn(),
+                    console=common.err_console, transient=False, disable=not bar_enabled())
+
+
+def _failed_runs_table(errors: Iterable[Mapping[str, Any]]) -> Table:
+    """The runs that failed: file, axis and the error message."""
+    from rich.text import Text
+
+    failed = Table(title="failed runs", title_justify="left")
+    for c in ("file", "axis", "error"):
+        failed.add_column(c)
+    for r in errors:  # Text(): file names and messages are not rich markup
+        failed.add_row(Text(r["file"]), Text(r["axis"] or ""), Text(r["error"]))
+    return failed
 
 
 def _batch_quality_lines(rows: Iterable[Mapping[str, Any]]) -> list[str]:

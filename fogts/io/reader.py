@@ -28,7 +28,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from fogts._typing import IntArray
+from fogts._typing import FloatArray, IntArray
 from fogts._validate import check_positive
 from fogts.errors import DataError, InsufficientDataError
 from fogts.io.accel import accel_unit
@@ -59,6 +59,8 @@ FILE_READERS: dict[str, Callable[[Path], Table]] = {
 }
 
 
+# Long only by its numpydoc docstring (every option and format); the body validates the
+# options, loads the table and hands it to _table_to_run.
 def read_run(
     source: str | os.PathLike[str] | pd.DataFrame | pd.Series | np.ndarray,
     *,
@@ -277,12 +279,8 @@ def _table_to_run(table: Table, *, rate_column: str | Sequence[str] | None,
     rows = table.frame.shape[0]
     if nan == "interpolate":
         at = time if time is not None else RegularTime(rows, fs).array()
-        filled = [interpolate_missing(c, at, name)
-                  for c, name in zip(rate_cols, roles.rate, strict=True)]
-        rate_cols = [c for c, _ in filled]
-        missing = missing_report(nan, roles.rate, [m for _, m in filled], temperature)
-        if temperature is not None:
-            temperature = interpolate_missing(temperature, at, str(roles.temperature))[0]
+        rate_cols, temperature, missing = _interpolate_columns(rate_cols, temperature, at,
+                                                               roles)
         del at
     rate_cols, angle = to_rate(kind, rate_cols, float(fs))
     if kind == "angle":  # n angles give n - 1 rates, each timed at the start of its step
@@ -290,10 +288,7 @@ def _table_to_run(table: Table, *, rate_column: str | Sequence[str] | None,
         time, dt, steps = (time[:-1] if time is not None else None,
                            dt[:-1] if dt is not None else None, None)
         temperature = temperature[:-1] if temperature is not None else None
-    for name, col in zip(roles.rate, rate_cols, strict=True):
-        if np.ptp(col[:1024]) == 0 and np.ptp(col) == 0:  # a varying head settles it
-            raise DataError(f"rate column {name!r} is constant (every value is {col[0]:g}); a "
-                            "gyro record must vary: check the column or the logger")
+    _check_not_constant(roles.rate, rate_cols)
     rate = rate_cols[0] if len(rate_cols) == 1 else np.column_stack(rate_cols)
     angle_unit = rate_unit_of_angle(None, roles.gyro) if kind != "rate" and not units else None
     unit, unit_source = ((angle_unit, "column name") if angle_unit is not None else
@@ -321,6 +316,27 @@ def _table_to_run(table: Table, *, rate_column: str | Sequence[str] | None,
         input_kind=kind,
         angle=angle,
     )
+
+
+def _interpolate_columns(rate_cols: list[FloatArray], temperature: FloatArray | None,
+                         at: FloatArray, roles: Any
+                         ) -> tuple[list[FloatArray], FloatArray | None, MissingReport | None]:
+    """The rate and temperature columns with their missing cells interpolated linearly in
+    time ``at``, and the report of what was filled (``nan="interpolate"``)."""
+    filled = [interpolate_missing(c, at, name)
+              for c, name in zip(rate_cols, roles.rate, strict=True)]
+    missing = missing_report("interpolate", roles.rate, [m for _, m in filled], temperature)
+    if temperature is not None:
+        temperature = interpolate_missing(temperature, at, str(roles.temperature))[0]
+    return [c for c, _ in filled], temperature, missing
+
+
+def _check_not_constant(names: Sequence[str], columns: list[FloatArray]) -> None:
+    """Refuse a rate column whose every value is the same (a stuck logger or wrong column)."""
+    for name, col in zip(names, columns, strict=True):
+        if np.ptp(col[:1024]) == 0 and np.ptp(col) == 0:  # a varying head settles it
+            raise DataError(f"rate column {name!r} is constant (every value is {col[0]:g}); a "
+                            "gyro record must vary: check the column or the logger")
 
 
 def _axis_units(roles: Any, gyro_unit: str, columns: list[Any], given: str | None,
