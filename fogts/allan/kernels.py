@@ -64,11 +64,12 @@ def phase_from_angle(theta: FloatArray, fs_hz: float) -> FloatArray:
     return scaled - mean * np.arange(n + 1, dtype=np.float64)
 
 
-def phase_from_rate(y: FloatArray) -> FloatArray:
+def phase_from_rate(y: FloatArray, *, mean: float | None = None) -> FloatArray:
     """Integrate the mean-removed rate once: ``x_0 = 0``, ``x_k = sum_{j<k} (y_j - mean)``.
 
     The result (``n + 1`` points) is the phase in units of rate x sample period, i.e. the
-    angle times ``fs``, integrated as in NIST SP1065 eq. 4.  From
+    angle times ``fs``, integrated as in NIST SP1065 eq. 4.  ``mean`` is
+    ``float(numpy.mean(y))``, computed here unless the caller has it.  From
     :data:`HALVES_FROM` samples on, the two halves are integrated at once on two threads
     and the first half's end is then added to the second (:func:`_integrate_halves`); the
     split depends on ``n`` only, so the phase is the same on any number of cores.
@@ -81,7 +82,8 @@ def phase_from_rate(y: FloatArray) -> FloatArray:
     n = y.size
     x = np.empty(n + 1, dtype=np.float64)
     x[0] = 0.0
-    mean = float(np.mean(y))
+    if mean is None:
+        mean = float(np.mean(y))
     if n < HALVES_FROM:
         _integrate(y, mean, x[1:])
     else:

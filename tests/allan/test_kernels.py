@@ -30,6 +30,14 @@ def test_phase_from_rate_is_the_mean_removed_cumulative_sum() -> None:
     assert abs(x[-1]) < 1e-8
 
 
+
+def test_phase_from_a_given_mean() -> None:
+    """A caller's mean (the sum of the finiteness check over n) gives the same phase: the
+    same float as numpy.mean, so asserted bit for bit."""
+    y = np.random.default_rng(2).normal(size=10_007) + 4.0
+    given = phase_from_rate(y, mean=float(np.sum(y)) / y.size)
+    assert np.array_equal(given, phase_from_rate(y))
+
 def test_phase_from_rate_is_importable_from_the_estimators() -> None:
     assert phase_from_estimators is phase_from_rate
 
