@@ -246,7 +246,7 @@ def _has_allan_command() -> bool:
 def _huge_metrics() -> list[Metric]:
     """End to end on a 1e8-sample .npy, each side in a fresh interpreter: wall and CPU
     time (the child's own), and the peak memory of the `fogts allan` command as a multiple
-    of the input (issue 14's goal: at most 3x)."""
+    of the input (the goal: at most 3x)."""
     from fogts.allan.taus import tau_grid
 
     folder = Path(tempfile.mkdtemp(prefix="fogts-bench-allan-"))
