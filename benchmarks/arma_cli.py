@@ -13,15 +13,14 @@ from __future__ import annotations
 
 import os
 import shutil
-import subprocess
 import sys
 import tempfile
-import time
 from pathlib import Path
 
 import numpy as np
 
 from benchmarks.metric import Metric, accuracy_metric
+from benchmarks.timing import run_child
 
 __all__ = ["cli_metrics", "run_select"]
 
@@ -35,13 +34,8 @@ def run_select(path: Path, out: Path) -> tuple[float, float, int, int]:
         [root, *filter(None, [os.environ.get("PYTHONPATH")])])}
     cmd = [sys.executable, "-m", "fogts", "select", str(path), "--fs", "100",
            "--json", str(out), "-q"]
-    t0 = time.perf_counter()
-    proc = subprocess.Popen(cmd, env=env, cwd=root, stdout=subprocess.DEVNULL,
-                            stderr=subprocess.DEVNULL)
-    _, status, usage = os.wait4(proc.pid, 0)
-    wall = time.perf_counter() - t0
-    proc.returncode = os.waitstatus_to_exitcode(status)
-    return wall, usage.ru_utime + usage.ru_stime, usage.ru_maxrss * 1024, proc.returncode
+    run = run_child(cmd, env=env, cwd=root)
+    return run.wall_s, run.cpu_s, run.max_rss_bytes, run.exit_code
 
 
 def cli_metrics(n: int, make: object, label: str) -> list[Metric]:

@@ -21,7 +21,9 @@ Figures (ratio = allantools seconds / fogts seconds, > 1 means fogts is faster):
 * ``--huge``: the end-to-end time on a 10^8-sample ``.npy`` (about 800 MB) of
   ``read_run`` + ``allan_deviation`` (with confidence intervals), and of the whole
   ``fogts allan`` command when it exists, against ``numpy.load`` + ``allantools.oadev``
-  on the same octave taus; each side runs in a fresh interpreter.
+  on the same octave taus; each side runs once in a fresh interpreter, timed by its wall
+  and its own CPU time (:func:`benchmarks.timing.run_child`), and the command's peak
+  resident memory is given as a multiple of the 800 MB input.
 
 The machine is shared, so the contenders are timed in rotating rounds and the best wall and
 CPU time of each is kept (:func:`benchmarks.timing.measure`); the load average is printed
@@ -40,10 +42,8 @@ import gc
 import importlib.util
 import os
 import shutil
-import subprocess
 import sys
 import tempfile
-import time
 import tracemalloc
 from collections.abc import Callable
 from pathlib import Path
@@ -53,7 +53,7 @@ import numpy as np
 
 from benchmarks.metric import Metric, accuracy_metric, speed_metric
 from benchmarks.render import measured_markdown, write_table
-from benchmarks.timing import Timing, measure, speed_from
+from benchmarks.timing import ChildRun, Timing, measure, run_child, speed_from
 
 RESULTS = Path(__file__).resolve().parent / "results" / "allan.md"
 FS_HZ = 100.0
@@ -243,20 +243,16 @@ def _has_allan_command() -> bool:
                for c in app.registered_commands)
 
 
-def _timed_child(cmd: list[str], env: dict[str, str]) -> float:
-    t0 = time.perf_counter()
-    subprocess.run(cmd, check=True, env=env, capture_output=True, text=True)
-    return time.perf_counter() - t0
-
-
 def _huge_metrics() -> list[Metric]:
-    """End to end on a 1e8-sample .npy, each side in a fresh interpreter."""
+    """End to end on a 1e8-sample .npy, each side in a fresh interpreter: wall and CPU
+    time (the child's own), and the peak memory of the `fogts allan` command as a multiple
+    of the input (the goal: at most 3x)."""
     from fogts.allan.taus import tau_grid
 
     folder = Path(tempfile.mkdtemp(prefix="fogts-bench-allan-"))
+    root = str(Path(__file__).resolve().parents[1])
     env = {**os.environ, "PYTHONPATH": os.pathsep.join(
-        [str(Path(__file__).resolve().parents[1]),
-         *filter(None, [os.environ.get("PYTHONPATH")])])}
+        [root, *filter(None, [os.environ.get("PYTHONPATH")])])}
     out: list[Metric] = []
     try:
         path = folder / "rate_1e8.npy"
@@ -265,28 +261,42 @@ def _huge_metrics() -> list[Metric]:
         peer_code = ("import sys, numpy as np, allantools; y = np.load(sys.argv[1]); "
                      f"allantools.oadev(y, rate={FS_HZ}, data_type='freq', "
                      f"taus=np.array({taus.tolist()!r}))")
-        t_peer = _timed_child([sys.executable, "-c", peer_code, str(path)], env)
+        peer = _checked_child([sys.executable, "-c", peer_code, str(path)], env, root)
         api_code = ("import sys; from fogts.io.reader import read_run; "
                     "from fogts.allan import allan_deviation; "
                     f"r = read_run(sys.argv[1], fs_hz={FS_HZ}); "
                     "res = allan_deviation(r, kind='oadev', taus='octave')")
-        t_api = _timed_child([sys.executable, "-c", api_code, str(path)], env)
-        peer = "np.load+allantools.oadev"
+        api = _checked_child([sys.executable, "-c", api_code, str(path)], env, root)
+        label = "np.load+allantools.oadev"
         out.append(speed_metric(
             "speed.allan_deviation_end_to_end.n=1e8", f"1e8-sample .npy (800 MB), "
             f"{taus.size} octave taus: read_run + allan_deviation (oadev with noise id, EDF "
-            "and CIs)", fogts_s=t_api, peer_s=t_peer, peer=peer))
+            "and CIs)", fogts_s=api.wall_s, peer_s=peer.wall_s, peer=label,
+            fogts_cpu_s=api.cpu_s, peer_cpu_s=peer.cpu_s, parallel=True))
         if _has_allan_command():
             cmd = [sys.executable, "-m", "fogts", "allan", str(path), "--fs", str(FS_HZ),
-                   "--json", str(folder / "out.json")]
-            t_cli = _timed_child(cmd, env)
+                   "--units", "deg/h", "--json", str(folder / "out.json")]
+            cli = _checked_child(cmd, env, root)
             out.append(speed_metric(
                 "speed.allan_cli_end_to_end.n=1e8", "1e8-sample .npy: the whole `fogts allan` "
-                "command (read, oadev, CIs, noise fit, JSON)", fogts_s=t_cli, peer_s=t_peer,
-                peer=peer))
+                "command (read, oadev, CIs, noise fit, JSON)", fogts_s=cli.wall_s,
+                peer_s=peer.wall_s, peer=label, fogts_cpu_s=cli.cpu_s, peer_cpu_s=peer.cpu_s,
+                parallel=True))
+            out.append(accuracy_metric(
+                "memory.allan_cli_end_to_end.n=1e8", "1e8-sample .npy: peak RSS of the whole "
+                "`fogts allan` command", value=cli.max_rss_bytes / (8 * N_HUGE),
+                better="lower", unit="x input", tolerance=0.25,
+                details={"max_rss_bytes": cli.max_rss_bytes}))
     finally:
         shutil.rmtree(folder, ignore_errors=True)
     return out
+
+
+def _checked_child(cmd: list[str], env: dict[str, str], cwd: str) -> ChildRun:
+    run = run_child(cmd, env=env, cwd=cwd)
+    if run.exit_code != 0:
+        raise RuntimeError(f"{' '.join(cmd[:4])} ... exited with {run.exit_code}")
+    return run
 
 
 def metrics(quick: bool, huge: bool = False) -> list[Metric]:

@@ -14,6 +14,7 @@
 from __future__ import annotations
 
 import os
+import subprocess
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -119,6 +120,30 @@ def timed_once(fn: Callable[[], Any]) -> tuple[float, float, Any]:
     c0, t0 = time.process_time(), time.perf_counter()
     out = fn()
     return time.perf_counter() - t0, time.process_time() - c0, out
+
+
+@dataclass(frozen=True)
+class ChildRun:
+    """One command run in a child process: its wall time, its own CPU time (user +
+    system, from ``os.wait4``), its peak resident memory (``ru_maxrss``) and exit code."""
+
+    wall_s: float
+    cpu_s: float
+    max_rss_bytes: int
+    exit_code: int
+
+
+def run_child(cmd: list[str], *, env: dict[str, str] | None = None,
+              cwd: str | None = None) -> ChildRun:
+    """Run ``cmd`` once (its output discarded) and measure it (:class:`ChildRun`)."""
+    t0 = time.perf_counter()
+    proc = subprocess.Popen(cmd, env=env, cwd=cwd, stdout=subprocess.DEVNULL,
+                            stderr=subprocess.DEVNULL)
+    _, status, usage = os.wait4(proc.pid, 0)
+    wall = time.perf_counter() - t0
+    proc.returncode = os.waitstatus_to_exitcode(status)
+    return ChildRun(wall, usage.ru_utime + usage.ru_stime, usage.ru_maxrss * 1024,
+                    proc.returncode)
 
 
 def speed_from(timing: Timing, id: str, title: str, *, peer: str, peer_key: str = "peer",

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Collection
-from typing import Any
+from typing import Any, NoReturn
 
 import numpy as np
 import pandas as pd
@@ -17,7 +17,8 @@ from fogts._typing import FloatArray
 from fogts.errors import DataError, InsufficientDataError
 
 __all__ = ["all_finite", "as_rng", "check_choice", "check_fraction", "check_int", "check_positive",
-           "finite_or_none", "is_pandas", "pandas_index", "to_float_array"]
+           "checked_sum", "finite_or_none", "finite_sum", "is_pandas", "pandas_index",
+           "to_float_array"]
 
 
 def check_positive(name: str, value: Any, *, allow_zero: bool = False) -> float:
@@ -90,10 +91,41 @@ def all_finite(arr: np.ndarray) -> bool:
     >>> all_finite(np.array([1e308, 1e308]))   # the sum overflows, the values do not
     True
     """
+    return finite_sum(arr) is not None
+
+
+def finite_sum(arr: np.ndarray) -> float | None:
+    """``numpy.sum(arr)`` when every value of the float array ``arr`` is finite, else None:
+    the pass of :func:`all_finite`, whose sum is the one ``numpy.mean`` divides by the
+    count (the same pairwise reduction, so ``finite_sum(a) / a.size == numpy.mean(a)``
+    bit for bit).
+
+    Examples
+    --------
+    >>> finite_sum(np.array([1.0, 2.5])), finite_sum(np.array([1.0, np.inf]))
+    (3.5, None)
+    """
     with np.errstate(over="ignore", invalid="ignore"):
-        if math.isfinite(float(np.sum(arr))):
-            return True
-    return bool(np.isfinite(arr).all())
+        total = float(np.sum(arr))
+    if math.isfinite(total) or np.isfinite(arr).all():
+        return total
+    return None
+
+
+def checked_sum(arr: np.ndarray, name: str = "x") -> float:
+    """:func:`finite_sum` of ``arr``; a non-finite value raises :class:`DataError` naming its
+    position, as :func:`to_float_array` does."""
+    total = finite_sum(arr)
+    if total is None:
+        _refuse_nonfinite(arr, name)
+    return total
+
+
+def _refuse_nonfinite(arr: np.ndarray, name: str) -> NoReturn:
+    bad = ~np.isfinite(arr)
+    pos = int(np.argwhere(bad)[0][0])
+    raise DataError(f"{name} contains a non-finite value ({float(arr.flat[np.argmax(bad)])!r}) "
+                    f"at position {pos}; remove or interpolate it first")
 
 
 def to_float_array(x: Any, name: str = "x", *, min_length: int = 2,
@@ -126,11 +158,7 @@ def to_float_array(x: Any, name: str = "x", *, min_length: int = 2,
         raise InsufficientDataError(
             f"{name} needs at least {min_length} samples, got {arr.shape[0]}")
     if not allow_nonfinite and not all_finite(arr):
-        bad = ~np.isfinite(arr)
-        if bad.any():
-            pos = int(np.argwhere(bad)[0][0])
-            raise DataError(f"{name} contains a non-finite value ({float(arr.flat[np.argmax(bad)])!r}) "
-                            f"at position {pos}; remove or interpolate it first")
+        _refuse_nonfinite(arr, name)
     return arr
 
 

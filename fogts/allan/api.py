@@ -145,7 +145,8 @@ def allan_deviation(
     fs, unit, notes = analysis_context(inp)
     curves = [_one_curve(y, name, fs_hz=fs, units=unit, kind=kind, taus=taus,
                          confidence=confidence, per_decade=per_decade, workers=workers,
-                         notes=notes, bias_correction=bias_correction, angle=inp.angle(i))
+                         notes=notes, bias_correction=bias_correction, angle=inp.angle(i),
+                         missing=inp.missing)
               for i, (name, y) in enumerate(inp.columns())]
     if len(curves) == 1 and (axis is not None or not inp.multi_axis_form):
         return curves[0]
@@ -203,11 +204,13 @@ def _gap_robust(y: FloatArray, fs_hz: float, grid: TauGrid) -> tuple[TauGrid, Es
 def _one_curve(y: FloatArray, name: str, *, fs_hz: float, units: str, kind: str, taus: Any,
                confidence: float | None, per_decade: int, workers: int | None,
                notes: tuple[str, ...], bias_correction: bool = False,
-               angle: FloatArray | None = None) -> AllanResult:
+               angle: FloatArray | None = None, missing: bool = True) -> AllanResult:
+    """One axis' curve; ``missing`` False says ``y`` was checked finite (no NaN to look
+    for: :attr:`fogts.preprocess.inputs.InputData.missing`)."""
     grid = tau_grid(taus, fs_hz=fs_hz, n_samples=y.size, kind=kind, per_decade=per_decade)
     phase: FloatArray | None = None
     sums: tuple[DecimatedSums | None, ...] | None = None
-    if _with_gaps(y, name, kind):  # Sesia & Tavella (2008): the terms free of missing samples
+    if missing and _with_gaps(y, name, kind):  # Sesia & Tavella (2008): the terms free of missing samples
         grid, est = _gap_robust(y, fs_hz, grid)
         notes = (*notes, f"{int(np.count_nonzero(np.isnan(y)))} missing samples (NaN): "
                  "gap-robust overlapping ADEV (Sesia & Tavella 2008); noise type and EDF "

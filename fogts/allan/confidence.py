@@ -26,7 +26,6 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 import pandas as pd
-from scipy import stats
 
 from fogts._typing import FloatArray, IntArray
 from fogts._validate import (
@@ -39,6 +38,7 @@ from fogts._validate import (
 from fogts.allan._checks import check_m
 from fogts.allan.bias import totdev_bias
 from fogts.allan.decimated import DecimatedSums
+from fogts.allan.distributions import chi2_ppf
 from fogts.allan.edf import edf_for
 from fogts.allan.noise_identification import ACF_MIN_POINTS as ACF_MIN_POINTS
 from fogts.allan.noise_identification import ALPHA_METHODS as ALPHA_METHODS
@@ -197,8 +197,8 @@ def chi2_interval(dev: npt.ArrayLike, edf: npt.ArrayLike,
         raise DataError(f"dev and edf must broadcast, got shapes {d.shape} and "
                         f"{e.shape}") from None
     lower_tail = (1.0 - c) / 2.0
-    low = d * np.sqrt(e / stats.chi2.ppf(1.0 - lower_tail, e))
-    high = d * np.sqrt(e / stats.chi2.ppf(lower_tail, e))
+    low = d * np.sqrt(e / chi2_ppf(1.0 - lower_tail, e))
+    high = d * np.sqrt(e / chi2_ppf(lower_tail, e))
     return ChiSquaredInterval(low=np.asarray(low, dtype=np.float64),
                               high=np.asarray(high, dtype=np.float64), confidence=c)
 

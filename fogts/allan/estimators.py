@@ -32,7 +32,7 @@ import numpy.typing as npt
 
 from fogts import progress
 from fogts._typing import FloatArray, IntArray
-from fogts._validate import check_int, check_positive, to_float_array
+from fogts._validate import check_int, check_positive, checked_sum, to_float_array
 from fogts.allan.decimated import (
     COLLECT_BELOW_M,
     DecimatedSums,
@@ -144,9 +144,12 @@ def thread_count(workers: int | None, n_taus: int, work: int) -> int:
 
 
 def _prepare(kind: str, y: Any, fs_hz: float, m: npt.ArrayLike
-             ) -> tuple[FloatArray, float, IntArray, IntArray]:
+             ) -> tuple[FloatArray, float, IntArray, IntArray, float]:
+    """The rate (checked finite), sample rate, averaging factors, terms and the rate's mean
+    (from the checking pass: :func:`fogts._validate.checked_sum`)."""
     fs = check_positive("fs_hz", fs_hz)
-    arr = to_float_array(y, "y", min_length=2)
+    arr = to_float_array(y, "y", min_length=2, allow_nonfinite=True)
+    mean = checked_sum(arr, "y") / arr.size
     mm = np.asarray(m)
     if mm.ndim == 0:
         mm = mm.reshape(1)
@@ -167,7 +170,7 @@ def _prepare(kind: str, y: Any, fs_hz: float, m: npt.ArrayLike
         raise DataError(f"m = {bad} gives {int(terms[np.argmax(short)])} term(s) for {kind} "
                         f"with {arr.size} samples; at least {MIN_TERMS} are needed (build "
                         "the grid with fogts.allan.taus.tau_grid, which drops such taus)")
-    return arr, fs, mm, terms
+    return arr, fs, mm, terms, mean
 
 
 def _run(kind: str, y: Any, fs_hz: float, m: npt.ArrayLike, workers: int | None,
@@ -246,11 +249,11 @@ def _jobs(kind: str, m: IntArray, terms: IntArray, workers: int) -> list[list[in
 def _run_phased(kind: str, y: Any, fs_hz: float, m: npt.ArrayLike, workers: int | None,
                 angle: FloatArray | None = None, d_max: int | None = None) -> PhasedEstimate:
     """:func:`_run`, keeping the phase and, with ``d_max``, the decimated sums."""
-    arr, fs, mm, terms = _prepare(kind, y, fs_hz, m)
+    arr, fs, mm, terms, mean = _prepare(kind, y, fs_hz, m)
     if angle is not None and angle.shape != (arr.size + 1,):
         raise DataError(f"angle must have one point more than the rate ({arr.size + 1}), "
                         f"got shape {angle.shape}")
-    x = phase_from_rate(arr) if angle is None else phase_from_angle(angle, fs)
+    x = phase_from_rate(arr, mean=mean) if angle is None else phase_from_angle(angle, fs)
     nw = thread_count(workers, mm.size, int(terms.sum()))
 
     def job(idx: list[int]) -> list[tuple[float, DecimatedSums | None]]:

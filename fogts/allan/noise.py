@@ -50,10 +50,10 @@ from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
-from scipy.stats import norm
 
 from fogts._validate import check_choice, check_fraction, check_positive
 from fogts.allan.covariance import CovarianceModel
+from fogts.allan.distributions import norm_ppf
 from fogts.allan.markov import split_terms
 from fogts.allan.noise_band import widen_for_band_limits
 from fogts.allan.noise_extra import fit_extra_terms
@@ -224,7 +224,7 @@ def fit_noise(
     if curve.excluded:
         _warn(issued, DataQualityWarning, _excluded_message(curve.excluded), curve.axis)
     # one-sided tests of the terms and of the model error at z_(1 - significance)
-    z_crit = (float(norm.ppf(1.0 - significance))
+    z_crit = (float(norm_ppf(1.0 - significance))
               if significance is not None and method != "ols" else None)
     problem = _least_squares_problem(curve, names, method, z_crit)
     if problem.method != method:

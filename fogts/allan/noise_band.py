@@ -90,9 +90,9 @@ import numpy as np
 from scipy.linalg import solve_triangular
 from scipy.optimize import brentq
 from scipy.special import exp1
-from scipy.stats import norm
 
 from fogts._typing import FloatArray
+from fogts.allan.distributions import norm_cdf, norm_ppf
 from fogts.allan.noise_lsq import LsqProblem
 from fogts.allan.noise_model import NoiseTerm
 from fogts.allan.noise_selection import TermSelection
@@ -227,7 +227,7 @@ def mixture_interval(a_j: float, se: float, shift: float, confidence: float
         return max(a_j + min(shift, 0.0), 0.0), max(a_j + max(shift, 0.0), 0.0)
 
     def tail_gap(x: float, p: float) -> float:
-        return float(0.5 * (norm.cdf((x - a_j) / se) + norm.cdf((x - a_j - shift) / se))) - p
+        return float(0.5 * (norm_cdf((x - a_j) / se) + norm_cdf((x - a_j - shift) / se))) - p
 
     lo_b, hi_b = a_j + min(shift, 0.0) - 10.0 * se, a_j + max(shift, 0.0) + 10.0 * se
     lo = brentq(tail_gap, lo_b, hi_b, args=(0.5 - confidence / 2,), xtol=1e-12 * se)
@@ -255,7 +255,7 @@ def widen_for_band_limits(terms: tuple[NoiseTerm, ...], names: tuple[str, ...],
     if profile is None:
         return terms
     var = np.diag(selection.fit.cov(active))
-    z = float(norm.ppf(0.5 + confidence / 2))
+    z = float(norm_ppf(0.5 + confidence / 2))
     rows = term_rows(quantity)
     out = list(terms)
     for j, name in enumerate(names):

@@ -42,9 +42,9 @@ from dataclasses import dataclass
 
 import numpy as np
 from scipy.optimize import minimize_scalar
-from scipy.stats import chi2
 
 from fogts._typing import FloatArray
+from fogts.allan.distributions import chi2_sf
 from fogts.allan.markov import (
     EXTRA_FAMILIES,
     EXTRA_POWER,
@@ -211,7 +211,7 @@ def _extra_term(fam: ExtraFamily, theta: float, se_ln: float, profile: _Profile,
         amplitude_unit=fam.amplitude_unit, parameter=theta,
         parameter_stderr=theta * se_ln, parameter_unit=fam.parameter_unit,
         sigma=fam.sigma(amp, theta), sigma_stderr=sigma_se, chi2_drop=drop, df=_DF,
-        p_value=float(chi2.sf(drop, _DF)), level=level, status=status,
+        p_value=float(chi2_sf(drop, _DF)), level=level, status=status,
         at_edge=profile.at_edge, search_range=profile.search,
         avar_coeff=a * problem.scale)
 

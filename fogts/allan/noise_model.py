@@ -12,9 +12,9 @@ from typing import Any
 
 import numpy as np
 import pandas as pd
-from scipy.stats import norm
 
 from fogts._typing import FloatArray
+from fogts.allan.distributions import norm_ppf
 from fogts.allan.gmwm_result import GmwmSummary
 from fogts.allan.markov import ExtraTerm
 from fogts.allan.ml_result import MlSummary
@@ -342,10 +342,10 @@ class NoiseModel(TableView):
         term = self[name]
         if not term.is_limit:
             return math.nan
-        z_level = float(norm.ppf(level))
+        z_level = float(norm_ppf(level))
         if not term.at_bound:  # a weak fitted term: the one-sided bound of C_n^2 = a
             return math.sqrt(term.value**2 + 2.0 * z_level * term.value * term.stderr)
-        z_conf = float(norm.ppf(0.5 + self.confidence / 2))
+        z_conf = float(norm_ppf(0.5 + self.confidence / 2))
         return term.ci_high * math.sqrt(z_level / z_conf)
 
     def _table_note(self, term: NoiseTerm, units: OutputUnits = "deg") -> str:
@@ -409,7 +409,7 @@ class NoiseModel(TableView):
                          + f"; edf from {self.edf_source}")
         if self.significance is not None and self.gmwm is None and self.ml is None:
             lines.append(f"term selection: one-sided tests at {100 * self.significance:g} % "
-                         f"(drop if z < {norm.ppf(1 - self.significance):.3f}); dropped: "
+                         f"(drop if z < {norm_ppf(1 - self.significance):.3f}); dropped: "
                          + (", ".join(self.dropped) or "none"))
         lines += [e.describe() for e in self.extra_terms]
         if self.gmwm is not None:

@@ -46,9 +46,9 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.stats import norm
 
 from fogts._typing import FloatArray
+from fogts.allan.distributions import norm_ppf
 from fogts.allan.noise_lsq import LsqFit, LsqProblem
 from fogts.allan.noise_model import NoiseModel, NoiseTerm
 from fogts.allan.terms import TERM_POWER, term_rows
@@ -137,7 +137,7 @@ def term_estimates(names: tuple[str, ...], selection: TermSelection, confidence:
     fit, a, dropped_z = selection.fit, selection.a, selection.dropped_z
     active = a > 0
     z_final = z_scores(fit, a)
-    z = float(norm.ppf(0.5 + confidence / 2))
+    z = float(norm_ppf(0.5 + confidence / 2))
     idx_active = np.flatnonzero(active)
     var_active = np.diag(fit.cov(idx_active)) if idx_active.size else np.zeros(0)
     out: list[NoiseTerm] = []

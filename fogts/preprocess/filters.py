@@ -25,7 +25,6 @@ from typing import Any
 
 import numpy as np
 import pandas as pd
-from scipy import ndimage, signal
 
 from fogts._typing import ArrayLike1D, FloatArray
 from fogts._validate import check_choice, check_int, check_positive, pandas_index, to_float_array
@@ -85,6 +84,8 @@ class FilterResult:
         """
         f = np.asarray(freq_hz, dtype=np.float64)
         if self.sos is not None:
+            from scipy import signal
+
             _, h = signal.sosfreqz(self.sos, worN=f, fs=self.fs_hz)
             return np.asarray(np.abs(h) ** 2, dtype=np.float64)
         window = int(self.params["window"])
@@ -167,6 +168,8 @@ def lowpass(
     stop = check_positive("stopband_db", stopband_db)
     index = pandas_index(x)
     data = to_float_array(x, "x", min_length=2)
+    from scipy import signal  # on first use: slow to import, and most commands never filter
+
     if kind == "butter":
         sos = signal.butter(n, _zero_phase_butter_design_hz(fc, fs, n), btype="low", fs=fs,
                             output="sos")
@@ -225,6 +228,8 @@ def moving_average(x: ArrayLike1D, *, fs_hz: float, window_s: float) -> FilterRe
     if window > data.size:
         raise DataError(f"window_s={w_s:g} s ({window} samples) is longer than the record "
                         f"({data.size} samples)")
+    from scipy import ndimage
+
     filtered = ndimage.uniform_filter1d(data, size=window, mode="reflect")
     result = FilterResult(method="moving-average", params={"window": window,
                                                            "window_s": window / fs},

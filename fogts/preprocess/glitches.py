@@ -30,8 +30,9 @@ MAD_TO_SIGMA = 1.482602218505602
 #: Robust scales are estimated on at most this many evenly strided samples (the
 #: sampling error of a MAD from 2e6 points is about 0.05 %).
 SCALE_SAMPLES = 2_000_000
-#: Samples processed at a time (bounds the temporary memory on 1e8-sample records).
-CHUNK = 4_000_000
+#: Samples per block of the search for far rows (1 MiB of float64: its minimum and
+#: maximum are taken while it is in the cache; bounds the temporary memory).
+CHUNK = 1 << 17
 #: Glitch events listed one by one (the count is always complete).
 MAX_LISTED = 50
 #: A glitch event longer than this is described as a level shift.
@@ -157,24 +158,34 @@ def _strided(x: FloatArray, limit: int = SCALE_SAMPLES) -> FloatArray:
     return x[:: max(1, x.size // limit)]
 
 
+def _strided_steps(x: FloatArray) -> FloatArray:
+    """``_strided(numpy.diff(_strided(x, 4 * SCALE_SAMPLES)))`` without forming the
+    intermediate difference: the steps ``x[a + s] - x[a]`` between neighbours of the
+    thinned series ``x[::s]`` at every ``t``-th position, read straight from ``x``."""
+    s = max(1, x.size // (4 * SCALE_SAMPLES))
+    steps = (x.size - 1) // s  # len(x[::s]) - 1
+    t = max(1, steps // SCALE_SAMPLES)
+    count = -(-steps // t)
+    return x[s :: s * t][:count] - x[:: s * t][:count]
+
+
 def _jump_rows(x: FloatArray, med: float, limit_x: float, limit_d: float) -> IntArray:
     """Rows beyond ``limit_x`` from the median whose step in or out exceeds ``limit_d``.
 
-    One pass over ``x`` in chunks with reused buffers finds the far rows (few: the
-    threshold is many sigmas); the steps are then taken at those rows only.  The step into
-    row ``r`` is ``x[r] - x[r-1]`` (``r >= 1``), the step out ``x[r+1] - x[r]``
-    (``r <= n - 2``), as ``numpy.diff`` forms them.
+    One pass over ``x`` in cache-sized blocks takes each block's minimum and maximum; only
+    a block that reaches beyond ``limit_x`` (few: the threshold is many sigmas) is searched
+    for its far rows, and the steps are then taken at those rows only.  Rounding is
+    monotonic, so ``|x - med| <= limit_x`` holds for every value of a block whose extremes
+    satisfy it: the rows are those of ``|x - med| > limit_x`` computed for every value.
+    The step into row ``r`` is ``x[r] - x[r-1]`` (``r >= 1``), the step out
+    ``x[r+1] - x[r]`` (``r <= n - 2``), as ``numpy.diff`` forms them.
     """
-    n = x.size
-    k = min(CHUNK, n)
-    dev = np.empty(k, dtype=np.float64)
-    far = np.empty(k, dtype=np.bool_)
     found: list[IntArray] = []
-    for start in range(0, n, CHUNK):
+    for start in range(0, x.size, CHUNK):
         seg = x[start:start + CHUNK]
-        d = np.subtract(seg, med, out=dev[:seg.size])
-        np.abs(d, out=d)
-        rows = np.flatnonzero(np.greater(d, limit_x, out=far[:seg.size])) + start
+        if seg.max() - med <= limit_x and med - seg.min() <= limit_x:
+            continue
+        rows = np.flatnonzero(np.abs(seg - med) > limit_x) + start
         if rows.size:
             found.append(rows[_steps_beyond(x, rows, limit_d)])
     return np.unique(np.concatenate(found)) if found else np.empty(0, np.int64)
@@ -268,9 +279,7 @@ def detect_glitches(
         raise DataError(f"x must be one axis of at least 3 samples, got shape {values.shape}")
     threshold = check_positive("threshold", threshold)
     med, sig_x, how = _robust_sigma(_strided(values))
-    _, sig_d, how_d = _robust_sigma(_strided(np.diff(_strided(values, 4 * SCALE_SAMPLES))
-                                             if values.size > 4 * SCALE_SAMPLES
-                                             else np.diff(values)))
+    _, sig_d, how_d = _robust_sigma(_strided_steps(values))
     scale = how if how == how_d else f"{how} (rate), {how_d} (difference)"
     if sig_x == 0 or sig_d == 0:
         return GlitchReport(axis, units, threshold, med, sig_x, sig_d, scale, 0, 0, ())

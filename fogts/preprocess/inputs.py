@@ -68,6 +68,11 @@ class InputData:
         The Run given (or read from a pandas frame).
     prepared : Prepared or None
         The Prepared given.
+    angles : tuple of ndarray or None
+        The angle of each axis for angle or increment input (:meth:`angle`).
+    missing : bool
+        Some values are NaN: a Run's missing samples, let through by ``allow_nan`` of
+        :func:`ensure_axes`.  False means every value is finite.
     """
 
     values: FloatArray
@@ -80,6 +85,7 @@ class InputData:
     run: Run | None = None
     prepared: Prepared | None = None
     angles: tuple[FloatArray, ...] | None = None
+    missing: bool = False
 
     @property
     def n(self) -> int:
@@ -256,7 +262,7 @@ def _from_run(run: Run, fs: float | None, unit: str | None, axis: int | str,
               min_length: int, allow_nan: bool = False) -> InputData:
     picked = run.axis(axis)
     axis_name = axis if isinstance(axis, str) else run.axes[int(axis)]
-    values = _checked_columns(picked, (axis_name,), min_length, allow_nan)
+    values, missing = _checked_columns(picked, (axis_name,), min_length, allow_nan)
     angles = None
     if run.angle is not None:
         i = run.axes.index(axis_name)
@@ -264,7 +270,8 @@ def _from_run(run: Run, fs: float | None, unit: str | None, axis: int | str,
         assert angle is not None
         angles = (angle,)
     return InputData(values, (axis_name,), fs or run.fs_hz, unit or run.units, "Run",
-                     multi_axis_form=run.rate.ndim == 2, run=run, angles=angles)
+                     multi_axis_form=run.rate.ndim == 2, run=run, angles=angles,
+                     missing=missing)
 
 
 def _run_axes(run: Run, fs: float | None, unit: str | None, axis: int | str | None,
@@ -276,25 +283,26 @@ def _run_axes(run: Run, fs: float | None, unit: str | None, axis: int | str | No
     if run.angle is not None:
         angles = tuple(a for a in (run.axis_angle(i) for i in range(run.n_axes))
                        if a is not None)
-    return InputData(_checked_columns(run.rate, run.axes, 2, allow_nan), run.axes,
-                     fs or run.fs_hz, unit or run.units, "Run",
-                     multi_axis_form=run.rate.ndim == 2, run=run, angles=angles)
+    values, missing = _checked_columns(run.rate, run.axes, 2, allow_nan)
+    return InputData(values, run.axes, fs or run.fs_hz, unit or run.units, "Run",
+                     multi_axis_form=run.rate.ndim == 2, run=run, angles=angles,
+                     missing=missing)
 
 
 def _checked_columns(rate: FloatArray, axes: tuple[str, ...], min_length: int,
-                     allow_nan: bool = False) -> FloatArray:
-    """``rate`` as float64, each axis checked (and named in the error) as one series; NaN
-    (a missing sample) passes with ``allow_nan``, inf never."""
+                     allow_nan: bool = False) -> tuple[FloatArray, bool]:
+    """``rate`` as float64, each axis checked (and named in the error) as one series, and
+    whether it holds NaN: a missing sample passes with ``allow_nan``, inf never."""
     arr = to_float_array(rate, "rate", min_length=min_length, allow_nonfinite=True, ndim=2)
     if all_finite(arr):
-        return arr
+        return arr, False
     bad = np.isinf(arr) if allow_nan else ~np.isfinite(arr)
     if np.any(bad):
         for i, axis_name in enumerate(axes):  # the first bad axis raises, naming itself
             column = arr if arr.ndim == 1 else arr[:, i]
             to_float_array(np.where(np.isnan(column), 0.0, column) if allow_nan else column,
                            axis_name)
-    return arr
+    return arr, True
 
 
 def _angle_axes(arr: FloatArray, fs: float, unit: str | None, axis: int | str | None,

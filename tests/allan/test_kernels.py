@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from fogts.allan import kernels
+from fogts.allan.estimators import phase_deviations
 from fogts.allan.estimators import phase_from_rate as phase_from_estimators
 from fogts.allan.kernels import (
     NORMALISATION,
@@ -29,9 +30,42 @@ def test_phase_from_rate_is_the_mean_removed_cumulative_sum() -> None:
     assert abs(x[-1]) < 1e-8
 
 
+
+def test_phase_from_a_given_mean() -> None:
+    """A caller's mean (the sum of the finiteness check over n) gives the same phase: the
+    same float as numpy.mean, so asserted bit for bit."""
+    y = np.random.default_rng(2).normal(size=10_007) + 4.0
+    given = phase_from_rate(y, mean=float(np.sum(y)) / y.size)
+    assert np.array_equal(given, phase_from_rate(y))
+
 def test_phase_from_rate_is_importable_from_the_estimators() -> None:
     assert phase_from_estimators is phase_from_rate
 
+
+
+@pytest.mark.parametrize("n", [5 * 64 + 17, 6 * 64])
+def test_phase_integrated_in_halves(monkeypatch: pytest.MonkeyPatch, n: int) -> None:
+    """Long records are integrated in two halves at once.  The first half is a whole
+    number of chunks, so it equals the one-thread phase bit for bit (asserted exactly:
+    the same operations); the second half and every deviation agree to 1e-12 relative."""
+    monkeypatch.setattr(kernels, "CHUNK", 64)
+    y = np.random.default_rng(4).normal(size=n) + 2.5 + np.cumsum(
+        np.random.default_rng(5).normal(scale=0.05, size=n))
+    monkeypatch.setattr(kernels, "HALVES_FROM", n + 1)
+    one = phase_from_rate(y)
+    monkeypatch.setattr(kernels, "HALVES_FROM", n)
+    two = phase_from_rate(y)
+    half = (n // 2) // 64 * 64
+    assert np.array_equal(two[: half + 1], one[: half + 1])
+    np.testing.assert_allclose(two, one, rtol=0, atol=1e-12 * np.abs(one).max())
+    m = np.array([1, 2, 5, 16, 40, 100])
+    for kind in ("oadev", "mdev", "ohdev", "totdev"):
+        np.testing.assert_allclose(phase_deviations(kind, two, m),
+                                   phase_deviations(kind, one, m), rtol=1e-12, atol=0)
+
+
+def test_halves_start_above_two_chunks() -> None:
+    assert kernels.HALVES_FROM >= 2 * kernels.CHUNK
 
 def test_differences_match_their_definitions() -> None:
     x = np.cumsum(np.random.default_rng(3).normal(size=500))

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import json
 import re
+import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -322,3 +324,17 @@ def test_method_ml_fits_the_record(gyro_npy: Path, tmp_path: Path) -> None:
     assert axis["noise_fit"]["method"] == "ml" and axis["noise_fit"]["ml"]["model"] == "N + K"
     assert axis["noise"]["N"]["value"] == pytest.approx(N_TRUE, rel=0.01)
     assert "ML model: N + K" in stdout
+
+
+def test_the_command_leaves_slow_imports_out(gyro_npy: Path, tmp_path: Path) -> None:
+    """``fogts allan`` loads neither scipy.stats nor scipy.signal (about a second of
+    start-up together), nor matplotlib or statsmodels, when it plots and tests nothing."""
+    code = ("import sys; from fogts.cli import main\n"
+            "try:\n    main(sys.argv[1:])\nexcept SystemExit:\n    pass\n"
+            "print(sorted(m for m in ('scipy.stats', 'scipy.signal', 'matplotlib', "
+            "'statsmodels') if m in sys.modules))")
+    args = ["allan", str(gyro_npy), "--fs", str(FS), "--json", str(tmp_path / "a.json")]
+    done = subprocess.run([sys.executable, "-c", code, *args], capture_output=True,
+                          text=True, check=True, cwd=Path(__file__).resolve().parents[2])
+    assert done.stdout.strip().splitlines()[-1] == "[]"
+    assert json.loads((tmp_path / "a.json").read_text())["axes"][0]["points"]

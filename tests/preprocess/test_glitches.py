@@ -91,3 +91,36 @@ def test_detect_glitches_errors() -> None:
 
 def test_default_threshold_is_documented_value() -> None:
     assert GLITCH_SIGMAS == 7.0
+
+
+@pytest.mark.parametrize("n", [3, 1000, 2_000_001, 8_000_000, 8_000_001, 24_000_011])
+def test_thinned_steps_are_those_of_the_thinned_difference(n: int) -> None:
+    """The difference's scale is taken from steps read straight from the record: the same
+    values as thinning, differencing and thinning again (bit for bit, asserted exactly:
+    the same subtractions of the same samples)."""
+    from fogts.preprocess import glitches
+
+    x = np.random.default_rng(n).standard_normal(n)
+    thinned = glitches._strided(x, 4 * glitches.SCALE_SAMPLES)
+    want = glitches._strided(np.diff(thinned))
+    got = glitches._strided_steps(x)
+    assert got.shape == want.shape and np.array_equal(got, want)
+
+
+def test_far_rows_at_the_threshold_and_across_blocks(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Blocks whose extremes stay within the limit are skipped; the rows found are those of
+    ``|x - med| > limit`` over every sample, also for values at the limit itself and for
+    NaN, in any block."""
+    from fogts.preprocess import glitches
+
+    monkeypatch.setattr(glitches, "CHUNK", 1000)
+    x = np.random.default_rng(5).standard_normal(10_500)
+    med, limit = 0.25, 5.0
+    x[[10, 999, 1000, 4321, 10_499]] = [med + limit, med - 6.0, 9.0, -20.0, 30.0]
+    x[7000] = np.nextafter(med + limit, np.inf)
+    x[8000] = np.nan
+    far = np.flatnonzero(np.abs(x - med) > limit)
+    want = far[glitches._steps_beyond(x, far, 3.0)]
+    got = glitches._jump_rows(x, med, limit, 3.0)
+    np.testing.assert_array_equal(got, want)
+    assert 10 not in got and {999, 1000, 4321, 10_499} <= set(got.tolist())

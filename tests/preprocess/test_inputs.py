@@ -137,3 +137,18 @@ def test_every_entry_point_reads_a_one_axis_run_alike() -> None:
     for call in (prepare, select_arma):
         with pytest.raises(DataError, match=r"got a DataFrame"):
             call(pd.DataFrame({"a": y}))  # type: ignore[arg-type]
+
+
+def test_missing_says_whether_nan_was_let_through() -> None:
+    """``missing`` is True only when a Run's NaN passed with ``allow_nan``; every other
+    input was checked finite, so the Allan analysis needs no second look for NaN."""
+    y = np.random.default_rng(3).normal(size=(400, 2))
+    assert not ensure_axes(_run(y, ("x", "y")), allow_nan=True).missing
+    assert not ensure_axes(y, fs_hz=FS).missing
+    y[10, 1] = np.nan
+    gappy = _run(y, ("x", "y"))
+    assert ensure_axes(gappy, allow_nan=True).missing
+    assert ensure_axes(gappy, axis="y", allow_nan=True).missing
+    assert not ensure_axes(gappy, axis="x", allow_nan=True).missing
+    with pytest.raises(DataError, match="y"):
+        ensure_axes(gappy)
