@@ -26,10 +26,13 @@ from fogts.arma.likelihood import Evaluation, ExactLikelihood
 from fogts.arma.region import UNIT_ROOT_GAP, admissible, shrink_into_region, unit_root_gap
 from fogts.arma.startup_curvature import d_hessian
 
-__all__ = ["PRESAMPLE", "NewtonResult", "maximise", "newton", "solve"]
+__all__ = ["PREFIX", "PRESAMPLE", "NewtonResult", "maximise", "newton", "solve", "warm_start"]
 
 _MAX_ITER = 100
 PRESAMPLE = 100_000      # long series: Newton first runs on this many leading samples
+PREFIX = 1 << 21         # ... and on very long ones then on this many
+_SAME_START = 1e-3       # warm starts this close lead to the same whole-series optimum
+_LONG_MIN_DAMPING = 2.0 ** -10  # with D's curvature beyond 4 x PREFIX samples
 _SMALL_STEP = 1e-6        # a Newton step this small is the last one
 
 
@@ -45,6 +48,7 @@ class NewtonResult:
     dD: FloatArray | None = None
     HS: FloatArray | None = None      # Hessian of S and D used at the last Newton iterate
     HD: FloatArray | None = None
+    at_unit_root: bool = False        # stopped at an inverse AR root within UNIT_ROOT_GAP of 1
 
 
 #: With ``d_curvature``, this many steps in a row accepted only after this much damping
@@ -56,7 +60,8 @@ _HD_GIVE_UP_RUN = 3
 
 def newton(model: ExactLikelihood, phi: FloatArray, theta: FloatArray, *,
            small_step: float = _SMALL_STEP, exact: bool = False,
-           max_iter: int | None = None, d_curvature: bool = False) -> NewtonResult:
+           max_iter: int | None = None, d_curvature: bool = False,
+           min_damping: float = 1e-12) -> NewtonResult:
     """Minimise the profile objective f from (phi, theta) by damped Newton steps.
 
     ``exact=False`` uses the analytic Hessian of S (cheap: 2 lfilter passes), with
@@ -65,7 +70,8 @@ def newton(model: ExactLikelihood, phi: FloatArray, theta: FloatArray, *,
     Newton crawls along the boundary when the optimum is near a unit root, 114 iterations
     instead of 17 on a 4e6-sample white + random-walk record); ``exact=True`` the
     finite-difference Hessian of the exact gradient (4(p+q) gradients; used on short
-    series, where it matters on flat ridges of non-identified models).
+    series, where it matters on flat ridges of non-identified models).  The line search
+    halves a step down to ``min_damping`` of it; finding no descent there ends the run.
     """
     max_iter = _MAX_ITER if max_iter is None else max_iter
     n, p, q = model.nu, model.p, model.q
@@ -106,7 +112,7 @@ def newton(model: ExactLikelihood, phi: FloatArray, theta: FloatArray, *,
             break
         t = 1.0
         accepted = None
-        while t > 1e-12:
+        while t > min_damping:
             cand = beta - t * step
             if admissible(cand[:p], cand[p:]):
                 ev2 = model.evaluate(cand[:p], cand[p:])
@@ -136,38 +142,72 @@ def newton(model: ExactLikelihood, phi: FloatArray, theta: FloatArray, *,
             # the restricted likelihood runs to the unit root, outside the region
             msgs.append(f"stopped at iteration {n_iter}: an inverse AR root within "
                         f"{UNIT_ROOT_GAP:g} of 1")
-            break
+            return NewtonResult(ev=ev, converged=False, n_iter=n_iter, msgs=msgs, dS=dS,
+                                dD=dD, HS=HS, HD=HD, at_unit_root=True)
     else:
         msgs.append(f"Newton's method did not converge in {max_iter} iterations")
     return NewtonResult(ev=ev, converged=converged, n_iter=n_iter, msgs=msgs, dS=dS, dD=dD,
                         HS=HS, HD=HD)
 
 
-def solve(xs: FloatArray, model: ExactLikelihood, phi: FloatArray, theta: FloatArray, *,
-          polish: bool) -> NewtonResult:
-    """Newton from (phi, theta): presample first on long series, exact polish if ``polish``.
+def _stage(model: ExactLikelihood, pre: NewtonResult, phi: FloatArray, theta: FloatArray
+           ) -> tuple[FloatArray, FloatArray]:
+    """The start for ``model`` after a shorter series' Newton run ``pre`` from (phi, theta):
+    its optimum; one within 1e-3 of the region's boundary (a unit AR root) only if the whole
+    series' likelihood is higher there than at (phi, theta)."""
+    if admissible(pre.ev.phi, pre.ev.theta, margin=1e-3):
+        return pre.ev.phi, pre.ev.theta
+    if admissible(pre.ev.phi, pre.ev.theta, margin=0.0) and \
+            model.evaluate(pre.ev.phi, pre.ev.theta).f < model.evaluate(phi, theta).f:
+        return pre.ev.phi, pre.ev.theta
+    return phi, theta
 
-    On long series the iterations start on the first ``PRESAMPLE`` samples (cheaper, and
-    their optimum is close to the full one), then finish on the whole series from the
-    presample's optimum; from one within 1e-3 of the region's boundary (a unit AR root) only
-    if the whole series' likelihood is higher there than at (phi, theta).  ``polish``
-    continues with the finite-difference Hessian of the exact gradient (short series).
+
+def warm_start(xs: FloatArray, model: ExactLikelihood, phi: FloatArray, theta: FloatArray
+               ) -> tuple[FloatArray, FloatArray]:
+    """The start of the whole series' Newton iterations from (phi, theta) on long series.
+
+    Above 4 x ``PRESAMPLE`` samples Newton first runs on the first ``PRESAMPLE`` samples
+    (``xs``), above 4 x ``PREFIX`` then on the first ``PREFIX`` samples of the model's series
+    from there: each stage's optimum is within a few of its standard errors of the next
+    one's, so the whole series needs only the last few iterations (cheap ones on the
+    shorter series).  Shorter series start at (phi, theta).
     """
     n, p, q = model.n, model.p, model.q
     if n > 4 * PRESAMPLE:
         pre = newton(ExactLikelihood(xs[:PRESAMPLE], p, q, mean=model.mean), phi, theta,
                      small_step=1e-4, d_curvature=True)
-        if admissible(pre.ev.phi, pre.ev.theta, margin=1e-3):
-            phi, theta = pre.ev.phi, pre.ev.theta
-        elif admissible(pre.ev.phi, pre.ev.theta, margin=0.0) and \
-                model.evaluate(pre.ev.phi, pre.ev.theta).f < model.evaluate(phi, theta).f:
-            # an optimum near the boundary (a unit AR root): the start if it is the better one
-            phi, theta = pre.ev.phi, pre.ev.theta
+        phi, theta = _stage(model, pre, phi, theta)
+    if n > 4 * PREFIX:
+        prefix = ExactLikelihood(model.x[:PREFIX], p, q, mean=model.mean, scale=model.scale,
+                                 offsets=model.offsets)
+        pre = newton(prefix, phi, theta, small_step=1e-5, d_curvature=True)
+        phi, theta = _stage(model, pre, phi, theta)
+    return phi, theta
+
+
+def solve(xs: FloatArray, model: ExactLikelihood, phi: FloatArray, theta: FloatArray, *,
+          polish: bool, warm: bool = True) -> NewtonResult:
+    """Newton from (phi, theta): from :func:`warm_start`'s start on long series (unless
+    ``warm`` is False: (phi, theta) is that start), exact polish if ``polish``.
+
+    ``polish`` continues with the finite-difference Hessian of the exact gradient (short
+    series).
+    """
+    n = model.n
+    if warm:
+        phi, theta = warm_start(xs, model, phi, theta)
     # on long series (those with a presample stage) D's curvature is in the Newton Hessian;
     # shorter ones keep the iterations they had (their fits, and the golden outputs of a
     # 1.08e5-sample record, unchanged)
-    res = newton(model, phi, theta, d_curvature=n > 4 * PRESAMPLE)
-    if n > 4 * PRESAMPLE and not res.converged:
+    long = n > 4 * PRESAMPLE
+    # a whole-series evaluation is costly: with D's curvature a step halved ten times
+    # ends the run, which then continues without it
+    res = newton(model, phi, theta, d_curvature=long,
+                 min_damping=_LONG_MIN_DAMPING if n > 4 * PREFIX else 1e-12)
+    if long and not res.converged and not res.at_unit_root:
+        # D's curvature misled the steps (a run of damped ones): again without it; a run
+        # stopped at a unit root stopped where the likelihood leads
         plain = newton(model, phi, theta)
         if plain.converged or plain.ev.f < res.ev.f:
             res = plain
@@ -235,20 +275,34 @@ def second_starts(xs: FloatArray, p: int, q: int, base_ar: FloatArray, base_ma: 
     return out
 
 
+def _same_start(a: tuple[FloatArray, FloatArray], b: tuple[FloatArray, FloatArray]) -> bool:
+    """Whether two starts (phi, theta) agree to 1e-3 in every coefficient."""
+    return bool(np.max(np.abs(np.r_[a[0] - b[0], a[1] - b[1]]), initial=0.0) < _SAME_START)
+
+
 def maximise(xs: FloatArray, model: ExactLikelihood, phi: FloatArray, theta: FloatArray, *,
              polish: bool) -> tuple[NewtonResult, int]:
     """The maximum likelihood from (phi, theta), and from further starts if the fit is redundant.
 
     Returns the best :class:`NewtonResult` and the Newton iterations of all starts together.
     """
-    res = solve(xs, model, phi, theta, polish=polish)
+    long = model.n > 4 * PRESAMPLE
+    seen = [warm_start(xs, model, phi, theta)] if long else [(phi, theta)]
+    res = solve(xs, model, *seen[0], polish=polish, warm=False)
     n_iter = res.n_iter
     if model.mean and unit_root_gap(res.ev.phi) < UNIT_ROOT_GAP:
         return res, n_iter        # at a unit root: no mean to estimate, nothing to compare
     found = cancelling_pair(res.ev.phi, res.ev.theta)
     if found is not None:
         for start in second_starts(xs, model.p, model.q, *found, mean=model.mean):
-            res_alt = solve(xs, model, *start, polish=polish)
+            if long:
+                # a start whose warm-up ends where an earlier one's did would repeat its
+                # whole-series iterations
+                start = warm_start(xs, model, *start)
+                if any(_same_start(start, other) for other in seen):
+                    continue
+                seen.append(start)
+            res_alt = solve(xs, model, *start, polish=polish, warm=False)
             n_iter += res_alt.n_iter
             if res_alt.ev.f < res.ev.f - 1e-9:
                 res = res_alt
