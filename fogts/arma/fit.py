@@ -18,6 +18,10 @@ from __future__ import annotations
 
 import math
 import warnings as _warnings
+from collections.abc import Iterator
+from contextlib import contextmanager
+from contextvars import ContextVar
+from dataclasses import dataclass
 from typing import Any, Literal
 
 import numpy as np
@@ -119,6 +123,48 @@ def _check_not_explosive(xs: FloatArray) -> None:
     |c| > 1 gives |c| itself.  The threshold is 1 + 10/n.
     """
     _check_ar_roots(normal_equations(xs, [(xs, i) for i in range(1, 4)], 3), xs.shape[0])
+
+
+@dataclass(frozen=True)
+class _LongStatistics:
+    """What the fits of a long series share: its scale, offsets and lagged products."""
+
+    scale: float
+    offset: float
+    offset2: float
+    products: FloatArray
+
+
+_SHARED: ContextVar[dict[tuple[int, bool, bool], _LongStatistics] | None] = \
+    ContextVar("fogts_arma_shared_statistics", default=None)
+
+
+@contextmanager
+def shared_statistics() -> Iterator[None]:
+    """Within this context the fits of one long series (the same array object, unchanged
+    meanwhile) share the statistics :func:`fit_arma` takes of it before fitting (its scale,
+    mean and lagged products: four block-wise passes over it per fit otherwise)."""
+    token = _SHARED.set({})
+    try:
+        yield
+    finally:
+        _SHARED.reset(token)
+
+
+def _long_statistics(arr: FloatArray, standardize: bool, mean: bool
+                     ) -> tuple[float, float, float, FloatArray]:
+    """Scale, offsets (:func:`~fogts.arma.blockwise.scale_and_offsets`) and the explosive
+    check's lagged products of a long series, shared within :func:`shared_statistics`."""
+    shared = _SHARED.get()
+    key = (id(arr), standardize, mean)
+    got = shared.get(key) if shared is not None else None
+    if got is None:
+        scale, offset, offset2 = scale_and_offsets(arr, standardize, mean)
+        got = _LongStatistics(scale, offset, offset2,
+                              _check_not_explosive_blockwise(arr, scale, offset))
+        if shared is not None:
+            shared[key] = got
+    return got.scale, got.offset, got.offset2, got.products
 
 
 def _check_not_explosive_blockwise(x: FloatArray, scale: float, offset: float) -> FloatArray:
@@ -336,8 +382,7 @@ def fit_arma(x: ArrayLike1D, p: int, q: int, *, method: FitMethod = "fast",
     blockwise = method == "fast" and n > BLOCKWISE_MIN_N
     if blockwise:
         # no standardised copy: its statistics block by block (rounding-level differences)
-        scale, offset, offset2 = scale_and_offsets(arr, standardize, mean)
-        products = _check_not_explosive_blockwise(arr, scale, offset)
+        scale, offset, offset2, products = _long_statistics(arr, standardize, mean)
         head = arr[:max(START_SAMPLES, PRESAMPLE)] / scale - offset
         xs = None
     else:

@@ -150,15 +150,16 @@ def newton(model: ExactLikelihood, phi: FloatArray, theta: FloatArray, *,
                         HS=HS, HD=HD)
 
 
-def _stage(model: ExactLikelihood, pre: NewtonResult, phi: FloatArray, theta: FloatArray
-           ) -> tuple[FloatArray, FloatArray]:
-    """The start for ``model`` after a shorter series' Newton run ``pre`` from (phi, theta):
-    its optimum; one within 1e-3 of the region's boundary (a unit AR root) only if the whole
-    series' likelihood is higher there than at (phi, theta)."""
+def _stage(judge: ExactLikelihood | None, pre: NewtonResult, phi: FloatArray,
+           theta: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """The next start after a shorter series' Newton run ``pre`` from (phi, theta): its
+    optimum; one within 1e-3 of the region's boundary (a unit AR root) only if ``judge``'s
+    likelihood is higher there than at (phi, theta) (without a judge, if admissible)."""
     if admissible(pre.ev.phi, pre.ev.theta, margin=1e-3):
         return pre.ev.phi, pre.ev.theta
-    if admissible(pre.ev.phi, pre.ev.theta, margin=0.0) and \
-            model.evaluate(pre.ev.phi, pre.ev.theta).f < model.evaluate(phi, theta).f:
+    if admissible(pre.ev.phi, pre.ev.theta, margin=0.0) and (
+            judge is None
+            or judge.evaluate(pre.ev.phi, pre.ev.theta).f < judge.evaluate(phi, theta).f):
         return pre.ev.phi, pre.ev.theta
     return phi, theta
 
@@ -171,18 +172,23 @@ def warm_start(xs: FloatArray, model: ExactLikelihood, phi: FloatArray, theta: F
     (``xs``), above 4 x ``PREFIX`` then on the first ``PREFIX`` samples of the model's series
     from there: each stage's optimum is within a few of its standard errors of the next
     one's, so the whole series needs only the last few iterations (cheap ones on the
-    shorter series).  Shorter series start at (phi, theta).
+    shorter series).  Shorter series start at (phi, theta).  A stage's optimum near the
+    region's boundary is taken if the next series' likelihood is higher there than at the
+    stage's start; the prefix's (within a few standard errors of the whole series') if it
+    is admissible: whole-series evaluations are what the stages save.
     """
     n, p, q = model.n, model.p, model.q
-    if n > 4 * PRESAMPLE:
-        pre = newton(ExactLikelihood(xs[:PRESAMPLE], p, q, mean=model.mean), phi, theta,
-                     small_step=1e-4, d_curvature=True)
-        phi, theta = _stage(model, pre, phi, theta)
+    prefix = None
     if n > 4 * PREFIX:
         prefix = ExactLikelihood(model.x[:PREFIX], p, q, mean=model.mean, scale=model.scale,
                                  offsets=model.offsets)
+    if n > 4 * PRESAMPLE:
+        pre = newton(ExactLikelihood(xs[:PRESAMPLE], p, q, mean=model.mean), phi, theta,
+                     small_step=1e-4, d_curvature=True)
+        phi, theta = _stage(model if prefix is None else prefix, pre, phi, theta)
+    if prefix is not None:
         pre = newton(prefix, phi, theta, small_step=1e-5, d_curvature=True)
-        phi, theta = _stage(model, pre, phi, theta)
+        phi, theta = _stage(None, pre, phi, theta)
     return phi, theta
 
 
