@@ -17,6 +17,7 @@ keeps the highest likelihood.
 from __future__ import annotations
 
 import warnings
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -26,13 +27,13 @@ from fogts.arma.likelihood import Evaluation, ExactLikelihood
 from fogts.arma.region import UNIT_ROOT_GAP, admissible, shrink_into_region, unit_root_gap
 from fogts.arma.startup_curvature import d_hessian
 
-__all__ = ["PREFIX", "PRESAMPLE", "NewtonResult", "maximise", "newton", "solve", "warm_start"]
+__all__ = ["PREFIXES", "PRESAMPLE", "NewtonResult", "maximise", "newton", "solve", "warm_start"]
 
 _MAX_ITER = 100
 PRESAMPLE = 100_000      # long series: Newton first runs on this many leading samples
-PREFIX = 1 << 21         # ... and on very long ones then on this many
+PREFIXES = (1 << 21, 1 << 24)  # ... and on very long ones then on these many
 _SAME_START = 1e-3       # warm starts this close lead to the same whole-series optimum
-_LONG_MIN_DAMPING = 2.0 ** -10  # with D's curvature beyond 4 x PREFIX samples
+_LONG_MAX_TRIALS = 10    # line-search evaluations with D's curvature beyond 4 x PREFIXES[0]
 _SMALL_STEP = 1e-6        # a Newton step this small is the last one
 
 
@@ -61,7 +62,7 @@ _HD_GIVE_UP_RUN = 3
 def newton(model: ExactLikelihood, phi: FloatArray, theta: FloatArray, *,
            small_step: float = _SMALL_STEP, exact: bool = False,
            max_iter: int | None = None, d_curvature: bool = False,
-           min_damping: float = 1e-12) -> NewtonResult:
+           max_trials: int | None = None) -> NewtonResult:
     """Minimise the profile objective f from (phi, theta) by damped Newton steps.
 
     ``exact=False`` uses the analytic Hessian of S (cheap: 2 lfilter passes), with
@@ -71,7 +72,8 @@ def newton(model: ExactLikelihood, phi: FloatArray, theta: FloatArray, *,
     instead of 17 on a 4e6-sample white + random-walk record); ``exact=True`` the
     finite-difference Hessian of the exact gradient (4(p+q) gradients; used on short
     series, where it matters on flat ridges of non-identified models).  The line search
-    halves a step down to ``min_damping`` of it; finding no descent there ends the run.
+    halves a step down to 1e-12 of it, evaluating at most ``max_trials`` admissible
+    candidates (if given); finding no descent ends the run.
     """
     max_iter = _MAX_ITER if max_iter is None else max_iter
     n, p, q = model.nu, model.p, model.q
@@ -112,9 +114,11 @@ def newton(model: ExactLikelihood, phi: FloatArray, theta: FloatArray, *,
             break
         t = 1.0
         accepted = None
-        while t > min_damping:
+        trials = 0
+        while t > 1e-12 and (max_trials is None or trials < max_trials):
             cand = beta - t * step
             if admissible(cand[:p], cand[p:]):
+                trials += 1
                 ev2 = model.evaluate(cand[:p], cand[p:])
                 if ev2.f <= ev.f - 1e-4 * t * float(grad @ step):
                     accepted = ev2
@@ -164,32 +168,42 @@ def _stage(judge: ExactLikelihood | None, pre: NewtonResult, phi: FloatArray,
     return phi, theta
 
 
-def warm_start(xs: FloatArray, model: ExactLikelihood, phi: FloatArray, theta: FloatArray
-               ) -> tuple[FloatArray, FloatArray]:
-    """The start of the whole series' Newton iterations from (phi, theta) on long series.
+Path = list[tuple[FloatArray, FloatArray]]
+
+
+def warm_start(xs: FloatArray, model: ExactLikelihood, phi: FloatArray, theta: FloatArray,
+               known: Sequence[Path] = ()) -> Path | None:
+    """The starts of the whole series' Newton iterations from (phi, theta) on long series:
+    (phi, theta) and where each stage ended (the last is the start).
 
     Above 4 x ``PRESAMPLE`` samples Newton first runs on the first ``PRESAMPLE`` samples
-    (``xs``), above 4 x ``PREFIX`` then on the first ``PREFIX`` samples of the model's series
-    from there: each stage's optimum is within a few of its standard errors of the next
-    one's, so the whole series needs only the last few iterations (cheap ones on the
-    shorter series).  Shorter series start at (phi, theta).  A stage's optimum near the
-    region's boundary is taken if the next series' likelihood is higher there than at the
-    stage's start; the prefix's (within a few standard errors of the whole series') if it
-    is admissible: whole-series evaluations are what the stages save.
+    (``xs``), then, for each size m of ``PREFIXES`` with more than 4 m samples, on the first
+    m samples of the model's series from there: each stage's optimum is within a few of its
+    standard errors of the next one's, so the whole series needs only the last few
+    iterations (cheap ones on the shorter series).  A stage's optimum near the region's
+    boundary is taken if the next series' likelihood is higher there than at the stage's
+    start; the last prefix's (within a few standard errors of the whole series') if it is
+    admissible: whole-series evaluations are what the stages save.  None if a stage ends
+    where that stage of a ``known`` path did (the rest would repeat it).
     """
     n, p, q = model.n, model.p, model.q
-    prefix = None
-    if n > 4 * PREFIX:
-        prefix = ExactLikelihood(model.x[:PREFIX], p, q, mean=model.mean, scale=model.scale,
-                                 offsets=model.offsets)
+    prefixes = [ExactLikelihood(model.x[:m], p, q, mean=model.mean, scale=model.scale,
+                                offsets=model.offsets) for m in PREFIXES if n > 4 * m]
+    path: Path = [(phi, theta)]
     if n > 4 * PRESAMPLE:
         pre = newton(ExactLikelihood(xs[:PRESAMPLE], p, q, mean=model.mean), phi, theta,
                      small_step=1e-4, d_curvature=True)
-        phi, theta = _stage(model if prefix is None else prefix, pre, phi, theta)
-    if prefix is not None:
-        pre = newton(prefix, phi, theta, small_step=1e-5, d_curvature=True)
-        phi, theta = _stage(None, pre, phi, theta)
-    return phi, theta
+        path.append(_stage(prefixes[0] if prefixes else model, pre, *path[-1]))
+    for i, prefix in enumerate(prefixes):
+        if any(len(other) == len(path) and _same_start(path[-1], other[-1 + len(path)])
+               for other in known):
+            return None
+        pre = newton(prefix, *path[-1], small_step=1e-5, d_curvature=True)
+        judge = prefixes[i + 1] if i + 1 < len(prefixes) else None
+        path.append(_stage(judge, pre, *path[-1]))
+    if any(_same_start(path[-1], other[-1]) for other in known):
+        return None
+    return path
 
 
 def solve(xs: FloatArray, model: ExactLikelihood, phi: FloatArray, theta: FloatArray, *,
@@ -202,15 +216,17 @@ def solve(xs: FloatArray, model: ExactLikelihood, phi: FloatArray, theta: FloatA
     """
     n = model.n
     if warm:
-        phi, theta = warm_start(xs, model, phi, theta)
+        path = warm_start(xs, model, phi, theta)
+        assert path is not None
+        phi, theta = path[-1]
     # on long series (those with a presample stage) D's curvature is in the Newton Hessian;
     # shorter ones keep the iterations they had (their fits, and the golden outputs of a
     # 1.08e5-sample record, unchanged)
     long = n > 4 * PRESAMPLE
-    # a whole-series evaluation is costly: with D's curvature a step halved ten times
-    # ends the run, which then continues without it
+    # a whole-series evaluation is costly: with D's curvature a step that finds no descent
+    # in ten evaluations ends the run, which then continues without it
     res = newton(model, phi, theta, d_curvature=long,
-                 min_damping=_LONG_MIN_DAMPING if n > 4 * PREFIX else 1e-12)
+                 max_trials=_LONG_MAX_TRIALS if n > 4 * PREFIXES[0] else None)
     if long and not res.converged and not res.at_unit_root:
         # D's curvature misled the steps (a run of damped ones): again without it; a run
         # stopped at a unit root stopped where the likelihood leads
@@ -293,22 +309,23 @@ def maximise(xs: FloatArray, model: ExactLikelihood, phi: FloatArray, theta: Flo
     Returns the best :class:`NewtonResult` and the Newton iterations of all starts together.
     """
     long = model.n > 4 * PRESAMPLE
-    seen = [warm_start(xs, model, phi, theta)] if long else [(phi, theta)]
-    res = solve(xs, model, *seen[0], polish=polish, warm=False)
+    first = warm_start(xs, model, phi, theta)
+    assert first is not None
+    seen = [first]
+    res = solve(xs, model, *first[-1], polish=polish, warm=False)
     n_iter = res.n_iter
     if model.mean and unit_root_gap(res.ev.phi) < UNIT_ROOT_GAP:
         return res, n_iter        # at a unit root: no mean to estimate, nothing to compare
     found = cancelling_pair(res.ev.phi, res.ev.theta)
     if found is not None:
         for start in second_starts(xs, model.p, model.q, *found, mean=model.mean):
-            if long:
-                # a start whose warm-up ends where an earlier one's did would repeat its
-                # whole-series iterations
-                start = warm_start(xs, model, *start)
-                if any(_same_start(start, other) for other in seen):
-                    continue
-                seen.append(start)
-            res_alt = solve(xs, model, *start, polish=polish, warm=False)
+            # a start whose warm-up reaches where an earlier one's did would repeat its
+            # whole-series iterations
+            path = warm_start(xs, model, *start, known=seen if long else ())
+            if path is None:
+                continue
+            seen.append(path)
+            res_alt = solve(xs, model, *path[-1], polish=polish, warm=False)
             n_iter += res_alt.n_iter
             if res_alt.ev.f < res.ev.f - 1e-9:
                 res = res_alt

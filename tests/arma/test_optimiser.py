@@ -84,7 +84,7 @@ def test_starts_that_warm_up_alike_share_the_whole_series_run(
     again.  The fit must equal the one that iterates every start (thresholds lowered to run
     at n = 40,000; AIC within 1e-3, parameters within 1e-4: the stopping rule's step)."""
     monkeypatch.setattr(optimiser, "PRESAMPLE", 2_000)
-    monkeypatch.setattr(optimiser, "PREFIX", 8_000)
+    monkeypatch.setattr(optimiser, "PREFIXES", (8_000,))
     x = np.random.default_rng(5).standard_normal(40_000)   # ARMA(1,1) is redundant here
     runs: list[int] = []
     solve = optimiser.solve
