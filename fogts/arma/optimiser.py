@@ -188,7 +188,8 @@ def warm_start(xs: FloatArray, model: ExactLikelihood, phi: FloatArray, theta: F
     """
     n, p, q = model.n, model.p, model.q
     prefixes = [ExactLikelihood(model.x[:m], p, q, mean=model.mean, scale=model.scale,
-                                offsets=model.offsets) for m in PREFIXES if n > 4 * m]
+                                offsets=model.offsets, work=model.work.prefix(m))
+                for m in PREFIXES if n > 4 * m]
     path: Path = [(phi, theta)]
     if n > 4 * PRESAMPLE:
         pre = newton(ExactLikelihood(xs[:PRESAMPLE], p, q, mean=model.mean), phi, theta,
