@@ -7,6 +7,7 @@ which the models of that series, and of its prefixes, share instead of allocatin
 
 from __future__ import annotations
 
+import weakref
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -24,26 +25,32 @@ class Workspace:
     same length may share (one at a time), and the evaluation whose innovations it holds.
     Models of a prefix of the series may use its first samples (:meth:`prefix`)."""
 
-    def __init__(self, n: int, root: Workspace | None = None) -> None:
+    def __init__(self, n: int) -> None:
         self.n = n
         self.array: FloatArray | None = None
         self.holder: Evaluation | None = None
-        self.root = self if root is None else root
-        self.sharing: list[Workspace] = [self]
+        self._root: Workspace | None = None     # the workspace whose memory a prefix uses
+        # a prefix's holder is cleared when the root is taken (weakly: no reference cycle,
+        # so a dropped workspace's memory is freed at once)
+        self._prefixes: weakref.WeakSet[Workspace] = weakref.WeakSet()
 
     def prefix(self, m: int) -> Workspace:
         """A workspace of the first ``m`` samples in this one's memory: taking either one
         discards the innovations the other holds."""
-        out = Workspace(m, self.root)
-        self.root.sharing.append(out)
+        root = self if self._root is None else self._root
+        out = Workspace(m)
+        out._root = root
+        root._prefixes.add(out)
         return out
 
     def take(self) -> FloatArray:
         """The array, to be overwritten (it no longer holds anyone's innovations)."""
-        root = self.root
+        root = self if self._root is None else self._root
         if root.array is None:
             root.array = np.empty(root.n)
-        for w in root.sharing:
+        root.holder = None
+        for w in root._prefixes:
             w.holder = None
-        self.array = root.array[:self.n]
-        return self.array
+        out = root.array if self._root is None else root.array[:self.n]
+        self.array = out
+        return out
