@@ -143,7 +143,10 @@ class ExactLikelihood:
         if self.scale != 1.0:
             seg = seg / self.scale
         for off in self.offsets:
-            seg = seg - off
+            if seg.base is None:      # a new array: the same subtraction in place
+                seg -= off
+            else:
+                seg = seg - off
         return seg
 
     def bounds(self, s: int) -> list[int]:
