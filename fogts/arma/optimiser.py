@@ -112,18 +112,7 @@ def newton(model: ExactLikelihood, phi: FloatArray, theta: FloatArray, *,
                     ev = ev2
             converged = True
             break
-        t = 1.0
-        accepted = None
-        trials = 0
-        while t > 1e-12 and (max_trials is None or trials < max_trials):
-            cand = beta - t * step
-            if admissible(cand[:p], cand[p:]):
-                trials += 1
-                ev2 = model.evaluate(cand[:p], cand[p:])
-                if ev2.f <= ev.f - 1e-4 * t * float(grad @ step):
-                    accepted = ev2
-                    break
-            t *= 0.5
+        accepted, t = _line_search(model, ev, step, float(grad @ step), max_trials)
         if accepted is None:
             # no descent possible: at the optimum up to rounding, or stuck on the boundary
             dec = float(grad @ step)
@@ -152,6 +141,25 @@ def newton(model: ExactLikelihood, phi: FloatArray, theta: FloatArray, *,
         msgs.append(f"Newton's method did not converge in {max_iter} iterations")
     return NewtonResult(ev=ev, converged=converged, n_iter=n_iter, msgs=msgs, dS=dS, dD=dD,
                         HS=HS, HD=HD)
+
+
+def _line_search(model: ExactLikelihood, ev: Evaluation, step: FloatArray, slope: float,
+                 max_trials: int | None) -> tuple[Evaluation | None, float]:
+    """Backtracking (Armijo) along -step from ``ev`` (``slope``: grad . step) inside the
+    region: the accepted evaluation and its step fraction (None if none within 1e-12 of
+    the step or ``max_trials`` admissible candidates)."""
+    p = model.p
+    beta = ev.beta
+    t, trials = 1.0, 0
+    while t > 1e-12 and (max_trials is None or trials < max_trials):
+        cand = beta - t * step
+        if admissible(cand[:p], cand[p:]):
+            trials += 1
+            ev2 = model.evaluate(cand[:p], cand[p:])
+            if ev2.f <= ev.f - 1e-4 * t * slope:
+                return ev2, t
+        t *= 0.5
+    return None, t
 
 
 def _stage(judge: ExactLikelihood | None, pre: NewtonResult, phi: FloatArray,
