@@ -26,6 +26,18 @@ BLOCKWISE_MIN_N = 1 << 20
 BLOCK = 1 << 16
 
 
+def _scaled(seg: FloatArray, scale: float, offset: float) -> FloatArray:
+    """seg / scale - offset (each step only if it changes seg), the subtraction in place on
+    the division's new array: the same floating-point operations as the whole-array form."""
+    if scale != 1.0:
+        seg = seg / scale
+        if offset:
+            seg -= offset
+    elif offset:
+        seg = seg - offset
+    return seg
+
+
 def std(x: FloatArray) -> float:
     """Population standard deviation, two-pass (mean, then squared deviations block by
     block: :func:`fogts.arma.correlation.lag_products` at lag 0)."""
@@ -37,12 +49,7 @@ def mean_of(x: FloatArray, scale: float, offset: float) -> float:
     """mean(x / scale - offset), summed block by block (each block as numpy forms it)."""
     total = 0.0
     for c0 in range(0, x.shape[0], BLOCK):
-        seg = x[c0:c0 + BLOCK]
-        if scale != 1.0:
-            seg = seg / scale
-        if offset:
-            seg = seg - offset
-        total += float(np.sum(seg))
+        total += float(np.sum(_scaled(x[c0:c0 + BLOCK], scale, offset)))
     return total / x.shape[0]
 
 
@@ -63,11 +70,7 @@ def lagged_products(x: FloatArray, scale: float, offset: float, k: int) -> Float
     M = np.zeros((k + 1, k + 1))
     for c0 in range(k, n, BLOCK):
         c1 = min(n, c0 + BLOCK)
-        seg = x[c0 - k:c1]
-        if scale != 1.0:
-            seg = seg / scale
-        if offset:
-            seg = seg - offset
+        seg = _scaled(x[c0 - k:c1], scale, offset)
         m = c1 - c0
         for i in range(k + 1):
             for j in range(i, k + 1):

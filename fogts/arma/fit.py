@@ -18,12 +18,17 @@ from __future__ import annotations
 
 import math
 import warnings as _warnings
+from collections.abc import Iterator
+from contextlib import contextmanager
+from contextvars import ContextVar
+from dataclasses import dataclass
 from typing import Any, Literal
 
 import numpy as np
 
 from fogts._typing import ArrayLike1D, FloatArray
 from fogts._validate import check_choice, check_int, to_float_array
+from fogts.arma.ar_exact import fit_exact_ar
 from fogts.arma.blockwise import BLOCKWISE_MIN_N, lagged_products, scale_and_offsets
 from fogts.arma.fit_result import ArmaFit, criteria, fitted_series, model_name, param_names
 from fogts.arma.likelihood import Evaluation, ExactLikelihood
@@ -120,14 +125,58 @@ def _check_not_explosive(xs: FloatArray) -> None:
     _check_ar_roots(normal_equations(xs, [(xs, i) for i in range(1, 4)], 3), xs.shape[0])
 
 
-def _check_not_explosive_blockwise(x: FloatArray, scale: float, offset: float) -> None:
-    """:func:`_check_not_explosive` of ``x / scale - offset``, formed block by block."""
+@dataclass(frozen=True)
+class _LongStatistics:
+    """What the fits of a long series share: its scale, offsets and lagged products."""
+
+    scale: float
+    offset: float
+    offset2: float
+    products: FloatArray
+
+
+_SHARED: ContextVar[dict[tuple[int, bool, bool], _LongStatistics] | None] = \
+    ContextVar("fogts_arma_shared_statistics", default=None)
+
+
+@contextmanager
+def shared_statistics() -> Iterator[None]:
+    """Within this context the fits of one long series (the same array object, unchanged
+    meanwhile) share the statistics :func:`fit_arma` takes of it before fitting (its scale,
+    mean and lagged products: four block-wise passes over it per fit otherwise)."""
+    token = _SHARED.set({})
+    try:
+        yield
+    finally:
+        _SHARED.reset(token)
+
+
+def _long_statistics(arr: FloatArray, standardize: bool, mean: bool
+                     ) -> tuple[float, float, float, FloatArray]:
+    """Scale, offsets (:func:`~fogts.arma.blockwise.scale_and_offsets`) and the explosive
+    check's lagged products of a long series, shared within :func:`shared_statistics`."""
+    shared = _SHARED.get()
+    key = (id(arr), standardize, mean)
+    got = shared.get(key) if shared is not None else None
+    if got is None:
+        scale, offset, offset2 = scale_and_offsets(arr, standardize, mean)
+        got = _LongStatistics(scale, offset, offset2,
+                              _check_not_explosive_blockwise(arr, scale, offset))
+        if shared is not None:
+            shared[key] = got
+    return got.scale, got.offset, got.offset2, got.products
+
+
+def _check_not_explosive_blockwise(x: FloatArray, scale: float, offset: float) -> FloatArray:
+    """:func:`_check_not_explosive` of ``x / scale - offset``, formed block by block; returns
+    the lagged products of :func:`~fogts.arma.blockwise.lagged_products` (k = 3) it used."""
     M = lagged_products(x, scale, offset, 3)
     try:
         coef = np.linalg.solve(M[1:, 1:], M[1:, 0])
     except np.linalg.LinAlgError:
         coef = np.linalg.lstsq(M[1:, 1:], M[1:, 0], rcond=None)[0]
     _check_ar_roots(np.asarray(coef), x.shape[0])
+    return M
 
 
 def _check_ar_roots(coef: FloatArray, n: int) -> None:
@@ -202,9 +251,17 @@ def _fit_fast(x: FloatArray, head: FloatArray, scale: float, offsets: tuple[floa
                            msgs=[*se_res.msgs, _unit_root_note(res.ev)])
     se, cov, note = standard_errors(se_model, se_res, exact=exact)
     ev = res.ev if se_model is model else model.evaluate(se_res.ev.phi, se_res.ev.theta)
-    converged, msgs = res.converged, res.msgs
-    if note is not None:
-        msgs.append(note)
+    return path_result(model, ev, se, cov, note, res.converged, res.msgs, n_iter)
+
+
+def path_result(model: ExactLikelihood, ev: Evaluation, se: FloatArray, cov: FloatArray,
+                note: str | None, converged: bool, msgs: list[str],
+                n_iter: int | None) -> _PathResult:
+    """A fast path's result at the evaluation ``ev`` of ``model`` (the restricted
+    likelihood's model with a mean), standard errors ``se`` of (phi, theta, sigma2) and
+    their covariance ``cov``; ``note`` (if any) joins the messages."""
+    p, q, mean = model.p, model.q, model.mean
+    msgs = [*msgs, note] if note is not None else msgs
     sigma2 = ev.S / model.nu      # nu = n, or n - 1 for the restricted likelihood
     llf = _restricted_llf(model.nu, ev.S, ev.D)
     names = param_names(p, q)
@@ -322,14 +379,15 @@ def fit_arma(x: ArrayLike1D, p: int, q: int, *, method: FitMethod = "fast",
     arr = _prepare(x, p, q)
     n = arr.shape[0]
     name = model_name(p, q)
-    if method == "fast" and n > BLOCKWISE_MIN_N:
+    blockwise = method == "fast" and n > BLOCKWISE_MIN_N
+    if blockwise:
         # no standardised copy: its statistics block by block (rounding-level differences)
-        scale, offset, offset2 = scale_and_offsets(arr, standardize, mean)
-        _check_not_explosive_blockwise(arr, scale, offset)
+        scale, offset, offset2, products = _long_statistics(arr, standardize, mean)
         head = arr[:max(START_SAMPLES, PRESAMPLE)] / scale - offset
         xs = None
     else:
         scale = float(np.std(arr)) if standardize else 1.0
+        products = None
         xs, offset = fitted_series(arr, scale, standardize, mean)
         _check_not_explosive(xs)
     try:
@@ -340,8 +398,16 @@ def fit_arma(x: ArrayLike1D, p: int, q: int, *, method: FitMethod = "fast",
                 offset2 = float(np.mean(xs))
                 del xs
             with np.errstate(over="raise", invalid="raise", divide="raise", under="ignore"):
-                out = _fit_fast(arr, head, scale if standardize else 1.0, (offset, offset2),
-                                p, q, mean)
+                # long pure AR series: from the sufficient statistics (one pass), unless
+                # the general path must decide (a unit root, see fit_exact_ar)
+                ar = None if q or not blockwise else fit_exact_ar(
+                    arr, head, scale, (offset, offset2), p, mean, products)
+                if ar is None:
+                    out = _fit_fast(arr, head, scale if standardize else 1.0,
+                                    (offset, offset2), p, q, mean)
+                else:
+                    model, ev, se, cov, note, n_ar = ar
+                    out = path_result(model, ev, se, cov, note, True, [], n_ar)
         else:
             assert xs is not None
             out = _fit_statsmodels(xs, p, q, mean)

@@ -52,6 +52,7 @@ from fogts._typing import FloatArray
 from fogts.arma.correlation import dot
 from fogts.arma.region import admissible, spectral_radius
 from fogts.arma.startup_block import banded_innovations
+from fogts.arma.workspace import Workspace
 from fogts.errors import ModelFitError
 
 __all__ = ["CHUNK", "Evaluation", "ExactLikelihood", "Workspace", "lag_dot"]
@@ -83,23 +84,6 @@ def lag_dot(a: FloatArray, b: FloatArray, i: int, j: int, t0: int) -> float:
     """sum_{t=t0}^{n-1} a_{t-i} b_{t-j}, a dot product of two contiguous slices."""
     m = a.shape[0] - t0
     return dot(a[t0 - i:t0 - i + m], b[t0 - j:t0 - j + m])
-
-
-class Workspace:
-    """One series-length float64 array, allocated on first use, that likelihood models of the
-    same length may share (one at a time), and the evaluation whose innovations it holds."""
-
-    def __init__(self, n: int) -> None:
-        self.n = n
-        self.array: FloatArray | None = None
-        self.holder: Evaluation | None = None
-
-    def take(self) -> FloatArray:
-        """The array, to be overwritten (it no longer holds anyone's innovations)."""
-        if self.array is None:
-            self.array = np.empty(self.n)
-        self.holder = None
-        return self.array
 
 
 @dataclass(eq=False)
@@ -159,7 +143,10 @@ class ExactLikelihood:
         if self.scale != 1.0:
             seg = seg / self.scale
         for off in self.offsets:
-            seg = seg - off
+            if seg.base is None:      # a new array: the same subtraction in place
+                seg -= off
+            else:
+                seg = seg - off
         return seg
 
     def bounds(self, s: int) -> list[int]:

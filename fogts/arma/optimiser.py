@@ -17,6 +17,7 @@ keeps the highest likelihood.
 from __future__ import annotations
 
 import warnings
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -26,10 +27,13 @@ from fogts.arma.likelihood import Evaluation, ExactLikelihood
 from fogts.arma.region import UNIT_ROOT_GAP, admissible, shrink_into_region, unit_root_gap
 from fogts.arma.startup_curvature import d_hessian
 
-__all__ = ["PRESAMPLE", "NewtonResult", "maximise", "newton", "solve"]
+__all__ = ["PREFIXES", "PRESAMPLE", "NewtonResult", "maximise", "newton", "solve", "warm_start"]
 
 _MAX_ITER = 100
 PRESAMPLE = 100_000      # long series: Newton first runs on this many leading samples
+PREFIXES = (1 << 21, 1 << 24)  # ... and on very long ones then on these many
+_SAME_START = 1e-3       # warm starts this close lead to the same whole-series optimum
+_LONG_MAX_TRIALS = 10    # line-search evaluations with D's curvature beyond 4 x PREFIXES[0]
 _SMALL_STEP = 1e-6        # a Newton step this small is the last one
 
 
@@ -45,6 +49,7 @@ class NewtonResult:
     dD: FloatArray | None = None
     HS: FloatArray | None = None      # Hessian of S and D used at the last Newton iterate
     HD: FloatArray | None = None
+    at_unit_root: bool = False        # stopped at an inverse AR root within UNIT_ROOT_GAP of 1
 
 
 #: With ``d_curvature``, this many steps in a row accepted only after this much damping
@@ -56,7 +61,8 @@ _HD_GIVE_UP_RUN = 3
 
 def newton(model: ExactLikelihood, phi: FloatArray, theta: FloatArray, *,
            small_step: float = _SMALL_STEP, exact: bool = False,
-           max_iter: int | None = None, d_curvature: bool = False) -> NewtonResult:
+           max_iter: int | None = None, d_curvature: bool = False,
+           max_trials: int | None = None) -> NewtonResult:
     """Minimise the profile objective f from (phi, theta) by damped Newton steps.
 
     ``exact=False`` uses the analytic Hessian of S (cheap: 2 lfilter passes), with
@@ -65,7 +71,9 @@ def newton(model: ExactLikelihood, phi: FloatArray, theta: FloatArray, *,
     Newton crawls along the boundary when the optimum is near a unit root, 114 iterations
     instead of 17 on a 4e6-sample white + random-walk record); ``exact=True`` the
     finite-difference Hessian of the exact gradient (4(p+q) gradients; used on short
-    series, where it matters on flat ridges of non-identified models).
+    series, where it matters on flat ridges of non-identified models).  The line search
+    halves a step down to 1e-12 of it, evaluating at most ``max_trials`` admissible
+    candidates (if given); finding no descent ends the run.
     """
     max_iter = _MAX_ITER if max_iter is None else max_iter
     n, p, q = model.nu, model.p, model.q
@@ -104,16 +112,7 @@ def newton(model: ExactLikelihood, phi: FloatArray, theta: FloatArray, *,
                     ev = ev2
             converged = True
             break
-        t = 1.0
-        accepted = None
-        while t > 1e-12:
-            cand = beta - t * step
-            if admissible(cand[:p], cand[p:]):
-                ev2 = model.evaluate(cand[:p], cand[p:])
-                if ev2.f <= ev.f - 1e-4 * t * float(grad @ step):
-                    accepted = ev2
-                    break
-            t *= 0.5
+        accepted, t = _line_search(model, ev, step, float(grad @ step), max_trials)
         if accepted is None:
             # no descent possible: at the optimum up to rounding, or stuck on the boundary
             dec = float(grad @ step)
@@ -136,38 +135,110 @@ def newton(model: ExactLikelihood, phi: FloatArray, theta: FloatArray, *,
             # the restricted likelihood runs to the unit root, outside the region
             msgs.append(f"stopped at iteration {n_iter}: an inverse AR root within "
                         f"{UNIT_ROOT_GAP:g} of 1")
-            break
+            return NewtonResult(ev=ev, converged=False, n_iter=n_iter, msgs=msgs, dS=dS,
+                                dD=dD, HS=HS, HD=HD, at_unit_root=True)
     else:
         msgs.append(f"Newton's method did not converge in {max_iter} iterations")
     return NewtonResult(ev=ev, converged=converged, n_iter=n_iter, msgs=msgs, dS=dS, dD=dD,
                         HS=HS, HD=HD)
 
 
-def solve(xs: FloatArray, model: ExactLikelihood, phi: FloatArray, theta: FloatArray, *,
-          polish: bool) -> NewtonResult:
-    """Newton from (phi, theta): presample first on long series, exact polish if ``polish``.
+def _line_search(model: ExactLikelihood, ev: Evaluation, step: FloatArray, slope: float,
+                 max_trials: int | None) -> tuple[Evaluation | None, float]:
+    """Backtracking (Armijo) along -step from ``ev`` (``slope``: grad . step) inside the
+    region: the accepted evaluation and its step fraction (None if none within 1e-12 of
+    the step or ``max_trials`` admissible candidates)."""
+    p = model.p
+    beta = ev.beta
+    t, trials = 1.0, 0
+    while t > 1e-12 and (max_trials is None or trials < max_trials):
+        cand = beta - t * step
+        if admissible(cand[:p], cand[p:]):
+            trials += 1
+            ev2 = model.evaluate(cand[:p], cand[p:])
+            if ev2.f <= ev.f - 1e-4 * t * slope:
+                return ev2, t
+        t *= 0.5
+    return None, t
 
-    On long series the iterations start on the first ``PRESAMPLE`` samples (cheaper, and
-    their optimum is close to the full one), then finish on the whole series from the
-    presample's optimum; from one within 1e-3 of the region's boundary (a unit AR root) only
-    if the whole series' likelihood is higher there than at (phi, theta).  ``polish``
-    continues with the finite-difference Hessian of the exact gradient (short series).
+
+def _stage(judge: ExactLikelihood | None, pre: NewtonResult, phi: FloatArray,
+           theta: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """The next start after a shorter series' Newton run ``pre`` from (phi, theta): its
+    optimum; one within 1e-3 of the region's boundary (a unit AR root) only if ``judge``'s
+    likelihood is higher there than at (phi, theta) (without a judge, if admissible)."""
+    if admissible(pre.ev.phi, pre.ev.theta, margin=1e-3):
+        return pre.ev.phi, pre.ev.theta
+    if admissible(pre.ev.phi, pre.ev.theta, margin=0.0) and (
+            judge is None
+            or judge.evaluate(pre.ev.phi, pre.ev.theta).f < judge.evaluate(phi, theta).f):
+        return pre.ev.phi, pre.ev.theta
+    return phi, theta
+
+
+Path = list[tuple[FloatArray, FloatArray]]
+
+
+def warm_start(xs: FloatArray, model: ExactLikelihood, phi: FloatArray, theta: FloatArray,
+               known: Sequence[Path] = ()) -> Path | None:
+    """The starts of the whole series' Newton iterations from (phi, theta) on long series:
+    (phi, theta) and where each stage ended (the last is the start).
+
+    Above 4 x ``PRESAMPLE`` samples Newton first runs on the first ``PRESAMPLE`` samples
+    (``xs``), then, for each size m of ``PREFIXES`` with more than 4 m samples, on the first
+    m samples of the model's series from there: each stage's optimum is within a few of its
+    standard errors of the next one's, so the whole series needs only the last few
+    iterations (cheap ones on the shorter series).  A stage's optimum near the region's
+    boundary is taken if the next series' likelihood is higher there than at the stage's
+    start; the last prefix's (within a few standard errors of the whole series') if it is
+    admissible: whole-series evaluations are what the stages save.  None if a stage ends
+    where that stage of a ``known`` path did (the rest would repeat it).
     """
     n, p, q = model.n, model.p, model.q
+    prefixes = [ExactLikelihood(model.x[:m], p, q, mean=model.mean, scale=model.scale,
+                                offsets=model.offsets, work=model.work.prefix(m))
+                for m in PREFIXES if n > 4 * m]
+    path: Path = [(phi, theta)]
     if n > 4 * PRESAMPLE:
         pre = newton(ExactLikelihood(xs[:PRESAMPLE], p, q, mean=model.mean), phi, theta,
                      small_step=1e-4, d_curvature=True)
-        if admissible(pre.ev.phi, pre.ev.theta, margin=1e-3):
-            phi, theta = pre.ev.phi, pre.ev.theta
-        elif admissible(pre.ev.phi, pre.ev.theta, margin=0.0) and \
-                model.evaluate(pre.ev.phi, pre.ev.theta).f < model.evaluate(phi, theta).f:
-            # an optimum near the boundary (a unit AR root): the start if it is the better one
-            phi, theta = pre.ev.phi, pre.ev.theta
+        path.append(_stage(prefixes[0] if prefixes else model, pre, *path[-1]))
+    for i, prefix in enumerate(prefixes):
+        if any(len(other) == len(path) and _same_start(path[-1], other[-1 + len(path)])
+               for other in known):
+            return None
+        pre = newton(prefix, *path[-1], small_step=1e-5, d_curvature=True)
+        judge = prefixes[i + 1] if i + 1 < len(prefixes) else None
+        path.append(_stage(judge, pre, *path[-1]))
+    if any(_same_start(path[-1], other[-1]) for other in known):
+        return None
+    return path
+
+
+def solve(xs: FloatArray, model: ExactLikelihood, phi: FloatArray, theta: FloatArray, *,
+          polish: bool, warm: bool = True) -> NewtonResult:
+    """Newton from (phi, theta): from :func:`warm_start`'s start on long series (unless
+    ``warm`` is False: (phi, theta) is that start), exact polish if ``polish``.
+
+    ``polish`` continues with the finite-difference Hessian of the exact gradient (short
+    series).
+    """
+    n = model.n
+    if warm:
+        path = warm_start(xs, model, phi, theta)
+        assert path is not None
+        phi, theta = path[-1]
     # on long series (those with a presample stage) D's curvature is in the Newton Hessian;
     # shorter ones keep the iterations they had (their fits, and the golden outputs of a
     # 1.08e5-sample record, unchanged)
-    res = newton(model, phi, theta, d_curvature=n > 4 * PRESAMPLE)
-    if n > 4 * PRESAMPLE and not res.converged:
+    long = n > 4 * PRESAMPLE
+    # a whole-series evaluation is costly: with D's curvature a step that finds no descent
+    # in ten evaluations ends the run, which then continues without it
+    res = newton(model, phi, theta, d_curvature=long,
+                 max_trials=_LONG_MAX_TRIALS if n > 4 * PREFIXES[0] else None)
+    if long and not res.converged and not res.at_unit_root:
+        # D's curvature misled the steps (a run of damped ones): again without it; a run
+        # stopped at a unit root stopped where the likelihood leads
         plain = newton(model, phi, theta)
         if plain.converged or plain.ev.f < res.ev.f:
             res = plain
@@ -235,20 +306,35 @@ def second_starts(xs: FloatArray, p: int, q: int, base_ar: FloatArray, base_ma: 
     return out
 
 
+def _same_start(a: tuple[FloatArray, FloatArray], b: tuple[FloatArray, FloatArray]) -> bool:
+    """Whether two starts (phi, theta) agree to 1e-3 in every coefficient."""
+    return bool(np.max(np.abs(np.r_[a[0] - b[0], a[1] - b[1]]), initial=0.0) < _SAME_START)
+
+
 def maximise(xs: FloatArray, model: ExactLikelihood, phi: FloatArray, theta: FloatArray, *,
              polish: bool) -> tuple[NewtonResult, int]:
     """The maximum likelihood from (phi, theta), and from further starts if the fit is redundant.
 
     Returns the best :class:`NewtonResult` and the Newton iterations of all starts together.
     """
-    res = solve(xs, model, phi, theta, polish=polish)
+    long = model.n > 4 * PRESAMPLE
+    first = warm_start(xs, model, phi, theta)
+    assert first is not None
+    seen = [first]
+    res = solve(xs, model, *first[-1], polish=polish, warm=False)
     n_iter = res.n_iter
     if model.mean and unit_root_gap(res.ev.phi) < UNIT_ROOT_GAP:
         return res, n_iter        # at a unit root: no mean to estimate, nothing to compare
     found = cancelling_pair(res.ev.phi, res.ev.theta)
     if found is not None:
         for start in second_starts(xs, model.p, model.q, *found, mean=model.mean):
-            res_alt = solve(xs, model, *start, polish=polish)
+            # a start whose warm-up reaches where an earlier one's did would repeat its
+            # whole-series iterations
+            path = warm_start(xs, model, *start, known=seen if long else ())
+            if path is None:
+                continue
+            seen.append(path)
+            res_alt = solve(xs, model, *path[-1], polish=polish, warm=False)
             n_iter += res_alt.n_iter
             if res_alt.ev.f < res.ev.f - 1e-9:
                 res = res_alt

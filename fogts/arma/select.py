@@ -50,7 +50,7 @@ from fogts._typing import ArrayLike1D, FloatArray
 from fogts._validate import check_choice, check_int
 from fogts.arma.candidate import Candidate
 from fogts.arma.candidate_orders import DEFAULT_FIVE, MAX_ORDER, parse_candidates
-from fogts.arma.fit import FitMethod, fit_arma, min_nobs, model_name
+from fogts.arma.fit import FitMethod, fit_arma, min_nobs, model_name, shared_statistics
 from fogts.arma.identification import correlogram
 from fogts.arma.redundancy import common_factor, insignificant_terms, near_cancellations
 from fogts.arma.roots import arma_roots
@@ -287,9 +287,10 @@ def select_arma(
     corr = correlogram(inp.x)
     tick = progress.ticker(f"ARMA: {len(orders)} candidates", len(orders))
     evaluated = []
-    for p, q in orders:
-        evaluated.append(_evaluate(p, q, inp, criterion, lag_t, method))
-        tick(len(evaluated))
+    with shared_statistics():     # the candidates share the series' scale, mean, lag sums
+        for p, q in orders:
+            evaluated.append(_evaluate(p, q, inp, criterion, lag_t, method))
+            tick(len(evaluated))
     for c in evaluated:
         if c.ok and not c.converged:
             warnings.warn(f"{c.model}: the optimiser did not converge; its likelihood may be "

@@ -22,7 +22,7 @@ from fogts._typing import FloatArray
 from fogts.arma.likelihood import ExactLikelihood
 from fogts.arma.optimiser import NewtonResult
 
-__all__ = ["full_hessian", "standard_errors"]
+__all__ = ["covariance", "full_hessian", "standard_errors"]
 
 
 def full_hessian(n: int, S: float, dS: FloatArray, d2S: FloatArray,
@@ -56,7 +56,13 @@ def standard_errors(model: ExactLikelihood, res: NewtonResult, *,
     else:
         dD_opt, d2S, d2D = res.dD, res.HS, res.HD
     dS_opt = -(S / n) * dD_opt     # the stationarity condition of f at the optimum
-    H = full_hessian(n, S, dS_opt, d2S, d2D)
+    return covariance(full_hessian(n, S, dS_opt, d2S, d2D))
+
+
+def covariance(H: FloatArray) -> tuple[FloatArray, FloatArray, str | None]:
+    """Standard errors and covariance from the log-likelihood's Hessian ``H`` (the inverse
+    observed information -H^-1; NaN if singular), and a note if -H is not positive
+    definite (NaN standard errors where a variance is undefined)."""
     note = None
     with np.errstate(invalid="ignore"):
         try:

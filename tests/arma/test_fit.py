@@ -451,3 +451,26 @@ def test_restricted_fit_at_a_unit_root_falls_back_to_the_demeaned_fit() -> None:
     assert fit.ar[0] == pytest.approx(ref.params[0], abs=1e-3)
     assert fit.ma[0] == pytest.approx(ref.params[1], abs=1e-3)
     assert 1.0 - fit.ar[0] > 1e-5 and np.isfinite(fit.llf) and np.isfinite(fit.bse["ar.L1"])
+
+
+def test_shared_statistics_are_taken_once(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Within ``shared_statistics`` the fits of one long series take its scale, mean and
+    lagged products once; the fits are the same as without (the same statistics: equal to
+    rounding, 1e-14 relative)."""
+    monkeypatch.setattr(fitmod, "BLOCKWISE_MIN_N", 1000)
+    x = simulate([0.5], [], 5000, 3, 2.0)
+    alone = [fit_arma(x, p, 0, mean=True) for p in (1, 2)]
+    calls: list[int] = []
+    scale_and_offsets = fitmod.scale_and_offsets
+
+    def counted(*args: object) -> tuple[float, float, float]:
+        calls.append(1)
+        return scale_and_offsets(*args)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(fitmod, "scale_and_offsets", counted)
+    with fitmod.shared_statistics():
+        shared = [fit_arma(x, p, 0, mean=True) for p in (1, 2)]
+    assert len(calls) == 1
+    for a, b in zip(alone, shared, strict=True):
+        assert a.aic == pytest.approx(b.aic, rel=1e-14)
+        assert a.params == pytest.approx(b.params, rel=1e-14)
