@@ -60,7 +60,7 @@ _HD_GIVE_UP_RUN = 3
 
 
 # Over 80 lines: one damped-Newton loop whose stopping rules (convergence, failed line
-# search, damping with D's curvature, unit root) share its state; its steps are helpers.
+# search, damping with D's curvature, unit root) share its state; the passes are the model's.
 def newton(model: ExactLikelihood, phi: FloatArray, theta: FloatArray, *,
            small_step: float = _SMALL_STEP, exact: bool = False,
            max_iter: int | None = None, d_curvature: bool = False,
