@@ -135,7 +135,9 @@ class _LongStatistics:
     products: FloatArray
 
 
-_SHARED: ContextVar[dict[tuple[int, bool, bool], _LongStatistics] | None] = \
+# keyed by the array's id; the array is held beside its statistics, so that id cannot be
+# reused by another array while the context lasts
+_SHARED: ContextVar[dict[tuple[int, bool, bool], tuple[FloatArray, _LongStatistics]] | None] = \
     ContextVar("fogts_arma_shared_statistics", default=None)
 
 
@@ -157,13 +159,15 @@ def _long_statistics(arr: FloatArray, standardize: bool, mean: bool
     check's lagged products of a long series, shared within :func:`shared_statistics`."""
     shared = _SHARED.get()
     key = (id(arr), standardize, mean)
-    got = shared.get(key) if shared is not None else None
-    if got is None:
+    held = shared.get(key) if shared is not None else None
+    if held is not None and held[0] is arr:
+        got = held[1]
+    else:
         scale, offset, offset2 = scale_and_offsets(arr, standardize, mean)
         got = _LongStatistics(scale, offset, offset2,
                               _check_not_explosive_blockwise(arr, scale, offset))
         if shared is not None:
-            shared[key] = got
+            shared[key] = (arr, got)
     return got.scale, got.offset, got.offset2, got.products
 
 

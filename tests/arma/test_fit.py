@@ -474,3 +474,7 @@ def test_shared_statistics_are_taken_once(monkeypatch: pytest.MonkeyPatch) -> No
     for a, b in zip(alone, shared, strict=True):
         assert a.aic == pytest.approx(b.aic, rel=1e-14)
         assert a.params == pytest.approx(b.params, rel=1e-14)
+    with fitmod.shared_statistics():  # another array (even with the same values): its own
+        fit_arma(x, 1, 0, mean=True)
+        fit_arma(x.copy(), 1, 0, mean=True)
+    assert len(calls) == 3
