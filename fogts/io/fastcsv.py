@@ -178,6 +178,10 @@ class _GzipFeed(io.RawIOBase):
         self._pending = b""
         self.begin = 0  # length of a byte-order mark in the first chunk
         self.comments: list[str] = []
+        # Why a read ended the stream early (the input limit, a line for the checked path):
+        # never raised inside pyarrow's reader, whose read-ahead thread, left running after
+        # an exception from this file object, aborts the interpreter at exit.
+        self.failure: Exception | None = None
 
     def readable(self) -> bool:
         return True
@@ -202,7 +206,18 @@ class _GzipFeed(io.RawIOBase):
         if self._pending:
             out, self._pending = self._pending, b""
             return out
-        return self._next(CHUNK_BYTES if size is None or size < 0 else size)
+        if self.failure is not None:
+            return b""
+        try:
+            return self._next(CHUNK_BYTES if size is None or size < 0 else size)
+        except (DataError, _Fallback) as exc:
+            self.failure = exc  # the end of the stream for pyarrow; raised after it
+            return b""
+
+    def raise_failure(self) -> None:
+        """Raise what ended the stream early, if anything did."""
+        if self.failure is not None:
+            raise self.failure
 
     def _next(self, size: int) -> bytes:
         chunk = self._gz.read(size)
@@ -249,7 +264,10 @@ def _gzip_table(path: Path) -> Table:
         head = feed.head(SNIFF_BYTES)
         found = _layout(head[feed.begin:], complete=len(head) < SNIFF_BYTES)
         feed.skip(feed.begin + found.start)
-        frame, _ = _parse(feed, found)
+        try:
+            frame, _ = _parse(feed, found)
+        finally:
+            feed.raise_failure()  # the stream's own reason before the parser's
         return Table(frame, str(path), None, tuple(feed.comments), None, None, found.header,
                      checked=True)
     except (OSError, EOFError, zlib.error, pa.ArrowException):

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import gzip
 import random
+import zlib
 from pathlib import Path
 
 import numpy as np
@@ -141,4 +142,30 @@ def test_errors_found_after_the_parse_name_the_line(tmp_path: Path) -> None:
     path = write_file(tmp_path, "decreasing.csv", text)
     assert fast_text_table(path, compressed=False) is not None
     with pytest.raises(DataError, match=r"'time' is decreasing at data row 2 \(line 4 of"):
+        read_run(path)
+
+
+def test_gzip_feed_never_raises_inside_the_parser(tmp_path: Path,
+                                                   monkeypatch: pytest.MonkeyPatch) -> None:
+    """Over the input limit, the gzip feed ends the stream (pyarrow sees EOF) and keeps the
+    error, which ``read_run`` raises after the parser returns: an exception raised inside
+    pyarrow's reader left its read-ahead thread running, and the interpreter aborted at exit
+    ("terminate called without an active exception") about one run in ten."""
+    from fogts.io.fastcsv import _GzipFeed
+
+    path = tmp_path / "many.csv.gz"
+    rows = b"".join(b"%d,%d\n" % (i, i % 7) for i in range(200_000))
+    path.write_bytes(zlib.compress(b"time,rate\n" + rows, wbits=31))
+    monkeypatch.setenv("FOGTS_MAX_INPUT_BYTES", "1M")
+    feed = _GzipFeed(path)
+    try:
+        while feed.read(1 << 16):
+            pass
+        assert isinstance(feed.failure, DataError)
+        assert feed.read(1 << 16) == b""  # stays at the end
+        with pytest.raises(DataError, match="decompresses to more than the input limit"):
+            feed.raise_failure()
+    finally:
+        feed.close()
+    with pytest.raises(DataError, match="decompresses to more than the input limit of 1 MiB"):
         read_run(path)
