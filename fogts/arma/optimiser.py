@@ -217,19 +217,15 @@ def warm_start(xs: FloatArray, model: ExactLikelihood, phi: FloatArray, theta: F
     return path
 
 
-def solve(xs: FloatArray, model: ExactLikelihood, phi: FloatArray, theta: FloatArray, *,
-          polish: bool, warm: bool = True) -> NewtonResult:
-    """Newton from (phi, theta): from :func:`warm_start`'s start on long series (unless
-    ``warm`` is False: (phi, theta) is that start), exact polish if ``polish``.
+def solve(model: ExactLikelihood, phi: FloatArray, theta: FloatArray, *,
+          polish: bool) -> NewtonResult:
+    """Newton on the whole series from (phi, theta) (on long series the end of
+    :func:`warm_start`), exact polish if ``polish``.
 
     ``polish`` continues with the finite-difference Hessian of the exact gradient (short
     series).
     """
     n = model.n
-    if warm:
-        path = warm_start(xs, model, phi, theta)
-        assert path is not None
-        phi, theta = path[-1]
     # on long series (those with a presample stage) D's curvature is in the Newton Hessian;
     # shorter ones keep the iterations they had (their fits, and the golden outputs of a
     # 1.08e5-sample record, unchanged)
@@ -323,7 +319,7 @@ def maximise(xs: FloatArray, model: ExactLikelihood, phi: FloatArray, theta: Flo
     first = warm_start(xs, model, phi, theta)
     assert first is not None
     seen = [first]
-    res = solve(xs, model, *first[-1], polish=polish, warm=False)
+    res = solve(model, *first[-1], polish=polish)
     n_iter = res.n_iter
     if model.mean and unit_root_gap(res.ev.phi) < UNIT_ROOT_GAP:
         return res, n_iter        # at a unit root: no mean to estimate, nothing to compare
@@ -336,7 +332,7 @@ def maximise(xs: FloatArray, model: ExactLikelihood, phi: FloatArray, theta: Flo
             if path is None:
                 continue
             seen.append(path)
-            res_alt = solve(xs, model, *path[-1], polish=polish, warm=False)
+            res_alt = solve(model, *path[-1], polish=polish)
             n_iter += res_alt.n_iter
             if res_alt.ev.f < res.ev.f - 1e-9:
                 res = res_alt

@@ -32,7 +32,7 @@ def test_nearly_redundant_fit_tries_more_starts() -> None:
     fit = fit_arma(x, 1, 1)
     llf_std = fit.llf + n * math.log(fit.scale)
     model = ExactLikelihood(xs, 1, 1)
-    first = optimiser.solve(xs, model, *hannan_rissanen(xs, 1, 1), polish=True)
+    first = optimiser.solve(model, *hannan_rissanen(xs, 1, 1), polish=True)  # short: no warm-up
     llf_first = -0.5 * n * (math.log(2 * math.pi) + 1 + math.log(first.ev.S / n)) - 0.5 * first.ev.D
     assert llf_std > llf_first + 0.5
     ref = sm_fit(xs, 1, 1)
@@ -123,6 +123,8 @@ def test_a_run_stopped_at_a_unit_root_is_not_repeated(monkeypatch: pytest.Monkey
         return res
 
     monkeypatch.setattr(optimiser, "newton", counted)
-    res = optimiser.solve(xs, model, np.array([0.9]), np.array([0.0]), polish=False)
+    start = optimiser.warm_start(xs, model, np.array([0.9]), np.array([0.0]))
+    assert start is not None
+    res = optimiser.solve(model, *start[-1], polish=False)
     assert res.at_unit_root and not res.converged
     assert calls == [True]
