@@ -92,7 +92,7 @@ def _speed(quick: bool) -> list[Metric]:
 def _accuracy(quick: bool) -> list[Metric]:
     import allantools
 
-    from fogts.allan.confidence import identify_noise
+    from fogts.allan.noise_identification import identify_noise
 
     seeds = 10 if quick else 40
     out: list[Metric] = []

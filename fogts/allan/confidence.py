@@ -36,21 +36,15 @@ from fogts._validate import (
     to_float_array,
 )
 from fogts.allan._checks import check_m
-from fogts.allan.bias import totdev_bias
 from fogts.allan.decimated import DecimatedSums
 from fogts.allan.distributions import chi2_ppf
 from fogts.allan.edf import edf_for
-from fogts.allan.noise_identification import ACF_MIN_POINTS as ACF_MIN_POINTS
-from fogts.allan.noise_identification import ALPHA_METHODS as ALPHA_METHODS
-from fogts.allan.noise_identification import B1_MIN_POINTS as B1_MIN_POINTS
-from fogts.allan.noise_identification import identify_noise as identify_noise
 from fogts.allan.noise_identification import identify_with_methods
 from fogts.allan.taus import KINDS
 from fogts.errors import DataError
 
-__all__ = ["ACF_MIN_POINTS", "ALPHA_METHODS", "B1_MIN_POINTS", "ChiSquaredInterval",
-           "ConfidenceTable", "chi2_interval", "confidence_table", "curve_table", "edf_for",
-           "identify_noise", "totdev_bias"]
+__all__ = ["ChiSquaredInterval", "ConfidenceTable", "chi2_interval", "confidence_table",
+           "curve_table"]
 
 
 @dataclass(frozen=True)
@@ -208,7 +202,7 @@ def confidence_table(y: npt.ArrayLike | pd.Series, *, fs_hz: float, kind: str,
                      confidence: float = 0.683) -> ConfidenceTable:
     """Noise identification, EDF and chi-squared interval for every point of a curve.
 
-    Runs :func:`identify_noise` (lag-1 ACF, B1 / R(n) fallback), :func:`edf_for`
+    Runs :func:`~fogts.allan.noise_identification.identify_noise` (lag-1 ACF, B1 / R(n) fallback), :func:`edf_for`
     (Greenhall & Riley 2003; SP1065 for totdev) and :func:`chi2_interval`.
 
     Parameters

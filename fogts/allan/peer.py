@@ -48,7 +48,7 @@ def allantools_check(y: FloatArray, res: AllanResult) -> dict[str, Any]:
     peer = np.asarray(dev, dtype=np.float64)[theirs]
     label = f"allantools {allantools.__version__} {res.kind}(data_type='freq')"
     if res.bias_corrected:  # allantools' totdev is uncorrected: apply fogts' bias to it
-        from fogts.allan.confidence import totdev_bias
+        from fogts.allan.bias import totdev_bias
 
         peer = peer / np.sqrt(totdev_bias(res.alpha[mine], res.m[mine], res.n_samples + 1))
         label += " / sqrt(fogts' totdev_bias)"

@@ -395,7 +395,7 @@ def test_totdev_bias_matches_monte_carlo_on_a_rate_random_walk() -> None:
     """Howe's bias E[TOTVAR]/AVAR = 1 - 0.75 tau/T for random-walk FM, checked with fogts'
     kernels: 400 records of 2048 samples (seed 5); the overlapping Allan variance of the
     same records is the unbiased reference.  Tolerance: 3 Monte-Carlo standard errors."""
-    from fogts.allan.confidence import totdev_bias
+    from fogts.allan.bias import totdev_bias
     from fogts.allan.estimators import oadev, totdev
 
     rng = np.random.default_rng(5)

@@ -18,14 +18,13 @@ import pandas as pd
 import pytest
 
 from fogts.allan.confidence import (
-    ALPHA_METHODS,
     ChiSquaredInterval,
     ConfidenceTable,
     chi2_interval,
     confidence_table,
-    edf_for,
-    identify_noise,
 )
+from fogts.allan.edf import edf_for
+from fogts.allan.noise_identification import ALPHA_METHODS, identify_noise
 from fogts.errors import DataError, InsufficientDataError
 from fogts.report.text import json_dumps
 from tests.allan.references import phase_dat_rate, power_law_noise, stable32_table

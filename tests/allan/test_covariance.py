@@ -142,7 +142,7 @@ def test_adev_and_totdev_covariance_match_monte_carlo(noise: str) -> None:
     totdev (EDF variances + oadev correlations): the same, from m = 4 on (SP1065's totdev
     EDF is for larger m: at m = 1 totdev *is* oadev, and the EDF understates its variance
     for white FM)."""
-    from fogts.allan.confidence import edf_for
+    from fogts.allan.edf import edf_for
     from fogts.simulate.gyro import simulate_gyro
 
     n, reps = 1024, 800

@@ -28,7 +28,7 @@ from hypothesis import strategies as st
 
 import fogts.allan.estimators as est
 import fogts.allan.kernels as kernels
-from fogts.allan.confidence import totdev_bias
+from fogts.allan.bias import totdev_bias
 from fogts.allan.estimators import ESTIMATORS
 from fogts.allan.taus import KINDS, tau_grid
 from fogts.errors import DataError, InsufficientDataError
