@@ -119,7 +119,10 @@ def test_recovery_and_pooled_coverage() -> None:
 
 def test_decimated_fit_agrees_with_the_undecimated_one() -> None:
     """Block means of 4 (with the within-block likelihood) against every sample: the
-    estimates differ by a fraction of their standard errors."""
+    estimates differ by a fraction of their standard errors.  K (truth 1 deg/h^1.5) is
+    unidentifiable in 1600 s: it lands within 0.02 of its bound 0 (standard error 0.25), on
+    the bound or just above it as the BLAS kernel and thread count move the last bits.  A
+    term on its bound has no standard error, so the scale is the other fit's."""
     run = simulate_gyro(GM_CASE, fs_hz=FS, duration_s=1600, rng=11)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
@@ -128,7 +131,12 @@ def test_decimated_fit_agrees_with_the_undecimated_one() -> None:
     assert full.ml is not None and dec.ml is not None
     assert (full.ml.decimation, dec.ml.decimation) == (1, 4)
     for name in ("N", "B", "K"):
-        assert abs(dec[name].value - full[name].value) < 0.5 * full[name].stderr
+        a, b = full[name], dec[name]
+        scale = [se for se in (a.stderr, b.stderr) if math.isfinite(se)]
+        if scale:
+            assert abs(b.value - a.value) < 0.5 * max(scale)
+        else:
+            assert a.at_bound and b.at_bound and a.value == b.value
     g_full, g_dec = full.ml.gauss_markov[0], dec.ml.gauss_markov[0]
     assert abs(g_dec.t_c - g_full.t_c) < 0.5 * g_full.t_c_stderr
 
