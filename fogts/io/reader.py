@@ -29,7 +29,7 @@ import numpy as np
 import pandas as pd
 
 from fogts._typing import FloatArray, IntArray
-from fogts._validate import check_positive
+from fogts._validate import check_positive, note_sum
 from fogts.errors import DataError, InsufficientDataError
 from fogts.io.accel import accel_unit
 from fogts.io.angle import ANGLE_UNIT_RATE, input_kind, rate_unit_of_angle, to_rate
@@ -299,7 +299,7 @@ def _table_to_run(table: Table, *, rate_column: str | Sequence[str] | None,
                                          table.accel_unit)
     if not roles.gyro:
         unit, unit_source = axis_units[0], acc_source
-    return Run(
+    run = Run(
         rate=np.ascontiguousarray(rate, dtype=np.float64),
         time=time if time is not None else RegularTime(rows, fs),  # type: ignore[arg-type]
         fs_hz=float(fs),
@@ -319,6 +319,11 @@ def _table_to_run(table: Table, *, rate_column: str | Sequence[str] | None,
         input_kind=kind,
         angle=angle,
     )
+    if table.sums is not None and nan == "error" and kind == "rate" and len(roles.rate) == 1:
+        total = table.sums.get(roles.rate[0])  # the rate is that column, unchanged
+        if total is not None:
+            note_sum(run.rate, total)
+    return run
 
 
 def _interpolate_columns(rate_cols: list[FloatArray], temperature: FloatArray | None,
