@@ -9,9 +9,9 @@ pandas DataFrame or Series keeps a DatetimeIndex or TimedeltaIndex as its time b
 from __future__ import annotations
 
 import dataclasses
-import io
+import os
 import zipfile
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
 
 import numpy as np
@@ -21,7 +21,7 @@ from fogts._validate import sums_known
 from fogts.errors import DataError
 from fogts.io.limits import NpyHeader, check_npy, check_npz, max_input_bytes
 from fogts.io.table import Table, finite_and_bounded
-from fogts.io.timesteps import pairwise_fold
+from fogts.io.timesteps import pairwise_fold_halves
 
 __all__ = ["array_table", "frame_table", "named_arrays_frame", "npy_table", "npz_table",
            "parquet_table"]
@@ -106,29 +106,35 @@ def _read_checked_float64(path: Path, header: NpyHeader
     The array is read in blocks of at most 2^16 values (512 KiB), each checked (and summed)
     while it is in the cache: the check costs a few per cent of the read instead of two
     passes over memory.  The blocks are the nodes of numpy's pairwise summation
-    (:func:`~fogts.io.timesteps.pairwise_fold`), so their sums add up to ``numpy.sum``
-    bit for bit.  The values are those of ``np.load``, bit for bit."""
+    (:func:`~fogts.io.timesteps.pairwise_fold_halves`, the two halves read on two threads
+    for a large file), so their sums add up to ``numpy.sum`` bit for bit.  The values are
+    those of ``np.load``, bit for bit."""
     arr = np.empty(header.shape, dtype=np.float64)
     flat = arr.reshape(-1)
     raw = flat.data.cast("B")
     summing = arr.ndim == 1 and sums_known()
-    with open(path, "rb", buffering=0) as fh:
-        fh.seek(header.offset)
+    fd = os.open(path, os.O_RDONLY)
+    try:
+        def make_block() -> Callable[[int, int], tuple[bool, float]]:
+            def block(start: int, stop: int) -> tuple[bool, float]:
+                _read_exactly(fd, raw[start * 8:stop * 8], header.offset + start * 8, path)
+                ok = finite_and_bounded(flat[start:stop])
+                return ok, float(np.sum(flat[start:stop])) if summing and ok else 0.0
+            return block
 
-        def block(start: int, stop: int) -> tuple[bool, float]:
-            _read_exactly(fh, raw[start * 8:stop * 8], path)
-            ok = finite_and_bounded(flat[start:stop])
-            return ok, float(np.sum(flat[start:stop])) if summing and ok else 0.0
-
-        clean, total = pairwise_fold(0, flat.size, block,
-                                     lambda a, b: (a[0] and b[0], a[1] + b[1]))
+        clean, total = pairwise_fold_halves(0, flat.size, make_block,
+                                            lambda a, b: (a[0] and b[0], a[1] + b[1]))
+    finally:
+        os.close(fd)
     return arr, clean, total if summing and clean else None
 
 
-def _read_exactly(fh: io.FileIO, into: memoryview, path: Path) -> None:
+def _read_exactly(fd: int, into: memoryview, offset: int, path: Path) -> None:
+    """Fill ``into`` from the file ``fd`` at ``offset`` (positioned reads: the two halves
+    share the descriptor)."""
     got = 0
     while got < len(into):
-        n = fh.readinto(into[got:])
+        n = os.preadv(fd, [into[got:]], offset + got)
         if not n:
             raise DataError(f"{str(path)!r} is truncated: it ended while its data were read")
         got += n

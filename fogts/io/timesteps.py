@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from typing import TypeVar
 
@@ -30,7 +31,8 @@ import numpy as np
 
 from fogts._typing import FloatArray
 
-__all__ = ["LEAF", "StepSummary", "pairwise_fold", "step_deviation", "summarise_steps"]
+__all__ = ["HALVES_FROM", "LEAF", "StepSummary", "pairwise_fold", "pairwise_fold_halves",
+           "step_deviation", "summarise_steps"]
 
 #: Largest block of :func:`pairwise_fold` (512 KiB of float64: stays in the L2 cache).
 LEAF = 1 << 16
@@ -64,6 +66,27 @@ def pairwise_fold(start: int, stop: int, leaf: Callable[[int, int], _T],
     half -= half % _UNROLL
     return combine(pairwise_fold(start, start + half, leaf, combine),
                    pairwise_fold(start + half, stop, leaf, combine))
+
+
+#: From this many values on, :func:`pairwise_fold_halves` folds the two halves on two threads.
+HALVES_FROM = 1 << 20
+
+
+def pairwise_fold_halves(start: int, stop: int, make_leaf: Callable[[], Callable[[int, int], _T]],
+                         combine: Callable[[_T, _T], _T]) -> _T:
+    """:func:`pairwise_fold` with the two halves of the top node on two threads (from
+    :data:`HALVES_FROM` values on), each with its own ``make_leaf()``: the same nodes
+    folded in the same order, so the same result, bit for bit.  numpy releases the GIL in
+    the blocks' ufuncs and reductions, so a free core halves the time."""
+    n = stop - start
+    if n < HALVES_FROM:
+        return pairwise_fold(start, stop, make_leaf(), combine)
+    half = n // 2
+    half -= half % _UNROLL
+    with ThreadPoolExecutor(max_workers=1) as pool:
+        left = pool.submit(pairwise_fold, start, start + half, make_leaf(), combine)
+        right = pairwise_fold(start + half, stop, make_leaf(), combine)
+        return combine(left.result(), right)
 
 
 @dataclass(frozen=True)
@@ -128,15 +151,23 @@ def summarise_steps(raw: FloatArray, origin: float | None) -> tuple[FloatArray, 
     sample.sort()
     first_k = n // 2 - 1 if n % 2 == 0 else n // 2
     guess = float(sample[first_k * sample.size // n])
-    buf = np.empty(LEAF, dtype=np.float64)
 
-    def leaf(s: int, e: int) -> _Partial:
-        seg = time[s : e + 1]
-        if origin is not None:
-            np.subtract(raw[s : e + 1], origin, out=seg)
-        d = np.subtract(seg[1:], seg[:-1], out=buf[: e - s])
-        return (float(np.sum(d)), float(d.min()), float(d.max()),
-                int(np.count_nonzero(d < guess)), int(np.count_nonzero(d <= guess)))
+    def make_leaf() -> Callable[[int, int], _Partial]:
+        buf = np.empty(LEAF, dtype=np.float64)  # one per thread
+        flags = np.empty(LEAF, dtype=bool)
+
+        def leaf(s: int, e: int) -> _Partial:
+            # time[e] is written by this block and the next alike (the same value)
+            seg = time[s : e + 1]
+            if origin is not None:
+                np.subtract(raw[s : e + 1], origin, out=seg)
+            d = np.subtract(seg[1:], seg[:-1], out=buf[: e - s])
+            mark = flags[: e - s]
+            below = int(np.count_nonzero(np.less(d, guess, out=mark)))
+            at_or_below = int(np.count_nonzero(np.less_equal(d, guess, out=mark)))
+            return float(np.sum(d)), float(d.min()), float(d.max()), below, at_or_below
+
+        return leaf
 
     def combine(a: _Partial, b: _Partial) -> _Partial:
         # min/max of Python floats would drop a NaN that numpy's propagate: keep it
@@ -145,7 +176,8 @@ def summarise_steps(raw: FloatArray, origin: float | None) -> tuple[FloatArray, 
         return a[0] + b[0], lo, hi, a[3] + b[3], a[4] + b[4]
 
     with np.errstate(invalid="ignore", over="ignore"):  # inf stamps: the caller refuses them
-        total, smallest, longest, below, at_or_below = pairwise_fold(0, n, leaf, combine)
+        total, smallest, longest, below, at_or_below = pairwise_fold_halves(0, n, make_leaf,
+                                                                            combine)
     return time, StepSummary(n, smallest, longest, total, guess, below, at_or_below)
 
 
@@ -154,12 +186,16 @@ def step_deviation(time: FloatArray, mean: float) -> float:
     steps: the squared deviations summed block by block in the cache (numpy forms
     ``d - mean``, squares it and sums, over the whole array)."""
     n = time.size - 1
-    buf = np.empty(min(LEAF, n), dtype=np.float64)
 
-    def leaf(s: int, e: int) -> float:
-        d = np.subtract(time[s + 1 : e + 1], time[s:e], out=buf[: e - s])
-        d -= mean
-        np.multiply(d, d, out=d)
-        return float(np.sum(d))
+    def make_leaf() -> Callable[[int, int], float]:
+        buf = np.empty(min(LEAF, n), dtype=np.float64)
 
-    return math.sqrt(pairwise_fold(0, n, leaf, lambda a, b: a + b) / n)
+        def leaf(s: int, e: int) -> float:
+            d = np.subtract(time[s + 1 : e + 1], time[s:e], out=buf[: e - s])
+            d -= mean
+            np.multiply(d, d, out=d)
+            return float(np.sum(d))
+
+        return leaf
+
+    return math.sqrt(pairwise_fold_halves(0, n, make_leaf, lambda a, b: a + b) / n)

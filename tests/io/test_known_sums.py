@@ -73,3 +73,18 @@ def test_nonfinite_file_records_nothing(npy, tmp_path) -> None:  # type: ignore[
     np.save(path, bad)
     with known_sums(), pytest.raises(DataError, match="inf"):
         read_run(path, fs_hz=100.0)
+
+
+def test_two_thread_read_same_values_and_sum(npy, monkeypatch: pytest.MonkeyPatch) -> None:  # type: ignore[no-untyped-def]
+    import fogts.io.timesteps as timesteps
+
+    path, y = npy
+    monkeypatch.setattr(timesteps, "HALVES_FROM", 1 << 17)  # the halves on two threads
+    with known_sums():
+        run = read_run(path, fs_hz=100.0)
+        assert np.array_equal(run.rate, y) and finite_sum(run.rate) == float(np.sum(y))
+    bad = y.copy()
+    bad[N - 2] = np.nan  # in the second half
+    np.save(path, bad)
+    with pytest.raises(DataError, match="nan"):
+        read_run(path, fs_hz=100.0)

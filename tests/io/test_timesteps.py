@@ -137,3 +137,18 @@ def test_bad_time_cell_named_as_before(bad: float, at: int) -> None:
         read_run(frame)
     if bad != 1e200 or at in (0, N - 1):
         assert f"row {at}" in str(got.value)
+
+
+@pytest.mark.parametrize("kind", ["regular", "jittered", "gapped"])
+def test_two_threads_give_the_same_bits(kind: str, monkeypatch: pytest.MonkeyPatch) -> None:
+    # the halves of the top node on two threads: the same nodes, the same result
+    import fogts.io.timesteps as timesteps
+
+    raw = _stamps(kind, np.random.default_rng(13))
+    one = summarise_steps(raw, float(raw[0]))
+    monkeypatch.setattr(timesteps, "HALVES_FROM", 2 * LEAF)
+    two = summarise_steps(raw, float(raw[0]))
+    assert np.array_equal(one[0], two[0]) and one[1] == two[1]
+    dt = np.diff(raw - raw[0])
+    assert step_deviation(two[0], two[1].mean) == float(np.std(dt))
+    assert two[1].total == float(np.sum(dt))
