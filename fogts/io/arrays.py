@@ -9,7 +9,7 @@ pandas DataFrame or Series keeps a DatetimeIndex or TimedeltaIndex as its time b
 from __future__ import annotations
 
 import dataclasses
-import os
+import io
 import zipfile
 from collections.abc import Callable, Sequence
 from pathlib import Path
@@ -107,17 +107,21 @@ def _read_checked_float64(path: Path, header: NpyHeader
     while it is in the cache: the check costs a few per cent of the read instead of two
     passes over memory.  The blocks are the nodes of numpy's pairwise summation
     (:func:`~fogts.io.timesteps.pairwise_fold_halves`, the two halves read on two threads
-    for a large file), so their sums add up to ``numpy.sum`` bit for bit.  The values are
-    those of ``np.load``, bit for bit."""
+    for a large file, each with its own file handle), so their sums add up to
+    ``numpy.sum`` bit for bit.  The values are those of ``np.load``, bit for bit."""
     arr = np.empty(header.shape, dtype=np.float64)
     flat = arr.reshape(-1)
     raw = flat.data.cast("B")
     summing = arr.ndim == 1 and sums_known()
-    fd = os.open(path, os.O_RDONLY)
+    handles: list[io.FileIO] = []  # one per thread, each positioned by its blocks
     try:
         def make_block() -> Callable[[int, int], tuple[bool, float]]:
+            fh = open(path, "rb", buffering=0)  # closed below
+            handles.append(fh)
+
             def block(start: int, stop: int) -> tuple[bool, float]:
-                _read_exactly(fd, raw[start * 8:stop * 8], header.offset + start * 8, path)
+                fh.seek(header.offset + start * 8)
+                _read_exactly(fh, raw[start * 8:stop * 8], path)
                 ok = finite_and_bounded(flat[start:stop])
                 return ok, float(np.sum(flat[start:stop])) if summing and ok else 0.0
             return block
@@ -125,16 +129,15 @@ def _read_checked_float64(path: Path, header: NpyHeader
         clean, total = pairwise_fold_halves(0, flat.size, make_block,
                                             lambda a, b: (a[0] and b[0], a[1] + b[1]))
     finally:
-        os.close(fd)
+        for fh in handles:
+            fh.close()
     return arr, clean, total if summing and clean else None
 
 
-def _read_exactly(fd: int, into: memoryview, offset: int, path: Path) -> None:
-    """Fill ``into`` from the file ``fd`` at ``offset`` (positioned reads: the two halves
-    share the descriptor)."""
+def _read_exactly(fh: io.FileIO, into: memoryview, path: Path) -> None:
     got = 0
     while got < len(into):
-        n = os.preadv(fd, [into[got:]], offset + got)
+        n = fh.readinto(into[got:])
         if not n:
             raise DataError(f"{str(path)!r} is truncated: it ended while its data were read")
         got += n
