@@ -96,6 +96,7 @@ def allan_cmd(
 
     Exit code 1 if a term FAILs its --spec limit, 2 on bad input.
     """
+    from fogts._validate import known_sums
     from fogts.allan.markov import split_terms
     from fogts.pipeline import AllanAnalysis, AllanSettings, analyse_allan_axis
     from fogts.report.summary import SUMMARY_TERMS, summary_rows, summary_table
@@ -122,15 +123,17 @@ def allan_cmd(
         limits = common.load_spec(spec)
         analyses = []
         for f in files:
-            run, quality = common.read_input(f, read)
-            picks = range(run.n_axes) if axis is None else [common.axis_index(run, axis)]
-            done = []
-            for i in picks:
-                with common.named_warnings(Path(run.source).name, run.axes[i]):
-                    done.append(analyse_allan_axis(run, i, settings))
-                warning = done[-1].plausibility_warning(run)
-                if warning is not None:
-                    common.err_console.print(f"warning: {warning}", markup=False, soft_wrap=True)
+            with known_sums():  # the reader's sum of the rate serves the checks after it
+                run, quality = common.read_input(f, read)
+                picks = range(run.n_axes) if axis is None else [common.axis_index(run, axis)]
+                done = []
+                for i in picks:
+                    with common.named_warnings(Path(run.source).name, run.axes[i]):
+                        done.append(analyse_allan_axis(run, i, settings))
+                    warning = done[-1].plausibility_warning(run)
+                    if warning is not None:
+                        common.err_console.print(f"warning: {warning}", markup=False,
+                                                 soft_wrap=True)
             analyses.append(AllanAnalysis(run=run, quality=quality, axes=tuple(done)))
         rows = summary_rows(analyses, output_units, limits)
         export_text = None

@@ -11,22 +11,20 @@ from __future__ import annotations
 import dataclasses
 import io
 import zipfile
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
+from fogts._validate import sums_known
 from fogts.errors import DataError
 from fogts.io.limits import NpyHeader, check_npy, check_npz, max_input_bytes
 from fogts.io.table import Table, finite_and_bounded
+from fogts.io.timesteps import pairwise_fold_halves
 
 __all__ = ["array_table", "frame_table", "named_arrays_frame", "npy_table", "npz_table",
            "parquet_table"]
-
-#: Values read and checked at a time by :func:`npy_table` (512 KiB: they stay in the cache
-#: between the read and the check).
-_CHECK_CHUNK = 1 << 16
 
 
 def frame_table(frame: pd.DataFrame, source: str) -> Table:
@@ -85,9 +83,10 @@ def npy_table(path: Path) -> Table:
     _check_signature(path, b"\x93NUMPY", ".npy")
     header = check_npy(path)
     if header.dtype == np.dtype(np.float64) and not header.fortran_order:
-        arr, clean = _read_checked_float64(path, header)
+        arr, clean, total = _read_checked_float64(path, header)
         table = array_table(arr, str(path), fs_hz=None, copy=False)
-        return dataclasses.replace(table, checked=clean)
+        sums = {str(table.frame.columns[0]): total} if total is not None else None
+        return dataclasses.replace(table, checked=clean, sums=sums)
     try:
         arr = np.load(path, allow_pickle=False)
     except ValueError as exc:
@@ -98,22 +97,41 @@ def npy_table(path: Path) -> Table:
     return array_table(np.asarray(arr), str(path), fs_hz=None, copy=False)
 
 
-def _read_checked_float64(path: Path, header: NpyHeader) -> tuple[np.ndarray, bool]:
-    """The native float64 C-order array of an ``.npy`` and whether every value is finite
-    and within :data:`~fogts.io.table.MAX_ABS_VALUE`, read in chunks that are checked
-    while they are in the cache (the check costs a few per cent of the read instead of two
-    passes over memory).  The values are those of ``np.load``, bit for bit."""
+def _read_checked_float64(path: Path, header: NpyHeader
+                          ) -> tuple[np.ndarray, bool, float | None]:
+    """The native float64 C-order array of an ``.npy``, whether every value is finite
+    and within :data:`~fogts.io.table.MAX_ABS_VALUE`, and, for a 1-D array read within
+    :func:`fogts._validate.known_sums`, ``numpy.sum`` of it (else None).
+
+    The array is read in blocks of at most 2^16 values (512 KiB), each checked (and summed)
+    while it is in the cache: the check costs a few per cent of the read instead of two
+    passes over memory.  The blocks are the nodes of numpy's pairwise summation
+    (:func:`~fogts.io.timesteps.pairwise_fold_halves`, the two halves read on two threads
+    for a large file, each with its own file handle), so their sums add up to
+    ``numpy.sum`` bit for bit.  The values are those of ``np.load``, bit for bit."""
     arr = np.empty(header.shape, dtype=np.float64)
     flat = arr.reshape(-1)
     raw = flat.data.cast("B")
-    clean = True
-    with open(path, "rb", buffering=0) as fh:
-        fh.seek(header.offset)
-        for start in range(0, flat.size, _CHECK_CHUNK):
-            stop = min(start + _CHECK_CHUNK, flat.size)
-            _read_exactly(fh, raw[start * 8:stop * 8], path)
-            clean = clean and finite_and_bounded(flat[start:stop])
-    return arr, clean and flat.size > 0
+    summing = arr.ndim == 1 and sums_known()
+    handles: list[io.FileIO] = []  # one per thread, each positioned by its blocks
+    try:
+        def make_block() -> Callable[[int, int], tuple[bool, float]]:
+            fh = open(path, "rb", buffering=0)  # closed below
+            handles.append(fh)
+
+            def block(start: int, stop: int) -> tuple[bool, float]:
+                fh.seek(header.offset + start * 8)
+                _read_exactly(fh, raw[start * 8:stop * 8], path)
+                ok = finite_and_bounded(flat[start:stop])
+                return ok, float(np.sum(flat[start:stop])) if summing and ok else 0.0
+            return block
+
+        clean, total = pairwise_fold_halves(0, flat.size, make_block,
+                                            lambda a, b: (a[0] and b[0], a[1] + b[1]))
+    finally:
+        for fh in handles:
+            fh.close()
+    return arr, clean, total if summing and clean else None
 
 
 def _read_exactly(fh: io.FileIO, into: memoryview, path: Path) -> None:

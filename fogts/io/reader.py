@@ -29,7 +29,7 @@ import numpy as np
 import pandas as pd
 
 from fogts._typing import FloatArray, IntArray
-from fogts._validate import check_positive
+from fogts._validate import check_positive, note_sum
 from fogts.errors import DataError, InsufficientDataError
 from fogts.io.accel import accel_unit
 from fogts.io.angle import ANGLE_UNIT_RATE, input_kind, rate_unit_of_angle, to_rate
@@ -42,7 +42,7 @@ from fogts.io.rosbag import is_ros2_bag, rosbag_table
 from fogts.io.run import MissingReport, RegularTime, Run
 from fogts.io.table import MIN_SAMPLES, Table, numeric_column
 from fogts.io.text import text_file_table
-from fogts.io.timebase import sample_rate, sampling_report, step_stats, time_base
+from fogts.io.timebase import Steps, sample_rate, sampling_report, time_base
 from fogts.units import parse_accel_unit, parse_rate_unit
 
 __all__ = ["MIN_SAMPLES", "read_json", "read_run", "read_yaml"]
@@ -264,17 +264,19 @@ def _table_to_run(table: Table, *, rate_column: str | Sequence[str] | None,
     rate_cols = [numeric_column(table, c, missing_ok=nan == "interpolate") for c in roles.rate]
     temperature = (numeric_column(table, roles.temperature, missing_ok=nan == "interpolate")
                    if roles.temperature else None)
-    time, start, dt = time_base(table, roles.time)
-    if fs_hz is None and dt is None and table.fs_hz is None:
+    time, start, steps = time_base(table, roles.time)
+    if fs_hz is None and steps is None and table.fs_hz is None:
         cols = ", ".join(table.frame.columns)
         raise DataError(f"no time column found (columns are: {cols}) and no sample rate "
                         "given; pass fs_hz= (CLI --fs) or add a time column")
-    steps = step_stats(dt) if dt is not None else None  # one median for both uses
-    fs, fs_source = sample_rate(dt, fs_hz, table.fs_hz, table.source, steps=steps)
+    if steps is not None:  # one median for both uses
+        fs, fs_source = steps.sample_rate(fs_hz, table.fs_hz, table.source)
+    else:
+        fs, fs_source = sample_rate(None, fs_hz, table.fs_hz, table.source)
     if time is None and kept_rows is not None and kept_rows.size < n:
         # Dropped rows of a record without time stamps stay visible as gaps.
         time = kept_rows / fs
-        dt, steps = np.diff(time), None
+        steps = Steps(np.diff(time))
     # Without stamps the time base is k / fs: formed on first use of Run.time, not here.
     rows = table.frame.shape[0]
     if nan == "interpolate":
@@ -285,8 +287,8 @@ def _table_to_run(table: Table, *, rate_column: str | Sequence[str] | None,
     rate_cols, angle = to_rate(kind, rate_cols, float(fs))
     if kind == "angle":  # n angles give n - 1 rates, each timed at the start of its step
         rows -= 1
-        time, dt, steps = (time[:-1] if time is not None else None,
-                           dt[:-1] if dt is not None else None, None)
+        time, steps = (time[:-1] if time is not None else None,
+                       Steps(steps.array()[:-1]) if steps is not None else None)
         temperature = temperature[:-1] if temperature is not None else None
     _check_not_constant(roles.rate, rate_cols)
     rate = rate_cols[0] if len(rate_cols) == 1 else np.column_stack(rate_cols)
@@ -297,7 +299,7 @@ def _table_to_run(table: Table, *, rate_column: str | Sequence[str] | None,
                                          table.accel_unit)
     if not roles.gyro:
         unit, unit_source = axis_units[0], acc_source
-    return Run(
+    run = Run(
         rate=np.ascontiguousarray(rate, dtype=np.float64),
         time=time if time is not None else RegularTime(rows, fs),  # type: ignore[arg-type]
         fs_hz=float(fs),
@@ -306,7 +308,8 @@ def _table_to_run(table: Table, *, rate_column: str | Sequence[str] | None,
         temperature=temperature,
         columns=tuple(table.frame.columns),
         source=table.source,
-        sampling=sampling_report(dt, float(fs), fs_source, steps=steps),
+        sampling=(steps.report(float(fs), fs_source) if steps is not None
+                  else sampling_report(None, float(fs), fs_source)),
         start_time=start,
         comments=table.comments,
         units_source=unit_source,
@@ -316,6 +319,11 @@ def _table_to_run(table: Table, *, rate_column: str | Sequence[str] | None,
         input_kind=kind,
         angle=angle,
     )
+    if table.sums is not None and nan == "error" and kind == "rate" and len(roles.rate) == 1:
+        total = table.sums.get(roles.rate[0])  # the rate is that column, unchanged
+        if total is not None:
+            note_sum(run.rate, total)
+    return run
 
 
 def _interpolate_columns(rate_cols: list[FloatArray], temperature: FloatArray | None,

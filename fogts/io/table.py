@@ -49,6 +49,9 @@ class Table:
     # Every column is float64, finite and within MAX_ABS_VALUE (the fast text path checked
     # it while parsing), so numeric_column has nothing left to refuse.
     checked: bool = False
+    # ``numpy.sum`` of some columns, taken while they were checked (for
+    # fogts._validate.note_sum); None: none taken.
+    sums: dict[str, float] | None = None
 
 
 def where(table: Table, row: int) -> str:

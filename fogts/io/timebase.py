@@ -17,10 +17,11 @@ import pandas as pd
 from fogts._typing import FloatArray
 from fogts.errors import DataError, DataQualityWarning
 from fogts.io.run import SamplingReport
-from fogts.io.table import NUMBER, Table, numeric_column, where
+from fogts.io.table import NUMBER, Table, finite_and_bounded, numeric_column, where
+from fogts.io.timesteps import LEAF, StepSummary, step_deviation, summarise_steps
 
-__all__ = ["GAP_FACTOR", "is_numeric_time", "median_step", "sample_rate", "sampling_report",
-           "step_stats", "time_base"]
+__all__ = ["GAP_FACTOR", "Steps", "is_numeric_time", "median_step", "sample_rate",
+           "sampling_report", "step_stats", "time_base"]
 
 #: Gap threshold: a time step longer than this multiple of the nominal step is a gap.
 GAP_FACTOR = 1.5
@@ -28,21 +29,106 @@ GAP_FACTOR = 1.5
 _COUNTED_MEDIAN_MIN = 1 << 16
 
 
+class Steps:
+    """The steps of a time base, ``numpy.diff(time)``: the array itself, or the time and
+    the :class:`~fogts.io.timesteps.StepSummary` of one pass over it, the array then formed
+    only if a statistic needs it (an irregular time base).
+
+    :meth:`sample_rate` and :meth:`report` return what :func:`sample_rate` and
+    :func:`sampling_report` return for the array, bit for bit.
+    """
+
+    def __init__(self, dt: FloatArray | None = None, *, time: FloatArray | None = None,
+                 summary: StepSummary | None = None) -> None:
+        self._dt, self._time, self._summary = dt, time, summary
+        self._stats: tuple[float, float] | None = None
+
+    def array(self) -> FloatArray:
+        """The steps, formed on first use."""
+        if self._dt is None:
+            assert self._time is not None
+            self._dt = np.diff(self._time)
+        return self._dt
+
+    def stats(self) -> tuple[float, float]:
+        """:func:`step_stats`: the median and mean step."""
+        if self._stats is None:
+            median = self._summary.median() if self._summary is not None else None
+            self._stats = ((median, self._summary.mean) if median is not None
+                           and self._summary is not None else step_stats(self.array()))
+        return self._stats
+
+    def _regular(self, threshold: float) -> bool:
+        """Whether the one-pass summary settles that no step exceeds ``threshold``."""
+        return self._summary is not None and self._summary.longest <= threshold
+
+    def sample_rate(self, given: float | None, from_file: float | None, source: str
+                    ) -> tuple[float, str]:
+        """:func:`sample_rate` of these steps."""
+        if given is not None:
+            return given, "given"
+        median = self.stats()[0]
+        if self._regular(GAP_FACTOR * median):  # no long step: the median step is the rate
+            return _round_rate(1.0 / median), "median step"
+        return sample_rate(self.array(), given, from_file, source, steps=self.stats(),
+                           stacklevel=5)  # one frame more than from _table_to_run
+
+    def report(self, fs_hz: float, fs_source: str) -> SamplingReport:
+        """:func:`sampling_report` of these steps."""
+        nominal = 1.0 / fs_hz
+        if not self._regular(GAP_FACTOR * nominal) or self._time is None:
+            return sampling_report(self.array(), fs_hz, fs_source, steps=self.stats())
+        assert self._summary is not None
+        median, mean = self.stats()
+        jitter = step_deviation(self._time, mean)  # no gap: every step is a normal one
+        return SamplingReport(median, 0, self._summary.longest, (), jitter, jitter / nominal,
+                              jitter / nominal < 0.01, True, mean, fs_source)
+
+
 def time_base(table: Table, time_name: str | None
-              ) -> tuple[FloatArray | None, str | None, FloatArray | None]:
+              ) -> tuple[FloatArray | None, str | None, Steps | None]:
     """Seconds since the first sample, the ISO-8601 start time (absolute stamps only) and
-    the time steps; all None without a time index or time column."""
+    the time steps; all None without a time index or time column.
+
+    Above ``2 * LEAF`` stamps, the shifted time and the statistics of the steps are
+    formed in one pass (:func:`~fogts.io.timesteps.summarise_steps`)."""
+    origin: float | None = None
     if isinstance(table.from_index, pd.DatetimeIndex | pd.TimedeltaIndex):
         time, start = _datetime_seconds(table.from_index)
         name = "index"
     elif time_name is not None:
+        fused = _fused_seconds(table, time_name)
+        if fused is not None:
+            return fused
         time, start = _time_seconds(table, time_name)
-        time = time - time[0]
+        origin = float(time[0])
         name = time_name
     else:
         return None, None, None
-    dt = _check_monotonic(time, name, table)
-    return time, start, dt
+    if time.size > 2 * LEAF:
+        time, summary = summarise_steps(np.ascontiguousarray(time, dtype=np.float64), origin)
+        if summary.smallest > 0:
+            return time, start, Steps(time=time, summary=summary)
+    elif origin is not None:
+        time = time - origin
+    return time, start, Steps(_check_monotonic(time, name, table))
+
+
+def _fused_seconds(table: Table, name: str
+                   ) -> tuple[FloatArray, None, Steps] | None:
+    """The time base of a long float time column in seconds from one pass, its values
+    checked by it: stamps that increase strictly lie between the first and the last, so
+    they are finite and within bounds when these two are.  None when the pass does not
+    settle it (the general path then checks the column and names a bad cell)."""
+    col = table.frame[name]
+    if col.dtype != np.float64 or col.size <= 2 * LEAF:
+        return None
+    raw = np.ascontiguousarray(col.to_numpy())
+    ends = raw[[0, -1]]
+    if not finite_and_bounded(ends):
+        return None
+    time, summary = summarise_steps(raw, float(raw[0]))
+    return (time, None, Steps(time=time, summary=summary)) if summary.smallest > 0 else None
 
 
 def is_numeric_time(table: Table, name: str) -> bool:
@@ -187,7 +273,8 @@ def _whole_multiples(ratio: FloatArray) -> bool:
 
 
 def sample_rate(dt: FloatArray | None, given: float | None, from_file: float | None,
-                source: str, *, steps: tuple[float, float] | None = None) -> tuple[float, str]:
+                source: str, *, steps: tuple[float, float] | None = None,
+                stacklevel: int = 4) -> tuple[float, str]:
     """Pick the sample rate: given > median time step > file metadata.
 
     Burst-logged stamps (samples buffered and stamped in clumps) make the median step far
@@ -205,10 +292,11 @@ def sample_rate(dt: FloatArray | None, given: float | None, from_file: float | N
         long = dt[_steps_above(dt, GAP_FACTOR * median, float(dt.max()))]
         if long.size <= 0.05 * dt.size or _whole_multiples(long / median):
             return _round_rate(1.0 / median), "median step"
-        # stacklevel 4: the warning names the caller of read_run
+        # stacklevel (4 from _table_to_run): the warning names the caller of read_run
         warnings.warn(f"{source}: median time step {median:.6g} s differs from the mean step "
                       f"{mean:.6g} s by more than 10 % (burst-logged time stamps); using the "
-                      f"mean rate {1.0 / mean:.6g} Hz", DataQualityWarning, stacklevel=4)
+                      f"mean rate {1.0 / mean:.6g} Hz", DataQualityWarning,
+                      stacklevel=stacklevel)
         return _round_rate(1.0 / mean), "mean step"
     if from_file is not None:
         return from_file, "file"
