@@ -96,7 +96,7 @@ class StepSummary:
     Attributes
     ----------
     count : int
-        Number of steps.
+        Number of steps (one less than the stamps).
     smallest, longest : float
         Their minimum and maximum (NaN if a time stamp is NaN).
     total : float
