@@ -17,6 +17,7 @@ from fogts.arma.roots import Roots, unit_circle_root
 from fogts.arma.whiteness import ResidualDiagnostics
 from fogts.errors import ModelFitError
 from fogts.io.run import RegularTime
+from fogts.preprocess.demeaned import Demeaned, HeldSeries, held
 
 __all__ = ["Candidate"]
 
@@ -58,7 +59,9 @@ class Candidate:
         Convergence and numerical warnings of the fit.
     data, index, time
         The fitted series, its index and time axis (for :meth:`predict`; a regular time
-        axis may be held as a :class:`~fogts.io.run.RegularTime`, formed by ``predict``).
+        axis may be held as a :class:`~fogts.io.run.RegularTime`, formed by ``predict``, and
+        a long demeaned series as a :class:`~fogts.preprocess.demeaned.Demeaned`, formed
+        on first access of ``data``).
     """
 
     model: str
@@ -199,9 +202,12 @@ class Candidate:
     def prediction_summary(self) -> dict[str, Any]:
         """``predict().to_dict()`` on the fitted series, without forming the prediction's
         series-length arrays (:func:`fogts.arma.predict.prediction_summary`)."""
-        if not self.ok or self.fit is None or self.data is None:
+        data = held(self, "data")
+        if not self.ok or self.fit is None or data is None:
             raise ModelFitError(f"{self.model} was not fitted ({self.reason}); it cannot predict")
-        return prediction_summary(self.data, self.fit.resid, model=self.model)
+        # an unformed demeaned series: the variance of the input (the same, up to rounding)
+        observed = data.raw if isinstance(data, Demeaned) else data
+        return prediction_summary(observed, self.fit.resid, model=self.model)
 
     def to_dict(self) -> dict[str, Any]:
         """The DESIGN.md candidate record (plus ``hqic``, ``aicc``, ``reason``, ``flags`` ...)."""
@@ -254,3 +260,6 @@ class Candidate:
         lines += [f"  flag: {f.message}" for f in self.flags]
         lines += [f"  warning: {w}" for w in self.warnings]
         return "\n".join(lines)
+
+
+setattr(Candidate, "data", HeldSeries("data"))  # noqa: B010  (formed on first access)

@@ -36,6 +36,7 @@ coefficient) only inform: the criterion already penalises the extra parameters.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import warnings
 from collections.abc import Sequence
@@ -48,9 +49,10 @@ import pandas as pd
 from fogts import progress
 from fogts._typing import ArrayLike1D, FloatArray
 from fogts._validate import check_choice, check_int
+from fogts.arma.blockwise import BLOCKWISE_MIN_N
 from fogts.arma.candidate import Candidate
 from fogts.arma.candidate_orders import DEFAULT_FIVE, MAX_ORDER, parse_candidates
-from fogts.arma.fit import FitMethod, fit_arma, min_nobs, model_name, shared_statistics
+from fogts.arma.fit import ArmaFit, FitMethod, fit_arma, min_nobs, model_name, shared_statistics
 from fogts.arma.identification import correlogram
 from fogts.arma.redundancy import common_factor, insignificant_terms, near_cancellations
 from fogts.arma.roots import arma_roots
@@ -64,7 +66,7 @@ from fogts.arma.verdict import (
     ranks_down,
     write_verdict,
 )
-from fogts.arma.whiteness import residual_diagnostics
+from fogts.arma.whiteness import diagnostics_of
 from fogts.choices import CRITERIA, Criterion
 from fogts.errors import (
     ConvergenceWarning,
@@ -73,6 +75,8 @@ from fogts.errors import (
     ModelFitError,
     NotWhiteWarning,
 )
+from fogts.preprocess.demeaned import Demeaned
+from fogts.preprocess.demeaned import held as held_series
 
 if TYPE_CHECKING:
     from fogts.io.run import RegularTime, Run
@@ -89,6 +93,10 @@ MIN_SELECT_SAMPLES = 50
 
 @dataclass(frozen=True)
 class _Input:
+    """The series to model: ``x`` minus ``offset`` (``offset`` non-zero for a long series
+    whose demeaned copy is not formed: ``x`` is then the input, ``data`` its
+    :class:`~fogts.preprocess.demeaned.Demeaned` stand-in), and what describes it."""
+
     x: FloatArray
     index: pd.Index | None
     time: FloatArray | RegularTime | None
@@ -97,32 +105,53 @@ class _Input:
     info: dict[str, Any]
     preprocessing: dict[str, Any] | None
     raw: FloatArray | None = None
+    offset: float = 0.0
+    data: FloatArray | Demeaned | None = None
 
 
 def _selection_input(x: ArrayLike1D | Run | Prepared, fs_hz: float | None) -> _Input:
+    from fogts._validate import check_positive
+    from fogts.io.run import RegularTime
     from fogts.preprocess.inputs import ensure_series
-    from fogts.preprocess.prepare import prepare
+    from fogts.preprocess.prepare import Prepared, prepare
 
+    if isinstance(x, Prepared):     # read as held (ensure_series would form a held x)
+        if fs_hz is not None:
+            check_positive("fs_hz", fs_hz)
+        return _prepared_input(x)
     inp = ensure_series(x, "x", fs_hz=fs_hz, min_length=1,
                         pick_hint="select one: select_arma(prepare(run, axis=...))")
     if inp.run is not None:  # one axis: its mean removed, the step recorded
-        inp = ensure_series(prepare(inp.run, fs_hz=fs_hz))
-    if inp.prepared is not None:
-        p, run = inp.prepared, inp.prepared.run
-        info = {"source": run.source if run is not None else None, "axis": p.axis,
-                "units": p.units, "n_input": p.n_input, "n": p.n, "fs_hz": p.fs_hz}
-        raw = None   # the quantization check only applies to undecimated data
-        if run is not None and p.axis in run.axes and p.decimate == 1:
-            raw = run.axis(p.axis)
-        return _Input(p.x, p.index, p.lazy_time, p.fs_hz, p.units, info, p.to_dict(), raw)
+        return _prepared_input(prepare(inp.run, fs_hz=fs_hz))
     arr, fs = inp.values, inp.fs_hz
-    time = None if fs is None else np.arange(arr.shape[0], dtype=np.float64) / fs
     mean = float(arr.mean()) if arr.size else 0.0
     steps = [f"removed the mean ({mean:.6g})"]
     info = {"source": inp.kind, "axis": inp.axes[0], "units": None,
             "n_input": int(arr.shape[0]), "n": int(arr.shape[0]), "fs_hz": fs}
-    return _Input(arr - mean, inp.index, time, fs, None, info,
-                  {"steps": steps, "demeaned": True, "mean": mean}, arr)
+    preprocessing = {"steps": steps, "demeaned": True, "mean": mean}
+    if arr.shape[0] > BLOCKWISE_MIN_N and arr.dtype == np.float64 and arr.flags.c_contiguous:
+        # long: neither the demeaned copy nor the time axis is formed (see _prepared_input)
+        return _Input(arr, inp.index, None if fs is None else RegularTime(arr.shape[0], fs),
+                      fs, None, info, preprocessing, arr, mean, Demeaned(arr, mean))
+    time = None if fs is None else np.arange(arr.shape[0], dtype=np.float64) / fs
+    return _Input(arr - mean, inp.index, time, fs, None, info, preprocessing, arr)
+
+
+def _prepared_input(p: Prepared) -> _Input:
+    """The input of a Prepared series: a long one held unformed (its input and mean), so
+    that the selection makes no demeaned copy."""
+    run = p.run
+    info = {"source": run.source if run is not None else None, "axis": p.axis,
+            "units": p.units, "n_input": p.n_input, "n": p.n, "fs_hz": p.fs_hz}
+    raw = None   # the quantization check only applies to undecimated data
+    if run is not None and p.axis in run.axes and p.decimate == 1:
+        raw = run.axis(p.axis)
+    held = p.lazy_x
+    if isinstance(held, Demeaned) and held.size > BLOCKWISE_MIN_N:
+        # the input and its mean: the fits and checks subtract it block by block
+        return _Input(held.raw, p.index, p.lazy_time, p.fs_hz, p.units, info, p.to_dict(),
+                      raw, held.mean, held)
+    return _Input(p.x, p.index, p.lazy_time, p.fs_hz, p.units, info, p.to_dict(), raw)
 
 
 def _check_data(x: FloatArray, orders: Sequence[tuple[int, int]], lags: tuple[int, ...]) -> None:
@@ -148,52 +177,65 @@ def _check_lags(lags: Any) -> tuple[int, ...]:
 
 
 def _failed(p: int, q: int, criterion: str, reason: str, msgs: Sequence[str],
-            data: FloatArray, inp: _Input) -> Candidate:
+            data: FloatArray | Demeaned, inp: _Input) -> Candidate:
     return Candidate(model=model_name(p, q), p=p, q=q, status="failed", reason=reason, rank=None,
                      criterion=criterion, fit=None, roots=None, diagnostics=None, flags=(),
-                     warnings=tuple(msgs), data=data, index=inp.index, time=inp.time)
+                     warnings=tuple(msgs), data=data,  # type: ignore[arg-type]  # HeldSeries
+                     index=inp.index, time=inp.time)
 
 
 def _evaluate(p: int, q: int, inp: _Input, criterion: str, lags: tuple[int, ...],
               method: FitMethod) -> Candidate:
     x = inp.x
+    data = x if inp.data is None else inp.data
     name = model_name(p, q)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         try:
             # the mean is estimated in the likelihood (GLS) even though x was demeaned:
-            # a zero-mean fit of demeaned data favours an MA root on the unit circle
-            fit = fit_arma(x, p, q, method=method, standardize=True, mean=True)
+            # a zero-mean fit of demeaned data favours an MA root on the unit circle (its
+            # restricted likelihood is the same for x and x - offset)
+            fit = _offset_mean(fit_arma(x, p, q, method=method, standardize=True, mean=True),
+                               inp.offset)
         except (ModelFitError, InsufficientDataError, np.linalg.LinAlgError, ValueError,
                 ArithmeticError) as exc:
             msg = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
-            return _failed(p, q, criterion, msg, [str(w.message) for w in caught], x, inp)
+            return _failed(p, q, criterion, msg, [str(w.message) for w in caught], data, inp)
     msgs = list(fit.warnings)
     msgs += [f"{w.category.__name__}: {w.message}" for w in caught
              if f"{w.category.__name__}: {w.message}" not in msgs]
     values = [fit.llf, fit.sigma2, *fit.params.values()]
     if not all(math.isfinite(v) for v in values):
         return _failed(p, q, criterion, "the fit returned non-finite parameters or likelihood",
-                       msgs, x, inp)
+                       msgs, data, inp)
     roots = arma_roots(fit.ar, fit.ma)
     if not roots.stationary:
         return _failed(p, q, criterion, f"the fitted AR part is not stationary (largest AR "
-                       f"inverse root modulus {roots.ar_radius:.4f} >= 1)", msgs, x, inp)
+                       f"inverse root modulus {roots.ar_radius:.4f} >= 1)", msgs, data, inp)
     if not fit.converged:
         msgs.append(f"{name}: the optimiser did not converge; its likelihood may be short of "
                     "the optimum")
     if not roots.invertible:
         msgs.append(f"the MA part is not invertible (largest MA inverse root modulus "
                     f"{roots.ma_radius:.4f} >= 1)")
-    diag = residual_diagnostics(fit.resid, x, p=p, q=q, lags=lags)
+    diag = diagnostics_of(fit.resid, x, p=p, q=q, lags=lags, x_offset=inp.offset)
     flags = (near_cancellations(roots) + common_factor(fit.ar, fit.ma, fit.coef_cov, nobs=fit.nobs)
              + insignificant_terms(fit.params, fit.bse))
     # memory: drop the series-length innovations now (recomputed bit for bit on access);
     # select_arma stores them again for the selected candidate only
     return Candidate(model=name, p=p, q=q, status="ok", reason=None, rank=None,
                      criterion=criterion, fit=fit._without_resid(x), roots=roots,
-                     diagnostics=diag, flags=flags, warnings=tuple(msgs), data=x,
+                     diagnostics=diag, flags=flags, warnings=tuple(msgs),
+                     data=data,  # type: ignore[arg-type]  # HeldSeries forms it on access
                      index=inp.index, time=inp.time)
+
+
+def _offset_mean(fit: ArmaFit, offset: float) -> ArmaFit:
+    """``fit`` of x as that of x - ``offset``: its GLS mean less ``offset`` (the rest of a
+    restricted-likelihood fit does not depend on a constant subtracted from the series)."""
+    if not offset or fit.mean is None:
+        return fit
+    return dataclasses.replace(fit, params={**fit.params, "mean": fit.params["mean"] - offset})
 
 
 def _rank(cands: list[Candidate], criterion: str) -> list[Candidate]:
@@ -210,9 +252,8 @@ def _rank(cands: list[Candidate], criterion: str) -> list[Candidate]:
 
 
 def _replace(c: Candidate, **changes: Any) -> Candidate:
-    import dataclasses
-
-    return dataclasses.replace(c, **changes)
+    # the data as held: an unformed demeaned series stays unformed
+    return dataclasses.replace(c, data=held_series(c, "data"), **changes)
 
 # over 80 lines only through its numpydoc docstring; the body is short
 def select_arma(

@@ -44,6 +44,7 @@ __all__ = ["BAND_Z", "LB_ALPHA", "CorrelationCheck", "LjungBoxLag", "ResidualDia
 BAND_Z = 1.96
 #: Significance level of the Ljung-Box test.
 LB_ALPHA = 0.05
+_BLOCK = 1 << 16      # samples per block of the offset series' sums
 
 
 def rho_a2(a: FloatArray) -> float:
@@ -72,6 +73,18 @@ def rho_ax3(a: FloatArray, x: FloatArray) -> float:
     return num / den if den > 0 else math.nan
 
 
+def _rho_ax3_offset(a: FloatArray, x: FloatArray, offset: float) -> float:
+    """:func:`rho_ax3` of ``a`` and ``x - offset``, the subtraction block by block (the same
+    values as on the subtracted array; the sums accumulated per block)."""
+    n = a.shape[0]
+    num = sxx = 0.0
+    for c0 in range(0, n - 3, _BLOCK):
+        c1 = min(n - 3, c0 + _BLOCK)
+        seg = x[c0:c1] - offset
+        num += dot(a[c0 + 3:c1 + 3], seg)
+        sxx += dot(seg, seg)
+    den = math.sqrt(dot(a[3:], a[3:]) * sxx)
+    return num / den if den > 0 else math.nan
 
 
 @dataclass(frozen=True)
@@ -256,13 +269,20 @@ def residual_diagnostics(resid: Any, x: Any, *, p: int, q: int,
     """
     a = to_float_array(resid, "resid", min_length=5)
     xs = to_float_array(x, "x", min_length=5)
+    return diagnostics_of(a, xs, p=p, q=q, lags=lags)
+
+
+def diagnostics_of(a: FloatArray, xs: FloatArray, *, p: int, q: int, lags: Sequence[int],
+                   x_offset: float = 0.0) -> ResidualDiagnostics:
+    """:func:`residual_diagnostics` of float64 arrays, the series being ``xs - x_offset``
+    (subtracted block by block in rho_ax,3: no series-length copy)."""
     if a.shape != xs.shape:
         raise DataError(f"resid and x must have the same length, got {a.shape[0]} and "
                         f"{xs.shape[0]}")
     n = a.shape[0]
     band = BAND_Z / math.sqrt(n)
     ra2 = rho_a2(a)
-    rax3 = rho_ax3(a, xs)
+    rax3 = rho_ax3(a, xs) if not x_offset else _rho_ax3_offset(a, xs, x_offset)
     c_a2 = CorrelationCheck("rho_a2", ra2, band, bool(abs(ra2) <= band))
     c_ax3 = CorrelationCheck("rho_ax3", rax3, band, bool(abs(rax3) <= band))
     maxlag = max(check_int("lags", h, minimum=1, maximum=n - 1) for h in lags)

@@ -19,6 +19,7 @@ from fogts._typing import ArrayLike1D, FloatArray, IntArray
 from fogts._validate import check_int, check_positive
 from fogts.errors import DataError, InsufficientDataError
 from fogts.io.run import RegularTime, Run, _TimeField, held_time
+from fogts.preprocess.demeaned import Demeaned, HeldSeries, held
 from fogts.preprocess.glitches import MAD_TO_SIGMA
 from fogts.preprocess.inputs import ensure_series
 
@@ -31,6 +32,9 @@ STATIONARITY_MAX_POINTS = 20_000
 ADF_MAX_LAG = 24
 #: Fewest samples :func:`prepare` accepts.
 MIN_PREPARE_SAMPLES = 10
+#: Above this many samples (8 MB of float64) the demeaned input is held unformed
+#: (:class:`~fogts.preprocess.demeaned.Demeaned`) until ``Prepared.x`` is read.
+UNFORMED_MIN_N = 1 << 20
 
 
 @dataclass(frozen=True)
@@ -100,7 +104,8 @@ class Prepared:
     Attributes
     ----------
     x : ndarray of float64
-        The prepared series.
+        The prepared series (a long input minus its mean is formed on first access;
+        :attr:`lazy_x` does not form it).
     fs_hz : float
         Sample rate after decimation.
     units : str
@@ -153,8 +158,14 @@ class Prepared:
         return self.__dict__["time"]  # type: ignore[no-any-return]
 
     @property
+    def lazy_x(self) -> FloatArray | Demeaned:
+        """``x`` without forming it: a :class:`~fogts.preprocess.demeaned.Demeaned` for a
+        long input minus its mean not formed yet, else the array."""
+        return held(self, "x")  # type: ignore[no-any-return]
+
+    @property
     def n(self) -> int:
-        return int(self.x.size)
+        return int(self.lazy_x.size)
 
     def series(self) -> pd.Series:
         """The prepared data as a Series (with the input's index if it had one)."""
@@ -210,7 +221,8 @@ def prepare(
        dropped and recorded);
     3. polynomial trend removal of order ``detrend`` (least squares in time); order 0 is
        mean removal;
-    4. mean removal if ``demean`` and no trend was removed;
+    4. mean removal if ``demean`` and no trend was removed (of a long input, held as the
+       input and its mean until ``Prepared.x`` is read);
     5. ADF and KPSS stationarity tests (statsmodels) on the result.
 
     Parameters
@@ -280,26 +292,36 @@ def prepare(
 
     order: int | None = None
     coefs: tuple[float, ...] = ()
+    out: FloatArray | Demeaned = x
     if detrend is not None:
         order = check_int("detrend", detrend, minimum=0, maximum=10)
-        x, coefs = _remove_polynomial(
+        out, coefs = _remove_polynomial(
             x, time.array() if isinstance(time, RegularTime) else time, order)
         steps.append(f"removed a polynomial trend of order {order}" if order else
                      "removed the mean (trend order 0)")
     elif demean:
         mean = float(np.mean(x))
-        x = x - mean
+        # a long input is held with its mean, not copied (the ARMA selection reads it so)
+        out = Demeaned(x, mean) if _unformed(x, inp.values) else x - mean
         steps.append(f"removed the mean ({mean:.6g} {units})")
 
-    stat = _stationarity(x) if stationarity else None
+    stat = _stationarity(out) if stationarity else None
     if stat is not None:
         steps.append(f"stationarity: {stat.verdict} (ADF p={stat.adf_pvalue:.3g}, "
                      f"KPSS p={stat.kpss_pvalue:.3g})")
-    return Prepared(x=np.ascontiguousarray(x), fs_hz=fs, units=units, axis=name,
+    return Prepared(x=out if isinstance(out, Demeaned)  # type: ignore[arg-type]  # HeldSeries
+                    else np.ascontiguousarray(out), fs_hz=fs, units=units, axis=name,
                     time=time,  # type: ignore[arg-type]  # formed by _TimeField on access
                     index=index, steps=tuple(steps), n_input=n_input, outliers=report,
                     trend_order=order, trend_coefficients=coefs,
                     decimate=k, dropped_tail=dropped_tail, stationarity=stat, run=run)
+
+
+def _unformed(x: FloatArray, given: FloatArray) -> bool:
+    """Whether ``x`` minus its mean is held unformed: the input itself (any other array is
+    a copy already), long, float64 and contiguous (read block by block)."""
+    return (x is given and x.shape[0] > UNFORMED_MIN_N and x.dtype == np.float64
+            and bool(x.flags.c_contiguous))
 
 
 def _replace_outliers(x: FloatArray, sigma_factor: float) -> tuple[FloatArray, OutlierReport]:
@@ -361,12 +383,18 @@ def _remove_polynomial(x: FloatArray, time: FloatArray, order: int
     return residual, tuple(float(c) for c in poly.convert().coef)
 
 
-def _stationarity(x: FloatArray) -> StationarityReport:
+def _stationarity(x: FloatArray | Demeaned) -> StationarityReport:
+    """ADF and KPSS on ``x`` or its block means; of a :class:`Demeaned` series the block
+    means of the input minus the mean (equal to those of the demeaned array to rounding)."""
     from statsmodels.tools.sm_exceptions import InterpolationWarning
     from statsmodels.tsa.stattools import adfuller, kpss
 
     block = max(1, int(np.ceil(x.size / STATIONARITY_MAX_POINTS)))
-    y = x if block == 1 else x[: x.size // block * block].reshape(-1, block).mean(axis=1)
+    if isinstance(x, Demeaned):
+        raw = x.raw
+        y = raw[: x.size // block * block].reshape(-1, block).mean(axis=1) - x.mean
+    else:
+        y = x if block == 1 else x[: x.size // block * block].reshape(-1, block).mean(axis=1)
     notes: list[str] = []
     if block > 1:
         notes.append(f"tested on block means of {block} samples ({y.size} points)")
@@ -393,3 +421,4 @@ def _stationarity(x: FloatArray) -> StationarityReport:
 
 
 setattr(Prepared, "time", _TimeField())  # noqa: B010  (formed on first access)
+setattr(Prepared, "x", HeldSeries("x"))  # noqa: B010  (formed on first access)

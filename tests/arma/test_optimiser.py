@@ -105,6 +105,34 @@ def test_starts_that_warm_up_alike_share_the_whole_series_run(
         assert shared.params[name] == pytest.approx(value, abs=1e-4), name
 
 
+def test_a_start_that_warms_up_alike_stops_at_that_stage(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    """A start whose presample stage ends where a known path's did (within 1e-3) is not run
+    on the prefixes: the rest of its warm-up would repeat that path's."""
+    monkeypatch.setattr(optimiser, "PRESAMPLE", 2_000)
+    monkeypatch.setattr(optimiser, "PREFIXES", (8_000,))
+    x = simulate([0.6], [0.3], 40_000, 6, 1.0)
+    xs = (x - x.mean()) / x.std()
+    model = ExactLikelihood(xs, 1, 1, mean=True)
+    start = (np.array([0.5]), np.array([0.2]))
+    known = optimiser.warm_start(xs, model, *start)
+    assert known is not None and len(known) == 3
+    sizes: list[int] = []
+    newton = optimiser.newton
+
+    def counted(m: ExactLikelihood, *args: object, **kw: object) -> optimiser.NewtonResult:
+        sizes.append(m.n)
+        return newton(m, *args, **kw)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(optimiser, "newton", counted)
+    assert optimiser.warm_start(xs, model, *start, known=[known]) is None
+    assert sizes == [2_000]           # the presample stage only
+    sizes.clear()
+    other = [*known[:1], (np.array([-0.9]), np.array([0.0])), *known[2:]]
+    optimiser.warm_start(xs, model, *start, known=[other])
+    assert sizes == [2_000, 8_000]    # another presample end: every stage
+
+
 def test_a_run_stopped_at_a_unit_root_is_not_repeated(monkeypatch: pytest.MonkeyPatch) -> None:
     """The restricted likelihood of a random walk rises to the unit AR root: Newton stops
     there (``at_unit_root``) and ``solve`` does not iterate again without D's curvature (that

@@ -16,6 +16,7 @@ from fogts.arma.diagnostics import (
     rho_a2,
     rho_ax3,
 )
+from fogts.arma.whiteness import diagnostics_of
 from fogts.errors import DataError
 from tests.arma.simulated import arma_series
 
@@ -93,3 +94,11 @@ def test_errors() -> None:
         ljung_box(a, lags=[100])
     with pytest.raises(DataError, match="resid and x must have the same length, got 100 and 99"):
         residual_diagnostics(a, a[:99], p=1, q=0)
+
+
+def test_diagnostics_need_equal_lengths() -> None:
+    a = np.random.default_rng(3).standard_normal(100)
+    with pytest.raises(DataError, match="resid and x must have the same length, got 100 and 99"):
+        residual_diagnostics(a, a[:-1], p=1, q=0)
+    with pytest.raises(DataError, match="same length"):
+        diagnostics_of(a, a[:-1], p=1, q=0, lags=(10,), x_offset=1.0)
