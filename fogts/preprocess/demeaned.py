@@ -22,6 +22,7 @@ class Demeaned:
 
     Examples
     --------
+    >>> import numpy as np
     >>> d = Demeaned(np.array([1.0, 2.0, 6.0]), 3.0)
     >>> d.size, d.array().tolist()
     (3, [-2.0, -1.0, 3.0])
