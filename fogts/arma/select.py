@@ -49,7 +49,6 @@ import pandas as pd
 from fogts import progress
 from fogts._typing import ArrayLike1D, FloatArray
 from fogts._validate import check_choice, check_int
-from fogts.arma.blockwise import BLOCKWISE_MIN_N
 from fogts.arma.candidate import Candidate
 from fogts.arma.candidate_orders import DEFAULT_FIVE, MAX_ORDER, parse_candidates
 from fogts.arma.fit import ArmaFit, FitMethod, fit_arma, min_nobs, model_name, shared_statistics
@@ -75,7 +74,7 @@ from fogts.errors import (
     ModelFitError,
     NotWhiteWarning,
 )
-from fogts.preprocess.demeaned import Demeaned
+from fogts.preprocess.demeaned import Demeaned, holds_unformed
 from fogts.preprocess.demeaned import held as held_series
 
 if TYPE_CHECKING:
@@ -129,7 +128,7 @@ def _selection_input(x: ArrayLike1D | Run | Prepared, fs_hz: float | None) -> _I
     info = {"source": inp.kind, "axis": inp.axes[0], "units": None,
             "n_input": int(arr.shape[0]), "n": int(arr.shape[0]), "fs_hz": fs}
     preprocessing = {"steps": steps, "demeaned": True, "mean": mean}
-    if arr.shape[0] > BLOCKWISE_MIN_N and arr.dtype == np.float64 and arr.flags.c_contiguous:
+    if holds_unformed(arr):
         # long: neither the demeaned copy nor the time axis is formed (see _prepared_input)
         return _Input(arr, inp.index, None if fs is None else RegularTime(arr.shape[0], fs),
                       fs, None, info, preprocessing, arr, mean, Demeaned(arr, mean))
@@ -147,7 +146,7 @@ def _prepared_input(p: Prepared) -> _Input:
     if run is not None and p.axis in run.axes and p.decimate == 1:
         raw = run.axis(p.axis)
     held = p.lazy_x
-    if isinstance(held, Demeaned) and held.size > BLOCKWISE_MIN_N:
+    if isinstance(held, Demeaned):
         # the input and its mean: the fits and checks subtract it block by block
         return _Input(held.raw, p.index, p.lazy_time, p.fs_hz, p.units, info, p.to_dict(),
                       raw, held.mean, held)

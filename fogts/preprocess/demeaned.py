@@ -10,9 +10,22 @@ from __future__ import annotations
 
 from typing import Any
 
+import numpy as np
+
 from fogts._typing import FloatArray
 
-__all__ = ["Demeaned", "HeldSeries", "held"]
+__all__ = ["UNFORMED_MIN_N", "Demeaned", "HeldSeries", "held", "holds_unformed"]
+
+#: Above this many samples (8 MB of float64) a series minus its mean is held unformed; the
+#: ARMA fits take series this long block by block (``fogts.arma.blockwise``, same limit).
+UNFORMED_MIN_N = 1 << 20
+
+
+def holds_unformed(x: FloatArray) -> bool:
+    """Whether ``x`` minus its mean is held as a :class:`Demeaned` rather than formed: long
+    (over :data:`UNFORMED_MIN_N` samples), float64 and C-contiguous (read block by block)."""
+    return (x.shape[0] > UNFORMED_MIN_N and x.dtype == np.float64
+            and bool(x.flags.c_contiguous))
 
 
 class Demeaned:
@@ -22,7 +35,6 @@ class Demeaned:
 
     Examples
     --------
-    >>> import numpy as np
     >>> d = Demeaned(np.array([1.0, 2.0, 6.0]), 3.0)
     >>> d.size, d.array().tolist()
     (3, [-2.0, -1.0, 3.0])

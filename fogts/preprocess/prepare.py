@@ -19,7 +19,7 @@ from fogts._typing import ArrayLike1D, FloatArray, IntArray
 from fogts._validate import check_int, check_positive
 from fogts.errors import DataError, InsufficientDataError
 from fogts.io.run import RegularTime, Run, _TimeField, held_time
-from fogts.preprocess.demeaned import Demeaned, HeldSeries, held
+from fogts.preprocess.demeaned import Demeaned, HeldSeries, held, holds_unformed
 from fogts.preprocess.glitches import MAD_TO_SIGMA
 from fogts.preprocess.inputs import ensure_series
 
@@ -32,9 +32,6 @@ STATIONARITY_MAX_POINTS = 20_000
 ADF_MAX_LAG = 24
 #: Fewest samples :func:`prepare` accepts.
 MIN_PREPARE_SAMPLES = 10
-#: Above this many samples (8 MB of float64) the demeaned input is held unformed
-#: (:class:`~fogts.preprocess.demeaned.Demeaned`) until ``Prepared.x`` is read.
-UNFORMED_MIN_N = 1 << 20
 
 
 @dataclass(frozen=True)
@@ -301,8 +298,9 @@ def prepare(
                      "removed the mean (trend order 0)")
     elif demean:
         mean = float(np.mean(x))
-        # a long input is held with its mean, not copied (the ARMA selection reads it so)
-        out = Demeaned(x, mean) if _unformed(x, inp.values) else x - mean
+        # a long input is held with its mean, not copied (the ARMA selection reads it so);
+        # any other array is a copy the preparation made already
+        out = Demeaned(x, mean) if x is inp.values and holds_unformed(x) else x - mean
         steps.append(f"removed the mean ({mean:.6g} {units})")
 
     stat = _stationarity(out) if stationarity else None
@@ -315,13 +313,6 @@ def prepare(
                     index=index, steps=tuple(steps), n_input=n_input, outliers=report,
                     trend_order=order, trend_coefficients=coefs,
                     decimate=k, dropped_tail=dropped_tail, stationarity=stat, run=run)
-
-
-def _unformed(x: FloatArray, given: FloatArray) -> bool:
-    """Whether ``x`` minus its mean is held unformed: the input itself (any other array is
-    a copy already), long, float64 and contiguous (read block by block)."""
-    return (x is given and x.shape[0] > UNFORMED_MIN_N and x.dtype == np.float64
-            and bool(x.flags.c_contiguous))
 
 
 def _replace_outliers(x: FloatArray, sigma_factor: float) -> tuple[FloatArray, OutlierReport]:

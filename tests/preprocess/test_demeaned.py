@@ -11,7 +11,6 @@ coefficients, far inside a standard error.
 
 from __future__ import annotations
 
-import importlib
 import pickle
 import warnings
 
@@ -20,15 +19,12 @@ import pytest
 
 import fogts.arma.fit as fitmod
 import fogts.arma.fit_result as fit_result
-import fogts.arma.select as select_mod
+import fogts.preprocess.demeaned as demeaned_mod
 from fogts.arma import select_arma
 from fogts.arma.whiteness import _rho_ax3_offset, rho_ax3
 from fogts.preprocess.demeaned import Demeaned, held
 from fogts.preprocess.prepare import prepare
 from tests.arma.simulated import arma_series
-
-# the module (``fogts.preprocess.prepare`` names the function on the package)
-prepare_mod = importlib.import_module("fogts.preprocess.prepare")
 
 
 def test_demeaned_forms_raw_minus_mean_once() -> None:
@@ -44,8 +40,7 @@ def test_demeaned_forms_raw_minus_mean_once() -> None:
 
 def _long(monkeypatch: pytest.MonkeyPatch, limit: int) -> None:
     """Treat series above ``limit`` samples as long (held unformed, fitted block-wise)."""
-    monkeypatch.setattr(prepare_mod, "UNFORMED_MIN_N", limit)
-    monkeypatch.setattr(select_mod, "BLOCKWISE_MIN_N", limit)
+    monkeypatch.setattr(demeaned_mod, "UNFORMED_MIN_N", limit)
     monkeypatch.setattr(fitmod, "BLOCKWISE_MIN_N", limit)
     monkeypatch.setattr(fit_result, "BLOCKWISE_MIN_N", limit)
 
@@ -88,7 +83,7 @@ def test_selection_of_an_unformed_series(monkeypatch: pytest.MonkeyPatch) -> Non
         warnings.simplefilter("ignore")
         p = prepare(x, fs_hz=10.0)
         sel = select_arma(p, candidates="AR(1),ARMA(1,1)")
-        monkeypatch.setattr(prepare_mod, "UNFORMED_MIN_N", 10**9)
+        monkeypatch.setattr(demeaned_mod, "UNFORMED_MIN_N", 10**9)
         ref = select_arma(prepare(x, fs_hz=10.0), candidates="AR(1),ARMA(1,1)")
     assert isinstance(p.lazy_x, Demeaned)     # the selection did not form it ...
     for c in sel.candidates:
@@ -137,3 +132,16 @@ def test_selection_of_a_long_array(monkeypatch: pytest.MonkeyPatch) -> None:
     np.testing.assert_array_equal(pred.time, np.arange(x.size) / 10.0)
     np.testing.assert_allclose(pred.predicted, ref.best.predict().predicted, rtol=0,
                                atol=1e-9 * float(np.std(x)))
+
+
+def test_the_unformed_limit_is_the_blockwise_one() -> None:
+    """A series is held unformed exactly when the ARMA fits read it block by block (both
+    paths accept any length; the shared limit keeps the short-series outputs unchanged)."""
+    from fogts.arma.blockwise import BLOCKWISE_MIN_N
+
+    assert demeaned_mod.UNFORMED_MIN_N == BLOCKWISE_MIN_N
+    n = demeaned_mod.UNFORMED_MIN_N
+    assert not demeaned_mod.holds_unformed(np.zeros(n))
+    assert demeaned_mod.holds_unformed(np.zeros(n + 1))
+    assert not demeaned_mod.holds_unformed(np.zeros(n + 1, dtype=np.float32))
+    assert not demeaned_mod.holds_unformed(np.zeros(2 * n + 2)[::2])
