@@ -108,6 +108,38 @@ def test_simulate_sidecar_never_replaces_its_from_json_input(tmp_path: Path) -> 
     assert _digest(sidecar) == before
 
 
+def test_simulate_never_replaces_a_file_it_did_not_write(recording: Path, tmp_path: Path) -> None:
+    sim = ["simulate", "noise", "--N", "0.1", "--duration", "10s", "-o"]
+    before = _digest(recording)
+    res = runner.invoke(app, [*sim, str(recording)])          # a recording, no sidecar
+    assert res.exit_code == 2, res.output
+    assert error_output(res.stderr).startswith(f"error: --output '{recording}' already exists "
+                                               "and was not written by 'fogts simulate'")
+    assert _digest(recording) == before and not Path(f"{recording}.json").exists()
+
+    user_json = tmp_path / "new.csv.json"                    # the sidecar name taken
+    user_json.write_text('{"mine": true}\n')
+    res = runner.invoke(app, [*sim, str(tmp_path / "new.csv")])
+    assert res.exit_code == 2
+    assert "--output's sidecar" in res.stderr and "is not the record" in res.stderr
+    assert user_json.read_text() == '{"mine": true}\n' and not (tmp_path / "new.csv").exists()
+
+    out = tmp_path / "sim.csv"                              # its own output: replaced
+    assert runner.invoke(app, [*sim, str(out)]).exit_code == 0
+    first = _digest(out)
+    res = runner.invoke(app, [*sim[:-1], "--seed", "5", "-o", str(out)])
+    assert res.exit_code == 0, res.output
+    assert _digest(out) != first
+
+    moved = tmp_path / "other.csv"                          # a sidecar naming another file
+    out.rename(moved)
+    Path(f"{out}.json").rename(Path(f"{moved}.json"))
+    (tmp_path / "other.csv.json").write_text(
+        (tmp_path / "other.csv.json").read_text().replace('"sim.csv"', '"elsewhere.csv"'))
+    res = runner.invoke(app, [*sim, str(moved)])
+    assert res.exit_code == 2 and "is not the record" in res.stderr
+
+
 def test_special_file_and_duplicate_outputs_are_refused(recording: Path, tmp_path: Path) -> None:
     res = runner.invoke(app, ["info", str(recording), "--json", "/dev/null"])
     assert res.exit_code == 2
