@@ -379,7 +379,7 @@ class NoiseModel(TableView):
         return Table.build(
             f"IEEE-952 noise terms of {self.axis} ({self.method.upper()} fit of {fitted}, "
             f"input in {self.units})", columns, rows,
-            caption="C_n: coefficient of tau^n in sigma^2(tau) = sum C_n tau^n ("
+            caption="C_n: square root of the coefficient of tau^n in sigma^2(tau) = sum C_n^2 tau^n ("
                     + ("specific force in m/s^2" if self.quantity == "accel" else "rate in deg/h")
                     + ", tau in s). Upper limit: a term at zero, dropped, or fitted with z < 2 "
                     "is not measured; the note gives its one-sided 95 % bound. Not identifiable: the term makes up a sizeable share of the "

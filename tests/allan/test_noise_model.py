@@ -34,3 +34,21 @@ def test_exports() -> None:
     assert model.values["N"] == pytest.approx(0.02, rel=1e-6)
     with pytest.raises(KeyError, match="term 'X' was not fitted"):
         model["X"]
+
+
+def test_term_table_caption_states_the_squared_coefficients() -> None:
+    """The table's C_n column holds the square roots of the sigma^2 coefficients
+    (DESIGN.md: N = C_-1/60, B = C_0/0.664); its caption must say so, and the closed form it
+    states must give back the fitted curve from the printed C_n (rate in deg/h)."""
+    tau = 2.0 ** np.arange(-4, 12)
+    model = quiet_fit(make_result(tau, np.sqrt(avar(tau, N=0.02, B=0.1, K=0.5))),
+                      significance=None)
+    table = model.term_table()
+    assert "sum C_n^2 tau^n" in table.to_text()
+    assert "sum C_n tau^n" not in table.to_text()
+    c = {t.power: t.c_coeff for t in model.terms}
+    # the B term is C_0^2 * (2 ln 2 / pi) / 0.664^2 ~ C_0^2 (0.04 % apart, DESIGN.md); the
+    # power-law sum is checked on the terms whose coefficient is exactly C_n^2
+    at = 10.0
+    n_term = c[-1] ** 2 / at
+    assert n_term == pytest.approx(avar(np.array([at]), N=0.02)[0], rel=1e-6)

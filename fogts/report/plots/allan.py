@@ -8,6 +8,7 @@ from typing import Any
 import numpy as np
 from matplotlib.figure import Figure
 
+from fogts.allan.readout import readoff_supported
 from fogts.report.plots._common import mpl_text, num_tex, time_unit, value_pm_tex
 from fogts.report.plots.allan_fit import (
     draw_outside_points,
@@ -149,6 +150,8 @@ def _readoff_points(ax: Any, res: Any, model: Any, xlim: tuple[float, float],
              "K": f"read-off K = {num_tex(ro.K)} {_TERM_UNIT_TEX['K']} (+1/2 line at τ = 3 s)",
              "B": f"read-off B = {num_tex(ro.B)} {_TERM_UNIT_TEX['B']} (minimum / 0.664)"}
     for name, tau_ro, dev_ro in ro.points:
+        if not readoff_supported(ro, name):  # no segment of the term's slope: nothing read
+            continue
         if (np.isfinite(dev_ro) and xlim[0] <= tau_ro <= xlim[1]
                 and ylim[0] <= dev_ro <= ylim[1]):
             ax.plot([tau_ro], [dev_ro], _READOFF_MARKER[name], color=_TERM_STYLE[name][0],
