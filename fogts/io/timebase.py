@@ -20,7 +20,7 @@ from fogts.io.run import SamplingReport
 from fogts.io.table import NUMBER, Table, finite_and_bounded, numeric_column, where
 from fogts.io.timesteps import LEAF, StepSummary, step_deviation, summarise_steps
 
-__all__ = ["GAP_FACTOR", "Steps", "is_numeric_time", "median_step", "sample_rate",
+__all__ = ["GAP_FACTOR", "GIVEN_RATE_TOLERANCE", "Steps", "check_given_rate", "is_numeric_time", "median_step", "sample_rate",
            "sampling_report", "step_stats", "time_base"]
 
 #: Gap threshold: a time step longer than this multiple of the nominal step is a gap.
@@ -265,6 +265,45 @@ def _round_rate(fs: float) -> float:
     last digits is float rounding of the stamps, not information.
     """
     return float(f"{fs:.10g}")
+
+
+#: A given sample rate further than this (relative) from both rates of the time stamps, or
+#: from the file's own rate, is reported (the burst-logging rule's 10 %).
+GIVEN_RATE_TOLERANCE = 0.1
+
+
+def check_given_rate(given: float, steps: tuple[float, float] | None,
+                     from_file: float | None, source: str, *, stacklevel: int = 4) -> None:
+    """Warn when a given sample rate contradicts what the file says: the rates of the
+    median and the mean time step (``steps``, :func:`step_stats`) or the file's own rate.
+
+    The given rate wins (it sets every tau and the gap threshold), so a wrong ``--fs``
+    scales every tau; the warning shows both numbers.
+
+    Examples
+    --------
+    >>> import warnings
+    >>> with warnings.catch_warnings(record=True) as w:
+    ...     warnings.simplefilter("always")
+    ...     check_given_rate(10.0, (0.01, 0.01), None, "x.csv")
+    >>> str(w[0].message).startswith("x.csv: fs_hz = 10 Hz (given) disagrees with")
+    True
+    """
+    def far(rate: float) -> bool:
+        return abs(given / rate - 1.0) > GIVEN_RATE_TOLERANCE
+
+    said: str | None = None
+    if steps is not None and steps[0] > 0 and steps[1] > 0:
+        median, mean = steps
+        if far(1.0 / median) and far(1.0 / mean):
+            said = (f"the time stamps (median step {median:.6g} s: {1.0 / median:.6g} Hz; "
+                    f"mean step {mean:.6g} s: {1.0 / mean:.6g} Hz)")
+    elif from_file is not None and far(from_file):
+        said = f"the file's own sample rate {from_file:.6g} Hz"
+    if said is not None:
+        warnings.warn(f"{source}: fs_hz = {given:.6g} Hz (given) disagrees with {said} by "
+                      f"more than {100 * GIVEN_RATE_TOLERANCE:g} %; the given rate is used "
+                      "for every tau", DataQualityWarning, stacklevel=stacklevel)
 
 
 def _whole_multiples(ratio: FloatArray) -> bool:

@@ -18,7 +18,13 @@ from fogts.errors import DataError
 from fogts.report.analyses import ReportContext
 from fogts.report.blocks import figure_block, fmt_num, fmt_pval, html_table, table_block, yes_no
 from fogts.report.page import Block, Section
-from fogts.report.text import duration_text, error_message, run_info, warning_texts
+from fogts.report.text import (
+    axes_rows,
+    duration_text,
+    error_message,
+    run_info,
+    warning_texts,
+)
 
 __all__ = ["AXIS_BUILDERS", "RUN_BUILDERS", "SECTION_TITLES", "make_section"]
 
@@ -103,7 +109,7 @@ def _input_rows(ctx: ReportContext, info: dict[str, Any]) -> list[tuple[str, str
         ("sample rate", f"{fmt_num(info['fs_hz'], 6)} Hz (from {info['fs_source']})"),
         ("duration", duration_text(info["duration_s"])),
         ("columns", ", ".join(info["columns"])),
-        ("rate axes", f"{', '.join(info['axes'])} [{info['units']}]"),
+        *axes_rows(ctx.run),
         ("rate unit from", "ASSUMED (no unit in the column names; pass --units)"
          if ctx.run.units_assumed else ctx.run.units_source),
         ("temperature", "yes" if info["temperature"] else "no temperature column"),

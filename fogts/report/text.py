@@ -17,8 +17,9 @@ from typing import Any
 import numpy as np
 
 from fogts.io.run import Run
+from fogts.units import quantity_of
 
-__all__ = ["duration_text", "error_message", "info_text", "json_dumps", "run_info",
+__all__ = ["axes_rows", "duration_text", "error_message", "info_text", "json_dumps", "run_info",
            "to_jsonable", "warning_texts"]
 
 
@@ -130,16 +131,36 @@ def duration_text(seconds: float) -> str:
     return f"{seconds:.6g} s"
 
 
-def info_text(info: Mapping[str, Any]) -> str:
-    """Plain-text rendering of :func:`run_info` for the terminal."""
+def axes_rows(run: Run) -> list[tuple[str, str]]:
+    """The sensor axes grouped by unit: ``("rate axes", "x, y, z  [deg/s]")`` and, for an
+    IMU file, ``("accel axes", "ax, ay, az  [g] (unit from the gravity magnitude)")``;
+    an accelerometer axis is never listed as a rate axis in the rate unit."""
+    groups: dict[str, list[str]] = {}
+    for i, name in enumerate(run.axes):
+        groups.setdefault(run.unit_of(i), []).append(name)
+    rows = []
+    for unit, names in groups.items():
+        if quantity_of(unit) == "accel":
+            rows.append(("accel axes", f"{', '.join(names)}  [{unit}] (unit from "
+                                       f"{run.accel_units_source or 'the file'})"))
+        else:
+            rows.append(("rate axes", f"{', '.join(names)}  [{unit}]"))
+    return rows
+
+
+def info_text(info: Mapping[str, Any], axes: Iterable[tuple[str, str]] | None = None) -> str:
+    """Plain-text rendering of :func:`run_info` for the terminal; ``axes``: the rows of
+    :func:`axes_rows` (default: every axis in ``info["units"]``)."""
     gaps, jitter = info["gaps"], info["jitter"]
+    shown = (list(axes) if axes is not None
+             else [("rate axes", f"{', '.join(info['axes'])}  [{info['units']}]")])
     lines = [
         f"source      {info['source']}",
         f"samples     {info['n']}",
         f"sample rate {info['fs_hz']:.6g} Hz (from {info['fs_source']})",
         f"duration    {duration_text(info['duration_s'])}",
         f"columns     {', '.join(info['columns'])}",
-        f"rate axes   {', '.join(info['axes'])}  [{info['units']}]",
+        *(f"{label:<11} {text}" for label, text in shown),
     ]
     if info["start_time"]:
         lines.append(f"start time  {info['start_time']}")
