@@ -167,7 +167,7 @@ def allan_cmd(
                 if ax.comparison is not None:
                     common.print_out(common.rich_table(ax.comparison.table(output_units)),
                                      quiet_json=json_out)
-                _curve_table(ax.result, ax.readout, json_out)
+                _curve_table(ax.result, ax.readout, json_out, output_units)
                 if ax.fit_check is not None:
                     common.say([f"fit check: {ax.fit_check.verdict}"], json_out)
     if any(r[f"{t}_spec"] == "FAIL" for r in rows for t in SUMMARY_TERMS):
@@ -231,5 +231,19 @@ def _allan_figure(analyses: list[AllanAnalysis]) -> Figure:
     return plot_allan_overlay(curves, labels, fits)
 
 
-def _curve_table(res: AllanResult, readout: CurveReadout, quiet_json: str | None) -> None:
-    common.print_out(common.rich_table(readout.table(res.units, res.axis)), quiet_json=quiet_json)
+def _curve_table(res: AllanResult, readout: CurveReadout, quiet_json: str | None,
+                 units: choices.OutputUnits = "deg") -> None:
+    """The read-outs in the unit of the points table above them (--output-units si: the
+    deviations in rad/s or m/s^2, as the points)."""
+    import dataclasses
+
+    from fogts.units import convert_sensor, si_unit
+
+    unit = si_unit(res.units) if units == "si" else res.units
+    if unit != res.units:
+        scale = float(convert_sensor(1.0, res.units, unit))
+        lo, hi = readout.dev_min_ci
+        readout = dataclasses.replace(
+            readout, dev_min=readout.dev_min * scale, dev_min_ci=(lo * scale, hi * scale),
+            bias_instability_floor=readout.bias_instability_floor * scale)
+    common.print_out(common.rich_table(readout.table(unit, res.axis)), quiet_json=quiet_json)

@@ -338,3 +338,22 @@ def test_the_command_leaves_slow_imports_out(gyro_npy: Path, tmp_path: Path) -> 
                           text=True, check=True, cwd=Path(__file__).resolve().parents[2])
     assert done.stdout.strip().splitlines()[-1] == "[]"
     assert json.loads((tmp_path / "a.json").read_text())["axes"][0]["points"]
+
+
+def test_curve_readouts_follow_output_units_si(gyro_npy: Path) -> None:
+    """--output-units si prints the points in rad/s; the read-out table below them (the
+    minimum, its interval and the flicker floor) must be in rad/s too, not deg/h
+    (1 deg/h = pi/180/3600 rad/s; the same numbers, so 1e-3 relative covers the printed
+    4 significant digits)."""
+    minimum = re.compile(r"│ minimum\s+│ [^│]+│ ([0-9.e+-]+) \[([0-9.e+-]+), ([0-9.e+-]+)\] "
+                         r"(\S+); floor/0\.664 = ([0-9.e+-]+) (\S+)")
+    code, deg, err = _run([gyro_npy, "--fs", FS, "-q"])
+    assert code == 0, err
+    code, si, err = _run([gyro_npy, "--fs", FS, "-q", "--output-units", "si"])
+    assert code == 0, err
+    d, s = minimum.search(deg), minimum.search(si)
+    assert d is not None and s is not None
+    assert d.group(4) == d.group(6) == "deg/h" and s.group(4) == s.group(6) == "rad/s"
+    factor = np.pi / 180.0 / 3600.0
+    for i in (1, 2, 3, 5):
+        assert float(s.group(i)) == pytest.approx(float(d.group(i)) * factor, rel=1e-3)
