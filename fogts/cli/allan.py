@@ -124,7 +124,7 @@ def allan_cmd(
         analyses = []
         for f in files:
             with known_sums():  # the reader's sum of the rate serves the checks after it
-                run, quality = common.read_input(f, read)
+                run, quality = common.read_input(f, read, outliers=outliers)
                 picks = range(run.n_axes) if axis is None else [common.axis_index(run, axis)]
                 done = []
                 for i in picks:

@@ -82,8 +82,7 @@ class DataQuality:
         if self.missing is not None:
             out.append(self.missing.summary())
         out += self._gap_lines()
-        out += [f"axis {g.axis!r}: {g.summary()}; kept in the analysis (--outliers K "
-                "replaces samples beyond K robust sigmas)" for g in self.glitches
+        out += [f"axis {g.axis!r}: {g.summary()}; {GLITCHES_KEPT}" for g in self.glitches
                 if g.n_events]
         return out
 
@@ -122,6 +121,23 @@ class DataQuality:
     def summary(self) -> str:
         lines = self.warnings()
         return "\n".join(lines) if lines else "no data-quality issue found"
+
+
+#: What the glitch warning says of the glitches when the analysis keeps them.
+GLITCHES_KEPT = "kept in the analysis (--outliers K replaces samples beyond K robust sigmas)"
+
+
+def glitches_replaced(outliers: float) -> str:
+    """What the glitch warning says instead of :data:`GLITCHES_KEPT` when the command
+    replaces outliers beyond ``outliers`` robust sigmas before its analysis.
+
+    Examples
+    --------
+    >>> glitches_replaced(7.0)
+    '--outliers 7: samples beyond 7 robust sigmas are replaced before the analysis (counted below)'
+    """
+    return (f"--outliers {outliers:g}: samples beyond {outliers:g} robust sigmas are replaced "
+            "before the analysis (counted below)")
 
 
 def assess_run(run: Run, *, gaps: GapPolicy = "warn", glitches: bool = True,

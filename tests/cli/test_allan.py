@@ -357,3 +357,20 @@ def test_curve_readouts_follow_output_units_si(gyro_npy: Path) -> None:
     factor = np.pi / 180.0 / 3600.0
     for i in (1, 2, 3, 5):
         assert float(s.group(i)) == pytest.approx(float(d.group(i)) * factor, rel=1e-3)
+
+
+def test_glitch_warning_says_replaced_under_outliers(tmp_path: Path) -> None:
+    """With --outliers K the glitch warning must not say the glitches are "kept in the
+    analysis" (ADIS16405 run 4 said so while the same run replaced 14 samples)."""
+    rng = np.random.default_rng(8)
+    rate = rng.standard_normal(20_000)
+    rate[[5_000, 12_000]] += 60.0  # two 60-sigma spikes
+    path = tmp_path / "spiky.npy"
+    np.save(path, rate)
+    code, _, err = _run([path, "--fs", "10", "--units", "deg/h", "-q"])
+    assert code in (0, 1) and "2 glitches" in err and "kept in the analysis" in err
+    code, _, err = _run([path, "--fs", "10", "--units", "deg/h", "-q", "--outliers", "7"])
+    assert code in (0, 1), err
+    assert "2 glitches" in err and "kept in the analysis" not in err
+    assert ("--outliers 7: samples beyond 7 robust sigmas are replaced before the analysis"
+            in err)

@@ -64,3 +64,11 @@ def test_accelerometer_axes_keep_their_unit_in_the_quality_record() -> None:
     units = {g.axis: g.units for g in q.glitches}
     assert units == {"gyro_x": "deg/h", "acc_x": "g", "acc_z": "g"}
     assert [g["units"] for g in q.to_dict()["glitches"]] == ["deg/h", "g", "g"]
+
+
+def test_glitch_wording_with_and_without_replacement() -> None:
+    from fogts.preprocess.hygiene import GLITCHES_KEPT, glitches_replaced
+
+    assert GLITCHES_KEPT.startswith("kept in the analysis")
+    assert glitches_replaced(5.5) == ("--outliers 5.5: samples beyond 5.5 robust sigmas are "
+                                      "replaced before the analysis (counted below)")
