@@ -100,8 +100,9 @@ def _limits(curves: list[Any], model: Any) -> tuple[tuple[float, float], tuple[f
     ymax = float(np.nanmax(np.where(good & np.isfinite(hi_all), hi_all, dev_all)[good]))
     xlim = (float(tau_all.min()) / 1.5, float(tau_all.max()) * 1.5)
     if model is not None:
-        near = [dev for _, tau, dev in model.readoff.points
-                if np.isfinite(dev) and xlim[0] <= tau <= xlim[1]
+        near = [dev for name, tau, dev in model.readoff.points
+                if readoff_supported(model.readoff, name)  # only the read-offs drawn
+                and np.isfinite(dev) and xlim[0] <= tau <= xlim[1]
                 and ymin / 20 <= dev <= ymax * 20]
         ymin, ymax = min([ymin, *near]), max([ymax, *near])
     return xlim, (ymin / 2.5, ymax * 2.5)
