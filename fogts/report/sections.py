@@ -326,7 +326,8 @@ def _thermal_blocks(ctx: ReportContext, i: int, notes: list[str]) -> list[Block]
         Block(kind="verdict", good=res.significance.significant,
               text=res.significance.verdict[0].upper() + res.significance.verdict[1:] + ".")]
     after_label = ("after compensation" if res.claims_improvement else
-                   "after compensation (model not significant: no improvement claimed)")
+                   f"after compensation (not claimed as an improvement: "
+                   f"{res.no_claim_reason()})")
     return [
         *verdict,
         figure_block(plot_compensation(res), id=f"thermal-{i}",
