@@ -20,11 +20,14 @@ from fogts.io.run import SamplingReport
 from fogts.io.table import NUMBER, Table, finite_and_bounded, numeric_column, where
 from fogts.io.timesteps import LEAF, StepSummary, step_deviation, summarise_steps
 
-__all__ = ["GAP_FACTOR", "GIVEN_RATE_TOLERANCE", "Steps", "check_given_rate", "is_numeric_time", "median_step", "sample_rate",
+__all__ = ["GAP_FACTOR", "GIVEN_RATE_TOLERANCE", "REGULAR_JITTER", "Steps", "check_given_rate", "is_numeric_time", "median_step", "sample_rate",
            "sampling_report", "step_stats", "time_base"]
 
 #: Gap threshold: a time step longer than this multiple of the nominal step is a gap.
 GAP_FACTOR = 1.5
+#: A time base without gaps is regular when the std of its steps is below this share of
+#: the nominal step.
+REGULAR_JITTER = 0.01
 #: Fewest steps for which :func:`median_step` counts instead of sorting.
 _COUNTED_MEDIAN_MIN = 1 << 16
 
@@ -82,7 +85,7 @@ class Steps:
         median, mean = self.stats()
         jitter = step_deviation(self._time, mean)  # no gap: every step is a normal one
         return SamplingReport(median, 0, self._summary.longest, (), jitter, jitter / nominal,
-                              jitter / nominal < 0.01, True, mean, fs_source)
+                              jitter / nominal < REGULAR_JITTER, True, mean, fs_source)
 
 
 def time_base(table: Table, time_name: str | None
@@ -243,7 +246,7 @@ def sampling_report(dt: FloatArray | None, fs_hz: float, fs_source: str, *,
         gap_rows=gap_rows,
         jitter_s=jitter,
         jitter_rel=jitter_rel,
-        regular=bool(not gap_at.size and jitter_rel < 0.01),
+        regular=bool(not gap_at.size and jitter_rel < REGULAR_JITTER),
         from_time_column=True,
         mean_dt_s=mean,
         fs_source=fs_source,

@@ -23,6 +23,7 @@ from fogts.report.text import (
     duration_text,
     error_message,
     run_info,
+    time_base_verdict,
     warning_texts,
 )
 
@@ -117,7 +118,7 @@ def _input_rows(ctx: ReportContext, info: dict[str, Any]) -> list[tuple[str, str
     if info["start_time"]:
         rows.append(("start time", str(info["start_time"])))
     if info["time_from_column"]:
-        rows.append(("time base", f"{'regular' if jitter['regular'] else 'IRREGULAR'}: "
+        rows.append(("time base", f"{time_base_verdict(info)}: "
                                   f"{gaps['count']} gap(s) longer than "
                                   f"{fmt_num(gaps['threshold_s'])} s (longest "
                                   f"{fmt_num(gaps['max_s'])} s); jitter {fmt_num(jitter['std_s'])} s"))

@@ -17,10 +17,11 @@ from typing import Any
 import numpy as np
 
 from fogts.io.run import Run
+from fogts.io.timebase import REGULAR_JITTER
 from fogts.units import quantity_of
 
 __all__ = ["axes_rows", "duration_text", "error_message", "info_text", "json_dumps", "run_info",
-           "to_jsonable", "warning_texts"]
+           "time_base_verdict", "to_jsonable", "warning_texts"]
 
 
 def to_jsonable(obj: Any) -> Any:
@@ -148,6 +149,19 @@ def axes_rows(run: Run) -> list[tuple[str, str]]:
     return rows
 
 
+def time_base_verdict(info: Mapping[str, Any]) -> str:
+    """"regular", or "IRREGULAR" with the reason the numbers beside it give (gaps, or a
+    jitter of at least 1 % of the step), for :func:`run_info`'s payload."""
+    if info["jitter"]["regular"]:
+        return "regular"
+    why = []
+    if info["gaps"]["count"]:
+        why.append("gaps")
+    if info["jitter"]["relative"] >= REGULAR_JITTER:
+        why.append(f"jitter >= {100 * REGULAR_JITTER:g} % of the step")
+    return "IRREGULAR" + (f" ({', '.join(why)})" if why else "")
+
+
 def info_text(info: Mapping[str, Any], axes: Iterable[tuple[str, str]] | None = None) -> str:
     """Plain-text rendering of :func:`run_info` for the terminal; ``axes``: the rows of
     :func:`axes_rows` (default: every axis in ``info["units"]``)."""
@@ -165,7 +179,7 @@ def info_text(info: Mapping[str, Any], axes: Iterable[tuple[str, str]] | None = 
     if info["start_time"]:
         lines.append(f"start time  {info['start_time']}")
     if info["time_from_column"]:
-        regular = "regular" if jitter["regular"] else "IRREGULAR"
+        regular = time_base_verdict(info)
         lines.append(f"time base   {regular}: {gaps['count']} gap(s) > {gaps['threshold_s']:.4g} s"
                      f" (longest {gaps['max_s']:.4g} s), jitter {jitter['std_s']:.3g} s "
                      f"({100 * jitter['relative']:.2g} % of the step); median step "
