@@ -34,6 +34,9 @@ def _allan_tables(res: AllanResult, model: NoiseModel | None, check: dict[str, A
     common.print_out(common.rich_table(res.points_table(rate_units)), quiet_json=quiet_json)
     for d in res.dropped:
         common.say([f"dropped tau = {d.tau_s:g} s (m = {d.m}): {d.reason}"], quiet_json)
+    # the curve's own notes (taus rounded to whole samples, missing samples, totdev's bias
+    # correction), as in its summary() and JSON; the preparation steps are printed above
+    common.say([f"note: {n}" for n in res.notes if not n.startswith("prepared: ")], quiet_json)
     if model is not None:
         common.print_out(common.rich_table(model.term_table(units)), quiet_json=quiet_json)
         common.say([model.readoff.describe(units=units)], quiet_json)

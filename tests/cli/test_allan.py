@@ -374,3 +374,15 @@ def test_glitch_warning_says_replaced_under_outliers(tmp_path: Path) -> None:
     assert "2 glitches" in err and "kept in the analysis" not in err
     assert ("--outliers 7: samples beyond 7 robust sigmas are replaced before the analysis"
             in err)
+
+
+def test_the_curve_notes_reach_the_terminal(gyro_npy: Path) -> None:
+    """An explicit tau off the sample grid is rounded to whole samples; the note saying so
+    was in the JSON and in AllanResult.summary() but not on the terminal (0.015 s at
+    100 Hz is computed at 0.01 s: a 0.005 s change)."""
+    code, out, err = _run([gyro_npy, "--fs", FS, "-q", "--taus", "0.015,0.1,1,10,100,300",
+                           "--terms", "N,K"])
+    assert code == 0, err
+    assert ("note: 1 explicit tau(s) rounded to the nearest whole number of samples "
+            "(largest change 0.005 s)") in out
+    assert "note: prepared" not in out  # the preparation steps are printed once, above
