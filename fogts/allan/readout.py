@@ -112,7 +112,10 @@ class CurveReadout:
             ("minimum", f"{self.tau_min_s:.4g} s",
              f"{self.dev_min:.4g} [{lo:.4g}, {hi:.4g}]{unit}; "
              f"floor/{B_PLATEAU:g} = {self.bias_instability_floor:.4g}{unit}")]
-        for name, label in (("B", "falling (B)"), ("C", "floor (C)"), ("D", "rising (D)")):
+        # "region B" (IEEE 952 Annex C's letters), not "(B)": beside "B dominates" a bare B
+        # reads as the bias-instability term
+        for name, label in (("B", "falling (region B)"), ("C", "floor (region C)"),
+                            ("D", "rising (region D)")):
             span = self.regions.get(name)
             if span is not None:
                 rows.append((label, f"{span[0]:.4g} .. {span[1]:.4g} s", ""))

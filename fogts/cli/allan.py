@@ -45,9 +45,10 @@ def _allan_tables(res: AllanResult, model: NoiseModel | None, check: dict[str, A
         elif model.gmwm is not None:
             common.say([model.gmwm.describe()], quiet_json)
         else:
-            common.say([f"fit: chi2 = {model.chi2:.4g} on {model.dof:.4g} dof, model error "
-                        f"{model.model_error:.3g}; standard errors: {model.stderr_method}"],
-                       quiet_json)
+            from fogts.allan.noise_model import chi2_sentence
+
+            common.say([f"fit: {chi2_sentence(model.chi2, model.dof, model.model_error)}; "
+                        f"standard errors: {model.stderr_method}"], quiet_json)
         common.say([e.describe() for e in model.extra_terms], quiet_json)
     if check is not None:
         worst = check["max_rel_diff"]

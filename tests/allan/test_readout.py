@@ -178,3 +178,14 @@ def test_the_readoff_tolerance_is_half_way_to_the_neighbouring_slopes() -> None:
         r = slope_readoff(tau, tau**slope, 1.0)
         assert r.slope_N == pytest.approx(slope, abs=1e-12)
         assert readoff_supported(r, "N") is read
+
+
+def test_region_labels_do_not_read_as_term_names() -> None:
+    """The curve table printed "falling (B)" two rows above "B dominates", where B is the
+    bias-instability term; the regions are labelled "region B" etc."""
+    tau = np.logspace(-2, 5, 29)
+    terms = _theory(tau)
+    total = np.sqrt(sum(v**2 for v in terms.values()))
+    text = read_curve(tau, total, term_curves=terms).table("deg/h", "x").to_text()
+    assert "falling (region B)" in text and "floor (region C)" in text
+    assert "rising (region D)" in text and "falling (B)" not in text
