@@ -152,7 +152,8 @@ def _kalman_filter(run: Run, x: FloatArray, model: str,
     equation = fit.equation() if hasattr(fit, "equation") else result.model
     return _Filtered(frame, {"model": fit_dict, "kalman": result.to_dict()},
                      [f"drift model ({'selected by AIC' if model == 'auto' else 'given'}): "
-                      f"{equation}", result.summary()], figure)
+                      f"{equation}  [rate in {run.units}; sigma2 and H in ({run.units})^2]",
+                      result.summary()], figure)
 
 
 def _lowpass_filter(run: Run, x: FloatArray, method: str, cutoff: float | None, order: int,

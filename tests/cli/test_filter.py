@@ -88,3 +88,12 @@ def test_options_of_another_method_are_refused(ar_file: Path, tmp_path: Path, ar
     line = error_output(res.stderr)
     assert re.search(message, line) and line.endswith("drop it or change --method")
     assert not out.exists()
+
+
+def test_kalman_text_states_the_rate_unit(ar_file: Path, tmp_path: Path) -> None:
+    """The Kalman summary prints sigma2, H and the std of the series without a unit; the
+    drift-model line above it states the rate unit they are in."""
+    res = runner.invoke(app, ["filter", str(ar_file), "--model", "AR(1)", "--units", "deg/s",
+                              "-o", str(tmp_path / "f.csv")])
+    assert res.exit_code == 0, res.output
+    assert "[rate in deg/s; sigma2 and H in (deg/s)^2]" in res.stdout
