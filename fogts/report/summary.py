@@ -96,8 +96,10 @@ def summary_table(rows: Sequence[dict[str, Any]], spec: NoiseSpec | None = None)
         cells += [r[f"{t}_spec"] for t in spec_terms]
         failed += [(i, j) for j, v in enumerate(cells) if v in ("FAIL", "misses")]
         table_rows.append(cells)
+    accel = any(r["N_unit"] in (term_unit("N", u, "accel") for u in ("deg", "si"))
+                for r in rows)
     return Table.build("Summary: noise terms per file and axis", columns, table_rows,
-                       caption=_caption(spec), failed=failed)
+                       caption=_caption(spec, accel), failed=failed)
 
 
 def _term_cell(row: dict[str, Any], name: str, *, with_unit: bool) -> str:
@@ -116,8 +118,11 @@ def _short(v: float, digits: int) -> str:
     return f"{v:.{digits - 1}e}" if v != 0 and abs(v) < 0.01 else f"{v:.{digits}g}"
 
 
-def _caption(spec: NoiseSpec | None) -> str:
-    text = ("N angle random walk, B bias instability, K rate random walk: value ± standard "
+def _caption(spec: NoiseSpec | None, accel: bool = False) -> str:
+    names = ("N angle random walk, B bias instability, K rate random walk" + (
+        " (accelerometer axes: N velocity random walk, B bias instability, K acceleration "
+        "random walk)" if accel else ""))
+    text = (f"{names}: value ± standard "
             "error; '< x': the data do not measure the term and x is its one-sided 95 % "
             "upper limit. fit: 'ok' when the fitted model lies within the points' intervals, "
             "'misses' when it does not (see each axis' fit check).")

@@ -102,3 +102,6 @@ def test_accelerometer_rows_carry_accelerometer_units(tmp_path: Path) -> None:
                 if r["axis"] == "acc_z")["N_unit"] == "m/s^2/sqrt(Hz)"
     text = summary_table(rows).to_text()
     assert "m/s/sqrt(h)" in text and "deg/sqrt(h)" in text  # mixed: the unit in each cell
+    assert "(accelerometer axes: N velocity random walk" in text
+    gyro_only = [r for r in rows if r["axis"] == "gyro_x_deg_h"]
+    assert "accelerometer axes" not in summary_table(gyro_only).to_text()
