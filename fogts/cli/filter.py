@@ -50,6 +50,7 @@ def filter_cmd(
     """
     with common.guard(outputs={"--output": output, "--json": json_out, "--plot": plot},
                 inputs={"FILE": [file]}):
+        common.check_output_names(plot=plot, output=output)  # before any output is written
         _check_method_options(method, {
             "--model": model != "auto", "--measurement-noise": measurement_noise != "estimate",
             "--cutoff": cutoff is not None, "--order": order != 4,

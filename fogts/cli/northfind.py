@@ -95,6 +95,7 @@ def northfind_cmd(
     with common.guard(_NORTHFIND_OPTIONS, outputs={"--json": json_out, "--plot": plot},
                 inputs={"FILES": files or [],
                         "--thermal-model": [thermal_model] if thermal_model else []}):
+        common.check_output_names(plot=plot)  # before any output is written
         _check_mode_options(simulate is not None, plot=plot is not None, given={
             "--bias-sigma": bias_sigma != 0.0, "--transition": transition != 0.0,
             "--position-column": position_column != "position_deg"})
