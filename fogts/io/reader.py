@@ -42,13 +42,7 @@ from fogts.io.rosbag import is_ros2_bag, rosbag_table
 from fogts.io.run import MissingReport, RegularTime, Run
 from fogts.io.table import MIN_SAMPLES, Table, numeric_column
 from fogts.io.text import text_file_table
-from fogts.io.timebase import (
-    Steps,
-    check_given_rate,
-    sample_rate,
-    sampling_report,
-    time_base,
-)
+from fogts.io.timebase import Steps, sample_rate, sampling_report, time_base
 from fogts.units import parse_accel_unit, parse_rate_unit
 
 __all__ = ["MIN_SAMPLES", "read_json", "read_run", "read_yaml"]
@@ -279,9 +273,6 @@ def _table_to_run(table: Table, *, rate_column: str | Sequence[str] | None,
         fs, fs_source = steps.sample_rate(fs_hz, table.fs_hz, table.source)
     else:
         fs, fs_source = sample_rate(None, fs_hz, table.fs_hz, table.source)
-    if fs_hz is not None:  # a given rate that contradicts the file is said, not hidden
-        check_given_rate(fs_hz, steps.stats() if steps is not None else None, table.fs_hz,
-                         table.source)
     if time is None and kept_rows is not None and kept_rows.size < n:
         # Dropped rows of a record without time stamps stay visible as gaps.
         time = kept_rows / fs

@@ -68,7 +68,8 @@ class Steps:
     def sample_rate(self, given: float | None, from_file: float | None, source: str
                     ) -> tuple[float, str]:
         """:func:`sample_rate` of these steps."""
-        if given is not None:
+        if given is not None:  # said when it contradicts the steps (5: read_run's caller)
+            check_given_rate(given, self.stats(), from_file, source, stacklevel=5)
             return given, "given"
         median = self.stats()[0]
         if self._regular(GAP_FACTOR * median):  # no long step: the median step is the rate
@@ -327,7 +328,10 @@ def sample_rate(dt: FloatArray | None, given: float | None, from_file: float | N
     0.1 step): that is a clock that dropped samples, so the median step is the rate and
     the long steps are gaps (:func:`sampling_report` lists them).
     """
-    if given is not None:
+    if given is not None:  # said when it contradicts the steps or the file's own rate
+        check_given_rate(given, steps if steps is not None else
+                         (step_stats(dt) if dt is not None else None), from_file, source,
+                         stacklevel=stacklevel + 1)
         return given, "given"
     if dt is not None:
         median, mean = steps if steps is not None else step_stats(dt)
