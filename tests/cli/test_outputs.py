@@ -205,3 +205,30 @@ def test_main_turns_any_escaped_exception_into_one_line(
         main(["info", "x.csv"])
     assert exc.value.code == 2
     assert capsys.readouterr().err == "error: a bug outside every guard\n"
+
+
+@pytest.mark.parametrize("args", [
+    ["filter", "{rec}", "-o", "{tmp}/f.csv", "--model", "AR(1)", "--json", "{tmp}/o.json",
+     "--plot", "{tmp}/fig.txt"],
+    ["compensate", "{rec}", "--no-emd", "-o", "{tmp}/f.csv", "--json", "{tmp}/o.json",
+     "--plot", "{tmp}/fig.txt"],
+    ["davar", "{rec}", "--window", "60s", "--step", "30s", "--json", "{tmp}/o.json",
+     "--plot", "{tmp}/fig.txt"],
+    ["northfind", "--simulate", "2", "--latitude", "45", "--json", "{tmp}/o.json",
+     "--plot", "{tmp}/fig.txt"],
+])
+def test_a_bad_plot_name_is_refused_before_any_output(tmp_path: Path, args: list[str]) -> None:
+    """filter, compensate, davar and northfind wrote --json (and -o) and then refused the
+    --plot name: the one-line error must leave no output behind."""
+    import pandas as pd
+
+    rng = np.random.default_rng(14)
+    n = 3000
+    rec = tmp_path / "rec.csv"
+    pd.DataFrame({"time": np.arange(n) / 10.0, "rate_deg_h": rng.normal(size=n),
+                  "T": 20.0 + np.linspace(0.0, 5.0, n)}).to_csv(rec, index=False)
+    argv = [a.replace("{rec}", str(rec)).replace("{tmp}", str(tmp_path)) for a in args]
+    res = CliRunner().invoke(app, argv)
+    assert res.exit_code == 2
+    assert error_output(res.stderr) == "error: --plot must end in .png, .svg or .pdf; got 'fig.txt'"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["rec.csv"]
