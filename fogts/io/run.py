@@ -46,9 +46,11 @@ class SamplingReport:
     mean_dt_s : float
         Mean time step, ``(t[-1] - t[0]) / (n - 1)``.
     fs_source : str
-        Where ``fs_hz`` came from: ``"given"``, ``"median step"``, ``"mean step"`` (used
-        when burst-logged stamps make the median step disagree with the mean step by more
-        than 10 %), ``"file"`` (an ``fs_hz`` key in an .npz).
+        Where ``fs_hz`` came from: ``"given"``, ``"median step"``, ``"mean of jittered
+        steps"`` (the steps that are not gaps, when their mean and median differ by more
+        than 1e-6: a quantised or jittered clock), ``"mean step"`` (used when burst-logged
+        stamps make the median step disagree with the mean step by more than 10 %),
+        ``"file"`` (an ``fs_hz`` key in an .npz).
     """
 
     median_dt_s: float

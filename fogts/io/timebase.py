@@ -3,8 +3,9 @@ the sampling is (:class:`~fogts.io.run.SamplingReport`).
 
 Time comes from a DatetimeIndex or TimedeltaIndex, or from a time column in seconds or
 ISO-8601 date-times; it must increase strictly.  The sample rate is, in this order of
-preference, the one given, ``1 / median step`` (``1 / mean step`` for burst-logged stamps)
-or the file's own (an ``.npz`` ``fs_hz`` key).
+preference, the one given, ``1 / median step`` (``1 / mean step`` of the steps that are not
+gaps for jittered stamps, and of all steps for burst-logged stamps) or the file's own (an
+``.npz`` ``fs_hz`` key).
 """
 
 from __future__ import annotations
@@ -71,9 +72,9 @@ class Steps:
         if given is not None:  # said when it contradicts the steps (5: read_run's caller)
             check_given_rate(given, self.stats(), from_file, source, stacklevel=5)
             return given, "given"
-        median = self.stats()[0]
-        if self._regular(GAP_FACTOR * median):  # no long step: the median step is the rate
-            return _round_rate(1.0 / median), "median step"
+        median, mean = self.stats()
+        if self._regular(GAP_FACTOR * median):  # no long step: every step is a sample's
+            return _rate_of_regular_steps(median, mean)
         return sample_rate(self.array(), given, from_file, source, steps=self.stats(),
                            stacklevel=5)  # one frame more than from _table_to_run
 
@@ -271,6 +272,33 @@ def _round_rate(fs: float) -> float:
     return float(f"{fs:.10g}")
 
 
+#: Relative difference between the median and the mean of the regular steps above which
+#: the stamps are jittered (quantised clock reads) and the mean is the period.
+JITTERED_STAMPS = 1e-6
+
+
+def _rate_of_regular_steps(median: float, mean: float) -> tuple[float, str]:
+    """The rate of a record whose steps are all samples' (gaps left out): ``1 / median``,
+    or ``1 / mean`` when the two differ by more than :data:`JITTERED_STAMPS`.
+
+    Stamps read from a quantised or jittered clock have steps of a few discrete lengths
+    whose median can sit one quantum off the true period (steps of 9.9, 10.0 and 10.1 ms
+    with median 10.1 ms: every tau 1 % long); their mean, the elapsed time over the
+    steps, is the period.  For clean stamps the two agree to rounding and the median is
+    kept.
+
+    Examples
+    --------
+    >>> _rate_of_regular_steps(0.01, 0.01 * (1 + 1e-12))
+    (100.0, 'median step')
+    >>> _rate_of_regular_steps(0.0101, 0.0099971)
+    (100.0290084, 'mean of jittered steps')
+    """
+    if abs(mean / median - 1.0) > JITTERED_STAMPS:
+        return _round_rate(1.0 / mean), "mean of jittered steps"
+    return _round_rate(1.0 / median), "median step"
+
+
 #: A given sample rate further than this (relative) from both rates of the time stamps, or
 #: from the file's own rate, is reported (the burst-logging rule's 10 %).
 GIVEN_RATE_TOLERANCE = 0.1
@@ -318,7 +346,8 @@ def _whole_multiples(ratio: FloatArray) -> bool:
 def sample_rate(dt: FloatArray | None, given: float | None, from_file: float | None,
                 source: str, *, steps: tuple[float, float] | None = None,
                 stacklevel: int = 4) -> tuple[float, str]:
-    """Pick the sample rate: given > median time step > file metadata.
+    """Pick the sample rate: given > median time step (the mean of the steps that are not
+    gaps for jittered stamps, :func:`_rate_of_regular_steps`) > file metadata.
 
     Burst-logged stamps (samples buffered and stamped in clumps) make the median step far
     shorter than the true mean step.  When more than 5 % of the steps are longer than
@@ -335,9 +364,12 @@ def sample_rate(dt: FloatArray | None, given: float | None, from_file: float | N
         return given, "given"
     if dt is not None:
         median, mean = steps if steps is not None else step_stats(dt)
-        long = dt[_steps_above(dt, GAP_FACTOR * median, float(dt.max()))]
+        gaps = _steps_above(dt, GAP_FACTOR * median, float(dt.max()))
+        long = dt[gaps]
         if long.size <= 0.05 * dt.size or _whole_multiples(long / median):
-            return _round_rate(1.0 / median), "median step"
+            regular_mean = mean if gaps.size == 0 else float(
+                (np.sum(dt) - np.sum(long)) / (dt.size - gaps.size))
+            return _rate_of_regular_steps(median, regular_mean)
         # stacklevel (4 from _table_to_run): the warning names the caller of read_run
         warnings.warn(f"{source}: median time step {median:.6g} s differs from the mean step "
                       f"{mean:.6g} s by more than 10 % (burst-logged time stamps); using the "

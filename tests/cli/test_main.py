@@ -40,7 +40,7 @@ def test_info_fog_file_json(tmp_path: Path) -> None:
                          "gaps", "jitter", "stats"}
     assert info["n"] == 6110 and info["columns"] == ["time", "fog", "T"]
     assert info["axes"] == ["fog"] and info["units"] == "deg/h"
-    assert "sample rate 99.0099 Hz" in res.output
+    assert "sample rate 100.029 Hz (from mean of jittered steps)" in res.output
 
 
 def test_info_json_to_stdout_is_pure_json() -> None:

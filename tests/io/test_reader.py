@@ -21,7 +21,10 @@ def test_fog_0917_with_leading_and_trailing_comment() -> None:
     assert run.temperature is not None
     assert run.n == 6110  # 6113 lines - 2 comment lines - 1 header: nothing dropped
     assert run.comments == ("#2023/09/17 00:54:04", "#2023/09/17 00:55:06")
-    assert run.fs_hz == pytest.approx(99.0099, rel=1e-4)
+    # stamps to 0.1 ms, steps of 9.0 to 11.0 ms whose median is 10.1 ms: the rate is
+    # the elapsed time over the steps (1e-9: rounded to 10 digits), not 1/median 99.0099 Hz
+    assert run.sampling is not None and run.sampling.fs_source == "mean of jittered steps"
+    assert run.fs_hz == pytest.approx((run.n - 1) / (run.time[-1] - run.time[0]), rel=1e-9)
     assert run.rate[0] == pytest.approx(-0.18)
     assert run.temperature[-1] == pytest.approx(36.5)
 

@@ -38,6 +38,34 @@ def test_rate_from_float_stamps_is_rounded() -> None:
     assert read_run(df).fs_hz == 10.0  # 1/median(diff) is 10.000000000000568
 
 
+def _jittered_stamps(n: int, seed: int = 3) -> np.ndarray:
+    """A 100.03 Hz clock read with 0.5 ms of uniform jitter and stamped to 0.1 ms: steps
+    of a few discrete lengths whose median, 10.0 ms, is 0.03 % longer than the period."""
+    rng = np.random.default_rng(seed)
+    return np.round(np.arange(n) / 100.03 + rng.uniform(0.0, 0.0005, n), 4)
+
+
+def test_jittered_stamps_take_the_mean_step_and_leave_gaps_out() -> None:
+    t = _jittered_stamps(20_000)
+    run = read_run(pd.DataFrame({"time": t, "rate": np.arange(t.size) % 5}))
+    assert run.sampling is not None and run.sampling.fs_source == "mean of jittered steps"
+    # the elapsed time over the steps; 1e-9: the rate is rounded to 10 digits
+    assert run.fs_hz == pytest.approx((t.size - 1) / (t[-1] - t[0]), rel=1e-9)
+    assert run.fs_hz == pytest.approx(100.03, rel=1e-5)  # 0.5 ms over 200 s: 2.5e-6
+    assert run.sampling.median_dt_s == pytest.approx(0.01)  # 1/median: 100 Hz, 0.03 % off
+    gappy = np.r_[t[:10_000], t[10_000:] + 5.0]         # one 5 s gap: not a sample period
+    run = read_run(pd.DataFrame({"time": gappy, "rate": np.arange(t.size) % 5}))
+    assert run.sampling is not None and run.sampling.n_gaps == 1
+    expected = (t.size - 2) / (gappy[-1] - gappy[0] - (gappy[10_000] - gappy[9_999]))
+    assert run.fs_hz == pytest.approx(expected, rel=1e-9)
+
+
+def test_clean_stamps_keep_the_median_step() -> None:
+    run = read_run(pd.DataFrame({"time": np.arange(5000) / 100.0, "rate": np.arange(5000) % 3}))
+    assert run.sampling is not None and run.sampling.fs_source == "median step"
+    assert run.fs_hz == 100.0  # exactly: 1/median rounded to 10 digits
+
+
 def test_bad_iso_stamp(tmp_path: Path) -> None:
     text = "timestamp,rate\n2026-01-01T00:00:00,1\n2026-13-45T99:00:00,2\n2026-01-01T00:00:02,3\n"
     with pytest.raises(DataError, match="neither seconds nor ISO-8601"):
