@@ -96,7 +96,10 @@ def allan_cmd(
 
     Exit code 1 if a term FAILs its --spec limit, 2 on bad input.
     """
+    from contextlib import nullcontext
+
     from fogts._validate import known_sums
+    from fogts.allan.kernels import phase_in_place
     from fogts.allan.markov import split_terms
     from fogts.pipeline import AllanAnalysis, AllanSettings, analyse_allan_axis
     from fogts.report.summary import SUMMARY_TERMS, summary_rows, summary_table
@@ -128,7 +131,11 @@ def allan_cmd(
                 picks = range(run.n_axes) if axis is None else [common.axis_index(run, axis)]
                 done = []
                 for i in picks:
-                    with common.named_warnings(Path(run.source).name, run.axes[i]):
+                    # The analysis is the last reader of a one-axis rate, unless the settings
+                    # read it again: its phase may then take the rate's own memory.
+                    spent = (phase_in_place(run.rate) if run.n_axes == 1
+                             and not settings.reads_rate_after_curve else nullcontext())
+                    with common.named_warnings(Path(run.source).name, run.axes[i]), spent:
                         done.append(analyse_allan_axis(run, i, settings))
                     warning = done[-1].plausibility_warning(run)
                     if warning is not None:
