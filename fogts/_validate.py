@@ -145,10 +145,11 @@ def forget_sum(arr: np.ndarray) -> None:
     --------
     >>> x = np.array([1.0, 2.0])
     >>> with known_sums():
-    ...     note_sum(x, 0.5)
-    ...     forget_sum(x)
-    ...     finite_sum(x)
-    3.0
+    ...     note_sum(x, 0.5)  # a recorded sum is taken as it is ...
+    ...     recorded = finite_sum(x)
+    ...     forget_sum(x)     # ... until it is forgotten: then the values are summed
+    ...     recorded, finite_sum(x)
+    (0.5, 3.0)
     """
     known = _KNOWN_SUMS.get()
     if known is not None and known.get(id(arr), (None,))[0] is arr:
