@@ -58,6 +58,7 @@ def _allan_tables(res: AllanResult, model: NoiseModel | None, check: dict[str, A
 @common.app.command("allan")
 @shows_progress()
 @common.reads_input()
+@common.pauses_cycle_collection
 def allan_cmd(
     files: Annotated[list[Path], typer.Argument(help="Input recording(s). Several files (or a multi-axis file) are overlaid on one --plot for comparing gyros.")],
     kind: common.KindOpt = "oadev",

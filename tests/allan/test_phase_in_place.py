@@ -129,3 +129,4 @@ def test_cli_json_equals_the_library_curve(tmp_path: Path) -> None:
     ref = allan_deviation(np.load(path), fs_hz=50.0, units="deg/h", taus="octave")
     assert np.array_equal([p["dev"] for p in points], ref.dev)
     assert np.array_equal([p["ci_low"] for p in points], ref.ci_low)
+
