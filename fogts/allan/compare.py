@@ -108,11 +108,12 @@ class AllanComparison:
 
     def summary(self) -> str:
         a, b = self.labels
-        lines = [f"{'term':<5}{'unit':<12}{a:>22}{b:>22}{'change':>10}  verdict"]
+        w = max(22, len(a) + 2, len(b) + 2)  # a long label must not run into the next
+        lines = [f"{'term':<5}{'unit':<12}{a:>{w}}{b:>{w}}{'change':>10}  verdict"]
         for c in self.changes:
-            verdict = "changed" if c.significant else "unchanged (within 2 sigma)"
-            lines.append(f"{c.term:<5}{c.unit:<12}{_pm(c.before, c.before_stderr):>22}"
-                         f"{_pm(c.after, c.after_stderr):>22}{c.change_pct:>+9.1f}%  {verdict}")
+            lines.append(f"{c.term:<5}{c.unit:<12}{_pm(c.before, c.before_stderr):>{w}}"
+                         f"{_pm(c.after, c.after_stderr):>{w}}{c.change_pct:>+9.1f}%  "
+                         f"{self._verdict(c)}")
         if self.fit_min_tau_s > 0:
             lines.append(f"both fits use tau >= {self.fit_min_tau_s:.3g} s only")
         ratio = self.dev_ratio()
@@ -121,6 +122,21 @@ class AllanComparison:
                      f"{self.before.tau_s[-1]:.3g} s")
         lines.append(f"note: {self.caveat}")
         return "\n".join(lines)
+
+    def _verdict(self, c: TermChange) -> str:
+        """"changed" / "unchanged (within 2 sigma)"; a term neither fit measures (both
+        upper limits) is said to be so: no change can be read from two bounds."""
+        if not (_measured(self.noise_before, c.term) or _measured(self.noise_after, c.term)):
+            return "not measured (an upper limit before and after)"
+        return "changed" if c.significant else "unchanged (within 2 sigma)"
+
+
+def _measured(model: NoiseModel, term: str) -> bool:
+    """Whether ``model`` measures ``term`` (not only an upper limit, not left out)."""
+    try:
+        return not model[term].is_limit
+    except KeyError:
+        return False
 
 
 def _pm(value: float, stderr: float) -> str:

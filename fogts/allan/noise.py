@@ -213,9 +213,11 @@ def fit_noise(
     n_params = len(names) + 2 * len(extras)  # M and S: an amplitude and a parameter each
     if curve.tau.size < n_params:
         raise InsufficientDataError(
-            f"allan_result has {curve.tau.size} usable taus, fewer than the {n_params} "
+            f"allan_result has {curve.tau.size} usable tau{'s' if curve.tau.size != 1 else ''}"
+            f", fewer than the {n_params} "
             + ("terms" if not extras else "parameters of the terms")
-            + f" requested ({', '.join(names + extras)}); use more taus or fewer terms")
+            + f" requested ({', '.join(names + extras)}); use more taus or fewer terms "
+              "(CLI --taus, --terms), or a longer record")
     if extras and quantity_of(curve.units) != "rate":
         raise DataError(f"terms {', '.join(extras)} (Markov, sinusoid) are fitted to gyro "
                         f"rate curves only; this curve is in {curve.units!r} (an "

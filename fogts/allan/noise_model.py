@@ -379,9 +379,12 @@ class NoiseModel(TableView):
         return Table.build(
             f"IEEE-952 noise terms of {self.axis} ({self.method.upper()} fit of {fitted}, "
             f"input in {self.units})", columns, rows,
-            caption="C_n: coefficient of tau^n in sigma^2(tau) = sum C_n tau^n ("
+            caption="C_n: square root of the coefficient of tau^n in sigma^2(tau) = sum C_n^2 tau^n ("
                     + ("specific force in m/s^2" if self.quantity == "accel" else "rate in deg/h")
-                    + ", tau in s). Upper limit: a term at zero, dropped, or fitted with z < 2 "
+                    + ", tau in s). The interval is formed on C_n^2 (so it is asymmetric) "
+                    "and, in a least-squares fit, also covers a band-limited bias instability: "
+                    "it can be wider than value ± z stderr. Upper limit: a term at zero, "
+                    "dropped, or fitted with z < 2 "
                     "is not measured; the note gives its one-sided 95 % bound. Not identifiable: the term makes up a sizeable share of the "
                     "fitted sigma^2 at too few taus of this grid to be measured.")
 
@@ -402,8 +405,7 @@ class NoiseModel(TableView):
         lines = [self.term_table().to_text()]
         lines.append(self.readoff.describe(lambda v: f"{v:.4e}"))
         if self.gmwm is None and self.ml is None:
-            lines.append(f"chi2 = {self.chi2:.4g} on {self.dof:.4g} dof; model error "
-                         f"{self.model_error:.3g} (relative, on sigma^2); "
+            lines.append(f"{chi2_sentence(self.chi2, self.dof, self.model_error)}; "
                          f"{self.iterations} iteration(s)"
                          + ("" if self.converged else " (NOT converged)")
                          + f"; edf from {self.edf_source}")
@@ -419,6 +421,29 @@ class NoiseModel(TableView):
         lines += [f"warning: {w}" for w in self.warnings]
         return "\n".join(lines)
 
+
+
+def chi2_sentence(chi2: float, dof: float, model_error: float) -> str:
+    """The least-squares fit's chi-square with what it can and cannot tell: a model error
+    estimated by maximum likelihood (:mod:`fogts.allan.noise_lsq`) is added to the
+    variances in the weights, which brings chi2 near its dof whatever the misfit; the
+    model error itself, and the fit check, measure the misfit then.
+
+    Examples
+    --------
+    >>> chi2_sentence(14.9, 17, 0.122)
+    'chi2 = 14.9 on 17 dof after adding the fitted model error 0.122 (relative, on sigma^2) to the variances (which brings chi2 near its dof: the model error and the fit check measure the misfit)'
+    >>> chi2_sentence(15.2, 17, 0.0)
+    'chi2 = 15.2 on 17 dof; no model error needed (relative, on sigma^2)'
+    """
+    head = f"chi2 = {chi2:.4g} on {dof:.4g} dof"
+    if not math.isfinite(model_error):
+        return head + " (unweighted residual sum of squares)"
+    if model_error == 0:
+        return head + "; no model error needed (relative, on sigma^2)"
+    return (f"{head} after adding the fitted model error {model_error:.3g} (relative, on "
+            "sigma^2) to the variances (which brings chi2 near its dof: the model error and "
+            "the fit check measure the misfit)")
 
 
 def _tau_array(tau_s: Any) -> FloatArray:

@@ -112,7 +112,10 @@ class CurveReadout:
             ("minimum", f"{self.tau_min_s:.4g} s",
              f"{self.dev_min:.4g} [{lo:.4g}, {hi:.4g}]{unit}; "
              f"floor/{B_PLATEAU:g} = {self.bias_instability_floor:.4g}{unit}")]
-        for name, label in (("B", "falling (B)"), ("C", "floor (C)"), ("D", "rising (D)")):
+        # "region B" (IEEE 952 Annex C's letters), not "(B)": beside "B dominates" a bare B
+        # reads as the bias-instability term
+        for name, label in (("B", "falling (region B)"), ("C", "floor (region C)"),
+                            ("D", "rising (region D)")):
             span = self.regions.get(name)
             if span is not None:
                 rows.append((label, f"{span[0]:.4g} .. {span[1]:.4g} s", ""))
@@ -281,14 +284,48 @@ class SlopeReadoff:
     def describe(self, number: Callable[[float], str] = lambda v: f"{v:.4g}",
                  units: str = "deg") -> str:
         """The read-offs as one sentence (``number`` formats the values) in ``units``
-        (``"deg"``: the term table's engineering units; ``"si"``: :mod:`fogts.units`)."""
+        (``"deg"``: the term table's engineering units; ``"si"``: :mod:`fogts.units`).
+
+        N or K is given as "not read" when the curve has no segment of its slope
+        (:func:`readoff_supported`): a line of slope +1/2 through a flat or falling
+        segment reads nothing about rate random walk."""
         def term(name: str) -> str:
             value = term_in_units(name, getattr(self, name), units, self.quantity)
             return f"{name} = {number(value)} {term_unit(name, units, self.quantity)}"
 
-        return (f"slope read-offs (comparison only, not the fit): {term('N')} (-1/2 line at "
-                f"tau = {TERMS['N'].readoff_tau_s:g} s), {term('K')} (+1/2 line at tau = "
-                f"{TERMS['K'].readoff_tau_s:g} s), {term('B')} (minimum / {B_PLATEAU:g})")
+        def line(name: str, sign: str) -> str:
+            at = f"{TERMS[name].readoff_tau_s:g}"
+            if readoff_supported(self, name):
+                return f"{term(name)} ({sign}1/2 line at tau = {at} s)"
+            slope, tau = getattr(self, f"slope_{name}"), getattr(self, f"tau_{name}_s")
+            return (f"{name} not read (no segment of slope {sign}1/2: the closest, "
+                    f"{slope:+.2f}, starts at tau = {tau:.4g} s)")
+
+        return (f"slope read-offs (comparison only, not the fit): {line('N', '-')}, "
+                f"{line('K', '+')}, {term('B')} (minimum / {B_PLATEAU:g})")
+
+
+#: A read-off line of a term's slope reads that term only through a segment whose local
+#: slope is nearer to it than to the neighbouring power laws', which lie 1/2 away
+#: (IEEE Std 952-1997 Annex C, Table C.1): within 1/4.
+READOFF_SLOPE_TOLERANCE = 0.25
+
+
+def readoff_supported(readoff: SlopeReadoff, name: str) -> bool:
+    """Whether the N or K read-off was drawn through a segment of (about) its slope:
+    ``|local slope - term slope| <= READOFF_SLOPE_TOLERANCE``; B (the minimum) always is.
+
+    Examples
+    --------
+    >>> tau = 2.0 ** np.arange(-4, 8)
+    >>> r = slope_readoff(tau, 0.6 / np.sqrt(tau), 1.0)
+    >>> readoff_supported(r, "N"), readoff_supported(r, "K")
+    (True, False)
+    """
+    if name not in ("N", "K"):
+        return True
+    slope = float(getattr(readoff, f"slope_{name}"))
+    return math.isfinite(slope) and abs(slope - TERM_SLOPE[name]) <= READOFF_SLOPE_TOLERANCE
 
 
 def slope_readoff(tau: FloatArray, dev: FloatArray, factor: float,

@@ -16,6 +16,7 @@ from fogts.batch.documents import blank_row, error_outcome, run_document
 from fogts.batch.records import BatchOptions, RunOutcome
 from fogts.errors import DataQualityWarning
 from fogts.report.text import error_message, warning_texts
+from fogts.units import quantity_of
 
 if TYPE_CHECKING:
     from fogts.arma.selection import Selection
@@ -73,7 +74,9 @@ def _axis_outcome(file: str, run: Run, quality: DataQuality, axis: int,
     """Analyse one axis; an exception becomes an error row and an error status."""
     name = run.axes[axis]
     row = blank_row(file, name)
-    row.update(n=run.n, fs_hz=run.fs_hz, input_units=run.units, units_source=run.units_source,
+    accel = quantity_of(run.unit_of(axis)) == "accel"  # an IMU file's accelerometer axis
+    row.update(n=run.n, fs_hz=run.fs_hz, input_units=run.unit_of(axis),
+               units_source=run.accel_units_source if accel else run.units_source,
                n_gaps=run.sampling.n_gaps if run.sampling is not None else 0,
                n_glitches=quality.glitch_count(name))
     status: dict[str, Any] = {"axis": name, "status": "ok", "error": ""}

@@ -319,18 +319,22 @@ def reads_input(*, nan: bool = True, gaps: bool = True
     return decorate
 
 
-def read_input(path: Path, read: ReadSettings, *, glitches: bool = True
-          ) -> tuple[Run, DataQuality]:
+def read_input(path: Path, read: ReadSettings, *, glitches: bool = True,
+               outliers: float | None = None) -> tuple[Run, DataQuality]:
     """Read one input and check its hygiene (:func:`fogts.pipeline.load`): assumed units,
     missing cells, gaps and glitches are printed at once as ``warning:`` lines naming the
     file, before any analysis output.  Returns the Run (restricted to the longest regular
-    segment with ``--gaps split``) and its DataQuality."""
+    segment with ``--gaps split``) and its DataQuality.  ``outliers``: the command's
+    ``--outliers K`` (the glitch lines then say the samples are replaced, not kept)."""
     from fogts import progress
     from fogts.pipeline import load
+    from fogts.preprocess.hygiene import GLITCHES_KEPT, glitches_replaced
 
     progress.ticker(f"reading {path.name}", None)
     run, quality = load(path, dataclasses.replace(read, glitches=glitches))
     for line in quality.warnings():
+        if outliers is not None:
+            line = line.replace(GLITCHES_KEPT, glitches_replaced(outliers))
         err_console.print(f"warning: {Path(run.source).name}: {line}", markup=False,
                           soft_wrap=True)
     return run, quality

@@ -34,6 +34,9 @@ def _allan_tables(res: AllanResult, model: NoiseModel | None, check: dict[str, A
     common.print_out(common.rich_table(res.points_table(rate_units)), quiet_json=quiet_json)
     for d in res.dropped:
         common.say([f"dropped tau = {d.tau_s:g} s (m = {d.m}): {d.reason}"], quiet_json)
+    # the curve's own notes (taus rounded to whole samples, missing samples, totdev's bias
+    # correction), as in its summary() and JSON; the preparation steps are printed above
+    common.say([f"note: {n}" for n in res.notes if not n.startswith("prepared: ")], quiet_json)
     if model is not None:
         common.print_out(common.rich_table(model.term_table(units)), quiet_json=quiet_json)
         common.say([model.readoff.describe(units=units)], quiet_json)
@@ -42,9 +45,10 @@ def _allan_tables(res: AllanResult, model: NoiseModel | None, check: dict[str, A
         elif model.gmwm is not None:
             common.say([model.gmwm.describe()], quiet_json)
         else:
-            common.say([f"fit: chi2 = {model.chi2:.4g} on {model.dof:.4g} dof, model error "
-                        f"{model.model_error:.3g}; standard errors: {model.stderr_method}"],
-                       quiet_json)
+            from fogts.allan.noise_model import chi2_sentence
+
+            common.say([f"fit: {chi2_sentence(model.chi2, model.dof, model.model_error)}; "
+                        f"standard errors: {model.stderr_method}"], quiet_json)
         common.say([e.describe() for e in model.extra_terms], quiet_json)
     if check is not None:
         worst = check["max_rel_diff"]
@@ -128,7 +132,7 @@ def allan_cmd(
         analyses = []
         for f in files:
             with known_sums():  # the reader's sum of the rate serves the checks after it
-                run, quality = common.read_input(f, read)
+                run, quality = common.read_input(f, read, outliers=outliers)
                 picks = range(run.n_axes) if axis is None else [common.axis_index(run, axis)]
                 done = []
                 for i in picks:
@@ -175,7 +179,7 @@ def allan_cmd(
                 if ax.comparison is not None:
                     common.print_out(common.rich_table(ax.comparison.table(output_units)),
                                      quiet_json=json_out)
-                _curve_table(ax.result, ax.readout, json_out)
+                _curve_table(ax.result, ax.readout, json_out, output_units)
                 if ax.fit_check is not None:
                     common.say([f"fit check: {ax.fit_check.verdict}"], json_out)
     if any(r[f"{t}_spec"] == "FAIL" for r in rows for t in SUMMARY_TERMS):
@@ -239,5 +243,19 @@ def _allan_figure(analyses: list[AllanAnalysis]) -> Figure:
     return plot_allan_overlay(curves, labels, fits)
 
 
-def _curve_table(res: AllanResult, readout: CurveReadout, quiet_json: str | None) -> None:
-    common.print_out(common.rich_table(readout.table(res.units, res.axis)), quiet_json=quiet_json)
+def _curve_table(res: AllanResult, readout: CurveReadout, quiet_json: str | None,
+                 units: choices.OutputUnits = "deg") -> None:
+    """The read-outs in the unit of the points table above them (--output-units si: the
+    deviations in rad/s or m/s^2, as the points)."""
+    import dataclasses
+
+    from fogts.units import convert_sensor, si_unit
+
+    unit = si_unit(res.units) if units == "si" else res.units
+    if unit != res.units:
+        scale = float(convert_sensor(1.0, res.units, unit))
+        lo, hi = readout.dev_min_ci
+        readout = dataclasses.replace(
+            readout, dev_min=readout.dev_min * scale, dev_min_ci=(lo * scale, hi * scale),
+            bias_instability_floor=readout.bias_instability_floor * scale)
+    common.print_out(common.rich_table(readout.table(unit, res.axis)), quiet_json=quiet_json)

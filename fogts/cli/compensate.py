@@ -40,6 +40,7 @@ def compensate_cmd(
                          "--plot": plot},
                 inputs={"FILE": [file], "--model": [model] if model else [],
                         "--calibration": calibration or []}):
+        common.check_output_names(plot=plot, output=output)  # before any output is written
         run, quality = common.read_input(file, read)
         picks = axis_picks(run, axis)
         many = len(picks) > 1

@@ -36,6 +36,7 @@ def davar_cmd(
 
     with common.guard({"min_change": "--min-change"}, outputs={"--json": json_out, "--plot": plot},
                       inputs={"FILE": [file]}):
+        common.check_output_names(plot=plot)  # before any output is written
         window_s = parse_duration(window, "--window")
         step_s = parse_duration(step, "--step")
         tau_spec = common.tau_option(taus)

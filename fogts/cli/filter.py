@@ -50,6 +50,12 @@ def filter_cmd(
     """
     with common.guard(outputs={"--output": output, "--json": json_out, "--plot": plot},
                 inputs={"FILE": [file]}):
+        common.check_output_names(plot=plot, output=output)  # before any output is written
+        _check_method_options(method, {
+            "--model": model != "auto", "--measurement-noise": measurement_noise != "estimate",
+            "--cutoff": cutoff is not None, "--order": order != 4,
+            "--design": design != "butter", "--window": window is not None,
+            "--compare-allan": compare_allan})
         noise = _parse_measurement_noise(measurement_noise) if method == "kalman" else None
         run, _ = common.read_input(file, read)
         picks = axis_picks(run, axis)
@@ -91,6 +97,27 @@ class _Filtered:
     figure: Callable[[], Figure] | None
 
 
+#: The options that apply to each --method (the rest are refused, not ignored).
+_METHOD_OPTIONS: dict[str, tuple[str, ...]] = {
+    "kalman": ("--model", "--measurement-noise"),
+    "iir": ("--cutoff", "--order", "--design", "--compare-allan"),
+    "moving-average": ("--window", "--compare-allan"),
+}
+
+
+def _check_method_options(method: str, given: dict[str, bool]) -> None:
+    """Refuse an option of another --method (``given``: option -> set away from its
+    default) instead of ignoring it silently."""
+    from fogts.errors import DataError
+
+    stray = [o for o, on in given.items() if on and o not in _METHOD_OPTIONS[method]]
+    if stray:
+        owners = {o: [m for m, opts in _METHOD_OPTIONS.items() if o in opts] for o in stray}
+        which = "; ".join(f"{o} applies to --method {' or '.join(owners[o])}" for o in stray)
+        raise DataError(f"--method {method} does not use {', '.join(stray)} ({which}); "
+                        "drop it or change --method")
+
+
 def _parse_measurement_noise(text: str) -> Literal["estimate"] | float:
     from fogts.errors import DataError
 
@@ -126,7 +153,8 @@ def _kalman_filter(run: Run, x: FloatArray, model: str,
     equation = fit.equation() if hasattr(fit, "equation") else result.model
     return _Filtered(frame, {"model": fit_dict, "kalman": result.to_dict()},
                      [f"drift model ({'selected by AIC' if model == 'auto' else 'given'}): "
-                      f"{equation}", result.summary()], figure)
+                      f"{equation}  [rate in {run.units}; sigma2 and H in ({run.units})^2]",
+                      result.summary()], figure)
 
 
 def _lowpass_filter(run: Run, x: FloatArray, method: str, cutoff: float | None, order: int,

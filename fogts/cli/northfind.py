@@ -57,6 +57,20 @@ def _position_rates(files: list[Path], *, position_column: str, read: ReadSettin
     return rates, None, fs_hz, unit
 
 
+def _check_mode_options(simulating: bool, *, plot: bool, given: dict[str, bool]) -> None:
+    """Refuse, before any work or output, the options the chosen mode does not use:
+    --plot outside --simulate, and the measured-positions options (``given``: option ->
+    set away from its default) with --simulate."""
+    from fogts.errors import DataError
+
+    if plot and not simulating:
+        raise DataError("--plot is available in --simulate mode only")
+    stray = [o for o, on in given.items() if on]
+    if simulating and stray:
+        raise DataError(f"--simulate does not use {', '.join(stray)} (options of measured "
+                        "positions files); drop it or give the files instead of --simulate")
+
+
 @common.app.command("northfind")
 @common.reads_input(nan=False, gaps=False)
 def northfind_cmd(
@@ -81,6 +95,10 @@ def northfind_cmd(
     with common.guard(_NORTHFIND_OPTIONS, outputs={"--json": json_out, "--plot": plot},
                 inputs={"FILES": files or [],
                         "--thermal-model": [thermal_model] if thermal_model else []}):
+        common.check_output_names(plot=plot)  # before any output is written
+        _check_mode_options(simulate is not None, plot=plot is not None, given={
+            "--bias-sigma": bias_sigma != 0.0, "--transition": transition != 0.0,
+            "--position-column": position_column != "position_deg"})
         thermal = common.load_thermal_model(thermal_model) if thermal_model is not None else None
         if simulate is not None:
             if files:
@@ -114,6 +132,4 @@ def northfind_cmd(
                    "thermal_model": None if thermal_model is None else str(thermal_model),
                    **result.to_dict()}
         common.emit_json(payload, json_out)
-        if plot is not None:
-            raise DataError("--plot is available in --simulate mode only")
         common.say([result.summary()], json_out)

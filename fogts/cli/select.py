@@ -66,7 +66,7 @@ def select_cmd(
                 inputs={"FILE": [file]}):
         orders = parse_candidates(candidates)
         common.check_output_names(plot=plot, predict=predict)
-        run, quality = common.read_input(file, read)
+        run, quality = common.read_input(file, read, outliers=outliers)
         picks = axis_picks(run, axis)
         settings = SelectSettings(outliers=outliers, detrend=detrend, decimate=decimate,
                                   candidates=orders, criterion=criterion)

@@ -72,7 +72,7 @@ simulate_app = typer.Typer(
     no_args_is_help=True, rich_markup_mode="markdown")
 common.app.add_typer(simulate_app, name="simulate")
 
-OutputOpt = Annotated[Path, typer.Option("--output", "-o", help="Output file: .csv, .csv.gz, .tsv, .txt or .parquet. The true parameters go to OUTPUT.json beside it.")]
+OutputOpt = Annotated[Path, typer.Option("--output", "-o", help="Output file: .csv, .csv.gz, .tsv, .txt or .parquet. The true parameters go to OUTPUT.json beside it. An existing file is replaced only if fogts simulate wrote it.")]
 DurationOpt = Annotated[str | None, typer.Option("--duration", help="Record length: 3h, 90min, 600s, 1d, 1h30min or seconds (default 1h).")]
 BiasOpt = Annotated[float, typer.Option("--bias", help="Constant rate offset in deg/h.")]
 ThermalOpt = Annotated[str | None, typer.Option("--thermal", help="Temperature-driven drift D = a T dT + b T^2 + c T + d dT^2 + e dT + f, as `T*dT=a,T2=b,T=c,dT2=d,dT=e,1=f` (deg/h; dT in degC/s); with 'noise' it needs --temperature-profile; 'startup' default: `T*dT=0.4,T2=0.0015,T=-0.12,dT2=120,dT=25,1=2`.")]
@@ -257,11 +257,39 @@ def simulate_startup_cmd(
 
 
 def _check_simulation_output(output: Path) -> None:
+    """Refuse an output name of another type, and any existing file a simulation would
+    replace that ``fogts simulate`` did not write: a simulated record looks like a
+    recording, so a mistyped ``-o`` must never overwrite the real one."""
     from fogts.errors import DataError
 
     if not output.name.lower().endswith(_SIM_SUFFIXES):
         raise DataError(f"--output must end in {', '.join(_SIM_SUFFIXES)}; got "
                         f"{output.name!r}")
+    sidecar = output.with_name(output.name + ".json")
+    if sidecar.exists() and not _simulation_sidecar(sidecar, output.name):
+        raise DataError(f"--output's sidecar {str(sidecar)!r} already exists and is not the "
+                        "record 'fogts simulate' writes beside its output; fogts simulate "
+                        "never replaces a file it did not write: choose another --output "
+                        "name or move that file away")
+    if output.exists() and not sidecar.exists():
+        raise DataError(f"--output {str(output)!r} already exists and was not written by "
+                        f"'fogts simulate' (no {sidecar.name} beside it); fogts simulate "
+                        "never replaces a file it did not write: choose another --output "
+                        "name or move that file away")
+
+
+def _simulation_sidecar(path: Path, output_name: str) -> bool:
+    """Whether ``path`` is the JSON record a simulation of ``output_name`` wrote beside it
+    (its ``generator`` names ``fogts ... simulate`` and its ``output`` that file)."""
+    import json
+
+    try:
+        record = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, ValueError):
+        return False
+    return (isinstance(record, dict) and str(record.get("generator", "")).startswith("fogts ")
+            and " simulate" in str(record.get("generator", ""))
+            and record.get("output") == output_name)
 
 
 def _startup_kwargs(cold: dict[str, Any], *, bias: float, arma: str | None,

@@ -319,11 +319,18 @@ def _table_to_run(table: Table, *, rate_column: str | Sequence[str] | None,
         input_kind=kind,
         angle=angle,
     )
-    if table.sums is not None and nan == "error" and kind == "rate" and len(roles.rate) == 1:
-        total = table.sums.get(roles.rate[0])  # the rate is that column, unchanged
-        if total is not None:
-            note_sum(run.rate, total)
+    if nan == "error" and kind == "rate":
+        _pass_on_sum(table, roles.rate, run.rate)
     return run
+
+
+def _pass_on_sum(table: Table, rate_columns: Sequence[str], rate: FloatArray) -> None:
+    """Record the reader's sum of a single rate column for ``rate``, that column unchanged
+    (:func:`fogts._validate.note_sum`), so the analysis need not sum it again."""
+    if table.sums is not None and len(rate_columns) == 1:
+        total = table.sums.get(rate_columns[0])
+        if total is not None:
+            note_sum(rate, total)
 
 
 def _interpolate_columns(rate_cols: list[FloatArray], temperature: FloatArray | None,

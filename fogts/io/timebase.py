@@ -20,11 +20,14 @@ from fogts.io.run import SamplingReport
 from fogts.io.table import NUMBER, Table, finite_and_bounded, numeric_column, where
 from fogts.io.timesteps import LEAF, StepSummary, step_deviation, summarise_steps
 
-__all__ = ["GAP_FACTOR", "Steps", "is_numeric_time", "median_step", "sample_rate",
+__all__ = ["GAP_FACTOR", "GIVEN_RATE_TOLERANCE", "REGULAR_JITTER", "Steps", "check_given_rate", "is_numeric_time", "median_step", "sample_rate",
            "sampling_report", "step_stats", "time_base"]
 
 #: Gap threshold: a time step longer than this multiple of the nominal step is a gap.
 GAP_FACTOR = 1.5
+#: A time base without gaps is regular when the std of its steps is below this share of
+#: the nominal step.
+REGULAR_JITTER = 0.01
 #: Fewest steps for which :func:`median_step` counts instead of sorting.
 _COUNTED_MEDIAN_MIN = 1 << 16
 
@@ -65,7 +68,8 @@ class Steps:
     def sample_rate(self, given: float | None, from_file: float | None, source: str
                     ) -> tuple[float, str]:
         """:func:`sample_rate` of these steps."""
-        if given is not None:
+        if given is not None:  # said when it contradicts the steps (5: read_run's caller)
+            check_given_rate(given, self.stats(), from_file, source, stacklevel=5)
             return given, "given"
         median = self.stats()[0]
         if self._regular(GAP_FACTOR * median):  # no long step: the median step is the rate
@@ -82,7 +86,7 @@ class Steps:
         median, mean = self.stats()
         jitter = step_deviation(self._time, mean)  # no gap: every step is a normal one
         return SamplingReport(median, 0, self._summary.longest, (), jitter, jitter / nominal,
-                              jitter / nominal < 0.01, True, mean, fs_source)
+                              jitter / nominal < REGULAR_JITTER, True, mean, fs_source)
 
 
 def time_base(table: Table, time_name: str | None
@@ -243,7 +247,7 @@ def sampling_report(dt: FloatArray | None, fs_hz: float, fs_source: str, *,
         gap_rows=gap_rows,
         jitter_s=jitter,
         jitter_rel=jitter_rel,
-        regular=bool(not gap_at.size and jitter_rel < 0.01),
+        regular=bool(not gap_at.size and jitter_rel < REGULAR_JITTER),
         from_time_column=True,
         mean_dt_s=mean,
         fs_source=fs_source,
@@ -267,6 +271,45 @@ def _round_rate(fs: float) -> float:
     return float(f"{fs:.10g}")
 
 
+#: A given sample rate further than this (relative) from both rates of the time stamps, or
+#: from the file's own rate, is reported (the burst-logging rule's 10 %).
+GIVEN_RATE_TOLERANCE = 0.1
+
+
+def check_given_rate(given: float, steps: tuple[float, float] | None,
+                     from_file: float | None, source: str, *, stacklevel: int = 4) -> None:
+    """Warn when a given sample rate contradicts what the file says: the rates of the
+    median and the mean time step (``steps``, :func:`step_stats`) or the file's own rate.
+
+    The given rate wins (it sets every tau and the gap threshold), so a wrong ``--fs``
+    scales every tau; the warning shows both numbers.
+
+    Examples
+    --------
+    >>> import warnings
+    >>> with warnings.catch_warnings(record=True) as w:
+    ...     warnings.simplefilter("always")
+    ...     check_given_rate(10.0, (0.01, 0.01), None, "x.csv")
+    >>> str(w[0].message).startswith("x.csv: fs_hz = 10 Hz (given) disagrees with")
+    True
+    """
+    def far(rate: float) -> bool:
+        return abs(given / rate - 1.0) > GIVEN_RATE_TOLERANCE
+
+    said: str | None = None
+    if steps is not None and steps[0] > 0 and steps[1] > 0:
+        median, mean = steps
+        if far(1.0 / median) and far(1.0 / mean):
+            said = (f"the time stamps (median step {median:.6g} s: {1.0 / median:.6g} Hz; "
+                    f"mean step {mean:.6g} s: {1.0 / mean:.6g} Hz)")
+    elif from_file is not None and far(from_file):
+        said = f"the file's own sample rate {from_file:.6g} Hz"
+    if said is not None:
+        warnings.warn(f"{source}: fs_hz = {given:.6g} Hz (given) disagrees with {said} by "
+                      f"more than {100 * GIVEN_RATE_TOLERANCE:g} %; the given rate is used "
+                      "for every tau", DataQualityWarning, stacklevel=stacklevel)
+
+
 def _whole_multiples(ratio: FloatArray) -> bool:
     """True when most step ratios are close to whole numbers (dropped samples)."""
     return bool(np.median(np.abs(ratio - np.rint(ratio))) < 0.1)
@@ -285,7 +328,10 @@ def sample_rate(dt: FloatArray | None, given: float | None, from_file: float | N
     0.1 step): that is a clock that dropped samples, so the median step is the rate and
     the long steps are gaps (:func:`sampling_report` lists them).
     """
-    if given is not None:
+    if given is not None:  # said when it contradicts the steps or the file's own rate
+        check_given_rate(given, steps if steps is not None else
+                         (step_stats(dt) if dt is not None else None), from_file, source,
+                         stacklevel=stacklevel + 1)
         return given, "given"
     if dt is not None:
         median, mean = steps if steps is not None else step_stats(dt)

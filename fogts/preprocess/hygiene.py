@@ -30,6 +30,7 @@ from fogts.errors import DataError
 from fogts.io.run import MissingReport, Run, held_time
 from fogts.preprocess.gaps import Gap, GapReport, fill_gaps_nan, find_gaps, segment_run
 from fogts.preprocess.glitches import GLITCH_SIGMAS, Glitch, GlitchReport, detect_glitches
+from fogts.units import quantity_of
 
 __all__ = ["GAP_POLICIES", "GLITCH_SIGMAS", "DataQuality", "Gap", "GapReport", "Glitch",
            "GlitchReport", "assess_run", "detect_glitches", "find_gaps"]
@@ -81,8 +82,7 @@ class DataQuality:
         if self.missing is not None:
             out.append(self.missing.summary())
         out += self._gap_lines()
-        out += [f"axis {g.axis!r}: {g.summary()}; kept in the analysis (--outliers K "
-                "replaces samples beyond K robust sigmas)" for g in self.glitches
+        out += [f"axis {g.axis!r}: {g.summary()}; {GLITCHES_KEPT}" for g in self.glitches
                 if g.n_events]
         return out
 
@@ -121,6 +121,23 @@ class DataQuality:
     def summary(self) -> str:
         lines = self.warnings()
         return "\n".join(lines) if lines else "no data-quality issue found"
+
+
+#: What the glitch warning says of the glitches when the analysis keeps them.
+GLITCHES_KEPT = "kept in the analysis (--outliers K replaces samples beyond K robust sigmas)"
+
+
+def glitches_replaced(outliers: float) -> str:
+    """What the glitch warning says instead of :data:`GLITCHES_KEPT` when the command
+    replaces outliers beyond ``outliers`` robust sigmas before its analysis.
+
+    Examples
+    --------
+    >>> glitches_replaced(7.0)
+    '--outliers 7: samples beyond 7 robust sigmas are replaced before the analysis (counted below)'
+    """
+    return (f"--outliers {outliers:g}: samples beyond {outliers:g} robust sigmas are replaced "
+            "before the analysis (counted below)")
 
 
 def assess_run(run: Run, *, gaps: GapPolicy = "warn", glitches: bool = True,
@@ -174,10 +191,12 @@ def assess_run(run: Run, *, gaps: GapPolicy = "warn", glitches: bool = True,
         run = segment_run(run, *segment)
     found = tuple(detect_glitches(run.axis(i), time_s=held_time(run), fs_hz=run.fs_hz,
                                   threshold=glitch_threshold,
-                                  axis=name, units=run.units)
+                                  axis=name, units=run.unit_of(i))
                   for i, name in enumerate(run.axes)) if glitches else ()
     if gaps == "nan" and report.n_gaps:
         run = fill_gaps_nan(run)
-    quality = DataQuality(run.source, run.units, run.units_source, run.axes, run.missing,
+    # the unit warning names the rate axes only: accelerometer axes have their own unit
+    rate_axes = tuple(a for i, a in enumerate(run.axes) if quantity_of(run.unit_of(i)) == "rate")
+    quality = DataQuality(run.source, run.units, run.units_source, rate_axes, run.missing,
                           gaps, report, segment, n_input, run.fs_hz, found)
     return run, quality

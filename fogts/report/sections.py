@@ -18,7 +18,14 @@ from fogts.errors import DataError
 from fogts.report.analyses import ReportContext
 from fogts.report.blocks import figure_block, fmt_num, fmt_pval, html_table, table_block, yes_no
 from fogts.report.page import Block, Section
-from fogts.report.text import duration_text, error_message, run_info, warning_texts
+from fogts.report.text import (
+    axes_rows,
+    duration_text,
+    error_message,
+    run_info,
+    time_base_verdict,
+    warning_texts,
+)
 
 __all__ = ["AXIS_BUILDERS", "RUN_BUILDERS", "SECTION_TITLES", "make_section"]
 
@@ -103,7 +110,7 @@ def _input_rows(ctx: ReportContext, info: dict[str, Any]) -> list[tuple[str, str
         ("sample rate", f"{fmt_num(info['fs_hz'], 6)} Hz (from {info['fs_source']})"),
         ("duration", duration_text(info["duration_s"])),
         ("columns", ", ".join(info["columns"])),
-        ("rate axes", f"{', '.join(info['axes'])} [{info['units']}]"),
+        *axes_rows(ctx.run),
         ("rate unit from", "ASSUMED (no unit in the column names; pass --units)"
          if ctx.run.units_assumed else ctx.run.units_source),
         ("temperature", "yes" if info["temperature"] else "no temperature column"),
@@ -111,7 +118,7 @@ def _input_rows(ctx: ReportContext, info: dict[str, Any]) -> list[tuple[str, str
     if info["start_time"]:
         rows.append(("start time", str(info["start_time"])))
     if info["time_from_column"]:
-        rows.append(("time base", f"{'regular' if jitter['regular'] else 'IRREGULAR'}: "
+        rows.append(("time base", f"{time_base_verdict(info)}: "
                                   f"{gaps['count']} gap(s) longer than "
                                   f"{fmt_num(gaps['threshold_s'])} s (longest "
                                   f"{fmt_num(gaps['max_s'])} s); jitter {fmt_num(jitter['std_s'])} s"))
@@ -320,7 +327,8 @@ def _thermal_blocks(ctx: ReportContext, i: int, notes: list[str]) -> list[Block]
         Block(kind="verdict", good=res.significance.significant,
               text=res.significance.verdict[0].upper() + res.significance.verdict[1:] + ".")]
     after_label = ("after compensation" if res.claims_improvement else
-                   "after compensation (model not significant: no improvement claimed)")
+                   f"after compensation (not claimed as an improvement: "
+                   f"{res.no_claim_reason()})")
     return [
         *verdict,
         figure_block(plot_compensation(res), id=f"thermal-{i}",

@@ -17,7 +17,7 @@ from fogts._validate import finite_or_none
 from fogts.allan.datasheet import SPEC_TERMS
 from fogts.choices import OutputUnits
 from fogts.tables import Column, Table
-from fogts.units import term_unit
+from fogts.units import quantity_of, term_unit
 
 if TYPE_CHECKING:
     from fogts.allan.datasheet import NoiseSpec
@@ -32,14 +32,19 @@ SUMMARY_TERMS: tuple[str, ...] = SPEC_TERMS
 
 
 def term_fields(model: NoiseModel | None, units: OutputUnits = "deg",
-                spec: NoiseSpec | None = None) -> dict[str, Any]:
+                spec: NoiseSpec | None = None, quantity: str | None = None) -> dict[str, Any]:
     """For each of :data:`SUMMARY_TERMS`: ``T`` (the value), ``T_stderr``, ``T_upper`` (the
     one-sided 95 % upper limit of a term that is only a limit, else None), ``T_unit`` (in
-    ``units``) and ``T_spec`` (``"PASS"``, ``"FAIL"``, ``"not fitted"``; None without a
-    limit for the term).  Values are None where the term was not fitted."""
+    ``units``, for the model's quantity: an accelerometer's N is in m/s/sqrt(h), not
+    deg/sqrt(h)) and ``T_spec`` (``"PASS"``, ``"FAIL"``, ``"not fitted"``; None without a
+    limit for the term).  Values are None where the term was not fitted.  ``quantity``
+    (``"rate"`` or ``"accel"``): the axis' quantity, for the units when there is no model
+    (default: the model's, else ``"rate"``)."""
     from fogts.allan.datasheet import check_spec
 
     checks = check_spec(model, spec) if model is not None and spec is not None else {}
+    if quantity is None:
+        quantity = model.quantity if model is not None else "rate"
     out: dict[str, Any] = {}
     for name in SUMMARY_TERMS:
         shown = model.in_units(name, units) if model is not None and name in model.names \
@@ -47,7 +52,7 @@ def term_fields(model: NoiseModel | None, units: OutputUnits = "deg",
         out[name] = finite_or_none(shown["value"]) if shown else None
         out[f"{name}_stderr"] = finite_or_none(shown["stderr"]) if shown else None
         out[f"{name}_upper"] = finite_or_none(shown["upper_limit_95"]) if shown else None
-        out[f"{name}_unit"] = term_unit(name, units)
+        out[f"{name}_unit"] = term_unit(name, units, quantity)
         verdict = checks[name].verdict if name in checks else None
         out[f"{name}_spec"] = "not fitted" if spec is not None and name in spec.names \
             and verdict is None else verdict
@@ -59,7 +64,9 @@ def axis_row(file: str, axis: AxisAllan, units: OutputUnits = "deg",
     """The summary row of one axis: ``file``, ``axis``, :func:`term_fields` and ``fit``
     (``"ok"``, ``"misses"`` when the model misses the curve, None when not checked)."""
     check = axis.fit_check
-    return {"file": file, "axis": axis.result.axis, **term_fields(axis.model, units, spec),
+    quantity = quantity_of(axis.result.units)
+    return {"file": file, "axis": axis.result.axis,
+            **term_fields(axis.model, units, spec, quantity),
             "fit": None if check is None else ("ok" if check.ok else "misses")}
 
 
@@ -89,8 +96,10 @@ def summary_table(rows: Sequence[dict[str, Any]], spec: NoiseSpec | None = None)
         cells += [r[f"{t}_spec"] for t in spec_terms]
         failed += [(i, j) for j, v in enumerate(cells) if v in ("FAIL", "misses")]
         table_rows.append(cells)
+    accel = any(r["N_unit"] in (term_unit("N", u, "accel") for u in ("deg", "si"))
+                for r in rows)
     return Table.build("Summary: noise terms per file and axis", columns, table_rows,
-                       caption=_caption(spec), failed=failed)
+                       caption=_caption(spec, accel), failed=failed)
 
 
 def _term_cell(row: dict[str, Any], name: str, *, with_unit: bool) -> str:
@@ -109,8 +118,11 @@ def _short(v: float, digits: int) -> str:
     return f"{v:.{digits - 1}e}" if v != 0 and abs(v) < 0.01 else f"{v:.{digits}g}"
 
 
-def _caption(spec: NoiseSpec | None) -> str:
-    text = ("N angle random walk, B bias instability, K rate random walk: value ± standard "
+def _caption(spec: NoiseSpec | None, accel: bool = False) -> str:
+    names = ("N angle random walk, B bias instability, K rate random walk" + (
+        " (accelerometer axes: N velocity random walk, B bias instability, K acceleration "
+        "random walk)" if accel else ""))
+    text = (f"{names}: value ± standard "
             "error; '< x': the data do not measure the term and x is its one-sided 95 % "
             "upper limit. fit: 'ok' when the fitted model lies within the points' intervals, "
             "'misses' when it does not (see each axis' fit check).")

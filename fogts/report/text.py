@@ -17,9 +17,11 @@ from typing import Any
 import numpy as np
 
 from fogts.io.run import Run
+from fogts.io.timebase import REGULAR_JITTER
+from fogts.units import quantity_of
 
-__all__ = ["duration_text", "error_message", "info_text", "json_dumps", "run_info",
-           "to_jsonable", "warning_texts"]
+__all__ = ["axes_rows", "duration_text", "error_message", "info_text", "json_dumps", "run_info",
+           "time_base_verdict", "to_jsonable", "warning_texts"]
 
 
 def to_jsonable(obj: Any) -> Any:
@@ -130,21 +132,54 @@ def duration_text(seconds: float) -> str:
     return f"{seconds:.6g} s"
 
 
-def info_text(info: Mapping[str, Any]) -> str:
-    """Plain-text rendering of :func:`run_info` for the terminal."""
+def axes_rows(run: Run) -> list[tuple[str, str]]:
+    """The sensor axes grouped by unit: ``("rate axes", "x, y, z  [deg/s]")`` and, for an
+    IMU file, ``("accel axes", "ax, ay, az  [g] (unit from the gravity magnitude)")``;
+    an accelerometer axis is never listed as a rate axis in the rate unit."""
+    groups: dict[str, list[str]] = {}
+    for i, name in enumerate(run.axes):
+        groups.setdefault(run.unit_of(i), []).append(name)
+    rows = []
+    for unit, names in groups.items():
+        if quantity_of(unit) == "accel":
+            rows.append(("accel axes", f"{', '.join(names)}  [{unit}] (unit from "
+                                       f"{run.accel_units_source or 'the file'})"))
+        else:
+            rows.append(("rate axes", f"{', '.join(names)}  [{unit}]"))
+    return rows
+
+
+def time_base_verdict(info: Mapping[str, Any]) -> str:
+    """"regular", or "IRREGULAR" with the reason the numbers beside it give (gaps, or a
+    jitter of at least 1 % of the step), for :func:`run_info`'s payload."""
+    if info["jitter"]["regular"]:
+        return "regular"
+    why = []
+    if info["gaps"]["count"]:
+        why.append("gaps")
+    if info["jitter"]["relative"] >= REGULAR_JITTER:
+        why.append(f"jitter >= {100 * REGULAR_JITTER:g} % of the step")
+    return "IRREGULAR" + (f" ({', '.join(why)})" if why else "")
+
+
+def info_text(info: Mapping[str, Any], axes: Iterable[tuple[str, str]] | None = None) -> str:
+    """Plain-text rendering of :func:`run_info` for the terminal; ``axes``: the rows of
+    :func:`axes_rows` (default: every axis in ``info["units"]``)."""
     gaps, jitter = info["gaps"], info["jitter"]
+    shown = (list(axes) if axes is not None
+             else [("rate axes", f"{', '.join(info['axes'])}  [{info['units']}]")])
     lines = [
         f"source      {info['source']}",
         f"samples     {info['n']}",
         f"sample rate {info['fs_hz']:.6g} Hz (from {info['fs_source']})",
         f"duration    {duration_text(info['duration_s'])}",
         f"columns     {', '.join(info['columns'])}",
-        f"rate axes   {', '.join(info['axes'])}  [{info['units']}]",
+        *(f"{label:<11} {text}" for label, text in shown),
     ]
     if info["start_time"]:
         lines.append(f"start time  {info['start_time']}")
     if info["time_from_column"]:
-        regular = "regular" if jitter["regular"] else "IRREGULAR"
+        regular = time_base_verdict(info)
         lines.append(f"time base   {regular}: {gaps['count']} gap(s) > {gaps['threshold_s']:.4g} s"
                      f" (longest {gaps['max_s']:.4g} s), jitter {jitter['std_s']:.3g} s "
                      f"({100 * jitter['relative']:.2g} % of the step); median step "

@@ -186,15 +186,16 @@ class StartupCompensation(TableView):
                      f"{self.after.value:.4g} {self.after.unit}")
         lines.append(f"{stability} ({self.improvement:.2f}x in sample)"
                      if self.claims_improvement else
-                     f"{stability}; not claimed as an improvement: {self._why_no_claim()}")
+                     f"{stability}; not claimed as an improvement: {self.no_claim_reason()}")
         if self.out_of_sample is not None:
             lines.append(self.out_of_sample.summary())
         lines += [f"note: {n}" for n in self.notes]
         return "\n".join(lines)
 
 
-    def _why_no_claim(self) -> str:
-        """Why the bias-stability change is not an improvement, as the verdict says."""
+    def no_claim_reason(self) -> str:
+        """Why the bias-stability change is not an improvement, as the verdict says (the
+        terminal summary and the HTML report give this one reason)."""
         if self.significance is not None and not self.significance.testable:
             return ("the thermal model is not testable on this record, so the change is the "
                     "fit absorbing drift")

@@ -122,3 +122,23 @@ def test_cli_filter_errors(record: Path, tmp_path: Path, args: list[str], messag
     lines = error_output(res.stderr).splitlines()
     assert len(lines) == 1 and lines[0].startswith("error: ") and message in lines[0]
     assert not (tmp_path / "o.csv").exists()  # nothing written on error
+
+
+def test_summary_columns_and_verdicts_follow_the_numbers(comparison) -> None:  # type: ignore[no-untyped-def]
+    """A label longer than the column (the CLI's "moving-average filtered") keeps a space
+    before it; a term that is an upper limit on both sides is "not measured", not
+    "unchanged" (ADIS16405 run 1 X: Q, K, R printed "0  0  +0.0%  unchanged")."""
+    import dataclasses
+
+    long = dataclasses.replace(comparison, labels=("raw", "moving-average filtered"))
+    header = long.summary().splitlines()[0]
+    assert "raw  moving-average filtered" in header
+    rows = {line.split()[0]: line for line in long.summary().splitlines()[1:6]}
+    for c in comparison.changes:
+        measured = not (comparison.noise_before[c.term].is_limit
+                        and comparison.noise_after[c.term].is_limit)
+        assert rows[c.term].endswith("not measured (an upper limit before and after)") \
+            is not measured
+    # white noise plus a random walk: N is measured on both sides, Q (absent) on neither
+    assert rows["N"].endswith("unchanged (within 2 sigma)")
+    assert rows["Q"].endswith("not measured (an upper limit before and after)")

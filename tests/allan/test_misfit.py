@@ -69,3 +69,31 @@ def test_a_single_large_miss_is_reported_and_a_small_one_is_not() -> None:
     moved = type(res)(**{**res.__dict__, "dev": dev, "ci_low": res.ci_low - res.dev + dev,
                          "ci_high": res.ci_high - res.dev + dev})
     assert check_fit(moved, model).ok
+
+
+def test_an_isolated_point_beyond_miss_z_is_named_in_the_verdict() -> None:
+    """A lone point 4 half-widths off is not a miss (below SINGLE_MISS_Z), but the verdict
+    must not claim the fit lies within 3 half-widths of *every* point while showing
+    |z| = 4 (seen on ADIS16405 run 1 X decimated by 10: "within 3 half-widths of every
+    point ... (largest |z| 4.5)")."""
+    sim = fogts.simulate_gyro({"N": 0.01}, fs_hz=100, duration_s=3600, rng=4)
+    res = fogts.allan_deviation(sim)
+    with pytest.warns(fogts.errors.FogtsWarning):
+        model = fogts.fit_noise(res)
+    assert check_fit(res, model).verdict.startswith("the fit lies within 3 half-widths of "
+                                                    "every point")
+    dev = res.dev.copy()
+    half = res.ci_high - res.dev
+    dev[5] = model.curve(res.tau_s[5:6])[0] - 4 * half[5]  # the fit ~4 half-widths above
+    moved = type(res)(**{**res.__dict__, "dev": dev, "ci_low": res.ci_low - res.dev + dev,
+                         "ci_high": res.ci_high - res.dev + dev})
+    check = check_fit(moved, model)
+    assert check.ok
+    assert "every point" not in check.verdict
+    assert "all but 1 isolated point(s)" in check.verdict
+    assert f"at tau = {res.tau_s[5]:.4g} s" in check.verdict
+    # |z| is measured against the moved point's own half-width: 4 within a 1 % tolerance
+    # (the half-width is that of the unmoved point, moved along with it)
+    largest = float(np.nanmax(np.abs(check.z)))
+    assert largest == pytest.approx(4.0, rel=0.01)
+    assert f"largest |z| {largest:.2g}" in check.verdict

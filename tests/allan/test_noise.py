@@ -242,3 +242,18 @@ def test_the_noise_module_keeps_its_names() -> None:
     assert noise.FIT_METHODS == noise_lsq.FIT_METHODS == ("wls", "gls", "ols", "gmwm", "ml")
     assert noise.COVERAGE_SHARE == noise_selection.COVERAGE_SHARE
     assert all(hasattr(noise, name) for name in noise.__all__)
+
+
+def test_a_record_too_short_for_the_terms_says_what_to_change() -> None:
+    """A 3-sample record has one tau: the error counts it in the singular and names the CLI
+    options (``fogts allan`` on a 3-sample CSV printed "1 usable taus ...; use more taus
+    or fewer terms", naming neither --taus nor --terms)."""
+    from fogts.errors import InsufficientDataError
+
+    res = allan_deviation(np.array([1.0, 2.0, 3.0]), fs_hz=10.0)
+    assert res.tau_s.size == 1
+    with pytest.raises(InsufficientDataError,
+                       match=r"^allan_result has 1 usable tau, fewer than the 5 terms requested "
+                             r"\(Q, N, B, K, R\); use more taus or fewer terms \(CLI --taus, "
+                             r"--terms\), or a longer record$"):
+        fit_noise(res)

@@ -34,3 +34,44 @@ def test_exports() -> None:
     assert model.values["N"] == pytest.approx(0.02, rel=1e-6)
     with pytest.raises(KeyError, match="term 'X' was not fitted"):
         model["X"]
+
+
+def test_term_table_caption_states_the_squared_coefficients() -> None:
+    """The table's C_n column holds the square roots of the sigma^2 coefficients
+    (DESIGN.md: N = C_-1/60, B = C_0/0.664); its caption must say so, and the closed form it
+    states must give back the fitted curve from the printed C_n (rate in deg/h)."""
+    tau = 2.0 ** np.arange(-4, 12)
+    model = quiet_fit(make_result(tau, np.sqrt(avar(tau, N=0.02, B=0.1, K=0.5))),
+                      significance=None)
+    table = model.term_table()
+    assert "sum C_n^2 tau^n" in table.to_text()
+    assert "sum C_n tau^n" not in table.to_text()
+    # the intervals are not value +- z stderr (C_n^2 scale, band-limit allowance): said so
+    assert "it can be wider than value ± z stderr" in table.to_text()
+    c = {t.power: t.c_coeff for t in model.terms}
+    # the B term is C_0^2 * (2 ln 2 / pi) / 0.664^2 ~ C_0^2 (0.04 % apart, DESIGN.md); the
+    # power-law sum is checked on the terms whose coefficient is exactly C_n^2
+    at = 10.0
+    n_term = c[-1] ** 2 / at
+    assert n_term == pytest.approx(avar(np.array([at]), N=0.02)[0], rel=1e-6)
+
+
+def test_the_chi2_line_says_the_model_error_is_in_it() -> None:
+    """With a model error fitted into the weights, chi2 lands near its dof whatever the
+    misfit (ADIS16405 run 1 X: "chi2 = 14.91 on 17 dof" printed beside "misses"); the
+    sentence says so, and says when no model error was needed (an exact curve)."""
+    from fogts.allan.noise_model import chi2_sentence
+
+    tau = 2.0 ** np.arange(-4, 12)
+    # every term kept (significance=None): the exact curve comes back, no model error
+    exact = quiet_fit(make_result(tau, np.sqrt(avar(tau, N=0.02, B=0.1, K=0.5))),
+                      significance=None)
+    assert exact.model_error == 0.0
+    assert "no model error needed" in exact.summary()
+    bent = np.sqrt(avar(tau, N=0.02, B=0.1, K=0.5)) * (1 + 0.1 * np.sin(np.arange(tau.size)))
+    model = quiet_fit(make_result(tau, bent), significance=None)
+    assert model.model_error > 0
+    text = chi2_sentence(model.chi2, model.dof, model.model_error)
+    assert f"after adding the fitted model error {model.model_error:.3g}" in text
+    assert "brings chi2 near its dof" in text and text in model.summary()
+    assert chi2_sentence(3.0, 4.0, float("nan")).endswith("(unweighted residual sum of squares)")

@@ -77,3 +77,28 @@ def test_plot_allan_set_and_axes() -> None:
     assert plot_allan(a, ax=ax) is own
     with pytest.raises(DataError, match="one model per curve: 2 curve"):
         plot_allan(pair, quiet_fit(a))
+
+
+def test_plot_allan_leaves_out_a_readoff_the_curve_cannot_give() -> None:
+    """White noise and a flicker floor (the exact IEEE-952 curve): no segment rises at
+    +1/2, so the figure neither labels nor draws a K read-off, nor widens its axes to reach
+    it (ADIS16405 run 1 X drew "read-off K = 53.9" from a +0.13 segment near the floor, and
+    its y axis went down to 1e-4 for it)."""
+    from fogts.allan.readout import readoff_supported
+    from tests.allan.noise_cases import avar, make_result
+
+    tau = 2.0 ** np.arange(-4, 12)
+    dev = np.sqrt(avar(tau, N=0.02, B=0.1))
+    res = make_result(tau, dev, ci=(0.95 * dev, 1.05 * dev))
+    model = quiet_fit(res)
+    assert readoff_supported(model.readoff, "N") and not readoff_supported(model.readoff, "K")
+    fig = plot_allan(res, model)
+    ax = fig.axes[0]
+    labels = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert any(lbl.startswith("read-off N =") for lbl in labels)
+    assert not any(lbl.startswith("read-off K") for lbl in labels)
+    k_dev = next(d for name, _, d in model.readoff.points if name == "K")
+    lo, _ = ax.get_ylim()
+    assert k_dev < lo  # the unread K point stays outside: the axes were not widened for it
+    assert not [ln for ln in ax.get_lines()
+                if ln.get_linestyle() == ":" and 3.0 in ln.get_xdata()]

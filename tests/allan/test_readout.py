@@ -5,7 +5,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from fogts.allan.readout import read_curve, slope_readoff
+from fogts.allan.readout import (
+    READOFF_SLOPE_TOLERANCE,
+    read_curve,
+    readoff_supported,
+    slope_readoff,
+)
 from fogts.allan.terms import B_PLATEAU
 from fogts.errors import DataError, InsufficientDataError
 from tests.allan.noise_cases import avar, make_result, quiet_fit
@@ -143,3 +148,44 @@ def test_slope_readoff_of_pure_lines() -> None:
     assert k_line.to_dict()["K"]["read_at_tau"] == 3.0
     single = slope_readoff(tau[:1], np.array([0.3]), 1.0)
     assert single.tau_B_s == tau[0] and np.isnan(single.N)
+
+
+def test_a_readoff_without_a_segment_of_its_slope_is_not_read() -> None:
+    """White noise plus a flicker floor (no rate random walk): the segment nearest +1/2 is
+    flat, so a +1/2 line through it reads no K (ADIS16405 run 1 X printed "K = 53.87
+    deg/h^1.5 (+1/2 line at tau = 3 s)" from a segment of slope +0.11 while the fit gave
+    K < 55.9)."""
+    tau = 2.0 ** np.arange(-4, 12)
+    dev = np.sqrt(avar(tau, N=0.02, B=0.1))
+    r = slope_readoff(tau, dev, 1.0)
+    assert readoff_supported(r, "N") and not readoff_supported(r, "K")
+    assert readoff_supported(r, "B")
+    assert abs(r.slope_K - 0.5) > READOFF_SLOPE_TOLERANCE  # the closest is the flat floor
+    text = r.describe()
+    assert "K not read (no segment of slope +1/2: the closest, " in text
+    assert f"{r.slope_K:+.2f}, starts at tau = {r.tau_K_s:.4g} s)" in text
+    assert "K = " not in text and "N = " in text and "B = " in text
+    # the JSON keeps the number and the local slope it came from (the contract)
+    assert r.to_dict()["K"]["local_slope"] == pytest.approx(r.slope_K)
+    # a curve that does rise at +1/2 is read
+    k_curve = slope_readoff(tau, np.sqrt(avar(tau, N=0.02, B=0.1, K=5.0)), 1.0)
+    assert readoff_supported(k_curve, "K") and "K = " in k_curve.describe()
+
+
+def test_the_readoff_tolerance_is_half_way_to_the_neighbouring_slopes() -> None:
+    tau = 2.0 ** np.arange(-4, 8)
+    for slope, read in ((-0.5 + 0.24, True), (-0.5 + 0.26, False), (-0.5 - 0.26, False)):
+        r = slope_readoff(tau, tau**slope, 1.0)
+        assert r.slope_N == pytest.approx(slope, abs=1e-12)
+        assert readoff_supported(r, "N") is read
+
+
+def test_region_labels_do_not_read_as_term_names() -> None:
+    """The curve table printed "falling (B)" two rows above "B dominates", where B is the
+    bias-instability term; the regions are labelled "region B" etc."""
+    tau = np.logspace(-2, 5, 29)
+    terms = _theory(tau)
+    total = np.sqrt(sum(v**2 for v in terms.values()))
+    text = read_curve(tau, total, term_curves=terms).table("deg/h", "x").to_text()
+    assert "falling (region B)" in text and "floor (region C)" in text
+    assert "rising (region D)" in text and "falling (B)" not in text

@@ -124,3 +124,23 @@ def test_rows_name_each_terms_unit_and_its_spec_verdict(files: Path, tmp_path: P
     row = pd.read_csv(out).iloc[0]
     assert (row["N_unit"], row["B_spec"], row["N_spec"]) == ("rad/s/sqrt(Hz)", "FAIL", "PASS")
     assert row["N"] == pytest.approx(si["N"], rel=1e-12)
+
+
+def test_accelerometer_rows_name_their_own_input_unit(tmp_path: Path) -> None:
+    """A batch row of an accelerometer axis gave the gyro's input unit (CH104 read with
+    --units deg/s: accReading rows said deg/s and N in deg/sqrt(h))."""
+    import numpy as np
+
+    rng = np.random.default_rng(13)
+    n = 12_000
+    path = tmp_path / "imu.csv"
+    pd.DataFrame({"time": np.arange(n) / 10.0, "gyro_x_deg_s": rng.normal(0, 0.01, n),
+                  "acc_z": 1.0 + rng.normal(0, 1e-3, n)}).to_csv(path, index=False)
+    out = analyze_file(str(path), BatchOptions(select=False))
+    assert out.status == "ok"
+    rows = {r["axis"]: r for r in out.rows}
+    assert (rows["gyro_x_deg_s"]["input_units"], rows["gyro_x_deg_s"]["units_source"]) == \
+        ("deg/s", "column name")
+    assert (rows["acc_z"]["input_units"], rows["acc_z"]["units_source"]) == \
+        ("g", "gravity magnitude")
+    assert rows["acc_z"]["N_unit"] == "m/s/sqrt(h)" and rows["acc_z"]["B_unit"] == "ug"

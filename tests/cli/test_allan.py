@@ -340,6 +340,54 @@ def test_the_command_leaves_slow_imports_out(gyro_npy: Path, tmp_path: Path) -> 
     assert json.loads((tmp_path / "a.json").read_text())["axes"][0]["points"]
 
 
+def test_curve_readouts_follow_output_units_si(gyro_npy: Path) -> None:
+    """--output-units si prints the points in rad/s; the read-out table below them (the
+    minimum, its interval and the flicker floor) must be in rad/s too, not deg/h
+    (1 deg/h = pi/180/3600 rad/s; the same numbers, so 1e-3 relative covers the printed
+    4 significant digits)."""
+    minimum = re.compile(r"│ minimum\s+│ [^│]+│ ([0-9.e+-]+) \[([0-9.e+-]+), ([0-9.e+-]+)\] "
+                         r"(\S+); floor/0\.664 = ([0-9.e+-]+) (\S+)")
+    code, deg, err = _run([gyro_npy, "--fs", FS, "-q"])
+    assert code == 0, err
+    code, si, err = _run([gyro_npy, "--fs", FS, "-q", "--output-units", "si"])
+    assert code == 0, err
+    d, s = minimum.search(deg), minimum.search(si)
+    assert d is not None and s is not None
+    assert d.group(4) == d.group(6) == "deg/h" and s.group(4) == s.group(6) == "rad/s"
+    factor = np.pi / 180.0 / 3600.0
+    for i in (1, 2, 3, 5):
+        assert float(s.group(i)) == pytest.approx(float(d.group(i)) * factor, rel=1e-3)
+
+
+def test_glitch_warning_says_replaced_under_outliers(tmp_path: Path) -> None:
+    """With --outliers K the glitch warning must not say the glitches are "kept in the
+    analysis" (ADIS16405 run 4 said so while the same run replaced 14 samples)."""
+    rng = np.random.default_rng(8)
+    rate = rng.standard_normal(20_000)
+    rate[[5_000, 12_000]] += 60.0  # two 60-sigma spikes
+    path = tmp_path / "spiky.npy"
+    np.save(path, rate)
+    code, _, err = _run([path, "--fs", "10", "--units", "deg/h", "-q"])
+    assert code in (0, 1) and "2 glitches" in err and "kept in the analysis" in err
+    code, _, err = _run([path, "--fs", "10", "--units", "deg/h", "-q", "--outliers", "7"])
+    assert code in (0, 1), err
+    assert "2 glitches" in err and "kept in the analysis" not in err
+    assert ("--outliers 7: samples beyond 7 robust sigmas are replaced before the analysis"
+            in err)
+
+
+def test_the_curve_notes_reach_the_terminal(gyro_npy: Path) -> None:
+    """An explicit tau off the sample grid is rounded to whole samples; the note saying so
+    was in the JSON and in AllanResult.summary() but not on the terminal (0.015 s at
+    100 Hz is computed at 0.01 s: a 0.005 s change)."""
+    code, out, err = _run([gyro_npy, "--fs", FS, "-q", "--taus", "0.015,0.1,1,10,100,300",
+                           "--terms", "N,K"])
+    assert code == 0, err
+    assert ("note: 1 explicit tau(s) rounded to the nearest whole number of samples "
+            "(largest change 0.005 s)") in out
+    assert "note: prepared" not in out  # the preparation steps are printed once, above
+
+
 def test_allan_runs_with_the_cycle_collector_paused_and_restores_it(
         gyro_npy: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     import gc

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import re
 from pathlib import Path
 
 import numpy as np
@@ -64,3 +65,35 @@ def test_filter_bad_options(ar_file: Path, tmp_path: Path, args: list[str], mess
     assert res.exit_code == 2
     lines = error_output(res.stderr).splitlines()
     assert len(lines) == 1 and lines[0].startswith("error: ") and message in lines[0], res.stderr
+
+
+@pytest.mark.parametrize("args, message", [
+    (["--cutoff", "3"],
+     r"--method kalman does not use --cutoff \(--cutoff applies to --method iir\)"),
+    (["--compare-allan"], r"--method kalman does not use --compare-allan \(--compare-allan "
+                          r"applies to --method iir or moving-average\)"),
+    (["--method", "iir", "--cutoff", "1", "--model", "AR(1)", "--window", "2"],
+     r"--method iir does not use --model, --window \(--model applies to --method kalman; "
+     r"--window applies to --method moving-average\)"),
+    (["--method", "moving-average", "--window", "1", "--order", "2", "--measurement-noise",
+      "0.1"], r"--method moving-average does not use --measurement-noise, --order"),
+])
+def test_options_of_another_method_are_refused(ar_file: Path, tmp_path: Path, args: list[str],
+                                               message: str) -> None:
+    """An option of another --method was silently ignored (``--method kalman --cutoff 3``
+    exited 0); it is refused with the one-line error and nothing is written."""
+    out = tmp_path / "f.csv"
+    res = runner.invoke(app, ["filter", str(ar_file), "-o", str(out), *args])
+    assert res.exit_code == 2
+    line = error_output(res.stderr)
+    assert re.search(message, line) and line.endswith("drop it or change --method")
+    assert not out.exists()
+
+
+def test_kalman_text_states_the_rate_unit(ar_file: Path, tmp_path: Path) -> None:
+    """The Kalman summary prints sigma2, H and the std of the series without a unit; the
+    drift-model line above it states the rate unit they are in."""
+    res = runner.invoke(app, ["filter", str(ar_file), "--model", "AR(1)", "--units", "deg/s",
+                              "-o", str(tmp_path / "f.csv")])
+    assert res.exit_code == 0, res.output
+    assert "[rate in deg/s; sigma2 and H in (deg/s)^2]" in res.stdout

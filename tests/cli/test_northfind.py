@@ -91,3 +91,31 @@ def test_missing_position_and_wrong_file_count(tmp_path: Path) -> None:
     assert res.exit_code == 2 and "positions 180 are missing" in res.stderr
     res = runner.invoke(app, ["northfind", str(path), str(path), "--latitude", "32", "--fs", "1"])
     assert res.exit_code == 2 and "four files" in res.stderr
+
+
+def test_plot_outside_simulation_is_refused_before_any_output(tmp_path: Path) -> None:
+    """--plot with a positions file exited 2 after writing the --json file; the refusal now
+    comes first and nothing is written."""
+    r = _rates()
+    path = tmp_path / "pos.csv"
+    pd.DataFrame({"time": np.arange(240.0), "position_deg": np.repeat([0, 90, 180, 270], 60),
+                  "rate": np.concatenate([r[p] for p in (0, 90, 180, 270)])}).to_csv(path, index=False)
+    out = tmp_path / "n.json"
+    res = runner.invoke(app, ["northfind", str(path), "--latitude", str(LAT), "--json", str(out),
+                              "--plot", str(tmp_path / "n.png")])
+    assert res.exit_code == 2
+    assert error_output(res.stderr) == "error: --plot is available in --simulate mode only"
+    assert not out.exists()
+
+
+@pytest.mark.parametrize("args, stray", [
+    (["--bias-sigma", "-1"], "--bias-sigma"),
+    (["--transition", "5", "--position-column", "pos"], "--transition, --position-column"),
+])
+def test_simulation_refuses_the_options_of_measured_files(args: list[str], stray: str) -> None:
+    """--simulate ignored --bias-sigma (even -1), --transition and --position-column."""
+    res = runner.invoke(app, ["northfind", "--simulate", "2", "--latitude", str(LAT), *args])
+    assert res.exit_code == 2
+    assert error_output(res.stderr) == (
+        f"error: --simulate does not use {stray} (options of measured positions files); drop "
+        "it or give the files instead of --simulate")

@@ -108,6 +108,38 @@ def test_simulate_sidecar_never_replaces_its_from_json_input(tmp_path: Path) -> 
     assert _digest(sidecar) == before
 
 
+def test_simulate_never_replaces_a_file_it_did_not_write(recording: Path, tmp_path: Path) -> None:
+    sim = ["simulate", "noise", "--N", "0.1", "--duration", "10s", "-o"]
+    before = _digest(recording)
+    res = runner.invoke(app, [*sim, str(recording)])          # a recording, no sidecar
+    assert res.exit_code == 2, res.output
+    assert error_output(res.stderr).startswith(f"error: --output '{recording}' already exists "
+                                               "and was not written by 'fogts simulate'")
+    assert _digest(recording) == before and not Path(f"{recording}.json").exists()
+
+    user_json = tmp_path / "new.csv.json"                    # the sidecar name taken
+    user_json.write_text('{"mine": true}\n')
+    res = runner.invoke(app, [*sim, str(tmp_path / "new.csv")])
+    assert res.exit_code == 2
+    assert "--output's sidecar" in res.stderr and "is not the record" in res.stderr
+    assert user_json.read_text() == '{"mine": true}\n' and not (tmp_path / "new.csv").exists()
+
+    out = tmp_path / "sim.csv"                              # its own output: replaced
+    assert runner.invoke(app, [*sim, str(out)]).exit_code == 0
+    first = _digest(out)
+    res = runner.invoke(app, [*sim[:-1], "--seed", "5", "-o", str(out)])
+    assert res.exit_code == 0, res.output
+    assert _digest(out) != first
+
+    moved = tmp_path / "other.csv"                          # a sidecar naming another file
+    out.rename(moved)
+    Path(f"{out}.json").rename(Path(f"{moved}.json"))
+    (tmp_path / "other.csv.json").write_text(
+        (tmp_path / "other.csv.json").read_text().replace('"sim.csv"', '"elsewhere.csv"'))
+    res = runner.invoke(app, [*sim, str(moved)])
+    assert res.exit_code == 2 and "is not the record" in res.stderr
+
+
 def test_special_file_and_duplicate_outputs_are_refused(recording: Path, tmp_path: Path) -> None:
     res = runner.invoke(app, ["info", str(recording), "--json", "/dev/null"])
     assert res.exit_code == 2
@@ -173,3 +205,30 @@ def test_main_turns_any_escaped_exception_into_one_line(
         main(["info", "x.csv"])
     assert exc.value.code == 2
     assert capsys.readouterr().err == "error: a bug outside every guard\n"
+
+
+@pytest.mark.parametrize("args", [
+    ["filter", "{rec}", "-o", "{tmp}/f.csv", "--model", "AR(1)", "--json", "{tmp}/o.json",
+     "--plot", "{tmp}/fig.txt"],
+    ["compensate", "{rec}", "--no-emd", "-o", "{tmp}/f.csv", "--json", "{tmp}/o.json",
+     "--plot", "{tmp}/fig.txt"],
+    ["davar", "{rec}", "--window", "60s", "--step", "30s", "--json", "{tmp}/o.json",
+     "--plot", "{tmp}/fig.txt"],
+    ["northfind", "--simulate", "2", "--latitude", "45", "--json", "{tmp}/o.json",
+     "--plot", "{tmp}/fig.txt"],
+])
+def test_a_bad_plot_name_is_refused_before_any_output(tmp_path: Path, args: list[str]) -> None:
+    """filter, compensate, davar and northfind wrote --json (and -o) and then refused the
+    --plot name: the one-line error must leave no output behind."""
+    import pandas as pd
+
+    rng = np.random.default_rng(14)
+    n = 3000
+    rec = tmp_path / "rec.csv"
+    pd.DataFrame({"time": np.arange(n) / 10.0, "rate_deg_h": rng.normal(size=n),
+                  "T": 20.0 + np.linspace(0.0, 5.0, n)}).to_csv(rec, index=False)
+    argv = [a.replace("{rec}", str(rec)).replace("{tmp}", str(tmp_path)) for a in args]
+    res = CliRunner().invoke(app, argv)
+    assert res.exit_code == 2
+    assert error_output(res.stderr) == "error: --plot must end in .png, .svg or .pdf; got 'fig.txt'"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["rec.csv"]

@@ -66,3 +66,32 @@ def test_median_step_equals_numpy_bit_for_bit() -> None:
     for dt in _step_cases():
         got, expected = np.float64(median_step(dt)), np.float64(np.median(dt))
         assert got.view(np.int64) == expected.view(np.int64), dt.size
+
+
+def test_a_given_rate_that_contradicts_the_file_is_reported(tmp_path: Path) -> None:
+    """--fs 10 on a 100 Hz record (time column or an .npz fs_hz key) warns with both
+    numbers and is still used; a given rate that matches either step rate (a burst-logged
+    file's mean step, say) or the file's rate is silent."""
+    import warnings
+
+    from fogts.errors import DataQualityWarning
+    from fogts.io.timebase import GIVEN_RATE_TOLERANCE
+
+    rate = np.random.default_rng(2).normal(size=400)
+    frame = pd.DataFrame({"time": np.arange(400) / 100.0, "rate_deg_h": rate})
+    with pytest.warns(DataQualityWarning, match=r"fs_hz = 10 Hz \(given\) disagrees with the "
+                      r"time stamps \(median step 0\.01 s: 100 Hz; mean step 0\.01 s: 100 Hz\)"
+                      r" by more than 10 %; the given rate is used for every tau"):
+        run = read_run(frame, fs_hz=10.0)
+    assert run.fs_hz == 10.0
+    npz = tmp_path / "r.npz"
+    np.savez(npz, gyro_deg_s=rate, fs_hz=100.0)
+    with pytest.warns(DataQualityWarning, match="disagrees with the file's own sample rate "
+                      "100 Hz by more than 10 %"):
+        assert read_run(npz, fs_hz=10.0).fs_hz == 10.0
+    within = 100.0 * (1 + GIVEN_RATE_TOLERANCE) * 0.99  # inside the tolerance: silent
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", DataQualityWarning)
+        assert read_run(frame, fs_hz=within).fs_hz == within
+        assert read_run(npz, fs_hz=100.0).fs_hz == 100.0
+        assert read_run(rate, fs_hz=3.0).fs_hz == 3.0  # nothing to contradict

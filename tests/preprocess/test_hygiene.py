@@ -48,3 +48,27 @@ def test_assess_run_units_and_dict() -> None:
     _, q = assess_run(run)
     assert q.warnings() == [] and q.summary() == "no data-quality issue found"
     assert q.to_frame().empty
+
+
+def test_accelerometer_axes_keep_their_unit_in_the_quality_record() -> None:
+    """The "no unit in the rate column(s)" warning names the gyro columns only, and the
+    glitch reports of accelerometer axes carry their unit (g), not the rate unit."""
+    rng = np.random.default_rng(5)
+    n = 3000
+    frame = pd.DataFrame({"time": np.arange(n) / 100.0, "gyro_x": rng.normal(size=n),
+                          "acc_x": 0.01 * rng.normal(size=n),
+                          "acc_z": 1.0 + 0.01 * rng.normal(size=n)})
+    _, q = assess_run(read_run(frame))
+    assert q.warnings()[0].startswith("no unit in the rate column(s) 'gyro_x'; assuming deg/h")
+    assert "acc_x" not in q.warnings()[0]
+    units = {g.axis: g.units for g in q.glitches}
+    assert units == {"gyro_x": "deg/h", "acc_x": "g", "acc_z": "g"}
+    assert [g["units"] for g in q.to_dict()["glitches"]] == ["deg/h", "g", "g"]
+
+
+def test_glitch_wording_with_and_without_replacement() -> None:
+    from fogts.preprocess.hygiene import GLITCHES_KEPT, glitches_replaced
+
+    assert GLITCHES_KEPT.startswith("kept in the analysis")
+    assert glitches_replaced(5.5) == ("--outliers 5.5: samples beyond 5.5 robust sigmas are "
+                                      "replaced before the analysis (counted below)")

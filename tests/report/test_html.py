@@ -14,6 +14,7 @@ import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import numpy as np
+import pandas as pd
 import pytest
 from markupsafe import escape
 from typer.testing import CliRunner
@@ -292,3 +293,20 @@ def test_thermal_section_shows_the_out_of_sample_gain() -> None:
     assert len(table.rows) == 5 and "not scored" in table.rows[0][0]
     assert any(b.kind == "paragraph" and b.text.startswith("Out of sample (5 time blocks")
                for b in blocks)
+
+
+def test_thermal_section_gives_the_summary_reason_for_no_claim(tmp_path: Path) -> None:
+    """A temperature span under 1 °C: the thermal model is not testable, and the HTML row
+    gives that reason, as the terminal does (it said "model not significant", which is a
+    different verdict, while the verdict block above it said the span is too small)."""
+    rng = np.random.default_rng(4)
+    n = 4000
+    t = np.arange(n) / 10.0
+    src = tmp_path / "flat.csv"
+    pd.DataFrame({"time": t, "rate_deg_h": rng.normal(0.0, 0.3, n),
+                  "T": 25.0 + 0.2 * np.sin(t / 50.0)}).to_csv(src, index=False)
+    rep = build_report(read_run(src), parts=("thermal",))
+    text = write_report(tmp_path / "r.html", rep).read_text(encoding="utf-8")
+    assert "after compensation (not claimed as an improvement: the thermal model is not " \
+           "testable on this record" in text
+    assert "model not significant" not in text

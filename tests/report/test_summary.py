@@ -67,3 +67,41 @@ def test_mixed_units_go_into_the_cells() -> None:
     assert table.titles[2] == "N" and table.titles[3] == "B (deg/h)"
     assert [r[2] for r in table.cells()] == ["1 ± 0.1 deg/h", "< 2.00e-06 rad/s"]
     assert table.cells()[0][5] == "not checked"
+
+
+def _imu_csv(path: Path) -> Path:
+    """10 Hz, 40 min: a gyro axis in deg/h and an accelerometer triad in g (|mean| = 1)."""
+    import numpy as np
+    import pandas as pd
+
+    rng = np.random.default_rng(12)
+    n = 24_000
+    pd.DataFrame({"time": np.arange(n) / 10.0, "gyro_x_deg_h": rng.normal(0, 1.0, n),
+                  "acc_x": rng.normal(0, 1e-3, n), "acc_y": rng.normal(0, 1e-3, n),
+                  "acc_z": 1.0 + rng.normal(0, 1e-3, n)}).to_csv(path, index=False)
+    return path
+
+
+def test_accelerometer_rows_carry_accelerometer_units(tmp_path: Path) -> None:
+    """The summary labelled an accelerometer axis' N, B, K in deg/sqrt(h), deg/h and
+    deg/h^1.5 (CH104's accReading axes, in `fogts allan` and in the batch CSV) while the
+    values were in m/s/sqrt(h), ug and m/s/h^1.5, as the term table says."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        analysis = analyse_allan(*load(_imu_csv(tmp_path / "imu.csv")))
+    rows = summary_rows([analysis])
+    units = {r["axis"]: (r["N_unit"], r["B_unit"], r["K_unit"]) for r in rows}
+    assert units["gyro_x_deg_h"] == ("deg/sqrt(h)", "deg/h", "deg/h^1.5")
+    for acc in ("acc_x", "acc_y", "acc_z"):
+        assert units[acc] == ("m/s/sqrt(h)", "ug", "m/s/h^1.5")
+    acc_z = next(ax for ax in analysis.axes if ax.result.axis == "acc_z")
+    assert acc_z.model is not None
+    row = next(r for r in rows if r["axis"] == "acc_z")
+    assert row["N_unit"] == acc_z.model.in_units("N", "deg")["unit"]
+    assert next(r for r in summary_rows([analysis], "si")
+                if r["axis"] == "acc_z")["N_unit"] == "m/s^2/sqrt(Hz)"
+    text = summary_table(rows).to_text()
+    assert "m/s/sqrt(h)" in text and "deg/sqrt(h)" in text  # mixed: the unit in each cell
+    assert "(accelerometer axes: N velocity random walk" in text
+    gyro_only = [r for r in rows if r["axis"] == "gyro_x_deg_h"]
+    assert "accelerometer axes" not in summary_table(gyro_only).to_text()

@@ -3,9 +3,17 @@
 from __future__ import annotations
 
 import numpy as np
+import pandas as pd
 
 from fogts.io.reader import read_run
-from fogts.report.text import info_text, json_dumps, run_info, to_jsonable
+from fogts.report.text import (
+    axes_rows,
+    info_text,
+    json_dumps,
+    run_info,
+    time_base_verdict,
+    to_jsonable,
+)
 
 
 def test_json_helpers_and_info_text() -> None:
@@ -14,3 +22,47 @@ def test_json_helpers_and_info_text() -> None:
     run = read_run(np.random.default_rng(0).normal(size=100), fs_hz=10.0)
     info = run_info(run)
     assert info["n"] == 100 and "samples     100" in info_text(info)
+
+
+def _imu_frame() -> pd.DataFrame:
+    rng = np.random.default_rng(3)
+    n = 2000
+    return pd.DataFrame({"time": np.arange(n) / 100.0, "gyro_x": rng.normal(size=n),
+                         "acc_x": 0.01 * rng.normal(size=n), "acc_y": 0.01 * rng.normal(size=n),
+                         "acc_z": 1.0 + 0.01 * rng.normal(size=n)})
+
+
+def test_accelerometer_axes_are_not_listed_as_rate_axes() -> None:
+    """A gyro-and-accelerometer file (as CH104's gyroReading/accReading): the accelerometer
+    axes are listed with their own unit (g from the gravity magnitude, |mean| = 1), not
+    under "rate axes" in the assumed deg/h."""
+    run = read_run(_imu_frame())
+    assert run.unit_of("acc_z") == "g"
+    rows = axes_rows(run)
+    assert rows == [("rate axes", "gyro_x  [deg/h]"),
+                    ("accel axes", "acc_x, acc_y, acc_z  [g] (unit from gravity magnitude)")]
+    text = info_text(run_info(run), rows)
+    assert "rate axes   gyro_x  [deg/h]" in text
+    assert "accel axes  acc_x, acc_y, acc_z  [g]" in text
+    # without the rows (the JSON payload alone) the text keeps its one line
+    assert "rate axes   gyro_x, acc_x, acc_y, acc_z  [deg/h]" in info_text(run_info(run))
+
+
+def test_an_irregular_time_base_says_why() -> None:
+    """"IRREGULAR: 0 gap(s) ..." (the real FOG file, jitter 4.1 % of the step) did not say
+    which number made it irregular; the reason is now given beside the numbers."""
+    rng = np.random.default_rng(1)
+    n = 500
+    jittery = pd.DataFrame({"time": np.arange(n) / 100.0 + rng.uniform(0, 0.001, n),
+                            "rate_deg_h": rng.normal(size=n)})
+    info = run_info(read_run(jittery))
+    assert info["jitter"]["relative"] > 0.01 and info["gaps"]["count"] == 0
+    assert time_base_verdict(info) == "IRREGULAR (jitter >= 1 % of the step)"
+    assert "time base   IRREGULAR (jitter >= 1 % of the step): 0 gap(s)" in info_text(info)
+    t = np.arange(n) / 100.0
+    t[300:] += 1.0  # one 1 s gap, steps otherwise exact
+    gappy = pd.DataFrame({"time": t, "rate_deg_h": rng.normal(size=n)})
+    info = run_info(read_run(gappy))
+    assert time_base_verdict(info).startswith("IRREGULAR (gaps")
+    regular = pd.DataFrame({"time": np.arange(n) / 100.0, "rate_deg_h": rng.normal(size=n)})
+    assert time_base_verdict(run_info(read_run(regular))) == "regular"

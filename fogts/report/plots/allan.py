@@ -8,6 +8,7 @@ from typing import Any
 import numpy as np
 from matplotlib.figure import Figure
 
+from fogts.allan.readout import readoff_supported
 from fogts.report.plots._common import mpl_text, num_tex, time_unit, value_pm_tex
 from fogts.report.plots.allan_fit import (
     draw_outside_points,
@@ -99,8 +100,9 @@ def _limits(curves: list[Any], model: Any) -> tuple[tuple[float, float], tuple[f
     ymax = float(np.nanmax(np.where(good & np.isfinite(hi_all), hi_all, dev_all)[good]))
     xlim = (float(tau_all.min()) / 1.5, float(tau_all.max()) * 1.5)
     if model is not None:
-        near = [dev for _, tau, dev in model.readoff.points
-                if np.isfinite(dev) and xlim[0] <= tau <= xlim[1]
+        near = [dev for name, tau, dev in model.readoff.points
+                if readoff_supported(model.readoff, name)  # only the read-offs drawn
+                and np.isfinite(dev) and xlim[0] <= tau <= xlim[1]
                 and ymin / 20 <= dev <= ymax * 20]
         ymin, ymax = min([ymin, *near]), max([ymax, *near])
     return xlim, (ymin / 2.5, ymax * 2.5)
@@ -149,6 +151,8 @@ def _readoff_points(ax: Any, res: Any, model: Any, xlim: tuple[float, float],
              "K": f"read-off K = {num_tex(ro.K)} {_TERM_UNIT_TEX['K']} (+1/2 line at τ = 3 s)",
              "B": f"read-off B = {num_tex(ro.B)} {_TERM_UNIT_TEX['B']} (minimum / 0.664)"}
     for name, tau_ro, dev_ro in ro.points:
+        if not readoff_supported(ro, name):  # no segment of the term's slope: nothing read
+            continue
         if (np.isfinite(dev_ro) and xlim[0] <= tau_ro <= xlim[1]
                 and ylim[0] <= dev_ro <= ylim[1]):
             ax.plot([tau_ro], [dev_ro], _READOFF_MARKER[name], color=_TERM_STYLE[name][0],
