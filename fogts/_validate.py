@@ -19,7 +19,7 @@ from fogts._typing import FloatArray
 from fogts.errors import DataError, InsufficientDataError
 
 __all__ = ["all_finite", "as_rng", "check_choice", "check_fraction", "check_int", "check_positive",
-           "checked_sum", "finite_or_none", "finite_sum", "is_pandas", "known_sums", "note_sum",
+           "checked_sum", "finite_or_none", "finite_sum", "forget_sum", "is_pandas", "known_sums", "note_sum",
            "pandas_index", "sums_known", "to_float_array"]
 
 #: Within :func:`known_sums`: id of an array -> the array and its :func:`finite_sum`.
@@ -135,6 +135,25 @@ def note_sum(arr: np.ndarray, total: float) -> None:
     known = _KNOWN_SUMS.get()
     if known is not None:
         known[id(arr)] = (arr, total)
+
+
+def forget_sum(arr: np.ndarray) -> None:
+    """Forget the sum :func:`note_sum` recorded for ``arr``, whose values are about to
+    change (:func:`fogts.allan.kernels.phase_in_place`); nothing if none was.
+
+    Examples
+    --------
+    >>> x = np.array([1.0, 2.0])
+    >>> with known_sums():
+    ...     note_sum(x, 0.5)  # a recorded sum is taken as it is ...
+    ...     recorded = finite_sum(x)
+    ...     forget_sum(x)     # ... until it is forgotten: then the values are summed
+    ...     recorded, finite_sum(x)
+    (0.5, 3.0)
+    """
+    known = _KNOWN_SUMS.get()
+    if known is not None and known.get(id(arr), (None,))[0] is arr:
+        del known[id(arr)]
 
 
 def finite_sum(arr: np.ndarray) -> float | None:

@@ -134,6 +134,14 @@ class AllanSettings:
         """Whether the data are prepared before the analysis."""
         return any(v is not None for v in (self.outliers, self.detrend, self.decimate))
 
+    @property
+    def reads_rate_after_curve(self) -> bool:
+        """Whether :func:`analyse_allan_axis` reads the axis' rate again once its Allan curve
+        is computed: preparing (and the outlier effect's second curve), the ML fit (chosen
+        or compared) and the allantools check do; the other fits use the curve alone."""
+        return (self.prepares or self.check_allantools
+                or "ml" in (self.method, *self.compare_methods))
+
 
 @dataclass(frozen=True)
 class AxisAllan:

@@ -42,6 +42,7 @@ from fogts.allan.decimated import (
 from fogts.allan.kernels import (
     NORMALISATION,
     SHARED_WALK_BELOW,
+    given_up_buffer,
     hook_sees_chunks,
     phase_from_angle,
     phase_from_rate,
@@ -253,7 +254,10 @@ def _run_phased(kind: str, y: Any, fs_hz: float, m: npt.ArrayLike, workers: int 
     if angle is not None and angle.shape != (arr.size + 1,):
         raise DataError(f"angle must have one point more than the rate ({arr.size + 1}), "
                         f"got shape {angle.shape}")
-    x = phase_from_rate(arr, mean=mean) if angle is None else phase_from_angle(angle, fs)
+    if angle is None:  # in the rate's own buffer when the caller gave it up (phase_in_place)
+        x = phase_from_rate(arr, mean=mean, out=given_up_buffer(arr))
+    else:
+        x = phase_from_angle(angle, fs)
     nw = thread_count(workers, mm.size, int(terms.sum()))
 
     def job(idx: list[int]) -> list[tuple[float, DecimatedSums | None]]:

@@ -62,6 +62,7 @@ def _allan_tables(res: AllanResult, model: NoiseModel | None, check: dict[str, A
 @common.app.command("allan")
 @shows_progress()
 @common.reads_input()
+@common.pauses_cycle_collection
 def allan_cmd(
     files: Annotated[list[Path], typer.Argument(help="Input recording(s). Several files (or a multi-axis file) are overlaid on one --plot for comparing gyros.")],
     kind: common.KindOpt = "oadev",
@@ -100,7 +101,10 @@ def allan_cmd(
 
     Exit code 1 if a term FAILs its --spec limit, 2 on bad input.
     """
+    from contextlib import nullcontext
+
     from fogts._validate import known_sums
+    from fogts.allan.kernels import phase_in_place
     from fogts.allan.markov import split_terms
     from fogts.pipeline import AllanAnalysis, AllanSettings, analyse_allan_axis
     from fogts.report.summary import SUMMARY_TERMS, summary_rows, summary_table
@@ -132,7 +136,11 @@ def allan_cmd(
                 picks = range(run.n_axes) if axis is None else [common.axis_index(run, axis)]
                 done = []
                 for i in picks:
-                    with common.named_warnings(Path(run.source).name, run.axes[i]):
+                    # The analysis is the last reader of a one-axis rate, unless the settings
+                    # read it again: its phase may then take the rate's own memory.
+                    spent = (phase_in_place(run.rate) if run.n_axes == 1
+                             and not settings.reads_rate_after_curve else nullcontext())
+                    with common.named_warnings(Path(run.source).name, run.axes[i]), spent:
                         done.append(analyse_allan_axis(run, i, settings))
                     warning = done[-1].plausibility_warning(run)
                     if warning is not None:

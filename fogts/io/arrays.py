@@ -108,8 +108,15 @@ def _read_checked_float64(path: Path, header: NpyHeader
     passes over memory.  The blocks are the nodes of numpy's pairwise summation
     (:func:`~fogts.io.timesteps.pairwise_fold_halves`, the two halves read on two threads
     for a large file, each with its own file handle), so their sums add up to
-    ``numpy.sum`` bit for bit.  The values are those of ``np.load``, bit for bit."""
-    arr = np.empty(header.shape, dtype=np.float64)
+    ``numpy.sum`` bit for bit.  The values are those of ``np.load``, bit for bit.
+
+    A 1-D array is read into the tail ``buf[1:]`` of a buffer one point longer, so that an
+    owner that reads the rate no more can form its phase (``n + 1`` points) in the same
+    memory instead of a second array (:func:`fogts.allan.kernels.phase_in_place`)."""
+    if len(header.shape) == 1:
+        arr = np.empty(header.shape[0] + 1, dtype=np.float64)[1:]
+    else:
+        arr = np.empty(header.shape, dtype=np.float64)
     flat = arr.reshape(-1)
     raw = flat.data.cast("B")
     summing = arr.ndim == 1 and sums_known()

@@ -102,3 +102,18 @@ def test_shared_walk_gives_each_lags_own_sum(monkeypatch: pytest.MonkeyPatch,
     got = kernels.ss_second_lags(x, lags, terms, [None] * len(lags))
     want = [kernels.ss_second(x, m, t) for m, t in zip(lags, terms, strict=True)]
     np.testing.assert_allclose(got, want, rtol=1e-15, atol=0)
+
+
+@pytest.mark.parametrize("n", [1, kernels.DOT_BLOCK, kernels.DOT_BLOCK + 1, 4 * kernels.DOT_BLOCK,
+                               4 * kernels.DOT_BLOCK + 77])
+def test_sum_of_squares_by_vecdot_equals_the_block_loop(monkeypatch: pytest.MonkeyPatch,
+                                                        n: int) -> None:
+    """The rows of ``numpy.vecdot`` are the same BLAS ``ddot`` calls as ``numpy.dot`` of each
+    block, added in the same order: equal exactly (also from an unaligned start)."""
+    v = np.random.default_rng(8).normal(size=n + 1)[1:] * 1e3
+    with_vecdot = kernels._sumsq(v)
+    monkeypatch.setattr(kernels, "_VECDOT", None)
+    assert kernels._sumsq(v) == with_vecdot
+    blocks = [float(np.dot(v[s:s + kernels.DOT_BLOCK], v[s:s + kernels.DOT_BLOCK]))
+              for s in range(0, n, kernels.DOT_BLOCK)]
+    assert with_vecdot == pytest.approx(sum(blocks), rel=1e-15)

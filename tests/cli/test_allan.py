@@ -386,3 +386,34 @@ def test_the_curve_notes_reach_the_terminal(gyro_npy: Path) -> None:
     assert ("note: 1 explicit tau(s) rounded to the nearest whole number of samples "
             "(largest change 0.005 s)") in out
     assert "note: prepared" not in out  # the preparation steps are printed once, above
+
+
+def test_allan_runs_with_the_cycle_collector_paused_and_restores_it(
+        gyro_npy: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    import gc
+
+    import fogts.pipeline
+
+    seen: list[bool] = []
+    analyse = fogts.pipeline.analyse_allan_axis
+
+    def spy(*args, **kwargs):  # type: ignore[no-untyped-def]
+        seen.append(gc.isenabled())
+        return analyse(*args, **kwargs)
+
+    monkeypatch.setattr(fogts.pipeline, "analyse_allan_axis", spy)
+    path = gyro_npy
+    assert gc.isenabled()
+    ok = runner.invoke(app, ["allan", str(path), "--fs", "50"])
+    assert ok.exit_code == 0, ok.output
+    assert seen == [False]
+    assert gc.isenabled()
+    bad = runner.invoke(app, ["allan", str(tmp_path / "missing.npy"), "--fs", "50"])
+    assert bad.exit_code == 2
+    assert gc.isenabled()  # restored on the error path too
+    gc.disable()
+    try:  # a collector the caller had off stays off
+        runner.invoke(app, ["allan", str(path), "--fs", "50"])
+        assert not gc.isenabled()
+    finally:
+        gc.enable()
