@@ -328,13 +328,11 @@ def read_input(path: Path, read: ReadSettings, *, glitches: bool = True,
     ``--outliers K`` (the glitch lines then say the samples are replaced, not kept)."""
     from fogts import progress
     from fogts.pipeline import load
-    from fogts.preprocess.hygiene import GLITCHES_KEPT, glitches_replaced
-
     progress.ticker(f"reading {path.name}", None)
     run, quality = load(path, dataclasses.replace(read, glitches=glitches))
+    if outliers is not None:
+        quality = dataclasses.replace(quality, outliers=outliers)
     for line in quality.warnings():
-        if outliers is not None:
-            line = line.replace(GLITCHES_KEPT, glitches_replaced(outliers))
         err_console.print(f"warning: {Path(run.source).name}: {line}", markup=False,
                           soft_wrap=True)
     return run, quality

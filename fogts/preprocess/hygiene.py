@@ -54,6 +54,9 @@ class DataQuality:
         Samples read (before any split).
     glitches : tuple of GlitchReport
         One per axis (empty when glitch detection was off).
+    outliers : float or None
+        The ``--outliers K`` of the analysis that follows (samples beyond K robust sigmas
+        replaced): the glitch lines then say so; None: the glitches stay in the analysis.
     """
 
     source: str
@@ -67,6 +70,7 @@ class DataQuality:
     n_input: int
     fs_hz: float
     glitches: tuple[GlitchReport, ...] = ()
+    outliers: float | None = None
 
     def glitch_count(self, axis: str) -> int:
         """Glitch events found on ``axis`` (0 when detection was off)."""
@@ -82,7 +86,8 @@ class DataQuality:
         if self.missing is not None:
             out.append(self.missing.summary())
         out += self._gap_lines()
-        out += [f"axis {g.axis!r}: {g.summary()}; {GLITCHES_KEPT}" for g in self.glitches
+        fate = GLITCHES_KEPT if self.outliers is None else glitches_replaced(self.outliers)
+        out += [f"axis {g.axis!r}: {g.summary()}; {fate}" for g in self.glitches
                 if g.n_events]
         return out
 

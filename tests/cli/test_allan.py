@@ -374,6 +374,13 @@ def test_glitch_warning_says_replaced_under_outliers(tmp_path: Path) -> None:
     assert "2 glitches" in err and "kept in the analysis" not in err
     assert ("--outliers 7: samples beyond 7 robust sigmas are replaced before the analysis"
             in err)
+    out_json = tmp_path / "a.json"          # the JSON's quality record says the same
+    code, _, err = _run([path, "--fs", "10", "--units", "deg/h", "-q", "--outliers", "7",
+                         "--json", out_json])
+    assert code in (0, 1), err
+    said = json.loads(out_json.read_text())["data_quality"]["warnings"]
+    assert any("are replaced before the analysis" in w for w in said)
+    assert not any("kept in the analysis" in w for w in said)
 
 
 def test_the_curve_notes_reach_the_terminal(gyro_npy: Path) -> None:
