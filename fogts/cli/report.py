@@ -41,6 +41,11 @@ def report_cmd(
 
     with common.guard(outputs={"--output": output},
                       inputs={"FILE": [file], "--spec": [spec] if spec else []}):
+        if not output.name.lower().endswith((".html", ".htm")):
+            from fogts.errors import DataError
+
+            raise DataError(f"--output must end in .html or .htm (the report is one HTML "
+                            f"page); got {output.name!r}")
         limits = common.load_spec(spec)
         run, quality = common.read_input(file, read)
         rep = build_report(run, quality=quality, title=title, outliers=outliers, detrend=detrend,

@@ -268,6 +268,18 @@ def test_cli_report_bad_input_is_one_line_error(tmp_path: Path) -> None:
     assert "Traceback" not in res.output and not (tmp_path / "r.html").exists()
 
 
+def test_cli_report_output_must_be_html(tmp_path: Path) -> None:
+    from fogts.cli import app
+
+    src = tmp_path / "run.csv"
+    src.write_text("time,rate\n" + "".join(f"{i / 10},{i % 3}\n" for i in range(50)))
+    res = runner.invoke(app, ["report", str(src), "-o", str(tmp_path / "r.txt")])
+    assert res.exit_code == 2
+    assert res.stderr.strip() == ("error: --output must end in .html or .htm (the report is "
+                                  "one HTML page); got 'r.txt'")
+    assert not (tmp_path / "r.txt").exists()
+
+
 def test_cli_report_on_a_real_fog_recording(tmp_path: Path) -> None:
     """61 s of a real FOG at 100 Hz with temperature (too short for DAVar)."""
     from fogts.cli import app
