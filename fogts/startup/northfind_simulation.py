@@ -113,10 +113,12 @@ class StartupPositions:
                 "earth_rate_h_deg_h": self.earth_rate_h_deg_h, **self.simulation.to_dict()}
 
     def summary(self) -> str:
+        measured = sum(sl.stop - sl.start for sl in self.slices.values())
         return (f"{self.simulation.summary()}\nfour positions (0, 90, 180, 270°) of "
                 f"{self.position_s:g} s with {self.turn_s:g} s turns at latitude "
                 f"{self.latitude_deg:g}° (Ω cos L = {self.earth_rate_h_deg_h:.4f} °/h); true "
-                f"azimuth {self.azimuth_deg:g}°")
+                f"azimuth {self.azimuth_deg:g}°; {measured:,} of the {self.run.n:,} samples "
+                "measured at the positions (turns and the wait before them left out)")
 
 
 def simulate_startup_positions(

@@ -205,6 +205,8 @@ def test_simulate_startup_positions_result() -> None:
     d = rec.to_dict()
     assert d["start_delay_s"] == 30.0 and d["turn_s"] == 5.0 and d["ambient_degC"] == 18.0
     assert "true azimuth 37.5°" in rec.summary()
+    assert "240 of the 285 samples measured at the positions" in rec.summary()  # = len(frame)
+    assert len(frame) == 240
     res = four_position(rec.rates_by_position(), latitude_deg=32.05)
     assert abs(float(angle_error_deg(res.azimuth_deg, 37.5))) < 3.0
 
