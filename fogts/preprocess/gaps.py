@@ -14,6 +14,7 @@ import pandas as pd
 
 from fogts._typing import IntArray
 from fogts._validate import check_positive
+from fogts.errors import DataError
 from fogts.io.run import Run, SamplingReport
 from fogts.io.timebase import GAP_FACTOR, sampling_report
 
@@ -157,6 +158,13 @@ def fill_gaps_nan(run: Run) -> Run:
     [0.0, 1.0, 2.0, nan, nan, 3.0, 4.0]
     """
     slot = np.rint(run.time * run.fs_hz).astype(np.int64)
+    shared = int(np.count_nonzero(np.diff(slot) <= 0))
+    if shared:
+        raise DataError(
+            f"{run.source}: gaps='nan' (CLI --gaps nan) puts each sample at its nearest grid "
+            f"point k/fs ({run.fs_hz:.6g} Hz), and {shared:,} sample(s) would land on the point "
+            "of the sample before (time stamps logged in bursts, or jittering by half a step), "
+            "merging samples: use gaps='warn' (analysed as regular) or gaps='split'")
     size = int(slot[-1]) + 1
     shape = (size,) if run.rate.ndim == 1 else (size, run.rate.shape[1])
     rate = np.full(shape, np.nan)

@@ -424,3 +424,15 @@ def test_allan_runs_with_the_cycle_collector_paused_and_restores_it(
         assert not gc.isenabled()
     finally:
         gc.enable()
+
+
+def test_gaps_nan_refuses_burst_logged_stamps(tmp_path: Path) -> None:
+    """The MPU6050 record is stamped in bursts (median step 2 ms, mean 10 ms): on the
+    k/fs grid its samples would merge, and the pauses would read as 13,397 gaps."""
+    out = tmp_path / "a.json"
+    code, _, err = _run([shared_path("imu", "mpu6050_gyro_temp_converted.csv.gz"),
+                         "--gaps", "nan", "--json", out])
+    assert code == 2 and "Traceback" not in err
+    assert error_output(err).startswith("error: ") and "would land on the point of the " \
+        "sample before (time stamps logged in bursts" in err
+    assert not out.exists()

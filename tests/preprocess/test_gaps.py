@@ -18,3 +18,21 @@ def test_find_gaps_lists_gaps_and_segments() -> None:
     assert rep.segments == ((0, 100), (100, 150), (150, 345))
     assert rep.longest_segment() == (150, 345)
     assert "2 gap(s) in the time base (5.5 s missing; first at t = 9.9 s" in rep.summary()
+
+
+def test_fill_gaps_nan_refuses_stamps_that_would_share_a_grid_point() -> None:
+    from fogts.errors import DataError
+    from fogts.io.run import Run
+    from fogts.preprocess.gaps import fill_gaps_nan
+
+    # two samples stamped 0.02 s apart in a 10 Hz record: both round to the grid point 0.1 s
+    t = np.r_[0.0, 0.09, 0.11, 0.2, 0.6, 0.7]
+    run = Run(rate=np.arange(6.0), time=t, fs_hz=10.0, units="deg/h", axes=("rate",),
+              source="clumps.csv")
+    with pytest.raises(DataError, match=r"^clumps\.csv: gaps='nan' \(CLI --gaps nan\) puts each "
+                       r"sample at its nearest grid point k/fs \(10 Hz\), and 1 sample\(s\) "
+                       r"would land on the point of the sample before"):
+        fill_gaps_nan(run)
+    ok = Run(rate=np.arange(5.0), time=np.r_[0.0, 0.1, 0.2, 0.5, 0.6], fs_hz=10.0,
+             units="deg/h", axes=("rate",))
+    assert np.isnan(fill_gaps_nan(ok).rate).sum() == 2   # the grid with its two holes
