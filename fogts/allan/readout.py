@@ -19,7 +19,7 @@ noise fit reports beside its answer for comparison.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Collection
 from dataclasses import dataclass
 from typing import Any
 
@@ -37,12 +37,15 @@ __all__ = ["CurveReadout", "DominantRange", "SlopeReadoff", "read_curve", "slope
 
 @dataclass(frozen=True)
 class DominantRange:
-    """A contiguous tau range where one fitted term is the largest contribution."""
+    """A contiguous tau range where one fitted term is the largest contribution;
+    ``measured`` is False for a term the fit reports as an upper limit (its line is the
+    fitted value, which the data do not distinguish from zero)."""
 
     term: str
     tau_from_s: float
     tau_to_s: float
     slope: float
+    measured: bool = True
 
     def to_dict(self) -> dict[str, Any]:
         return fields_dict(self, tau_from_s="tau_from", tau_to_s="tau_to")
@@ -120,8 +123,12 @@ class CurveReadout:
             if span is not None:
                 rows.append((label, f"{span[0]:.4g} .. {span[1]:.4g} s", ""))
         for d in self.dominant:
-            rows.append((f"{d.term} dominates", f"{d.tau_from_s:.4g} .. {d.tau_to_s:.4g} s",
-                         f"slope {d.slope:+g}"))
+            span = f"{d.tau_from_s:.4g} .. {d.tau_to_s:.4g} s"
+            if d.measured:
+                rows.append((f"{d.term} dominates", span, f"slope {d.slope:+g}"))
+            else:
+                rows.append((f"{d.term} line largest", span, f"slope {d.slope:+g}; {d.term} is "
+                             "not measured (an upper limit): its fitted line, not a finding"))
         return Table.build(f"curve of {axis}" if axis else "curve read-outs",
                            (Column("read-out", numeric=False), Column("tau", numeric=False),
                             Column("value", numeric=False)), rows,
@@ -139,7 +146,8 @@ MIN_EDF_FOR_MINIMUM = 10.0
 def read_curve(tau_s: Any, dev: Any, ci_low: Any = None, ci_high: Any = None, *,
                confidence: float = 0.683, edf: Any = None,
                min_edf: float = MIN_EDF_FOR_MINIMUM,
-               term_curves: dict[str, Any] | None = None) -> CurveReadout:
+               term_curves: dict[str, Any] | None = None,
+               limits: Collection[str] = ()) -> CurveReadout:
     """Read the minimum, segment slopes, regions A-D and dominant-term ranges of a curve.
 
     Parameters
@@ -157,6 +165,9 @@ def read_curve(tau_s: Any, dev: Any, ci_low: Any = None, ci_high: Any = None, *,
         See ``edf``.
     term_curves : dict of str to array_like, optional
         Each fitted term's own sigma(tau) at ``tau_s`` (e.g. from a NoiseModel).
+    limits : collection of str
+        The terms of ``term_curves`` the fit reports as upper limits: their ranges are
+        marked not measured (:attr:`DominantRange.measured`).
 
     Examples
     --------
@@ -190,7 +201,7 @@ def read_curve(tau_s: Any, dev: Any, ci_low: Any = None, ci_high: Any = None, *,
     slopes = np.diff(np.log(d)) / np.diff(np.log(t))
     segments = np.column_stack([t[:-1], t[1:]])
     regions = _regions(t, d, lo, hi, i_min)
-    dominant = _dominant_ranges(t, ok, term_curves) if term_curves else ()
+    dominant = _dominant_ranges(t, ok, term_curves, set(limits)) if term_curves else ()
     lo_min = float(lo[i_min]) if np.isfinite(lo[i_min]) else float(d[i_min])
     hi_min = float(hi[i_min]) if np.isfinite(hi[i_min]) else float(d[i_min])
     return CurveReadout(float(t[i_min]), float(d[i_min]), (lo_min, hi_min), float(confidence),
@@ -216,8 +227,8 @@ def _regions(t: FloatArray, d: FloatArray, lo: FloatArray, hi: FloatArray, i_min
     }
 
 
-def _dominant_ranges(t: FloatArray, ok: np.ndarray, term_curves: dict[str, Any]
-                     ) -> tuple[DominantRange, ...]:
+def _dominant_ranges(t: FloatArray, ok: np.ndarray, term_curves: dict[str, Any],
+                     limits: set[str]) -> tuple[DominantRange, ...]:
     names = list(term_curves)
     stack = np.vstack([np.asarray(term_curves[n], dtype=np.float64)[ok] for n in names])
     stack = np.where(np.isfinite(stack), stack, 0.0)
@@ -229,7 +240,8 @@ def _dominant_ranges(t: FloatArray, ok: np.ndarray, term_curves: dict[str, Any]
             name = names[int(winner[start])]
             if stack[winner[start], start:i].max() > 0:
                 ranges.append(DominantRange(name, float(t[start]), float(t[i - 1]),
-                                            TERM_SLOPE.get(name, float("nan"))))
+                                            TERM_SLOPE.get(name, float("nan")),
+                                            measured=name not in limits))
             start = i
     return tuple(ranges)
 

@@ -189,3 +189,21 @@ def test_region_labels_do_not_read_as_term_names() -> None:
     text = read_curve(tau, total, term_curves=terms).table("deg/h", "x").to_text()
     assert "falling (region B)" in text and "floor (region C)" in text
     assert "rising (region D)" in text and "falling (B)" not in text
+
+
+def test_a_term_reported_as_an_upper_limit_is_not_said_to_dominate() -> None:
+    """"K dominates 3277 .. 3277 s" was printed for a K the fit gave as an upper limit
+    (z = 0.62): the range is marked not measured, in the table and the dict."""
+    tau = np.logspace(-2, 5, 29)
+    terms = _theory(tau)
+    total = np.sqrt(sum(v**2 for v in terms.values()))
+    both = read_curve(tau, total, term_curves=terms)
+    marked = read_curve(tau, total, term_curves=terms, limits={"K"})
+    assert [(d.term, d.tau_from_s, d.tau_to_s) for d in marked.dominant] == \
+        [(d.term, d.tau_from_s, d.tau_to_s) for d in both.dominant]   # the same ranges
+    assert {d.term: d.measured for d in marked.dominant} == {"N": True, "B": True, "K": False}
+    assert all(d.measured for d in both.dominant)
+    text = marked.table("deg/h", "x").to_text()
+    assert "K dominates" not in text and "N dominates" in text
+    assert "K line largest" in text and "K is not measured (an upper limit)" in text
+    assert [d["measured"] for d in marked.to_dict()["dominant"]] == [True, True, False]
