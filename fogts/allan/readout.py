@@ -123,11 +123,11 @@ class CurveReadout:
             if span is not None:
                 rows.append((label, f"{span[0]:.4g} .. {span[1]:.4g} s", ""))
         for d in self.dominant:
-            span = f"{d.tau_from_s:.4g} .. {d.tau_to_s:.4g} s"
+            taus = f"{d.tau_from_s:.4g} .. {d.tau_to_s:.4g} s"
             if d.measured:
-                rows.append((f"{d.term} dominates", span, f"slope {d.slope:+g}"))
+                rows.append((f"{d.term} dominates", taus, f"slope {d.slope:+g}"))
             else:
-                rows.append((f"{d.term} line largest", span, f"slope {d.slope:+g}; {d.term} is "
+                rows.append((f"{d.term} line largest", taus, f"slope {d.slope:+g}; {d.term} is "
                              "not measured (an upper limit): its fitted line, not a finding"))
         return Table.build(f"curve of {axis}" if axis else "curve read-outs",
                            (Column("read-out", numeric=False), Column("tau", numeric=False),
