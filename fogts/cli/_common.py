@@ -257,10 +257,9 @@ def pauses_cycle_collection(command: Callable[..., R]) -> Callable[..., R]:
     """Run ``command`` with Python's cyclic garbage collector off (restored after).
 
     For a short command that imports most of its modules when it runs (numpy's, pandas'
-    and scipy's: about a million objects, next to no cyclic garbage): each full collection
-    the growing heap triggers scans every object imported so far, about 0.2-0.3 s of the
-    1.2-1.6 s of imports of ``fogts allan``.  Reference counting still frees everything
-    else as usual.
+    and scipy's: many objects, next to no cyclic garbage): each full collection the growing
+    heap triggers scans every object imported so far (the cost is measured in
+    ``benchmarks/README.md``).  Reference counting still frees everything else as usual.
     """
     @functools.wraps(command)
     def run_command(*args: Any, **kwargs: Any) -> R:
