@@ -94,8 +94,9 @@ def _stats(x: np.ndarray) -> dict[str, float]:
 def run_info(run: Run) -> dict[str, Any]:
     """The ``fogts info`` JSON payload (its keys are stable).
 
-    Keys: ``source, n, fs_hz, duration_s, columns, units, axes, gaps, jitter, stats``
-    (plus ``start_time``, ``temperature``, ``fs_source`` and ``comments``).
+    Keys: ``source, n, fs_hz, duration_s, columns, units, axes, axis_units, gaps, jitter,
+    stats`` (plus ``start_time``, ``temperature``, ``fs_source`` and ``comments``);
+    ``axis_units`` gives each axis' own unit (an accelerometer axis' is not ``units``).
     """
     sampling = run.sampling
     assert sampling is not None
@@ -110,6 +111,7 @@ def run_info(run: Run) -> dict[str, Any]:
         "columns": list(run.columns),
         "units": run.units,
         "axes": list(run.axes),
+        "axis_units": [run.unit_of(i) for i in range(len(run.axes))],
         "gaps": {"count": sampling.n_gaps, "max_s": sampling.max_gap_s,
                  "threshold_s": 1.5 / run.fs_hz, "after_rows": list(sampling.gap_rows)},
         "jitter": {"std_s": sampling.jitter_s, "relative": sampling.jitter_rel,

@@ -49,6 +49,18 @@ def test_info_json_to_stdout_is_pure_json() -> None:
     assert json.loads(res.stdout)["n"] == 6110
 
 
+def test_info_json_gives_each_axis_its_unit(tmp_path: Path) -> None:
+    """A gyro + accelerometer record: ``units`` is the gyro's, ``axis_units`` each axis'."""
+    path = tmp_path / "imu.csv"
+    rows = "".join(f"{i / 100},{0.1 * (i % 3)},{9.8 + 0.01 * (i % 5)}\n" for i in range(500))
+    path.write_text("time,gyro_z_deg_s,acc_z_mps2\n" + rows)
+    res = runner.invoke(app, ["info", str(path), "--json", "-"])
+    assert res.exit_code == 0, res.output
+    info = json.loads(res.stdout)
+    assert info["axes"] == ["gyro_z_deg_s", "acc_z_mps2"] and info["units"] == "deg/s"
+    assert info["axis_units"] == ["deg/s", "m/s^2"]
+
+
 def test_info_mpu6050_reports_irregular_sampling() -> None:
     res = runner.invoke(app, ["info", str(shared_path("imu",
                                                       "mpu6050_gyro_temp_converted.csv.gz"))])
