@@ -21,7 +21,8 @@ from fogts.io.run import SamplingReport
 from fogts.io.table import NUMBER, Table, finite_and_bounded, numeric_column, where
 from fogts.io.timesteps import LEAF, StepSummary, step_deviation, summarise_steps
 
-__all__ = ["GAP_FACTOR", "GIVEN_RATE_TOLERANCE", "REGULAR_JITTER", "Steps", "check_given_rate", "is_numeric_time", "median_step", "sample_rate",
+__all__ = ["GAP_FACTOR", "GIVEN_RATE_TOLERANCE", "JITTERED_STAMPS", "REGULAR_JITTER", "Steps",
+           "check_given_rate", "is_numeric_time", "median_step", "sample_rate",
            "sampling_report", "step_stats", "time_base"]
 
 #: Gap threshold: a time step longer than this multiple of the nominal step is a gap.
