@@ -33,7 +33,7 @@ def info_cmd(
         payload = {**_info_payload(run), "data_quality": quality.to_dict()}
         common.emit_json(payload, json_out)
         if json_out != "-":
-            from fogts.report.text import axes_rows, info_text
+            from fogts.report.text import info_text
 
-            common.console.print(info_text(payload, axes_rows(run)), markup=False,
+            common.console.print(info_text(payload, run.accel_units_source), markup=False,
                                  soft_wrap=True)

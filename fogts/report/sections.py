@@ -110,7 +110,7 @@ def _input_rows(ctx: ReportContext, info: dict[str, Any]) -> list[tuple[str, str
         ("sample rate", f"{fmt_num(info['fs_hz'], 6)} Hz (from {info['fs_source']})"),
         ("duration", duration_text(info["duration_s"])),
         ("columns", ", ".join(info["columns"])),
-        *axes_rows(ctx.run),
+        *axes_rows(info, ctx.run.accel_units_source),
         ("rate unit from", "ASSUMED (no unit in the column names; pass --units)"
          if ctx.run.units_assumed else ctx.run.units_source),
         ("temperature", "yes" if info["temperature"] else "no temperature column"),

@@ -134,18 +134,20 @@ def duration_text(seconds: float) -> str:
     return f"{seconds:.6g} s"
 
 
-def axes_rows(run: Run) -> list[tuple[str, str]]:
-    """The sensor axes grouped by unit: ``("rate axes", "x, y, z  [deg/s]")`` and, for an
-    IMU file, ``("accel axes", "ax, ay, az  [g] (unit from the gravity magnitude)")``;
-    an accelerometer axis is never listed as a rate axis in the rate unit."""
+def axes_rows(info: Mapping[str, Any], accel_source: str = "") -> list[tuple[str, str]]:
+    """The sensor axes of :func:`run_info`'s payload grouped by unit (``axis_units``):
+    ``("rate axes", "x, y, z  [deg/s]")`` and, for an IMU file, ``("accel axes", "ax, ay,
+    az  [g] (unit from gravity magnitude)")`` (``accel_source``: where the accelerometer
+    unit came from, :attr:`Run.accel_units_source`); an accelerometer axis is never listed
+    as a rate axis in the rate unit."""
     groups: dict[str, list[str]] = {}
-    for i, name in enumerate(run.axes):
-        groups.setdefault(run.unit_of(i), []).append(name)
+    for name, unit in zip(info["axes"], info["axis_units"], strict=True):
+        groups.setdefault(unit, []).append(name)
     rows = []
     for unit, names in groups.items():
         if quantity_of(unit) == "accel":
             rows.append(("accel axes", f"{', '.join(names)}  [{unit}] (unit from "
-                                       f"{run.accel_units_source or 'the file'})"))
+                                       f"{accel_source or 'the file'})"))
         else:
             rows.append(("rate axes", f"{', '.join(names)}  [{unit}]"))
     return rows
@@ -164,12 +166,11 @@ def time_base_verdict(info: Mapping[str, Any]) -> str:
     return "IRREGULAR" + (f" ({', '.join(why)})" if why else "")
 
 
-def info_text(info: Mapping[str, Any], axes: Iterable[tuple[str, str]] | None = None) -> str:
-    """Plain-text rendering of :func:`run_info` for the terminal; ``axes``: the rows of
-    :func:`axes_rows` (default: every axis in ``info["units"]``)."""
+def info_text(info: Mapping[str, Any], accel_source: str = "") -> str:
+    """Plain-text rendering of :func:`run_info` for the terminal (``accel_source``: see
+    :func:`axes_rows`)."""
     gaps, jitter = info["gaps"], info["jitter"]
-    shown = (list(axes) if axes is not None
-             else [("rate axes", f"{', '.join(info['axes'])}  [{info['units']}]")])
+    shown = axes_rows(info, accel_source)
     lines = [
         f"source      {info['source']}",
         f"samples     {info['n']}",

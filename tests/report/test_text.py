@@ -38,14 +38,16 @@ def test_accelerometer_axes_are_not_listed_as_rate_axes() -> None:
     under "rate axes" in the assumed deg/h."""
     run = read_run(_imu_frame())
     assert run.unit_of("acc_z") == "g"
-    rows = axes_rows(run)
+    rows = axes_rows(run_info(run), run.accel_units_source)
     assert rows == [("rate axes", "gyro_x  [deg/h]"),
                     ("accel axes", "acc_x, acc_y, acc_z  [g] (unit from gravity magnitude)")]
-    text = info_text(run_info(run), rows)
+    text = info_text(run_info(run), run.accel_units_source)
     assert "rate axes   gyro_x  [deg/h]" in text
     assert "accel axes  acc_x, acc_y, acc_z  [g]" in text
-    # without the rows (the JSON payload alone) the text keeps its one line
-    assert "rate axes   gyro_x, acc_x, acc_y, acc_z  [deg/h]" in info_text(run_info(run))
+    # the JSON payload alone (its axis_units) groups the axes the same way
+    alone = info_text(run_info(run))
+    assert "rate axes   gyro_x  [deg/h]" in alone and "accel axes  acc_x, acc_y, acc_z  [g]" in alone
+    assert "rate axes   gyro_x, acc_x" not in alone
 
 
 def test_an_irregular_time_base_says_why() -> None:
