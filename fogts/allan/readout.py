@@ -18,6 +18,7 @@ noise fit reports beside its answer for comparison.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Callable, Collection
 from dataclasses import dataclass
@@ -30,7 +31,7 @@ from fogts._typing import FloatArray
 from fogts.allan.terms import B_PLATEAU, TERM_SLOPE, TERMS, from_seconds, term_rows
 from fogts.errors import DataError, InsufficientDataError
 from fogts.tables import Column, Table, fields_dict
-from fogts.units import term_in_units, term_unit
+from fogts.units import convert_sensor, term_in_units, term_unit
 
 __all__ = ["CurveReadout", "DominantRange", "SlopeReadoff", "read_curve", "slope_readoff"]
 
@@ -136,6 +137,18 @@ class CurveReadout:
 
     def summary(self) -> str:
         return self.table().to_text()
+
+    def in_unit(self, unit: str, to_unit: str) -> CurveReadout:
+        """The read-outs with the deviations (minimum, its interval, the floor estimate)
+        converted from the curve's ``unit`` to ``to_unit`` (:func:`fogts.units.convert_sensor`),
+        e.g. for a points table shown in SI units; taus, slopes and regions stay."""
+        if to_unit == unit:
+            return self
+        scale = float(convert_sensor(1.0, unit, to_unit))
+        lo, hi = self.dev_min_ci
+        return dataclasses.replace(self, dev_min=self.dev_min * scale,
+                                   dev_min_ci=(lo * scale, hi * scale),
+                                   bias_instability_floor=self.bias_instability_floor * scale)
 
 
 #: Points with fewer equivalent degrees of freedom (68 % CI wider than about +-25 %) are

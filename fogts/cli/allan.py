@@ -247,15 +247,8 @@ def _curve_table(res: AllanResult, readout: CurveReadout, quiet_json: str | None
                  units: choices.OutputUnits = "deg") -> None:
     """The read-outs in the unit of the points table above them (--output-units si: the
     deviations in rad/s or m/s^2, as the points)."""
-    import dataclasses
-
-    from fogts.units import convert_sensor, si_unit
+    from fogts.units import si_unit
 
     unit = si_unit(res.units) if units == "si" else res.units
-    if unit != res.units:
-        scale = float(convert_sensor(1.0, res.units, unit))
-        lo, hi = readout.dev_min_ci
-        readout = dataclasses.replace(
-            readout, dev_min=readout.dev_min * scale, dev_min_ci=(lo * scale, hi * scale),
-            bias_instability_floor=readout.bias_instability_floor * scale)
-    common.print_out(common.rich_table(readout.table(unit, res.axis)), quiet_json=quiet_json)
+    shown = readout.in_unit(res.units, unit)
+    common.print_out(common.rich_table(shown.table(unit, res.axis)), quiet_json=quiet_json)

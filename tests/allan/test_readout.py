@@ -207,3 +207,16 @@ def test_a_term_reported_as_an_upper_limit_is_not_said_to_dominate() -> None:
     assert "K dominates" not in text and "N dominates" in text
     assert "K line largest" in text and "K is not measured (an upper limit)" in text
     assert [d["measured"] for d in marked.to_dict()["dominant"]] == [True, True, False]
+
+
+def test_readouts_in_another_unit_scale_the_deviations_only() -> None:
+    tau = np.logspace(-1, 3, 9)
+    r = read_curve(tau, np.sqrt(1 / tau + tau / 100))
+    si = r.in_unit("deg/h", "rad/s")
+    factor = np.pi / 180.0 / 3600.0      # deg/h -> rad/s, by definition
+    assert si.dev_min == pytest.approx(r.dev_min * factor, rel=1e-15)
+    assert si.dev_min_ci == pytest.approx(tuple(v * factor for v in r.dev_min_ci), rel=1e-15)
+    assert si.bias_instability_floor == pytest.approx(r.bias_instability_floor * factor,
+                                                      rel=1e-15)
+    assert si.tau_min_s == r.tau_min_s and si.regions == r.regions
+    assert r.in_unit("deg/h", "deg/h") is r
