@@ -16,7 +16,7 @@ import pytest
 from scipy.signal import lfilter
 
 import fogts
-from fogts.arma.gauss_markov import gauss_markov
+from fogts.arma.gauss_markov import GaussMarkov, gauss_markov, root_stderr
 from fogts.errors import ModelFitError
 
 DT = 1.0
@@ -85,3 +85,69 @@ def test_a_failed_candidate_is_named_in_the_verdict(monkeypatch: pytest.MonkeyPa
     assert "Not compared: ARMA(2,1) could not be fitted (ARMA(2,1): simulated failure)" \
         in sel.verdict
     assert "The simpler ARMA(2,1)" not in sel.verdict
+
+
+def _largest_real_inverse_root(phi: np.ndarray) -> float:
+    r = np.roots(np.r_[1.0, -phi])
+    return float(r[np.abs(r.imag) < 1e-12].real.max())
+
+
+def test_root_stderr_is_the_delta_method_of_numpys_roots() -> None:
+    # reference: central differences of numpy.roots (independent of the implicit-function
+    # formula); h = 1e-6 gives O(h^2) = 1e-12 truncation, and root rounding ~1e-16 / h
+    # = 1e-10 on the slopes, so 1e-6 relative is loose
+    phi = np.array([1.2, -0.5, 0.1])
+    cov = np.array([[1e-4, 5e-5, 0.0], [5e-5, 2e-4, -3e-5], [0.0, -3e-5, 3e-4]])
+    r = _largest_real_inverse_root(phi)
+    h = 1e-6
+    g = np.empty(3)
+    for i in range(3):
+        up, down = phi.copy(), phi.copy()
+        up[i] += h
+        down[i] -= h
+        g[i] = (_largest_real_inverse_root(up) - _largest_real_inverse_root(down)) / (2 * h)
+    assert root_stderr(r, phi, cov) == pytest.approx(math.sqrt(g @ cov @ g), rel=1e-6)
+    assert root_stderr(0.5, [0.5], [[0.01]]) == pytest.approx(0.1, rel=1e-12)  # AR(1): se(phi)
+    assert math.isnan(root_stderr(0.5, [0.5], None))
+
+
+def test_the_interval_of_tau_c_holds_the_true_value() -> None:
+    sel = fogts.select_arma(_gauss_markov_series(11), fs_hz=1 / DT, candidates=[(1, 0)])
+    gm = gauss_markov(sel.selected, 1 / DT, "deg/h")
+    assert gm is not None and gm.identified and not gm.within_one_sample
+    assert gm.phi_stderr == pytest.approx(sel.selected.bse["ar.L1"], rel=1e-12)
+    low, high = gm.tau_c_interval_s
+    assert low < TAU_C < high and low < gm.tau_c_s < high
+    d = gm.to_dict()
+    assert d["identified"] is True and d["tau_c_interval_s"] == [low, high]
+    assert "(95 %: " in gm.summary()
+
+
+def test_white_noise_identifies_no_gauss_markov_state() -> None:
+    # seed 2: ar.L1 = 0.0019 with standard error 0.0045 (measured), the one seed of 1-5
+    # whose estimate is positive
+    x = np.random.default_rng(2).normal(size=50_000)
+    sel = fogts.select_arma(x, fs_hz=100.0, candidates=[(1, 0)])
+    gm = gauss_markov(sel.selected, 100.0, "deg/h")
+    assert gm is not None and not gm.identified
+    assert gm.tau_c_interval_s[0] == 0.0
+    assert gm.summary().startswith("Gauss–Markov equivalent of AR(1): none identified")
+    assert "T_c" not in gm.summary()
+    assert gm.to_dict()["identified"] is False
+
+
+def test_a_correlation_time_under_one_sample_is_called_white_at_this_rate() -> None:
+    x = lfilter([1.0], [1.0, -0.2], np.random.default_rng(17).normal(size=50_000))
+    sel = fogts.select_arma(x, fs_hz=10.0, candidates=[(1, 0)])
+    gm = gauss_markov(sel.selected, 10.0, "deg/h")
+    assert gm is not None and gm.identified and gm.within_one_sample
+    assert gm.tau_c_s == pytest.approx(-0.1 / math.log(0.2), rel=0.1)
+    assert "under one sample interval (0.1 s)" in gm.summary()
+
+
+def test_an_interval_reaching_the_unit_root_is_unbounded_above() -> None:
+    gm = GaussMarkov(phi=0.9999, dt_s=0.1, tau_c_s=-0.1 / math.log(0.9999), sigma=math.nan,
+                     q=math.nan, white=math.nan, units="deg/h", model="ARMA(2,1)",
+                     phi_stderr=1e-4, tau_c_interval_s=(600.0, math.inf))
+    assert gm.to_dict()["tau_c_interval_s"] == [600.0, None]
+    assert "unbounded above" in gm.summary()
