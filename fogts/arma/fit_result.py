@@ -22,7 +22,8 @@ from fogts.arma.blockwise import BLOCKWISE_MIN_N, mean_of
 from fogts.arma.likelihood import ExactLikelihood
 from fogts.tables import Column, Table, TableView
 
-__all__ = ["ArmaFit", "criteria", "fitted_series", "model_name", "param_lines", "param_names"]
+__all__ = ["ArmaFit", "coefficient_text", "criteria", "fitted_series", "model_name", "param_lines",
+           "param_names"]
 
 
 def model_name(p: int, q: int) -> str:
@@ -116,12 +117,12 @@ class ArmaFit(TableView):
         out = f"{v}_t = "
         first = True
         for c, sym in terms:
-            out += (f"{c:.{digits}g} {sym}" if first
-                    else f" {'-' if c < 0 else '+'} {abs(c):.{digits}g} {sym}")
+            out += (f"{coefficient_text(c, digits)} {sym}" if first
+                    else f" {'-' if c < 0 else '+'} {coefficient_text(abs(c), digits)} {sym}")
             first = False
         out += "a_t" if first else " + a_t"
         for j, c in enumerate(self.ma, start=1):
-            out += f" {'-' if c < 0 else '+'} {abs(c):.{digits}g} a_{{t-{j}}}"
+            out += f" {'-' if c < 0 else '+'} {coefficient_text(abs(c), digits)} a_{{t-{j}}}"
         if self.mean is not None:
             out += f",  y_t = x_t {'-' if self.mean >= 0 else '+'} {abs(self.mean):.{digits}g}"
         return out + f",  var(a_t) = {self.sigma2:.{digits}g}"
@@ -287,3 +288,13 @@ def criteria(llf: float, k: int, n: int) -> tuple[float, float, float, float]:
     aicc = aic + 2.0 * k * (k + 1) / (n - k - 1) if n - k - 1 > 0 else math.inf
     return aic, bic, hqic, aicc
 
+
+
+def coefficient_text(c: float, digits: int) -> str:
+    """``c`` to ``digits`` significant digits, with more where that would print a
+    coefficient near a unit root as exactly 1 (0.99996 as "0.99996", not "1")."""
+    text = f"{c:.{digits}g}"
+    while abs(float(text)) == 1.0 and abs(c) != 1.0 and digits < 17:
+        digits += 1
+        text = f"{c:.{digits}g}"
+    return text

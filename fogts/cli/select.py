@@ -26,13 +26,17 @@ def _fmt(v: Any, spec: str = ".4g") -> str:
 
 
 def _select_params(c: Candidate, units: str | None) -> list[str]:
+    from fogts.arma.fit_result import coefficient_text
+
     lines = []
     for k, v in c.params.items():
         se = c.bse.get(k)
         t = v / se if se else float("nan")
         unit = f" ({units})²" if k == "sigma2" and units else ""
         sig = "" if k == "sigma2" else f"  t = {t:+.1f}"
-        lines.append(f"  {k:<7} = {v: .6g} ± {_fmt(se, '.2g')}{unit}{sig}")
+        value = (f"{v: .6g}" if k in ("mean", "sigma2")
+                 else ("" if v < 0 else " ") + coefficient_text(v, 6))
+        lines.append(f"  {k:<7} = {value} ± {_fmt(se, '.2g')}{unit}{sig}")
     return lines
 
 

@@ -103,3 +103,15 @@ def test_lazy_fit_behaves_like_a_stored_one() -> None:
     bare.__dict__.pop("_resid_source")
     with pytest.raises(AttributeError, match="neither its innovations nor the series"):
         _ = bare.resid
+
+
+def test_a_coefficient_near_a_unit_root_is_not_printed_as_one() -> None:
+    from fogts.arma.fit_result import coefficient_text
+
+    assert coefficient_text(0.99996, 4) == "0.99996"
+    assert coefficient_text(-1.00004, 4) == "-1.00004"
+    assert coefficient_text(1.0, 4) == "1"           # exactly one stays "1"
+    assert coefficient_text(0.5123456, 4) == "0.5123"  # elsewhere: the digits asked for
+    fit = fit_arma(simulate([0.6], [], 400, 3, 1.0), 1, 0)
+    near = dataclasses.replace(fit, params={**fit.params, "ar.L1": 0.99996})
+    assert near.equation(4).startswith("x_t = 0.99996 x_{t-1} + a_t")
