@@ -12,6 +12,7 @@ from __future__ import annotations
 from typing import Literal, get_args
 
 __all__ = [
+           "APPLY_RULES",
            "CRITERIA",
            "EXPORT_FORMATS",
            "FILTER_DESIGNS",
@@ -23,6 +24,7 @@ __all__ = [
            "KINDS",
            "NAN_POLICIES",
            "OUTPUT_UNITS",
+           "ApplyRule",
            "Criterion",
            "ExportFormat",
            "FilterDesign",
@@ -48,6 +50,11 @@ FIT_METHODS: tuple[str, ...] = get_args(FitMethod)
 #: Criteria that rank ARMA candidates.
 Criterion = Literal["aic", "bic", "hqic", "aicc"]
 CRITERIA: tuple[str, ...] = get_args(Criterion)
+
+#: When a fitted thermal model is subtracted: only when the likelihood-ratio test finds it
+#: significant, or in any case.
+ApplyRule = Literal["significant", "always"]
+APPLY_RULES: tuple[str, ...] = get_args(ApplyRule)
 
 #: What the reader does with empty, NaN or inf cells.
 NanPolicy = Literal["error", "drop", "interpolate"]

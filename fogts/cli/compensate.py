@@ -7,6 +7,7 @@ from typing import Annotated, Any
 
 import typer
 
+from fogts import choices
 from fogts.cli import _common as common
 from fogts.cli._axes import AXIS_HELP, axis_lines, axis_path, axis_picks, with_axis_column
 from fogts.pipeline import ReadSettings
@@ -24,6 +25,7 @@ def compensate_cmd(
     arma_model: Annotated[str, typer.Option("--arma-model", help="ARMA model of the EMD rest: auto, AR(1), AR(2), AR(3), ARMA(1,1), ARMA(2,1).")] = "auto",
     average: Annotated[float, typer.Option("--average", help="Averaging time of the bias stability in seconds (GJB/IEEE: 10 s).")] = 10.0,
     dt_smoothing: Annotated[float, typer.Option("--dt-smoothing", help="Window in seconds of the temperature-rate (dT/dt) estimate.")] = 60.0,
+    apply: Annotated[choices.ApplyRule, typer.Option("--apply", help="Subtract the fitted model only when the likelihood-ratio test finds a significant temperature dependence (significant), or in any case (always). A --model is always applied.")] = "significant",
     axis: Annotated[str | None, typer.Option("--axis", help=AXIS_HELP)] = None,
     json_out: common.JsonOpt = None,
     plot: Annotated[Path | None, typer.Option("--plot", help="Raw rate, trend, compensated rate and temperature: .png, .svg or .pdf.")] = None,
@@ -59,7 +61,8 @@ def compensate_cmd(
             with common.named_warnings(Path(run.source).name, run.axes[i]):
                 results.append(startup_compensation(
                     run, axis=i, emd=emd, model=given, arma_model=arma_model,
-                    dT_smoothing_s=dt_smoothing, average_s=average, calibration=extra))
+                    dT_smoothing_s=dt_smoothing, average_s=average, calibration=extra,
+                    apply=apply))
         if output is not None:
             from fogts.io.writer import write_frame_atomic
 

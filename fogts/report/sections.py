@@ -329,12 +329,16 @@ def _thermal_blocks(ctx: ReportContext, i: int, notes: list[str]) -> list[Block]
     after_label = ("after compensation" if res.claims_improvement else
                    f"after compensation (not claimed as an improvement: "
                    f"{res.no_claim_reason()})")
+    if not res.applied:
+        after_label = f"after (nothing compensated: {res.not_applied_reason()})"
     return [
         *verdict,
         figure_block(plot_compensation(res), id=f"thermal-{i}",
                      alt=f"thermal compensation of {_axis_label(ctx, i)}",
                      caption="Raw and compensated rate (top) and temperature (bottom)."),
-        Block(kind="pre", caption="Fitted drift model (fitted to the raw rate)",
+        Block(kind="pre", caption=("Fitted drift model (fitted to the raw rate)" if res.applied
+                                   else "Fitted drift model, not applied: "
+                                   f"{res.not_applied_reason()}"),
               text=model.equation()),
         html_table("Coefficients", ["term", "letter", "value", "± std. error"], rows,
                numeric=[False, False, True, True]),

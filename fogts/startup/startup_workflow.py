@@ -27,6 +27,7 @@ import numpy as np
 import pandas as pd
 
 from fogts._typing import FloatArray
+from fogts.choices import APPLY_RULES, ApplyRule
 from fogts.errors import DataError, InsufficientDataError, ModelFitError
 from fogts.io.run import Run
 from fogts.startup.compensation import (
@@ -84,6 +85,10 @@ class StartupCompensation(TableView):
         The test against "no temperature dependence" (None for a given model).
     out_of_sample : ThermalCrossValidation or None
         The gain on held-out runs or time blocks (measured only for a significant model).
+    applied : bool
+        Whether the model was subtracted.  A fitted model that the test does not find
+        significant is not, unless asked (``apply="always"``): ``run`` then holds the
+        input rate and ``after`` equals ``before``.
     """
 
     run: Run
@@ -101,6 +106,7 @@ class StartupCompensation(TableView):
     notes: tuple[str, ...] = ()
     significance: ThermalSignificance | None = None
     out_of_sample: ThermalCrossValidation | None = None
+    applied: bool = True
 
     @property
     def claims_improvement(self) -> bool:
@@ -140,6 +146,7 @@ class StartupCompensation(TableView):
             "notes": list(self.notes),
             "out_of_sample": (None if self.out_of_sample is None
                               else self.out_of_sample.to_dict()),
+            "applied": self.applied,
         }
 
     def to_frame(self) -> pd.DataFrame:
@@ -180,18 +187,34 @@ class StartupCompensation(TableView):
                          f"({self.kalman.measurement_noise_source}), {self.kalman.method}")
         if self.significance is not None:
             lines.insert(0, f"verdict: {self.significance.verdict}")
-        lines.append(self.model.summary())
-        stability = (f"bias stability ({self.before.average_s:g} s average, 1σ): "
-                     f"before {self.before.value:.4g} {self.before.unit}, after "
-                     f"{self.after.value:.4g} {self.after.unit}")
-        lines.append(f"{stability} ({self.improvement:.2f}x in sample)"
-                     if self.claims_improvement else
-                     f"{stability}; not claimed as an improvement: {self.no_claim_reason()}")
+        if not self.applied:
+            lines.append(f"thermal model: fitted, not applied: {self.not_applied_reason()}; "
+                         "the rate is left as it was (the coefficients are in the JSON and "
+                         "--save-model; --apply always subtracts them)")
+            lines.append(f"bias stability ({self.before.average_s:g} s average, 1σ): "
+                         f"{self.before.value:.4g} {self.before.unit} (nothing compensated)")
+        else:
+            lines.append(self.model.summary())
+            lines.append(self._stability_line())
         if self.out_of_sample is not None:
             lines.append(self.out_of_sample.summary())
         lines += [f"note: {n}" for n in self.notes]
         return "\n".join(lines)
 
+
+    def _stability_line(self) -> str:
+        stability = (f"bias stability ({self.before.average_s:g} s average, 1σ): "
+                     f"before {self.before.value:.4g} {self.before.unit}, after "
+                     f"{self.after.value:.4g} {self.after.unit}")
+        return (f"{stability} ({self.improvement:.2f}x in sample)" if self.claims_improvement
+                else f"{stability}; not claimed as an improvement: {self.no_claim_reason()}")
+
+    def not_applied_reason(self) -> str:
+        """Why a fitted model was not subtracted (the verdict's reason, in a clause)."""
+        if self.significance is not None and not self.significance.testable:
+            return (f"the temperature spans {self.significance.span_degC:.3g} °C, too little "
+                    "to identify its coefficients")
+        return "the likelihood-ratio test finds no significant temperature dependence"
 
     def no_claim_reason(self) -> str:
         """Why the bias-stability change is not an improvement, as the verdict says (the
@@ -215,6 +238,7 @@ def startup_compensation(
     errors: ErrorModel = "ar",
     average_s: float = 10.0,
     calibration: Sequence[Run] = (),
+    apply: ApplyRule = "significant",
 ) -> StartupCompensation:
     """Start-up drift compensation, steps 1-7 of the module docstring, on one axis of a run.
 
@@ -223,7 +247,8 @@ def startup_compensation(
     adds further runs (same sample rate and units; for example cold starts at other ambient
     temperatures) to the fit: one warm-up determines only the combinations of the six
     coefficients along its own (T, ΔT) path, and several ambients make the model hold
-    between them.
+    between them.  A fitted model is subtracted only when the likelihood-ratio test finds
+    it significant, unless ``apply="always"``; a given one always is.
 
     Raises
     ------
@@ -240,6 +265,9 @@ def startup_compensation(
     """
     if not isinstance(run, Run):
         raise DataError(f"run must be a fogts Run, got {type(run).__name__}")
+    if apply not in APPLY_RULES:
+        raise DataError(f"apply must be one of {', '.join(map(repr, APPLY_RULES))}, "
+                        f"got {apply!r}")
     require_temperature(run, hint=_COLUMN_HINT)
     gyro = run.axis(axis)
     name = axis if isinstance(axis, str) else run.axes[int(axis)]
@@ -265,8 +293,11 @@ def startup_compensation(
         raise DataError(f"model must be a ThermalModel or None, got {type(model).__name__}")
     else:
         prep = _FitInput(gyro, np.asarray(run.temperature, dtype=float), None, None, None, "", [])
-    comp = compensate(replace(run, temperature=prep.temp), model, axis=axis)
-    comp = replace(comp, temperature=run.temperature)
+    applied = significance is None or significance.significant or apply == "always"
+    comp = run
+    if applied:
+        comp = compensate(replace(run, temperature=prep.temp), model, axis=axis)
+        comp = replace(comp, temperature=run.temperature)
     comp_rate = comp.axis(axis)
     before = bias_stability(gyro, fs_hz=fs, average_s=average_s, units=run.units)
     after = bias_stability(comp_rate, fs_hz=fs, average_s=average_s, units=run.units)
@@ -275,7 +306,8 @@ def startup_compensation(
                                arma_model=prep.arma, gyro_used=np.asarray(prep.gyro),
                                temperature_used=np.asarray(prep.temp), raw_rate=gyro,
                                before=before, after=after, axis=name, notes=tuple(notes),
-                               significance=significance, out_of_sample=out_of_sample)
+                               significance=significance, out_of_sample=out_of_sample,
+                               applied=applied)
 
 
 # --------------------------------------------------------------------------- steps 1-5

@@ -66,9 +66,13 @@ def test_mpu6050_temperature_span_is_too_small() -> None:
         run = fogts.read_run(path, units="deg/s")
     res = fogts.startup_compensation(run, emd=False)
     assert res.significance is not None and not res.significance.testable
-    assert not res.claims_improvement
-    assert "not claimed as an improvement: the thermal model is not testable" in res.summary()
+    assert not res.claims_improvement and not res.applied
+    assert ("thermal model: fitted, not applied: the temperature spans 0.471 °C, too little "
+            "to identify its coefficients") in res.summary()
     assert "not significant" not in res.summary()
+    # nothing subtracted: the output rate is the input, bit for bit
+    assert np.array_equal(res.to_frame()["compensated"], run.axis(0))
+    assert res.after.value == res.before.value
 
 
 def test_compensate_on_the_example_claims_nothing(tmp_path: Path) -> None:
@@ -77,11 +81,39 @@ def test_compensate_on_the_example_claims_nothing(tmp_path: Path) -> None:
                                    "--json", str(out)])
     assert res.exit_code == 0, res.stderr
     assert res.stdout.startswith("verdict: no significant temperature dependence")
-    assert "not claimed as an improvement: the model is not significant" in res.stdout
-    assert "x)" not in res.stdout
+    assert ("thermal model: fitted, not applied: the likelihood-ratio test finds no "
+            "significant temperature dependence") in res.stdout
+    assert "(nothing compensated)" in res.stdout and "x)" not in res.stdout
     doc = json.loads(out.read_text())
     assert doc["significance"]["significant"] is False
     assert doc["bias_stability"]["improvement_claimed"] is False
+    assert doc["applied"] is False
+    assert doc["bias_stability"]["after"] == doc["bias_stability"]["before"]
+
+
+def test_compensate_applies_an_insignificant_model_only_when_asked(tmp_path: Path) -> None:
+    example = str(ROOT / "data" / "example_fog_10hz_3h.csv")
+    out = tmp_path / "c.json"
+    res = CliRunner().invoke(app, ["compensate", example, "--no-emd", "--apply", "always",
+                                   "--json", str(out)])
+    assert res.exit_code == 0, res.stderr
+    doc = json.loads(out.read_text())
+    assert doc["applied"] is True and doc["significance"]["significant"] is False
+    assert doc["bias_stability"]["after"] != doc["bias_stability"]["before"]
+    assert "not claimed as an improvement: the model is not significant" in res.stdout
+
+
+def test_compensate_refuses_an_unknown_apply_rule() -> None:
+    res = CliRunner().invoke(app, ["compensate", str(ROOT / "data" / "example_fog_10hz_3h.csv"),
+                                   "--apply", "sometimes"])
+    assert res.exit_code == 2
+    assert "--apply" in res.stderr and "sometimes" in res.stderr
+    assert "significant" in res.stderr and "always" in res.stderr
+    assert "Traceback" not in res.stderr
+    run = simulate_startup(duration_s=600, rng=1).run
+    with pytest.raises(DataError, match=r"apply must be one of 'significant', 'always', "
+                                        r"got 'sometimes'"):
+        fogts.startup_compensation(run, emd=False, apply="sometimes")  # type: ignore[arg-type]
 
 
 def test_compensate_on_the_cold_start_is_significant() -> None:
