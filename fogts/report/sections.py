@@ -250,6 +250,9 @@ def _arma_blocks(ctx: ReportContext, i: int, notes: list[str]) -> list[Block]:
                              [[name, r["estimate"], r["bse"], r["t"]]
                               for name, r in best.to_frame().iterrows()],
                              numeric=[False, True, True, True]))
+        gm = sel.gauss_markov()
+        if gm is not None:
+            blocks.append(Block(kind="paragraph", text=gm.summary() + "."))
     blocks.append(Block(kind="verdict", good=not sel.all_white_failed, text=sel.verdict))
     return blocks
 

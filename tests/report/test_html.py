@@ -149,6 +149,8 @@ def test_report_numbers_are_the_library_numbers(built: tuple[HtmlReport, str, Pa
     assert float(n_row[2]) == pytest.approx(model["N"].value, rel=1e-3)  # 4 digits shown
     sel = select_arma(prepare(run, axis=0, stationarity=False))  # same series, no ADF
     assert f"Selected model: {sel.best.name}" in text
+    gm = sel.gauss_markov()  # ARMA(1,1), T_c 682 s (95 %: over 192 s; measured)
+    assert gm is not None and str(escape(gm.summary())) in text
     thermal = fit_thermal(run.axis(0), run.temperature, fs_hz=run.fs_hz, units=run.units)
     assert str(escape(thermal.equation())) in text
     # the drift simulated as 0.03 * T over 10 min (0.2 deg/h) is not told from the random
