@@ -289,7 +289,6 @@ def criteria(llf: float, k: int, n: int) -> tuple[float, float, float, float]:
     return aic, bic, hqic, aicc
 
 
-
 def coefficient_text(c: float, digits: int) -> str:
     """``c`` to ``digits`` significant digits, with more where that would print a
     coefficient near a unit root as exactly 1 (0.99996 as "0.99996", not "1")."""

@@ -201,7 +201,6 @@ class StartupCompensation(TableView):
         lines += [f"note: {n}" for n in self.notes]
         return "\n".join(lines)
 
-
     def _stability_line(self) -> str:
         stability = (f"bias stability ({self.before.average_s:g} s average, 1σ): "
                      f"before {self.before.value:.4g} {self.before.unit}, after "
