@@ -18,19 +18,21 @@ Figures (ratio = allantools seconds / fogts seconds, > 1 means fogts is faster):
   the input array;
 * every estimator (adev, oadev, mdev, hdev, ohdev, totdev) on 10^6 samples, octave taus,
   one thread (allantools has one);
-* ``--huge``: the end-to-end time on a 10^8-sample ``.npy`` (about 800 MB) of
-  ``read_run`` + ``allan_deviation`` (with confidence intervals), and of the whole
-  ``fogts allan`` command when it exists, against ``numpy.load`` + ``allantools.oadev``
-  on the same octave taus; each side runs once in a fresh interpreter, timed by its wall
-  and its own CPU time (:func:`benchmarks.timing.run_child`), and the command's peak
-  resident memory is given as a multiple of the 800 MB input.
+* in a full run (or with ``--huge``): the end-to-end time on a 10^8-sample ``.npy``
+  (about 800 MB) of ``read_run`` + ``allan_deviation`` (with confidence intervals), and of
+  the whole ``fogts allan`` command, against ``numpy.load`` + ``allantools.oadev`` on the
+  same octave taus; each side runs once in a fresh interpreter, timed by its wall and its
+  own CPU time (:func:`benchmarks.timing.run_child`), and the command's peak resident
+  memory is given as a multiple of the 800 MB input; and the whole ``fogts report
+  --decimate 100`` on the same file (wall time and peak memory, no peer: no other tool
+  writes such a report).
 
 The machine is shared, so the contenders are timed in rotating rounds and the best wall and
 CPU time of each is kept (:func:`benchmarks.timing.measure`); the load average is printed
 with the table.  The default-thread oadev is a ``parallel`` figure (see
 :mod:`benchmarks.compare`); its single-threaded sibling is the 1-thread oadev.
 
-Run: ``python -m benchmarks.bench_allan [--quick] [--huge]``; the table is written to
+Run: ``python -m benchmarks.bench_allan [--quick | --huge]``; the table is written to
 ``benchmarks/results/allan.md``.
 """
 
@@ -287,9 +289,31 @@ def _huge_metrics() -> list[Metric]:
                 "`fogts allan` command", value=cli.max_rss_bytes / (8 * N_HUGE),
                 better="lower", unit="x input", tolerance=0.25,
                 details={"max_rss_bytes": cli.max_rss_bytes}))
+        out += _report_metrics(path, folder, env, root)
     finally:
         shutil.rmtree(folder, ignore_errors=True)
     return out
+
+
+def _report_metrics(path: Path, folder: Path, env: dict[str, str], root: str) -> list[Metric]:
+    """`fogts report --decimate 100` on the 1e8-sample file, in a fresh interpreter: wall
+    time (CPU in the details) and peak memory as a multiple of the input (goals: 30 s, 3x)."""
+    cmd = [sys.executable, "-m", "fogts", "report", str(path), "--fs", str(FS_HZ),
+           "--units", "deg/h", "--decimate", "100", "-o", str(folder / "report.html"), "-q"]
+    run = _checked_child(cmd, env, root)
+    return [
+        accuracy_metric(
+            "time.report_cli_end_to_end.n=1e8", "1e8-sample .npy: the whole `fogts report "
+            "--decimate 100` (Allan chain on all samples, the ARMA selection on the 1e6 block "
+            "means, dynamic Allan deviation, figures, HTML): wall time (no peer)",
+            value=run.wall_s, better="lower", unit="s", tolerance=0.5,
+            details={"cpu_s": run.cpu_s}),
+        accuracy_metric(
+            "memory.report_cli_end_to_end.n=1e8", "1e8-sample .npy: peak RSS of the whole "
+            "`fogts report --decimate 100`", value=run.max_rss_bytes / (8 * N_HUGE),
+            better="lower", unit="x input", tolerance=0.25,
+            details={"max_rss_bytes": run.max_rss_bytes}),
+    ]
 
 
 def _checked_child(cmd: list[str], env: dict[str, str], cwd: str) -> ChildRun:
@@ -299,11 +323,12 @@ def _checked_child(cmd: list[str], env: dict[str, str], cwd: str) -> ChildRun:
     return run
 
 
-def metrics(quick: bool, huge: bool = False) -> list[Metric]:
-    """Measure and return the figures (the runner's entry point)."""
+def metrics(quick: bool, huge: bool | None = None) -> list[Metric]:
+    """Measure and return the figures (the runner's entry point); the 1e8-sample end to end
+    is part of every full run unless ``huge=False``."""
     out = _oadev_metrics(quick)
     out += _all_kinds_metrics(quick)
-    if huge:
+    if (not quick) if huge is None else huge:
         out += _huge_metrics()
     return out
 
@@ -311,8 +336,9 @@ def metrics(quick: bool, huge: bool = False) -> list[Metric]:
 def main(argv: list[str] | None = None) -> int:
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     p.add_argument("--quick", action="store_true", help="1e6 samples and 30 taus")
-    p.add_argument("--huge", action="store_true",
-                   help="also time the end-to-end analysis of a 1e8-sample .npy (~800 MB)")
+    p.add_argument("--huge", action="store_true", default=None,
+                   help="also time the end-to-end analysis of a 1e8-sample .npy (~800 MB) "
+                        "with --quick (a full run always does)")
     p.add_argument("--out", type=Path, default=None,
                    help=f"write the markdown table here (default {RESULTS} for a full run)")
     args = p.parse_args(argv)
