@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated, Any
+from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 
@@ -11,6 +11,25 @@ from fogts import choices
 from fogts.cli import _common as common
 from fogts.cli._axes import AXIS_HELP, axis_lines, axis_path, axis_picks, with_axis_column
 from fogts.pipeline import ReadSettings
+
+if TYPE_CHECKING:
+    from fogts.io.run import Run
+    from fogts.startup.startup_workflow import StartupCompensation
+
+
+def _save_models(save_model: Path | None, run: Run, picks: list[int],
+                 results: list[StartupCompensation], many: bool) -> list[Path]:
+    """Write each axis' thermal model as JSON (``--save-model``); the paths written."""
+    if save_model is None:
+        return []
+    from fogts.io.writer import write_text_atomic
+    from fogts.report.text import json_dumps
+
+    saved = []
+    for i, r in zip(picks, results, strict=True):
+        saved.append(axis_path(save_model, run, i, many))
+        write_text_atomic(saved[-1], json_dumps(r.model.to_dict()) + "\n")
+    return saved
 
 
 @common.app.command("compensate")
@@ -68,14 +87,7 @@ def compensate_cmd(
 
             write_frame_atomic(output, with_axis_column([r.to_frame() for r in results],
                                                         [r.axis for r in results], many=many))
-        saved = []
-        if save_model is not None:
-            from fogts.io.writer import write_text_atomic
-            from fogts.report.text import json_dumps
-
-            for i, r in zip(picks, results, strict=True):
-                saved.append(axis_path(save_model, run, i, many))
-                write_text_atomic(saved[-1], json_dumps(r.model.to_dict()) + "\n")
+        saved = _save_models(save_model, run, picks, results, many)
         blocks = [r.to_dict() for r in results]
         if given is not None:
             blocks[0]["thermal"]["source"] = str(model)
