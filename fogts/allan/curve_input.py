@@ -324,7 +324,7 @@ def _checked_tau(table: CurveTable, rows: np.ndarray) -> FloatArray:
     col = table.columns["tau"]
     bad = np.flatnonzero(~np.isfinite(tau) | (tau <= 0))
     if bad.size:
-        raise DataError(f"{table.source}: column {col!r} has {tau[bad[0]]!r} at "
+        raise DataError(f"{table.source}: column {col!r} has {float(tau[bad[0]])!r} at "
                         f"{table.where(rows[bad[0]])}; every tau must be a finite number > 0 s")
     step = np.flatnonzero(np.diff(tau) <= 0)
     if step.size:
@@ -340,7 +340,7 @@ def _checked_dev(table: CurveTable, rows: np.ndarray, dev: FloatArray) -> FloatA
     col = table.columns.get("dev", table.columns.get("var", ""))
     bad = np.flatnonzero(~np.isfinite(d) | (d < 0))
     if bad.size:
-        raise DataError(f"{table.source}: column {col!r} has {d[bad[0]]!r} at "
+        raise DataError(f"{table.source}: column {col!r} has {float(d[bad[0]])!r} at "
                         f"{table.where(rows[bad[0]])}; a deviation must be a finite "
                         "number >= 0")
     return d
