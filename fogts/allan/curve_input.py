@@ -27,6 +27,7 @@ decides what its numbers mean, saying where each came from
 
 from __future__ import annotations
 
+import os
 import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -115,7 +116,7 @@ class CurveInput:
         return self.curves[0] if len(self.curves) == 1 else AllanResultSet(self.curves)
 
 
-def read_curve_file(path: Any, *, units: str | None = None, fs_hz: float | None = None,
+def read_curve_file(path: str | os.PathLike[str], *, units: str | None = None, fs_hz: float | None = None,
                     n_samples: int | None = None, kind: str | None = None,
                     channel: str | None = None, confidence: float | None = None
                     ) -> AllanResult | AllanResultSet:
@@ -167,7 +168,7 @@ def read_curve_file(path: Any, *, units: str | None = None, fs_hz: float | None 
 
 
 # Over 80 lines: the decisions in order, each a few lines and said in a note.
-def read_curves(path: Any, *, units: str | None = None, fs_hz: float | None = None,
+def read_curves(path: str | os.PathLike[str], *, units: str | None = None, fs_hz: float | None = None,
                 n_samples: int | None = None, kind: str | None = None,
                 channel: str | None = None, confidence: float | None = None) -> CurveInput:
     """:func:`read_curve_file` with the provenance of every number (:class:`CurveInput`)."""
