@@ -184,6 +184,11 @@ def read_curves(path: str | os.PathLike[str], *, units: str | None = None, fs_hz
     picks = _channels(table, channel, unit, notes)
     first = picks[0][1]
     fs, fs_source = _sample_rate(table, first, fs_given, notes)
+    # Stable32 divides TOTVAR by its bias where it identified FM noise (Howe 1999)
+    corrected = table.layout == "stable32" and kind == "totdev" and "alpha" in table.numbers
+    if corrected:
+        notes.append("Stable32's totdev: bias-corrected where it identified FM noise (Howe "
+                     "1999), fitted as printed")
     built = []
     n_info: tuple[int, str] | None = None
     weights = ""
@@ -209,7 +214,7 @@ def read_curves(path: str | os.PathLike[str], *, units: str | None = None, fs_hz
         built.append(AllanResult(
             kind=kind, units=unit, axis=label, fs_hz=fs, n_samples=n_rec,
             confidence=lvl, tau_s=tau, m=m, n=terms, dev=d, ci_low=low, ci_high=high,
-            edf=w.edf, alpha=w.alpha, alpha_method=w.alpha_method,
+            edf=w.edf, alpha=w.alpha, alpha_method=w.alpha_method, bias_corrected=corrected,
             notes=tuple(notes) + ((f"bounds: {lvl_source}",) if lvl_source else ())))
     assert n_info is not None
     prov = CurveProvenance(
@@ -375,6 +380,15 @@ def _whole_m(table: CurveTable, rows: np.ndarray, tau: FloatArray, fs: float) ->
                         f"not a whole number of samples at fs = {fs:.6g} Hz (tau fs = "
                         f"{exact[i]:.6g}); taus must be m / fs with m = 1, 2, ...: give the "
                         "record's --fs, or round a digitised curve's taus to whole samples")
+    stated = table.numbers.get("m")
+    if stated is not None:
+        differ = np.isfinite(stated[rows]) & (stated[rows] != m)
+        if differ.any():
+            i = int(np.flatnonzero(differ)[0])
+            raise DataError(f"{table.source}: column {table.columns['m']!r} says m = "
+                            f"{stated[rows][i]:g} at {table.where(rows[i])}, but tau fs = "
+                            f"{exact[i]:.6g} at fs = {fs:.6g} Hz; give the record's --fs "
+                            f"({stated[rows][i] / tau[i]:.6g} Hz by the file)")
     return m.astype(np.int64)
 
 

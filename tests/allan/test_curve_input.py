@@ -101,6 +101,12 @@ def test_stable32_edf_from_its_alpha_gives_its_bounds() -> None:
     np.testing.assert_allclose(hi, ref[:, 6], rtol=1e-3)
 
 
+def test_stable32_totdev_is_marked_bias_corrected() -> None:
+    res = read_curve_file(shared_path("stable32", "ocxo", "totdev_octave.txt"), units="deg/h")
+    assert isinstance(res, AllanResult) and res.kind == "totdev" and res.bias_corrected
+    assert any("bias-corrected where it identified FM noise" in n for n in res.notes)
+
+
 def test_inferred_sample_rate_and_record_length_are_said(tmp_path: Path) -> None:
     tau = TAU[3:]                                   # shortest tau 0.08 s
     text = "tau,adev,edf\n" + "".join(f"{float(t)!r},{1 / math.sqrt(t)!r},{float(1e5 / t)!r}\n"
@@ -199,6 +205,9 @@ def test_channels_default_all_of_the_unit_quantity_or_named(tmp_path: Path) -> N
     ("tau,adev,edf\n0.01,1,9\n0.025,1,9\n", {"fs_hz": FS},
      r"tau = 0.025 s at line 3 is not a whole number of samples at fs = 100 Hz \(tau fs = "
      r"2.5\); taus must be m / fs"),
+    ("tau,m,adev,edf\n0.01,1,1,9\n0.02,2,1,9\n", {"fs_hz": 200.0},
+     r"column 'm' says m = 1 at line 2, but tau fs = 2 at fs = 200 Hz; give the record's "
+     r"--fs \(100 Hz by the file\)"),
     ("tau,adev,edf\n0.01,1,9\n0.02,1,0\n", {}, r"column 'edf' has 0.0 at line 3; edf must be "
                                               r"a finite number > 0"),
     ("tau,adev,errors\n0.01,1,0.1\n0.02,1,nan\n", {}, r"column 'errors' has nan at line 3"),
