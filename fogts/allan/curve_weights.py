@@ -121,6 +121,9 @@ def curve_weights(table: CurveTable, rows: np.ndarray, kind: str, tau: FloatArra
     except InsufficientDataError as exc:
         raise DataError(f"{table.source}: n_samples = {n:,} is too short for this curve "
                         f"({exc}); give the record's --n-samples") from None
+    except DataError as exc:  # an alpha column outside the estimator's range
+        raise DataError(f"{table.source}: column {table.columns.get('alpha', 'alpha')!r}: "
+                        f"{exc}") from None
     return CurveWeights(edf, alpha, (method,) * tau.size, text, n)
 
 

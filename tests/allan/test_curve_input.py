@@ -216,6 +216,8 @@ def test_channels_default_all_of_the_unit_quantity_or_named(tmp_path: Path) -> N
                                          r"length to compute them: give --n-samples N"),
     ("tau,adev\n0.01,1\n0.02,0.7\n", {"n_samples": 3},
      r"n_samples = 3 is too short for this curve .*; give the record's --n-samples"),
+    ("tau,adev,alpha\n0.01,1,5\n0.02,0.7,0\n", {"n_samples": 1000},
+     r"c.csv: column 'alpha': alpha must be an integer in \[-2, 2\] for kind='adev', got 5"),
     ("tau,adev,edf\n0.01,1,9\n", {"channel": "x"}, r"channel 'x': .* has no channel column "
                                                    r"\(one curve\); leave --channel out"),
     ("tau,adev,edf\n0.01,1,9\n", {"kind": "xdev"}, r"kind must be one of adev, oadev"),
