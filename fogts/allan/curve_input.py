@@ -116,9 +116,10 @@ class CurveInput:
         return self.curves[0] if len(self.curves) == 1 else AllanResultSet(self.curves)
 
 
-def read_curve_file(path: str | os.PathLike[str], *, units: str | None = None, fs_hz: float | None = None,
-                    n_samples: int | None = None, kind: str | None = None,
-                    channel: str | None = None, confidence: float | None = None
+def read_curve_file(path: str | os.PathLike[str], *, units: str | None = None,
+                    fs_hz: float | None = None, n_samples: int | None = None,
+                    kind: str | None = None, channel: str | None = None,
+                    confidence: float | None = None
                     ) -> AllanResult | AllanResultSet:
     """Read a published Allan curve (module docstring) for :func:`fogts.fit_noise`.
 
@@ -167,10 +168,10 @@ def read_curve_file(path: str | os.PathLike[str], *, units: str | None = None, f
                        channel=channel, confidence=confidence).result
 
 
-# Over 80 lines: the decisions in order, each a few lines and said in a note.
-def read_curves(path: str | os.PathLike[str], *, units: str | None = None, fs_hz: float | None = None,
-                n_samples: int | None = None, kind: str | None = None,
-                channel: str | None = None, confidence: float | None = None) -> CurveInput:
+def read_curves(path: str | os.PathLike[str], *, units: str | None = None,
+                fs_hz: float | None = None, n_samples: int | None = None,
+                kind: str | None = None, channel: str | None = None,
+                confidence: float | None = None) -> CurveInput:
     """:func:`read_curve_file` with the provenance of every number (:class:`CurveInput`)."""
     fs_given = check_positive("fs_hz", fs_hz) if fs_hz is not None else None
     n_given = check_int("n_samples", n_samples, minimum=2) if n_samples is not None else None
@@ -205,8 +206,8 @@ def read_curves(path: str | os.PathLike[str], *, units: str | None = None, fs_hz
             if n_source == "estimated":
                 notes.append(f"the record length is not stated: estimated as m (edf + 1) "
                              f"= {n_rec:,} samples at the shortest tau (IEEE Std 952-1997 "
-                             "C.3); it only shapes the gls/gmwm covariance; give "
-                             "--n-samples N")
+                             "C.3); it shapes the model covariance behind the standard "
+                             "errors and gls; give --n-samples N")
         low, high, lvl, lvl_source = _bounds(table, rows, d, w.edf, level)
         terms = (table.numbers["terms"][rows] if "terms" in table.numbers
                  and np.all(np.isfinite(table.numbers["terms"][rows]))

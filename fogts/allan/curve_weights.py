@@ -132,8 +132,8 @@ def _positive(table: CurveTable, rows: np.ndarray, role: str) -> FloatArray:
     bad = np.flatnonzero(~np.isfinite(values) | (values <= 0))
     if bad.size:
         raise DataError(f"{table.source}: column {table.columns[role]!r} has "
-                        f"{float(values[bad[0]])!r} at {table.where(rows[bad[0]])}; {role} must be a "
-                        "finite number > 0")
+                        f"{float(values[bad[0]])!r} at {table.where(rows[bad[0]])}; {role} "
+                        "must be a finite number > 0")
     return values
 
 

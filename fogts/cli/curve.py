@@ -15,7 +15,6 @@ from fogts.cli import _common as common
 OptionalKindOpt = Annotated[choices.Kind | None, typer.Option("--kind", help="The estimator the curve was computed with (default: from the file, else oadev; noise terms are fitted to adev, oadev and totdev).")]
 
 
-# Over 80 lines by its option declarations and docstring; the work is the library's.
 @common.app.command("curve")
 @common.pauses_cycle_collection
 def curve_cmd(

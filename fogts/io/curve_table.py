@@ -192,7 +192,6 @@ def _find(names: dict[str, str], candidates: tuple[str, ...] | dict[str, str | N
     return None
 
 
-# Long by the table of roles it looks up; each lookup is one line.
 def _named_columns(table: Table) -> CurveTable:
     names = {_norm(str(c)): str(c) for c in table.frame.columns}
     listed = ", ".join(map(str, table.frame.columns))

@@ -224,7 +224,9 @@ def test_channels_default_all_of_the_unit_quantity_or_named(tmp_path: Path) -> N
     ("tau,adev,edf\n0.01,1,9\n", {"fs_hz": -1.0}, r"fs_hz must be a finite number > 0, got -1.0"),
     ("tau,adev,edf\n0.01,1,9\n", {"n_samples": 1}, r"n_samples must be .*>= 2"),
     ("tau,adev,edf\n0.01,1,9\n", {"confidence": 2.0}, r"confidence must be in \(0, 1\)"),
-    ("tau,adev,edf\n0.01,1,9\n", {"units": "furlong"}, r"units must be a rate unit \(deg/h, deg/s, rad/s, arcsec/s\) or a specific-force unit .*got 'furlong'"),
+    ("tau,adev,edf\n0.01,1,9\n", {"units": "furlong"},
+     r"units must be a rate unit \(deg/h, deg/s, rad/s, arcsec/s\) or a specific-force unit "
+     r".*got 'furlong'"),
 ])
 def test_every_refusal_names_the_value_and_what_is_allowed(tmp_path: Path, text: str,
                                                            kwargs: dict, match: str) -> None:
