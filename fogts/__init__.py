@@ -46,6 +46,7 @@ _MODULE_NAMES: dict[str, str] = {
     "fogts.allan.ml": "fit_noise_ml",
     "fogts.allan.noise_model": "NoiseModel NoiseTerm",
     "fogts.allan.readout": "read_curve CurveReadout",
+    "fogts.allan.curve_input": "read_curve_file",
     "fogts.allan.compare": "compare_allan AllanComparison",
     "fogts.allan.dynamic": "dynamic_allan",
     "fogts.allan.dynamic_result": "DynamicAllanResult",
@@ -113,6 +114,7 @@ if TYPE_CHECKING:  # the names of _MODULE_NAMES, static for type checkers and ID
     from fogts.allan.bias import totdev_bias
     from fogts.allan.compare import AllanComparison, compare_allan
     from fogts.allan.confidence import confidence_table
+    from fogts.allan.curve_input import read_curve_file
     from fogts.allan.dynamic import dynamic_allan
     from fogts.allan.dynamic_result import DynamicAllanResult
     from fogts.allan.ml import fit_noise_ml

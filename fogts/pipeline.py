@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import warnings
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -21,6 +21,7 @@ if TYPE_CHECKING:
     import os
 
     from fogts.allan.api import TauSpec
+    from fogts.allan.curve_input import CurveProvenance
     from fogts.allan.misfit import FitCheck
     from fogts.allan.noise import NoiseModel
     from fogts.allan.noise_compare import MethodComparison
@@ -33,9 +34,8 @@ if TYPE_CHECKING:
     from fogts.preprocess.prepare import Prepared
 
 __all__ = ["AllanAnalysis", "AllanSettings", "AxisAllan", "AxisSelection", "InputColumns",
-           "ReadSettings",
-           "SelectSettings", "analyse_allan", "analyse_allan_axis", "analyse_selection",
-           "load"]
+           "ReadSettings", "SelectSettings", "analyse_allan", "analyse_allan_axis",
+           "analyse_curve", "analyse_selection", "load"]
 
 _ALL_TERMS = ("Q", "N", "B", "K", "R")
 _DEFAULT_CANDIDATES = ((1, 0), (2, 0), (3, 0), (1, 1), (2, 1))
@@ -102,9 +102,9 @@ class AllanSettings:
     """The Allan analysis of one axis: estimator, tau grid and confidence
     (:func:`fogts.allan_deviation`), the noise fit (:func:`fogts.fit_noise`; ``significance``
     None keeps every term; ``compare_methods``: further methods fitted beside ``method``,
-    shown side by side in :attr:`AxisAllan.comparison`), optional preparation (:func:`fogts.prepare`: the data are
-    analysed raw unless ``outliers``, ``detrend`` or ``decimate`` is given), the allantools
-    cross-check and the thread count."""
+    shown side by side in :attr:`AxisAllan.comparison`), optional preparation
+    (:func:`fogts.prepare`: the data are analysed raw unless ``outliers``, ``detrend`` or
+    ``decimate`` is given), the allantools cross-check and the thread count."""
 
     kind: str = "oadev"
     taus: TauSpec = "octave"
@@ -192,9 +192,9 @@ class AxisAllan:
             lines.append(self.outliers_effect["text"])
         return lines
 
-    def plausibility_warning(self, run: Run) -> str | None:
+    def plausibility_warning(self, run: Run | CurveProvenance) -> str | None:
         """The warning to show when N and B are implausible, or could be in another unit
-        than the assumed one; None otherwise."""
+        than the assumed one (``run``: the recording or curve file read); else None."""
         p = self.plausibility
         if p is None or not (p.verdict == "implausible" or (run.units_assumed and p.ambiguous)):
             return None
@@ -319,10 +319,8 @@ def _allan(source: Any, s: AllanSettings, axis: int | None, units: str | None = 
 def _plausibility(model: NoiseModel, units: str) -> PlausibilityReport:
     from fogts.allan.plausibility import check_plausibility
 
-    def value(name: str) -> float | None:
-        return model[name].value if name in model.names else None
-
-    return check_plausibility(value("N"), value("B"), units=units)
+    return check_plausibility(*(model[t].value if t in model.names else None for t in "NB"),
+                              units=units)
 
 
 def analyse_allan_axis(run: Run, axis: int, settings: AllanSettings | None = None
@@ -341,8 +339,7 @@ def analyse_allan_axis(run: Run, axis: int, settings: AllanSettings | None = Non
     else:
         res = _allan(run, s, axis, run.unit_of(axis))
         series, fs_hz = run.axis(axis), run.fs_hz
-    model = _fit(res, s, series, fs_hz)
-    comparison = _compare(res, s, series, fs_hz, model)
+    done = analyse_curve(res, s, series=series, fs_hz=fs_hz, units=run.units)
     check = None
     if s.check_allantools:
         from fogts.allan.peer import allantools_check
@@ -350,21 +347,31 @@ def analyse_allan_axis(run: Run, axis: int, settings: AllanSettings | None = Non
         check = allantools_check(prepared.x if prepared is not None else run.axis(axis), res)
     effect = None
     if prepared is not None and prepared.outliers is not None:
-        effect = _outlier_effect(run, axis, prepared, model, s)
-    return AxisAllan(result=res, model=model, readout=res.readout(model), prepared=prepared,
-                     check=check, outliers_effect=effect,
-                     plausibility=_plausibility(model, run.units)
+        effect = _outlier_effect(run, axis, prepared, done.model, s)
+    return replace(done, prepared=prepared, check=check, outliers_effect=effect)
+
+
+def analyse_curve(result: AllanResult, settings: AllanSettings | None = None, *,
+                  series: Any = None, fs_hz: float | None = None, units: str | None = None
+                  ) -> AxisAllan:
+    """Fit the noise terms to one Allan curve (``series``, ``fs_hz``: the record, which only
+    method ``"ml"`` reads), read the curve, check the terms' plausibility in ``units``
+    (default: the curve's) and the fit against the points' intervals."""
+    s = settings or AllanSettings()
+    model = _fit(result, s, series, fs_hz)
+    return AxisAllan(result=result, model=model, readout=result.readout(model),
+                     plausibility=_plausibility(model, units or result.units)
                      if model is not None and model.quantity == "rate" else None,
-                     fit_range=s.fit_range, comparison=comparison,
-                     fit_check=_fit_check(res if s.fit_range is None else res.within(*s.fit_range),
-                                          model))
+                     fit_range=s.fit_range,
+                     comparison=_compare(result, s, series, fs_hz, model),
+                     fit_check=_fit_check(result if s.fit_range is None
+                                          else result.within(*s.fit_range), model))
 
 
-def _compare(result: AllanResult, s: AllanSettings, series: Any, fs_hz: float,
+def _compare(result: AllanResult, s: AllanSettings, series: Any, fs_hz: float | None,
              model: NoiseModel | None) -> MethodComparison | None:
     """The fits by ``s.compare_methods`` beside ``model``; their warnings say which method
     they come from."""
-    import dataclasses
     import re
 
     from fogts.allan.noise_compare import side_by_side
@@ -375,7 +382,7 @@ def _compare(result: AllanResult, s: AllanSettings, series: Any, fs_hz: float,
     for method in s.compare_methods:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
-            other = _fit(result, dataclasses.replace(s, method=method), series, fs_hz)
+            other = _fit(result, replace(s, method=method), series, fs_hz)
         for w in caught:  # "method 'gmwm': noise term Q ...", not "...: axis 'x': ..."
             text = re.sub(r"^axis '[^']*': ", "", str(w.message))
             tag = f"method {method!r}"

@@ -66,8 +66,21 @@ def _gappy_record(tmp: Path) -> Path:
     return path
 
 
-#: name -> (command line, output files to capture); ``{tmp}`` is the output folder and
-#: ``{gappy}`` the generated record.  Paths to the bundled data are relative to the root.
+def _curve_file(tmp: Path) -> Path:
+    """A published-style Allan curve: the five-term sigma (N = 0.002 deg/sqrt(h), B = 0.01
+    deg/h, K = 0.05 deg/h^1.5; DESIGN.md) at octave taus of a 10 Hz record, times a fixed
+    wiggle of up to 2 %, with no unit, fs or record length in the file."""
+    tau = 2.0 ** np.arange(0, 16) / 10.0
+    var = ((0.002 * 60) ** 2 / tau + 2 * math.log(2) / math.pi * 0.01**2
+           + (0.05 / 60) ** 2 * tau / 3)
+    dev = np.sqrt(var) * (1 + 0.02 * np.sin(np.arange(tau.size)))
+    path = tmp / "curve.csv"
+    pd.DataFrame({"tau_s": tau, "oadev": dev}).to_csv(path, index=False, float_format="%.10g")
+    return path
+
+
+#: name -> (command line, output files to capture); ``{tmp}`` is the output folder,
+#: ``{gappy}`` the generated record and ``{curve}`` the generated Allan curve.  Paths to the bundled data are relative to the root.
 CASES: dict[str, tuple[list[str], list[str]]] = {
     "info": (["info", "data/example_fog_10hz_3h.csv", "--json", "{tmp}/out.json"],
              ["out.json"]),
@@ -79,6 +92,8 @@ CASES: dict[str, tuple[list[str], list[str]]] = {
                 "--predict", "{tmp}/pred.csv"], ["out.json", "pred.csv"]),
     "select_gappy": (["select", "{gappy}", "--decimate", "10", "--json", "{tmp}/out.json"],
                      ["out.json"]),
+    "curve": (["curve", "{curve}", "--units", "deg/h", "--fs", "10", "--n-samples", "108000",
+               "--json", "{tmp}/out.json"], ["out.json"]),
     "davar": (["davar", "data/example_fog_10hz_3h.csv", "--window", "20min", "--step",
                "10min", "--json", "{tmp}/out.json"], ["out.json"]),
     "filter_kalman": (["filter", "data/startup_cold_1hz.csv", "-o", "{tmp}/f.csv",
@@ -102,7 +117,8 @@ def run_case(name: str, tmp: Path) -> dict[str, Any]:
     ``<tmp>``; CSV outputs as :func:`_table_digest`."""
     args, outputs = CASES[name]
     gappy = _gappy_record(tmp) if any("{gappy}" in a for a in args) else None
-    line = [a.format(tmp=tmp, gappy=gappy) for a in args]
+    curve = _curve_file(tmp) if any("{curve}" in a for a in args) else None
+    line = [a.format(tmp=tmp, gappy=gappy, curve=curve) for a in args]
     cwd = Path.cwd()
     os.chdir(ROOT)
     try:

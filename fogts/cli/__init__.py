@@ -16,7 +16,7 @@ from fogts.cli._common import app
 
 #: The commands, in the order ``fogts --help`` lists them; importing a command's module
 #: registers it on the app.
-COMMANDS = ("info", "allan", "batch", "report", "simulate", "davar", "filter", "compensate",
+COMMANDS = ("info", "allan", "curve", "batch", "report", "simulate", "davar", "filter", "compensate",
             "northfind", "select")
 for _name in COMMANDS:
     importlib.import_module(f"fogts.cli.{_name}")

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Any
 
@@ -18,10 +19,10 @@ if TYPE_CHECKING:
     from fogts.allan.noise import NoiseModel
     from fogts.allan.readout import CurveReadout
     from fogts.allan.result import AllanResult
-    from fogts.pipeline import AllanAnalysis
+    from fogts.pipeline import AllanAnalysis, AxisAllan
 
 
-def _allan_tables(res: AllanResult, model: NoiseModel | None, check: dict[str, Any] | None,
+def allan_tables(res: AllanResult, model: NoiseModel | None, check: dict[str, Any] | None,
                   quiet_json: str | None, units: choices.OutputUnits = "deg") -> None:
     import math
 
@@ -175,11 +176,11 @@ def allan_cmd(
             for ax in analysis.axes:
                 if ax.notes:
                     common.say([f"{ax.result.axis}: {line}" for line in ax.notes], json_out)
-                _allan_tables(ax.result, ax.model, ax.check, json_out, output_units)
+                allan_tables(ax.result, ax.model, ax.check, json_out, output_units)
                 if ax.comparison is not None:
                     common.print_out(common.rich_table(ax.comparison.table(output_units)),
                                      quiet_json=json_out)
-                _curve_table(ax.result, ax.readout, json_out, output_units)
+                curve_table(ax.result, ax.readout, json_out, output_units)
                 if ax.fit_check is not None:
                     common.say([f"fit check: {ax.fit_check.verdict}"], json_out)
     if any(r[f"{t}_spec"] == "FAIL" for r in rows for t in SUMMARY_TERMS):
@@ -222,17 +223,24 @@ def _allan_csv(analyses: list[AllanAnalysis], target: Path) -> None:
     write_frame_atomic(target, pd.concat(frames, ignore_index=True))
 
 
-def _allan_figure(analyses: list[AllanAnalysis]) -> Figure:
+def axes_figure(axes: Sequence[AxisAllan]) -> Figure:
+    """The Allan figure of one file's axes: one curve with its fit, term lines and fit range,
+    or every axis' curve and fit on one figure."""
     from fogts.allan import AllanResultSet
-    from fogts.report.plots import plot_allan, plot_allan_overlay
+    from fogts.report.plots import plot_allan
+
+    if len(axes) == 1:
+        return plot_allan(axes[0].result, axes[0].model, fit_range=axes[0].fit_range)
+    models = [ax.model for ax in axes]
+    return plot_allan(AllanResultSet(curves=tuple(ax.result for ax in axes)),
+                      models if all(m is not None for m in models) else None)
+
+
+def _allan_figure(analyses: list[AllanAnalysis]) -> Figure:
+    from fogts.report.plots import plot_allan_overlay
 
     if len(analyses) == 1:
-        axes = analyses[0].axes
-        if len(axes) == 1:
-            return plot_allan(axes[0].result, axes[0].model, fit_range=axes[0].fit_range)
-        models = [ax.model for ax in axes]
-        return plot_allan(AllanResultSet(curves=tuple(ax.result for ax in axes)),
-                          models if all(m is not None for m in models) else None)
+        return axes_figure(analyses[0].axes)
     curves, fits, labels = [], [], []
     for a in analyses:
         for ax in a.axes:
@@ -243,7 +251,7 @@ def _allan_figure(analyses: list[AllanAnalysis]) -> Figure:
     return plot_allan_overlay(curves, labels, fits)
 
 
-def _curve_table(res: AllanResult, readout: CurveReadout, quiet_json: str | None,
+def curve_table(res: AllanResult, readout: CurveReadout, quiet_json: str | None,
                  units: choices.OutputUnits = "deg") -> None:
     """The read-outs in the unit of the points table above them (--output-units si: the
     deviations in rad/s or m/s^2, as the points)."""
