@@ -13,8 +13,10 @@
 
 from __future__ import annotations
 
+import json
 import os
 import subprocess
+import sys
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -133,17 +135,37 @@ class ChildRun:
     exit_code: int
 
 
+#: Runs ``argv[1:]`` as its own child, output discarded, and prints that child's wall time,
+#: CPU time, ``ru_maxrss`` (KiB) and exit code as JSON (see :func:`run_child`).
+_LAUNCHER = """
+import json, os, sys, time
+t0 = time.perf_counter()
+pid = os.fork()
+if pid == 0:
+    null = os.open(os.devnull, os.O_WRONLY)
+    os.dup2(null, 1)
+    os.dup2(null, 2)
+    os.execvp(sys.argv[1], sys.argv[1:])
+_, status, u = os.wait4(pid, 0)
+print(json.dumps([time.perf_counter() - t0, u.ru_utime + u.ru_stime, u.ru_maxrss,
+                  os.waitstatus_to_exitcode(status)]))
+"""
+
+
 def run_child(cmd: list[str], *, env: dict[str, str] | None = None,
               cwd: str | None = None) -> ChildRun:
-    """Run ``cmd`` once (its output discarded) and measure it (:class:`ChildRun`)."""
-    t0 = time.perf_counter()
-    proc = subprocess.Popen(cmd, env=env, cwd=cwd, stdout=subprocess.DEVNULL,
-                            stderr=subprocess.DEVNULL)
-    _, status, usage = os.wait4(proc.pid, 0)
-    wall = time.perf_counter() - t0
-    proc.returncode = os.waitstatus_to_exitcode(status)
-    return ChildRun(wall, usage.ru_utime + usage.ru_stime, usage.ru_maxrss * 1024,
-                    proc.returncode)
+    """Run ``cmd`` once (its output discarded) and measure it (:class:`ChildRun`).
+
+    The command is started by a small launcher interpreter rather than by this process:
+    Linux keeps a forked child's peak resident set (``ru_maxrss``) across ``execve``, so a
+    child of this process would report at least this process's own peak (2.4 GB for a
+    ``python -c pass`` started from a suite holding a 2.4 GB array), while the launcher's
+    child starts from the launcher's few tens of MB.
+    """
+    out = subprocess.run([sys.executable, "-c", _LAUNCHER, *cmd], env=env, cwd=cwd,
+                         capture_output=True, text=True, check=True)
+    wall, cpu, maxrss_kib, code = json.loads(out.stdout)
+    return ChildRun(float(wall), float(cpu), int(maxrss_kib) * 1024, int(code))
 
 
 def speed_from(timing: Timing, id: str, title: str, *, peer: str, peer_key: str = "peer",

@@ -250,3 +250,21 @@ def test_cli_render_writes_the_tables(tmp_path: Any) -> None:
     doc.write_text(json.dumps(_doc(_speed(2.5, 3.0))))
     assert main(["--render", str(doc), "--md", str(md)]) == 0
     assert md.read_text() == render_markdown(_doc(_speed(2.5, 3.0)))
+
+
+def test_run_child_reports_the_childs_own_peak_memory() -> None:
+    """A command started while this process holds 400 MB reports its own peak (a bare
+    interpreter: under 100 MB), not this process's: Linux carries a forked child's
+    ``ru_maxrss`` across ``execve``, which made `fogts select` at 1e8 read 7x its input."""
+    import sys
+
+    from benchmarks.timing import run_child
+
+    held = np.ones(50_000_000)  # 400 MB resident in this process
+    bare = run_child([sys.executable, "-c", "pass"])
+    assert held[-1] == 1.0 and bare.exit_code == 0
+    assert bare.max_rss_bytes < 100e6
+    touched = run_child([sys.executable, "-c",
+                         "import numpy as np; a = np.ones(25_000_000); a += 1"])
+    assert touched.max_rss_bytes > 200e6  # its own 200 MB array is seen
+    assert run_child([sys.executable, "-c", "raise SystemExit(3)"]).exit_code == 3
