@@ -65,11 +65,17 @@ _HIGH_NAMES = ("uci", "ci_high", "upper", "high", "max_sigma", "hi")
 class CurveTable:
     """The columns of a curve file, found by name (rows in file order).
 
+    A ``"table"`` is any delimited text with a header; a ``"smac"`` file is SMAC-Group/avar's
+    table, whose header comment gives the sample rate and record length and whose ``type``
+    column the estimator; ``"stable32"`` is Stable32's text output with its fixed columns.  Nothing here decides what the numbers mean
+    (unit, sample rate, weights): :mod:`fogts.allan.curve_input` does.
+
     Attributes
     ----------
     source : str
         The file.
     layout : {"table", "smac", "stable32"}
+        Which of the three it is.
     tau : ndarray
         The ``tau_column``'s values (s).
     dev : ndarray or None
@@ -89,6 +95,8 @@ class CurveTable:
         A rate unit in the deviation column's name (``adev_deg_h``).
     meta : dict
         From the header: ``fs_hz``, ``n_samples``, ``confidence``, ``sigma_type``.
+    line_of_row : ndarray or None
+        The file line of each row of a text file, for the errors (:meth:`where`).
     """
 
     source: str
