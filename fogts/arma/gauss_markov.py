@@ -143,7 +143,10 @@ class GaussMarkov:
             text += (f"; an oscillating AR root pair of modulus {self.largest_complex:.4g} "
                      "outlasts it, which a first-order state does not describe")
         if not math.isfinite(self.sigma):
-            return text + " (sigma and q are not separable for this order)"
+            return text + (" (sigma and q are not separable: an ARMA(1,1) is a Gauss–Markov "
+                           "process plus white noise only with an MA coefficient between "
+                           "-phi and 0, and this fit's is not)" if self.model == "ARMA(1,1)"
+                           else " (sigma and q are not separable for this order)")
         text += (f", sigma = {self.sigma:.4g} {self.units} ({self.sigma_si:.4g} rad/s), "
                  f"q = {self.q:.4g} {self.units}/sqrt(s) ({self.q_si:.4g} rad/s/sqrt(s))")
         if self.white > 0:
@@ -229,7 +232,13 @@ def _tau_c_interval(phi: float, se: float, dt: float) -> tuple[float, float]:
 
 def _split(candidate: Candidate, phi: float) -> tuple[float, float]:
     """(var(w), var(e)): the Gauss–Markov driving variance per sample and the white noise
-    beside it; NaN where the order does not allow the split (see the module docstring)."""
+    beside it; NaN where the order does not allow the split (see the module docstring).
+
+    A Gauss–Markov process plus white noise e is the ARMA(1,1) whose lag-0 and lag-1 MA
+    autocovariances are var(w) + var(e)(1 + phi^2) = sigma2 (1 + theta^2) and
+    -phi var(e) = theta sigma2, so var(e) = -theta sigma2 / phi >= 0 needs theta <= 0
+    and var(w) > 0 needs (phi + theta)(1 + phi theta) > 0, i.e. theta > -phi.
+    """
     s2 = candidate.sigma2
     if (candidate.p, candidate.q) == (1, 0):
         return s2, 0.0

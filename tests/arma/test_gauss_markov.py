@@ -151,3 +151,15 @@ def test_an_interval_reaching_the_unit_root_is_unbounded_above() -> None:
                      phi_stderr=1e-4, tau_c_interval_s=(600.0, math.inf))
     assert gm.to_dict()["tau_c_interval_s"] == [600.0, None]
     assert "unbounded above" in gm.summary()
+
+
+def test_an_arma11_with_a_positive_ma_coefficient_is_not_split() -> None:
+    # phi = 0.9, theta = +0.5: not a Gauss-Markov process plus white noise (that needs
+    # -phi < theta < 0), so sigma and q are not given, and the summary says why
+    a = np.random.default_rng(18).normal(size=20_000)
+    x = lfilter([1.0, 0.5], [1.0, -0.9], a)
+    sel = fogts.select_arma(x, fs_hz=1.0, candidates=[(1, 1)])
+    assert sel.selected.params["ma.L1"] > 0.4  # measured 0.50
+    gm = gauss_markov(sel.selected, 1.0, "deg/h")
+    assert gm is not None and math.isnan(gm.sigma) and math.isnan(gm.q)
+    assert "MA coefficient between -phi and 0, and this fit's is not" in gm.summary()
