@@ -40,7 +40,7 @@ from fogts._validate import check_choice, check_fraction, check_int, check_posit
 from fogts.allan.confidence import chi2_interval
 from fogts.allan.curve_weights import curve_weights, record_length
 from fogts.allan.result import AllanResult, AllanResultSet
-from fogts.allan.taus import KINDS
+from fogts.allan.taus import KINDS, n_terms
 from fogts.errors import DataError, DataQualityWarning
 from fogts.io.accel import is_accel_name
 from fogts.io.curve_table import CurveTable, read_curve_table
@@ -211,7 +211,7 @@ def read_curves(path: str | os.PathLike[str], *, units: str | None = None,
         low, high, lvl, lvl_source = _bounds(table, rows, d, w.edf, level)
         terms = (table.numbers["terms"][rows] if "terms" in table.numbers
                  and np.all(np.isfinite(table.numbers["terms"][rows]))
-                 else _terms(kind, m, n_rec))
+                 else n_terms(kind, m, n_rec))
         built.append(AllanResult(
             kind=kind, units=unit, axis=label, fs_hz=fs, n_samples=n_rec,
             confidence=lvl, tau_s=tau, m=m, n=terms, dev=d, ci_low=low, ci_high=high,
@@ -391,19 +391,6 @@ def _whole_m(table: CurveTable, rows: np.ndarray, tau: FloatArray, fs: float) ->
                             f"{exact[i]:.6g} at fs = {fs:.6g} Hz; give the record's --fs "
                             f"({stated[rows][i] / tau[i]:.6g} Hz by the file)")
     return m.astype(np.int64)
-
-
-def _terms(kind: str, m: np.ndarray, n: int) -> np.ndarray:
-    """Number of terms at each tau (Stable32's ``#``; NIST SP1065 sec. 5.2)."""
-    if kind in ("oadev", "mdev"):
-        return np.maximum(n - 2 * m + 1 - (m - 1) * (kind == "mdev"), 0)
-    if kind == "ohdev":
-        return np.maximum(n - 3 * m + 1, 0)
-    if kind == "adev":
-        return np.maximum(n // m - 1, 0)
-    if kind == "hdev":
-        return np.maximum(n // m - 2, 0)
-    return np.full(m.size, n)  # totdev: every sample, reflected
 
 
 def _bounds(table: CurveTable, rows: np.ndarray, dev: FloatArray, edf: FloatArray,

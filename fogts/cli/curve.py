@@ -16,7 +16,6 @@ OptionalKindOpt = Annotated[choices.Kind | None, typer.Option("--kind", help="Th
 
 
 @common.app.command("curve")
-@common.pauses_cycle_collection
 def curve_cmd(
     file: Annotated[Path, typer.Argument(help="Allan curve: CSV/TSV/whitespace text with a tau column and a deviation (adev, oadev, dev, sigma, ...) or variance (avar, ...) column; SMAC-Group/avar *_av.csv; Stable32 text output.")],
     units: Annotated[str | None, typer.Option("--units", help="Unit of the deviation: deg/h, deg/s, rad/s, arcsec/s (or an accelerometer unit). Default: from the column name (adev_deg_h), else deg/h with a warning.")] = None,
