@@ -329,11 +329,12 @@ def _thermal_blocks(ctx: ReportContext, i: int, notes: list[str]) -> list[Block]
     verdict = [] if res.significance is None else [
         Block(kind="verdict", good=res.significance.significant,
               text=res.significance.verdict[0].upper() + res.significance.verdict[1:] + ".")]
-    after_label = ("after compensation" if res.claims_improvement else
-                   f"after compensation (not claimed as an improvement: "
-                   f"{res.no_claim_reason()})")
     if not res.applied:
         after_label = f"after (nothing compensated: {res.not_applied_reason()})"
+    elif res.claims_improvement:
+        after_label = "after compensation"
+    else:
+        after_label = f"after compensation (not claimed as an improvement: {res.no_claim_reason()})"
     return [
         *verdict,
         figure_block(plot_compensation(res), id=f"thermal-{i}",
