@@ -26,15 +26,13 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from fogts.arma.whiteness import BAND_Z as _Z
 from fogts.units import convert_rate
 
 if TYPE_CHECKING:
     from fogts.arma.candidate import Candidate
 
 __all__ = ["GaussMarkov", "gauss_markov", "root_stderr"]
-
-#: The normal quantile of the two-sided 95 % intervals (the select table's 1.96).
-_Z = 1.96
 
 
 @dataclass(frozen=True)

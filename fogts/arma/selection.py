@@ -11,6 +11,7 @@ import pandas as pd
 from fogts.arma.candidate import Candidate
 from fogts.arma.gauss_markov import GaussMarkov, gauss_markov
 from fogts.arma.identification import Correlogram
+from fogts.arma.whiteness import BAND_Z, LB_ALPHA
 from fogts.errors import ModelFitError
 from fogts.tables import Column, Table, TableView
 
@@ -170,10 +171,11 @@ class Selection(TableView):
             rows.append((c.rank, c.model, c.criterion_value, c.criterion_value - best,
                          c.sigma2, d.rho_a2.value, d.rho_ax3.value,
                          *(x.pvalue for x in d.ljung_box), c.white, c.notes))
-        band = 1.96 / math.sqrt(self.n)
+        band = BAND_Z / math.sqrt(self.n)
         return Table.build(
             f"ARMA candidates ranked by {crit}, white residuals first", columns, rows,
-            caption=f"white: |ρ_a,2|, |ρ_ax,3| ≤ 1.96/√n = {band:.3g} and Ljung–Box p ≥ 0.05 "
+            caption=f"white: |ρ_a,2|, |ρ_ax,3| ≤ {BAND_Z}/√n = {band:.3g} and Ljung–Box "
+                    f"p ≥ {LB_ALPHA} "
                     f"at each lag (model_df = p+q); marked cells fail their check",
             failed=failed,
             highlight=[i for i, c in enumerate(self.candidates) if c is self.selected])
