@@ -12,6 +12,7 @@ kind, and is the reference the fast path is tested against).
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
 
@@ -20,7 +21,14 @@ import numpy as np
 from fogts import progress
 from fogts._typing import FloatArray, IntArray
 from fogts.allan.estimators import ESTIMATORS, thread_count
-from fogts.allan.kernels import NORMALISATION, phase_from_rate, second_difference, third_difference
+from fogts.allan.kernels import (
+    NORMALISATION,
+    phase_from_rate,
+    second_difference,
+    ss_second,
+    ss_third,
+    third_difference,
+)
 
 __all__ = ["CUMSUM_KINDS", "cumsum_devs", "kernel_devs"]
 
@@ -29,6 +37,7 @@ CUMSUM_KINDS: tuple[str, ...] = ("oadev", "mdev", "ohdev")
 _CHUNK = 1 << 16
 
 SquaredTerms = Callable[[int, int], FloatArray]
+BlockSum = Callable[[int, int], float]
 Difference = Callable[[FloatArray, int, int, int, FloatArray, FloatArray], FloatArray]
 
 
@@ -58,10 +67,15 @@ def cumsum_devs(y: FloatArray, *, kind: str, m: IntArray, terms: IntArray,
     """
     x = phase_from_rate(y)
     squared, normalisation = _SQUARED_TERMS[kind], NORMALISATION[kind]
+    kernel = _BLOCK_KERNELS.get(kind)
 
     def column(j: int) -> FloatArray:
         mj, tj = int(m[j]), int(terms[j])
-        sums = _window_sums(squared(x, mj), starts, tj, chunk=max(_CHUNK, mj))
+        if kernel is None:  # mdev's pieces extend m - 1 terms: at least m terms each
+            sums = _window_sums(squared(x, mj), starts, tj, chunk=max(_CHUNK, mj))
+        else:
+            sums = _window_sums(squared(x, mj), starts, tj, chunk=_CHUNK,
+                                block_sum=_kernel_block(kernel, x, mj))
         return np.sqrt(np.maximum(sums, 0.0) / normalisation(mj, tj))
 
     out = np.empty((starts.size, m.size), dtype=np.float64)
@@ -112,33 +126,56 @@ _SQUARED_TERMS: dict[str, Callable[[FloatArray, int], SquaredTerms]] = {
     "mdev": _mod_sq,
 }
 
+#: The estimators' sum-of-squares kernels, ``kernel(x, lag, terms)`` over the terms
+#: ``0..terms-1`` of ``x``: a block of terms ``[lo, hi)`` is the kernel on ``x[lo:]``.
+#: (mdev's kernel integrates all of ``x`` it is given, so it is not used per block.)
+_BLOCK_KERNELS: dict[str, Callable[[FloatArray, int, int], float]] = {
+    "oadev": ss_second, "ohdev": ss_third,
+}
 
-def _window_sums(sq: SquaredTerms, starts: IntArray, count: int, *, chunk: int
-                 ) -> FloatArray:
+
+def _kernel_block(kernel: Callable[[FloatArray, int, int], float], x: FloatArray,
+                  m: int) -> BlockSum:
+    """The sum of the squared terms ``[lo, hi)`` at lag ``m`` by the estimator's kernel."""
+    return lambda lo, hi: kernel(x[lo:], m, hi - lo)
+
+
+def _window_sums(sq: SquaredTerms, starts: IntArray, count: int, *, chunk: int,
+                 block_sum: BlockSum | None = None) -> FloatArray:
     """``sum(t[s : s + count])`` for every start ``s`` of the squared terms ``t``.
 
-    The window edges cut the terms into blocks; each block is summed once (``reduceat``
-    over cache-sized pieces that end on an edge), and a window's sum is the sum of the
-    block sums it spans (a difference of their running sum: a few thousand numbers, so
-    no precision is lost to a long running sum).
+    The window edges cut the terms into blocks; each block is summed once, and a window's
+    sum is the sum of the block sums it spans (a difference of their running sum: a few
+    thousand numbers, so no precision is lost to a long running sum).  Runs of short
+    blocks are summed by ``reduceat`` over cache-sized pieces that end on an edge; a block
+    of at least ``chunk`` terms is summed alone, by ``block_sum`` when given (the
+    estimator's kernel, which writes no squared terms), else ``chunk`` terms at a time.
     """
     edges = _sorted_unique(np.concatenate([starts, starts + count]))
     block = np.empty(edges.size - 1)
-    # pieces of consecutive blocks, each about `chunk` terms long
-    cut = np.searchsorted(edges, edges[0] + chunk * np.arange(1, (edges[-1] - edges[0])
-                                                              // chunk + 2))
-    bounds = _sorted_unique(np.concatenate([[0], np.minimum(cut, edges.size - 1),
-                                            [edges.size - 1]]))
-    for b0, b1 in zip(bounds[:-1].tolist(), bounds[1:].tolist(), strict=True):
-        if b1 <= b0:
-            continue
+    for b0, b1 in _pieces(edges, chunk):
         lo, hi = int(edges[b0]), int(edges[b1])
-        t = sq(lo, hi)
-        block[b0:b1] = np.add.reduceat(t, edges[b0:b1] - lo)
+        if b1 == b0 + 1 and hi - lo >= chunk:
+            block[b0] = block_sum(lo, hi) if block_sum is not None \
+                else math.fsum(float(sq(c, min(c + chunk, hi)).sum())
+                               for c in range(lo, hi, chunk))
+        else:
+            block[b0:b1] = np.add.reduceat(sq(lo, hi), edges[b0:b1] - lo)
     run = np.concatenate([[0.0], np.cumsum(block)])
     i0 = np.searchsorted(edges, starts)
     i1 = np.searchsorted(edges, starts + count)
     return run[i1] - run[i0]
+
+
+def _pieces(edges: IntArray, chunk: int) -> list[tuple[int, int]]:
+    """The blocks between ``edges`` grouped into pieces ``(b0, b1)``: each block of at least
+    ``chunk`` terms alone, the others in runs of consecutive blocks about ``chunk`` long."""
+    cut = np.searchsorted(edges, edges[0] + chunk * np.arange(1, (edges[-1] - edges[0])
+                                                              // chunk + 2))
+    long = np.flatnonzero(np.diff(edges) >= chunk)
+    bounds = _sorted_unique(np.concatenate([[0], np.minimum(cut, edges.size - 1),
+                                            [edges.size - 1], long, long + 1]))
+    return list(zip(bounds[:-1].tolist(), bounds[1:].tolist(), strict=True))
 
 
 def _sorted_unique(v: IntArray) -> IntArray:

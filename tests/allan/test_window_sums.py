@@ -2,7 +2,9 @@
 
 Reference: the running-sum path (one pass per tau) against the estimators of
 :mod:`fogts.allan.estimators` run on each window separately (1e-9 relative: the two sum the
-same squared terms in a different order), with cache-sized and with tiny pieces.
+same squared terms in a different order), with cache-sized and with tiny pieces (with
+tiny ones, most blocks are "long": oadev and ohdev sum them by the estimators' kernels,
+mdev by chunks).
 """
 
 from __future__ import annotations
@@ -19,7 +21,7 @@ from fogts.allan.window_sums import CUMSUM_KINDS, cumsum_devs, kernel_devs
 @pytest.mark.parametrize("chunk", [5, 1 << 16])
 def test_running_sums_equal_the_estimator_on_each_window(monkeypatch: pytest.MonkeyPatch,
                                                          kind: str, chunk: int) -> None:
-    monkeypatch.setattr(window_sums, "_CHUNK", chunk)  # 5: many reduceat pieces per window
+    monkeypatch.setattr(window_sums, "_CHUNK", chunk)  # 5: many pieces per window
     y = np.random.default_rng(9).normal(size=3000) + 7.0
     win_n, step = 400, 37
     m = np.array([1, 2, 5, 13, 40, 120])
