@@ -214,7 +214,13 @@ def guard(options: Mapping[str, str] | None = None, *,
             from fogts.report.text import warning_texts
 
             for text in warning_texts(caught):
-                err_console.print(f"warning: {text}", markup=False, soft_wrap=True)
+                warn(text)
+
+
+def warn(text: str | None) -> None:
+    """Print ``warning: TEXT`` on stderr (nothing for None)."""
+    if text is not None:
+        err_console.print(f"warning: {text}", markup=False, soft_wrap=True)
 
 
 @contextmanager
@@ -231,8 +237,7 @@ def named_warnings(file: str, axis: str | None = None) -> Iterator[None]:
             yield
         finally:
             for text in warning_texts(caught):
-                err_console.print(f"warning: {_attributed(text, file, axis)}", markup=False,
-                                  soft_wrap=True)
+                warn(_attributed(text, file, axis))
 
 
 def _attributed(text: str, file: str, axis: str | None) -> str:
@@ -332,8 +337,7 @@ def read_input(path: Path, read: ReadSettings, *, glitches: bool = True,
     if outliers is not None:
         quality = dataclasses.replace(quality, outliers=outliers)
     for line in quality.warnings():
-        err_console.print(f"warning: {Path(run.source).name}: {line}", markup=False,
-                          soft_wrap=True)
+        warn(f"{Path(run.source).name}: {line}")
     return run, quality
 
 

@@ -143,10 +143,7 @@ def allan_cmd(
                              and not settings.reads_rate_after_curve else nullcontext())
                     with common.named_warnings(Path(run.source).name, run.axes[i]), spent:
                         done.append(analyse_allan_axis(run, i, settings))
-                    warning = done[-1].plausibility_warning(run)
-                    if warning is not None:
-                        common.err_console.print(f"warning: {warning}", markup=False,
-                                                 soft_wrap=True)
+                    common.warn(done[-1].plausibility_warning(run))
             analyses.append(AllanAnalysis(run=run, quality=quality, axes=tuple(done)))
         rows = summary_rows(analyses, output_units, limits)
         export_text = None

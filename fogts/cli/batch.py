@@ -75,7 +75,7 @@ def batch_cmd(
                                options=options, progress=on_progress)
         common.console.print(result.summary(), markup=False, soft_wrap=True)
         for line in _batch_quality_lines(result.rows):
-            common.err_console.print(f"warning: {line}", markup=False, soft_wrap=True)
+            common.warn(line)
         errors = [r for r in result.rows if r["status"] == "error"]
         if errors:
             common.console.print(_failed_runs_table(errors))

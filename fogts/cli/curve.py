@@ -68,9 +68,7 @@ def curve_cmd(
         for curve in read.curves:
             with common.named_warnings(name, curve.axis):
                 axes.append(analyse_curve(curve, settings))
-            warning = axes[-1].plausibility_warning(read.provenance)
-            if warning is not None:
-                common.err_console.print(f"warning: {warning}", markup=False, soft_wrap=True)
+            common.warn(axes[-1].plausibility_warning(read.provenance))
         blocks = [ax.to_dict() for ax in axes]
         payload: dict[str, Any] = {"input": read.provenance.to_dict(), "axes": blocks}
         if len(blocks) == 1:

@@ -55,7 +55,7 @@ def report_cmd(
         write_report(output, rep)
         failed = [s for s in rep.sections if s.status != "ok"]
         for s in failed:
-            common.err_console.print(f"warning: {s.title}: {s.message}", markup=False, soft_wrap=True)
+            common.warn(f"{s.title}: {s.message}")
         common.console.print(f"wrote {output} ({len(rep.sections)} sections, {rep.n_figures} "
                       f"figures)", markup=False, soft_wrap=True)
         for part, why in rep.omitted:
