@@ -84,7 +84,7 @@ def allan_cmd(
     check_allantools: Annotated[bool, typer.Option("--check-allantools", help="Recompute with allantools on the same data and taus; print the largest relative difference.")] = False,
     output_units: common.OutputUnitsOpt = "deg",
     spec: common.SpecOpt = None,
-    export: Annotated[tuple[str, Path] | None, typer.Option("--export", metavar="FORMAT PATH", help="Write the filter-ready noise parameters (N and K in SI; a term not measured as its 95 % upper limit, marked): kalibr (imu.yaml), imu_utils (OpenCV YAML) or json.")] = None,
+    export: common.ExportOpt = None,
     bias_correction: Annotated[bool, typer.Option("--bias-correction", help="--kind totdev: divide TOTVAR by its bias at flicker- and random-walk-FM taus (Howe 1999), as Stable32 does.")] = False,
     read: ReadSettings = common.DEFAULT_READ,
 ) -> None:
@@ -189,15 +189,10 @@ def _export_format(export: tuple[str, Path] | None, files: list[Path]
     """The --export format, checked: one of the formats, and one input file."""
     from fogts.errors import DataError
 
-    if export is None:
-        return None
-    fmt = export[0]
-    if fmt not in choices.EXPORT_FORMATS:
-        raise DataError(f"--export FORMAT must be one of {', '.join(choices.EXPORT_FORMATS)}; "
-                        f"got {fmt!r}")
-    if len(files) > 1:
+    fmt = common.export_format(export)
+    if fmt is not None and len(files) > 1:
         raise DataError(f"--export describes one sensor: give one input file, not {len(files)}")
-    return fmt  # type: ignore[return-value]
+    return fmt
 
 
 def _allan_csv(analyses: list[AllanAnalysis], target: Path) -> None:

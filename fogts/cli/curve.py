@@ -31,6 +31,7 @@ def curve_cmd(
     output_units: common.OutputUnitsOpt = "deg",
     json_out: common.JsonOpt = None,
     plot: Annotated[Path | None, typer.Option("--plot", help="Log-log figure of the curve with the fit and its term lines: .png, .svg or .pdf.")] = None,
+    export: common.ExportOpt = None,
 ) -> None:
     """Fit the IEEE-952 noise terms (Q, N, B, K, R) to a published Allan-deviation curve,
     with standard errors, and read the curve (minimum, regions, slopes).
@@ -41,7 +42,9 @@ def curve_cmd(
     n_samples_source, weights, ...}, "axes": [one block per channel, as an axis of fogts
     allan --json]}, and for one channel that block's keys ("kind", "units", "points",
     "noise", "noise_si", "curve", ...) at the top level too. Methods: wls, gls, ols, and
-    gmwm when the record length is known; ml needs the recording (fogts allan).
+    gmwm when the record length is known; ml needs the recording (fogts allan). --export
+    writes N and K for a filter as fogts allan does; Kalibr's update_rate is the curve's
+    sample rate, and a comment says so when it was inferred from the shortest tau.
 
     Exit code 2 on bad input.
     """
@@ -50,9 +53,12 @@ def curve_cmd(
     from fogts.cli.allan import axes_figure
     from fogts.pipeline import AllanSettings, analyse_curve
 
+    export_path = export[1] if export is not None else None
     with common.guard({"tau_min": "--fit-tau-min", "tau_max": "--fit-tau-max",
                        "fs_hz": "--fs", "n_samples": "--n-samples"},
-                      outputs={"--json": json_out, "--plot": plot}, inputs={"FILE": [file]}):
+                      outputs={"--json": json_out, "--plot": plot, "--export": export_path},
+                      inputs={"FILE": [file]}):
+        export_format = common.export_format(export)
         common.check_output_names(plot=plot)
         methods = method.split(",")
         five, extras = split_terms(terms)
@@ -69,6 +75,12 @@ def curve_cmd(
             with common.named_warnings(name, curve.axis):
                 axes.append(analyse_curve(curve, settings))
             common.warn(axes[-1].plausibility_warning(read.provenance))
+        export_text = None
+        if export_format is not None:  # built first: a failing export writes nothing
+            from fogts.report.export import ExportSource, noise_export_text
+
+            export_text = noise_export_text(ExportSource.of_curve(read.provenance, tuple(axes)),
+                                            export_format)
         blocks = [ax.to_dict() for ax in axes]
         payload: dict[str, Any] = {"input": read.provenance.to_dict(), "axes": blocks}
         if len(blocks) == 1:
@@ -76,6 +88,10 @@ def curve_cmd(
         common.emit_json(payload, json_out)
         if plot is not None:
             common.save_figure(axes_figure(axes), plot)
+        if export_text is not None and export_path is not None:
+            from fogts.io.writer import write_text_atomic
+
+            write_text_atomic(export_path, export_text)
         _print(read.provenance.describe(), axes, json_out, output_units)
 
 

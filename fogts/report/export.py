@@ -32,7 +32,7 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import yaml
 
@@ -42,7 +42,11 @@ from fogts.errors import DataError
 from fogts.pipeline import AllanAnalysis, AxisAllan
 from fogts.units import term_unit
 
-__all__ = ["ExportedTerm", "export_noise", "exported_terms", "noise_export_text"]
+if TYPE_CHECKING:
+    from fogts.allan.curve_input import CurveProvenance
+
+__all__ = ["ExportSource", "ExportedTerm", "export_noise", "exported_terms",
+           "noise_export_text"]
 
 #: The terms a filter needs, in the order written.
 _FILTER_TERMS = ("N", "K")
@@ -85,6 +89,54 @@ class ExportedTerm:
         return "95 % upper limit, not measured" if self.is_limit else "fitted"
 
 
+@dataclass(frozen=True)
+class ExportSource:
+    """The analysed axes of one sensor and what the export says about where they came from.
+
+    Attributes
+    ----------
+    source : str
+        The file analysed (a recording, or a published Allan curve).
+    update_rate_hz : float
+        The IMU's sample rate, written as Kalibr's ``update_rate``.
+    rate_note : str
+        Where ``update_rate_hz`` came from, said beside it when it is not the recording's
+        own (empty for a recording).
+    detail : str
+        The second header line: what was analysed.
+    axes : tuple of AxisAllan
+        The analysed axes (gyro and accelerometer).
+    """
+
+    source: str
+    update_rate_hz: float
+    rate_note: str
+    detail: str
+    axes: tuple[AxisAllan, ...]
+
+    @classmethod
+    def of_recording(cls, analysis: AllanAnalysis) -> ExportSource:
+        """The axes of ``fogts allan``'s analysis of a recording."""
+        run = analysis.run
+        return cls(source=run.source, update_rate_hz=float(run.fs_hz), rate_note="",
+                   detail=f"{run.n} samples at {run.fs_hz:g} Hz; rate read in {run.units}",
+                   axes=analysis.axes)
+
+    @classmethod
+    def of_curve(cls, provenance: CurveProvenance, axes: tuple[AxisAllan, ...]
+                 ) -> ExportSource:
+        """The axes fitted to a published Allan curve (``fogts curve``): the sample rate
+        and the record length are the curve's, as :class:`CurveProvenance` states them."""
+        p = provenance
+        note = "" if p.fs_source != "inferred" else \
+            "inferred as 1 / the curve's shortest tau: check it is the IMU's sample rate"
+        return cls(source=p.source, update_rate_hz=float(p.fs_hz), rate_note=note,
+                   detail=f"a published {p.kind} curve in {p.units} ({p.units_source}); "
+                          f"{p.fs_hz:g} Hz ({p.fs_source}), {p.n_samples} samples "
+                          f"({p.n_source})",
+                   axes=axes)
+
+
 def exported_terms(axis: AxisAllan) -> dict[str, ExportedTerm]:
     """N and K of one analysed axis, in SI, each the fitted value or its upper limit."""
     model, name = axis.model, axis.result.axis
@@ -106,16 +158,20 @@ def exported_terms(axis: AxisAllan) -> dict[str, ExportedTerm]:
     return out
 
 
-def noise_export_text(analysis: AllanAnalysis, fmt: ExportFormat) -> str:
-    """The text of the export in format ``fmt`` (``kalibr``, ``imu_utils`` or ``json``)."""
+def noise_export_text(analysis: AllanAnalysis | ExportSource, fmt: ExportFormat) -> str:
+    """The text of the export in format ``fmt`` (``kalibr``, ``imu_utils`` or ``json``)
+    of a recording's analysis or an :class:`ExportSource`."""
     if fmt not in EXPORT_FORMATS:
         raise DataError(f"export format must be one of {', '.join(EXPORT_FORMATS)}; got "
                         f"{fmt!r}")
-    terms = {ax.result.axis: exported_terms(ax) for ax in analysis.axes}
-    return _WRITERS[fmt](analysis, terms)
+    src = analysis if isinstance(analysis, ExportSource) else \
+        ExportSource.of_recording(analysis)
+    terms = {ax.result.axis: exported_terms(ax) for ax in src.axes}
+    return _WRITERS[fmt](src, terms)
 
 
-def export_noise(analysis: AllanAnalysis, fmt: ExportFormat, path: str | Path) -> Path:
+def export_noise(analysis: AllanAnalysis | ExportSource, fmt: ExportFormat,
+                 path: str | Path) -> Path:
     """Write the export atomically to ``path`` and return it."""
     from fogts.io.writer import write_text_atomic
 
@@ -123,10 +179,9 @@ def export_noise(analysis: AllanAnalysis, fmt: ExportFormat, path: str | Path) -
 
 
 # ------------------------------------------------------------------ the formats
-def _header(analysis: AllanAnalysis, what: str) -> list[str]:
-    run = analysis.run
-    return [f"# {what}, written by fogts {__version__} from {Path(run.source).name}",
-            f"# ({run.n} samples at {run.fs_hz:g} Hz; rate read in {run.units})"]
+def _header(src: ExportSource, what: str) -> list[str]:
+    return [f"# {what}, written by fogts {__version__} from {Path(src.source).name}",
+            f"# ({src.detail})"]
 
 
 def _axis_comments(terms: dict[str, dict[str, ExportedTerm]]) -> list[str]:
@@ -151,10 +206,10 @@ _KALIBR_KEYS = {"rate": ("gyroscope_noise_density", "gyroscope_random_walk"),
                 "accel": ("accelerometer_noise_density", "accelerometer_random_walk")}
 
 
-def _kalibr(analysis: AllanAnalysis, terms: dict[str, dict[str, ExportedTerm]]) -> str:
-    body: dict[str, Any] = {"rostopic": "/imu0", "update_rate": float(analysis.run.fs_hz)}
+def _kalibr(src: ExportSource, terms: dict[str, dict[str, ExportedTerm]]) -> str:
+    body: dict[str, Any] = {"rostopic": "/imu0", "update_rate": src.update_rate_hz}
     marks: dict[str, ExportedTerm] = {}
-    lines = _header(analysis, "Kalibr IMU noise model (imu.yaml)")
+    lines = _header(src, "Kalibr IMU noise model (imu.yaml)")
     for quantity, (density, walk) in _KALIBR_KEYS.items():
         group = _of(terms, quantity)
         if not group:
@@ -175,7 +230,8 @@ def _kalibr(analysis: AllanAnalysis, terms: dict[str, dict[str, ExportedTerm]]) 
     for line in yaml.safe_dump(body, sort_keys=False).splitlines():
         key = line.split(":", 1)[0]
         mark = marks.get(key)
-        lines.append(line + (f"  # {mark.axis}, {mark.comment}" if mark is not None else ""))
+        note = f"  # {src.rate_note}" if key == "update_rate" and src.rate_note else ""
+        lines.append(line + (f"  # {mark.axis}, {mark.comment}" if mark is not None else note))
     return "\n".join(lines) + "\n"
 
 
@@ -196,10 +252,10 @@ def _imu_utils_block(terms: dict[str, dict[str, ExportedTerm]], prefix: str, uni
     return block, [f"# {label}{key} is {axis}" for key, axis in zip(keys, axes, strict=True)]
 
 
-def _imu_utils(analysis: AllanAnalysis, terms: dict[str, dict[str, ExportedTerm]]) -> str:
-    body: dict[str, Any] = {"type": "IMU", "name": Path(analysis.run.source).stem}
+def _imu_utils(src: ExportSource, terms: dict[str, dict[str, ExportedTerm]]) -> str:
+    body: dict[str, Any] = {"type": "IMU", "name": Path(src.source).stem}
     lines = ["%YAML:1.0", "---"]
-    lines += _header(analysis, "imu_utils IMU parameters (OpenCV YAML)")
+    lines += _header(src, "imu_utils IMU parameters (OpenCV YAML)")
     naming: list[str] = []
     if _of(terms, "rate"):
         body["Gyr"], names = _imu_utils_block(_of(terms, "rate"), "gyr", " rad/s")
@@ -218,9 +274,10 @@ def _imu_utils(analysis: AllanAnalysis, terms: dict[str, dict[str, ExportedTerm]
     return "\n".join(lines) + "\n"
 
 
-def _json(analysis: AllanAnalysis, terms: dict[str, dict[str, ExportedTerm]]) -> str:
+def _json(src: ExportSource, terms: dict[str, dict[str, ExportedTerm]]) -> str:
     doc = {"format": "fogts-imu-noise", "version": 1, "fogts_version": __version__,
-           "source": analysis.run.source, "update_rate_hz": float(analysis.run.fs_hz),
+           "source": src.source, "update_rate_hz": src.update_rate_hz,
+           **({"update_rate_note": src.rate_note} if src.rate_note else {}),
            "axes": {axis: {t.term: {"value": t.value_si, "unit": t.unit,
                                     "upper_limit": t.is_limit}
                            for t in by_term.values()}
@@ -228,5 +285,5 @@ def _json(analysis: AllanAnalysis, terms: dict[str, dict[str, ExportedTerm]]) ->
     return json.dumps(doc, indent=2) + "\n"
 
 
-_WRITERS: dict[str, Callable[[AllanAnalysis, dict[str, dict[str, ExportedTerm]]], str]] = {
+_WRITERS: dict[str, Callable[[ExportSource, dict[str, dict[str, ExportedTerm]]], str]] = {
     "kalibr": _kalibr, "imu_utils": _imu_utils, "json": _json}

@@ -173,3 +173,55 @@ def test_errors_are_one_line_with_exit_2(args: list[str], match: str) -> None:
 def test_missing_file_is_one_line(tmp_path: Path) -> None:
     code, _, err = _run([tmp_path / "none.csv"])
     assert code == 2 and error_output(err).startswith("error: curve file not found")
+
+
+def test_export_of_a_published_curve_is_its_fitted_si_terms(tmp_path: Path) -> None:
+    """``--export json`` from the KVH1750 curve: N and K of each axis are the command's own
+    ``noise_si`` block (1e-12 relative: the same numbers through JSON), the update rate the
+    file's, with no note (the SMAC header states it)."""
+    out = tmp_path / "imu.json"
+    doc = _json([_smac("kvh1750"), "--units", "deg/s", "--channel", "all",
+                 "--export", "json", out], tmp_path)
+    exported = json.loads(out.read_text())
+    assert exported["update_rate_hz"] == pytest.approx(doc["input"]["fs_hz"], rel=1e-12)
+    assert "update_rate_note" not in exported
+    assert set(exported["axes"]) == {ax["axis"] for ax in doc["axes"]}
+    for ax in doc["axes"]:
+        for t in ("N", "K"):
+            si = ax["noise_si"][t]
+            got = exported["axes"][ax["axis"]][t]
+            want = si["upper_limit_95"] if got["upper_limit"] else si["value"]
+            assert got["value"] == pytest.approx(want, rel=1e-12)
+
+
+def test_export_says_when_the_update_rate_was_inferred(tmp_path: Path) -> None:
+    """A curve without a sample rate: Kalibr's update_rate is 1 / the shortest tau, and the
+    line says so; ``--fs`` removes the note."""
+    path = tmp_path / "d.csv"
+    rows = "".join(f"{t!r},{0.1 / math.sqrt(t) + 1e-3 * math.sqrt(t)!r},{2e5 / t!r}\n"
+                   for t in (0.1 * 2.0**np.arange(12)).tolist())
+    path.write_text("tau,adev_deg_h,edf\n" + rows)
+    yaml_path = tmp_path / "imu.yaml"
+    code, _, err = _run([path, "--export", "kalibr", yaml_path])
+    assert code == 0, err
+    text = yaml_path.read_text()
+    assert "update_rate: 10.0  # inferred as 1 / the curve's shortest tau: check it is the " \
+           "IMU's sample rate" in text
+    assert "(a published oadev curve in deg/h (column name); 10 Hz (inferred)" in text
+    code, _, err = _run([path, "--fs", 200, "--export", "kalibr", yaml_path])
+    assert code == 0, err
+    assert "update_rate: 200.0\n" in yaml_path.read_text()
+
+
+def test_export_errors_write_nothing(tmp_path: Path) -> None:
+    out = tmp_path / "imu.yaml"
+    code, _, err = _run([_smac("imar"), "--units", "rad/s", "--export", "yaml", out])
+    assert code == 2
+    assert error_output(err) == "error: --export FORMAT must be one of kalibr, imu_utils, " \
+                                "json; got 'yaml'"
+    code, _, err = _run([_smac("imar"), "--units", "rad/s", "--terms", "N,B",
+                         "--export", "kalibr", out])
+    assert code == 2 and "the export needs N and K" in error_output(err)
+    assert not out.exists()
+    code, _, err = _run([_smac("imar"), "--units", "rad/s", "--export", "json", _smac("imar")])
+    assert code == 2 and "is the input FILE" in error_output(err)
