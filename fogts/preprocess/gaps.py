@@ -56,7 +56,11 @@ class GapReport:
     jitter_rel : float
         Jitter of the non-gap steps relative to the nominal step.
     burst_logged : bool
-        The sample rate came from the mean step (burst-logged stamps).
+        The sample rate came from the mean step (burst-logged stamps): the steps over
+        1.5 x the nominal step are then mostly the bursts' pattern, and ``missing_s``
+        counts time that is not missing.
+    longest : Gap or None
+        The longest gap (anywhere in the record, not only among ``gaps``).
     """
 
     n_gaps: int
@@ -66,6 +70,7 @@ class GapReport:
     segments: tuple[tuple[int, int], ...]
     jitter_rel: float = 0.0
     burst_logged: bool = False
+    longest: Gap | None = None
 
     @property
     def regular(self) -> bool:
@@ -89,10 +94,14 @@ class GapReport:
         if self.n_gaps == 0:
             return "no gaps in the time base"
         first = self.gaps[0]
-        longest = max(self.gaps, key=lambda g: g.length_s)
-        return (f"{self.n_gaps} gap(s) in the time base ({self.missing_s:.4g} s missing; "
-                f"first at t = {first.time_s:.6g} s, longest {longest.length_s:.4g} s at "
-                f"t = {longest.time_s:.6g} s)")
+        longest = self.longest or max(self.gaps, key=lambda g: g.length_s)
+        where = (f"first at t = {first.time_s:.6g} s, longest {longest.length_s:.4g} s at "
+                 f"t = {longest.time_s:.6g} s")
+        if self.burst_logged:
+            return (f"the time stamps are logged in bursts (the sample rate is the mean "
+                    f"step's): their {self.n_gaps} step(s) over 1.5 x the mean step cannot be told "
+                    f"from the bursts' pattern, so no time is counted as missing ({where})")
+        return f"{self.n_gaps} gap(s) in the time base ({self.missing_s:.4g} s missing; {where})"
 
 
 def find_gaps(time_s: Any, *, fs_hz: float, sampling: SamplingReport | None = None
@@ -121,13 +130,16 @@ def find_gaps(time_s: Any, *, fs_hz: float, sampling: SamplingReport | None = No
     segments = tuple((int(a), int(b)) for a, b in itertools.pairwise(bounds.tolist()))
     jitter = sampling.jitter_rel if sampling is not None else 0.0
     burst = sampling is not None and sampling.fs_source == "mean step"
+    top = int(np.argmax(lengths)) if after.size else None
     return GapReport(
         n_gaps=int(after.size),
         missing_s=float(np.sum(lengths - nominal)) if after.size else 0.0,
         largest_s=float(lengths.max()) if after.size else nominal,
         gaps=tuple(Gap(int(r), float(t[r]), float(d))
                    for r, d in zip(after[:MAX_LISTED], lengths[:MAX_LISTED], strict=True)),
-        segments=segments, jitter_rel=float(jitter), burst_logged=bool(burst))
+        segments=segments, jitter_rel=float(jitter), burst_logged=bool(burst),
+        longest=None if top is None else Gap(int(after[top]), float(t[after[top]]),
+                                             float(lengths[top])))
 
 
 def segment_run(run: Run, start: int, stop: int) -> Run:

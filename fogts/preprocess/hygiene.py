@@ -106,6 +106,8 @@ class DataQuality:
             return [f"{g.summary()}; --gaps split: analysing the longest regular segment, "
                     f"rows {a}..{b - 1} ({b - a:,} of {self.n_input:,} samples, "
                     f"{(b - a) / self.fs_hz:.6g} s) of {len(g.segments)}"]
+        if g.burst_logged:
+            return [f"{g.summary()}; analysed at the mean rate"]
         return [f"{g.summary()}; analysed as if the samples were regular (--gaps split "
                 "analyses the longest regular segment, --gaps error refuses the file)"]
 
@@ -188,9 +190,15 @@ def assess_run(run: Run, *, gaps: GapPolicy = "warn", glitches: bool = True,
                   run.sampling is not None and run.sampling.fs_source == "mean step")
     if gaps == "error" and report.n_gaps:
         raise DataError(f"{run.source}: {report.summary()}; gaps='error' (CLI --gaps error) "
-                        "refuses it: pass gaps='split' to analyse the longest regular "
-                        "segment or gaps='warn'")
+                        "refuses it: pass "
+                        + ("gaps='warn'" if report.burst_logged else "gaps='split' to analyse "
+                           "the longest regular segment or gaps='warn'"))
     segment = report.longest_segment() if gaps == "split" and report.n_gaps else None
+    if segment is not None and report.burst_logged:
+        raise DataError(f"{run.source}: gaps='split' (CLI --gaps split) needs regular stretches "
+                        "between gaps, and these time stamps are logged in bursts: the longest "
+                        f"stretch is {segment[1] - segment[0]:,} of {run.n:,} samples; use "
+                        "gaps='warn' (the record at its mean rate)")
     n_input = run.n
     if segment is not None:
         run = segment_run(run, *segment)

@@ -436,3 +436,25 @@ def test_gaps_nan_refuses_burst_logged_stamps(tmp_path: Path) -> None:
     assert error_output(err).startswith("error: ") and "would land on the point of the " \
         "sample before (time stamps logged in bursts" in err
     assert not out.exists()
+
+
+def test_burst_logged_stamps_count_no_missing_time_and_refuse_split(tmp_path: Path) -> None:
+    """The MPU6050 stamps come in bursts: its 13,397 long steps are not read as 399 s of
+    missing time, the longest step is the record's (0.4969 s at t = 649.78 s, the same as
+    ``fogts info``), and --gaps split, whose longest 'regular' stretch is 18 samples, is
+    refused instead of analysing 0.18 s."""
+    path = shared_path("imu", "mpu6050_gyro_temp_converted.csv.gz")
+    code, _, err = _run([path, "--axis", "0"])
+    assert code == 0, err
+    line = next(ln for ln in err.splitlines() if "logged in bursts (the sample rate" in ln)
+    assert "13397 step(s) over 1.5 x the mean step cannot be told from the bursts' pattern, " \
+           "so no time is counted as missing" in line
+    assert re.search(r"longest 0\.4969 s at t = 649\.7\d* s\); analysed at the mean rate$", line)
+    assert "missing;" not in line and "--gaps split" not in line
+    out = tmp_path / "a.json"
+    code, _, err = _run([path, "--axis", "0", "--gaps", "split", "--json", out])
+    assert code == 2 and not out.exists()
+    assert error_output(err).endswith(
+        "gaps='split' (CLI --gaps split) needs regular stretches between gaps, and these "
+        "time stamps are logged in bursts: the longest stretch is 18 of 65,067 samples; use "
+        "gaps='warn' (the record at its mean rate)")

@@ -36,3 +36,20 @@ def test_fill_gaps_nan_refuses_stamps_that_would_share_a_grid_point() -> None:
     ok = Run(rate=np.arange(5.0), time=np.r_[0.0, 0.1, 0.2, 0.5, 0.6], fs_hz=10.0,
              units="deg/h", axes=("rate",))
     assert np.isnan(fill_gaps_nan(ok).rate).sum() == 2   # the grid with its two holes
+
+
+def test_the_longest_gap_is_found_beyond_the_listed_ones() -> None:
+    """60 gaps of 0.2 s, the 55th 0.9 s long: only MAX_LISTED (50) are listed, but the
+    summary and ``longest`` name the 0.9 s one."""
+    from fogts.preprocess.gaps import MAX_LISTED
+
+    steps = np.full(600, 0.1)
+    steps[9::10] = 0.3                  # a 0.2 s hole after every tenth sample
+    steps[549] = 1.0                    # the 55th gap: 0.9 s missing
+    t = np.r_[0.0, np.cumsum(steps)]
+    rep = find_gaps(t, fs_hz=10.0)
+    assert rep.n_gaps == 60 and len(rep.gaps) == MAX_LISTED
+    assert rep.longest is not None and rep.longest.row == 549
+    assert rep.longest.length_s == pytest.approx(1.0, rel=1e-12)
+    assert rep.largest_s == rep.longest.length_s
+    assert f"longest 1 s at t = {t[549]:.6g} s" in rep.summary()
