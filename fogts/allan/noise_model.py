@@ -70,8 +70,9 @@ class NoiseTerm:
     status : str
         ``"fitted"`` (non-zero in the final fit), ``"at_bound"`` (the non-negative fit put
         it at zero) or ``"dropped"`` (it was positive but neither significant at the
-        model's ``significance`` nor visible at two taus, so backward elimination removed
-        it and refitted); the last two have value 0 and ``at_bound`` True.
+        model's ``significance`` nor visible at two taus, or visible at no tau, so backward
+        elimination removed it and refitted); the last two have value 0 and ``at_bound``
+        True.
     z_score : float
         Wald statistic ``a / se(a)`` of ``a = C_n^2``: in the final fit for a fitted term,
         when it was dropped for a dropped one, 0 at the bound.

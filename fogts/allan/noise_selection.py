@@ -189,12 +189,22 @@ def identify_terms(model: NoiseModel, tau: FloatArray) -> tuple[tuple[NoiseTerm,
     return tuple(out), messages
 
 
+def _drop_reason(term: NoiseTerm, significance: float | None) -> str:
+    """Why backward elimination dropped ``term``: not significant, or (whatever its z)
+    visible at no data tau (module docstring)."""
+    level = significance if significance is not None else math.nan
+    if math.isfinite(level) and term.z_score >= float(norm_ppf(1.0 - level)):
+        return (f"it was dropped although z = {term.z_score:.2f} passes the level-{level:g} "
+                f"test: it reaches {100 * COVERAGE_SHARE:g} % of sigma^2 at no data tau, so "
+                "only the curvature at the edge of the tau range measures it")
+    return f"it was dropped as not significant, z = {term.z_score:.2f} at level {level:g}"
+
+
 def _unidentifiable_message(model: NoiseModel, term: NoiseTerm, tau: FloatArray, n_cov: int,
                             region: tuple[float, float]) -> str:
     pct = f"{100 * COVERAGE_SHARE:g} %"
     if term.status == "dropped":
-        why = (f"it was dropped as not significant, z = {term.z_score:.2f} at "
-               f"level {model.significance:g}")
+        why = _drop_reason(term, model.significance)
     elif term.at_bound:
         why = "it was fitted to zero"
     elif math.isnan(region[0]):

@@ -30,3 +30,22 @@ def test_bound_terms_identifiability_and_warnings() -> None:
     assert payload["terms"]["K"]["stderr"] is None
     assert set(payload["terms"]["N"]) >= {"value", "stderr", "unit", "ci_low", "ci_high",
                                           "c_coeff", "identifiable"}
+
+
+def test_a_term_dropped_for_visibility_alone_is_not_called_insignificant() -> None:
+    """A term visible at no data tau is dropped whatever its z (module docstring of
+    noise_selection); with z above the one-sided level-0.05 critical value (1.645) the
+    message says so instead of 'not significant'."""
+    import dataclasses
+
+    from fogts.allan.noise_selection import _drop_reason
+
+    tau = np.logspace(-1, 3, 20)
+    model = fit_noise(make_result(tau, np.sqrt(avar(tau, N=1.0, B=0.2, K=0.01))),
+                      terms=("N", "B", "K"))
+    term = dataclasses.replace(model["N"], status="dropped", z_score=2.30)
+    assert _drop_reason(term, 0.05).startswith(
+        "it was dropped although z = 2.30 passes the level-0.05 test: it reaches 25 % of "
+        "sigma^2 at no data tau")
+    weak = dataclasses.replace(term, z_score=1.60)
+    assert _drop_reason(weak, 0.05) == "it was dropped as not significant, z = 1.60 at level 0.05"
