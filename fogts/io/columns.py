@@ -162,11 +162,17 @@ def _detect_rate(table: Table, cols: list[str], time: str | None,
 
 
 def _unit_from_names(names: Sequence[str]) -> str | None:
+    named = _named_unit(names)
+    return None if named is None else named[0]
+
+
+def _named_unit(names: Sequence[str]) -> tuple[str, str] | None:
+    """The unit hinted by the first name that hints one, and that name."""
     for name in names:
         n = _norm(name)
         for hint, unit in _UNIT_HINTS:
             if n.endswith(hint.replace("/", "_")) or f"_{hint.replace('/', '_')}_" in n:
-                return unit
+                return unit, name
     return None
 
 
@@ -187,11 +193,43 @@ def sidecar_unit(path: Path) -> str | None:
 
 
 def rate_unit(given: str | None, rate_names: Sequence[str], file_key: str,
-              sidecar: str | None = None) -> tuple[str, str]:
-    """The rate unit and where it came from (see :attr:`fogts.io.run.Run.units_source`)."""
+              sidecar: str | None = None, source: str = "") -> tuple[str, str]:
+    """The rate unit and where it came from (see :attr:`fogts.io.run.Run.units_source`).
+
+    A given unit wins; when the file states another one (its sidecar, a column name or
+    an ``.npz`` key), a :class:`~fogts.errors.DataQualityWarning` shows both: a unit
+    typed by habit over a file that says otherwise scales every term by up to 3600x.
+    """
+    if given is not None:
+        _check_given_unit(given, _stated_unit(rate_names, file_key, sidecar), source)
     return first_stated((given, "given"), (sidecar, "file metadata"),
                         (lambda: _unit_from_names(rate_names), "column name"),
                         (lambda: _unit_from_names([file_key]) if file_key else None,
                          "file key"),
                         default="deg/h")
+
+
+def _stated_unit(rate_names: Sequence[str], file_key: str, sidecar: str | None
+                 ) -> tuple[str, str] | None:
+    """The unit the file itself states and where, in the reader's order of precedence."""
+    if sidecar is not None:
+        return sidecar, "its fogts sidecar"
+    for names, what in ((rate_names, "column name"), ([file_key] if file_key else [], "key")):
+        named = _named_unit(names)
+        if named is not None:
+            return named[0], f"{what} {named[1]!r}"
+    return None
+
+
+def _check_given_unit(given: str, stated: tuple[str, str] | None, source: str) -> None:
+    if stated is None or stated[0] == given:
+        return
+    import warnings
+
+    from fogts.errors import DataQualityWarning
+
+    where = f"{source}: " if source else ""
+    warnings.warn(f"{where}units = {given} (given) overrides the unit the file states, "
+                  f"{stated[0]} (from the {stated[1]}); the given unit is used",
+                  DataQualityWarning, stacklevel=4)
 

@@ -294,7 +294,8 @@ def _table_to_run(table: Table, *, rate_column: str | Sequence[str] | None,
     rate = rate_cols[0] if len(rate_cols) == 1 else np.column_stack(rate_cols)
     angle_unit = rate_unit_of_angle(None, roles.gyro) if kind != "rate" and not units else None
     unit, unit_source = ((angle_unit, "column name") if angle_unit is not None else
-                         rate_unit(units, roles.gyro, table.unit_hint, table.sidecar_unit))
+                         rate_unit(units, roles.gyro, table.unit_hint, table.sidecar_unit,
+                                   table.source))
     axis_units, acc_source = _axis_units(roles, unit, rate_cols, accel_units,
                                          table.accel_unit)
     if not roles.gyro:

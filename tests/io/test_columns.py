@@ -31,3 +31,27 @@ def test_explicit_columns_and_fs_override(tmp_path: Path) -> None:
 def test_units_option_and_default() -> None:
     assert read_run(np.arange(5.0), fs_hz=1).units == "deg/h"
     assert read_run(np.arange(5.0), fs_hz=1, units="DPS").units == "deg/s"
+
+
+def test_a_given_unit_over_a_unit_the_file_states_warns(tmp_path: Path) -> None:
+    """``gyro_x_deg_s`` read with units='deg/h': the given unit is used, and a warning shows
+    the column's; the same unit spelt otherwise ('dps') and a file that states no unit are
+    silent."""
+    import warnings
+
+    from fogts.errors import DataQualityWarning
+
+    rows = ["t,gyro_x_deg_s"] + [f"{i / 10},{(-1) ** i * 0.1}" for i in range(20)]
+    path = write_file(tmp_path, "m.csv", "\n".join(rows))
+    with pytest.warns(DataQualityWarning) as caught:
+        run = read_run(path, units="deg/h")
+    assert run.units == "deg/h" and run.units_source == "given"
+    assert [str(w.message) for w in caught] == [
+        f"{path}: units = deg/h (given) overrides the unit the file states, deg/s (from the "
+        "column name 'gyro_x_deg_s'); the given unit is used"]
+    plain = write_file(tmp_path, "p.csv", "\n".join(r.replace("gyro_x_deg_s", "rate")
+                                                    for r in rows))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", DataQualityWarning)
+        assert read_run(path, units="dps").units == "deg/s"
+        assert read_run(plain, units="rad/s").units == "rad/s"
