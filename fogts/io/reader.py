@@ -296,8 +296,7 @@ def _table_to_run(table: Table, *, rate_column: str | Sequence[str] | None,
     unit, unit_source = ((angle_unit, "column name") if angle_unit is not None else
                          rate_unit(units, roles.gyro, table.unit_hint, table.sidecar_unit,
                                    table.source))
-    axis_units, acc_source = _axis_units(roles, unit, rate_cols, accel_units,
-                                         table.accel_unit)
+    axis_units, acc_source = _axis_units(roles, unit, rate_cols, accel_units, table.accel_unit)
     if not roles.gyro:
         unit, unit_source = axis_units[0], acc_source
     run = Run(
