@@ -12,11 +12,21 @@ of term names to upper limits, in one unit system::
 ``units`` is optional (default ``deg``); at least one of N, B, K (:data:`SPEC_TERMS`) is
 required, and every limit must be a finite number > 0.
 
-A term passes when it is at or below its limit: a measured term by its fitted value, a term
-that is only an upper limit (:attr:`fogts.allan.noise_model.NoiseTerm.is_limit`) by its
-one-sided 95 % upper limit (:meth:`~fogts.allan.noise_model.NoiseModel.upper_limit`), so
-that a term the data cannot measure passes only when even its largest plausible value is
-within the datasheet.
+The decision takes the estimate's uncertainty into account, as the conformity rules of
+ISO 14253-1 and JCGM 106:2012 (sec. 8, guarded acceptance and rejection) do: with the
+one-sided 95 % bounds of the term,
+
+* **PASS** when the upper bound is at or below the limit (conformity shown);
+* **FAIL** when the lower bound is above the limit (non-conformity shown);
+* **INCONCLUSIVE** otherwise: the limit lies within the term's uncertainty.
+
+For a measured term the bounds are those of ``a = C^2``, ``a -+ z se(a)`` with
+``se(a) = 2 C se(C)`` (the delta method of :mod:`fogts.allan.noise_selection`) and
+``z = 1.645``; a term that is only an upper limit (:attr:`fogts.allan.noise_model.NoiseTerm.
+is_limit`) has the bounds 0 and its one-sided 95 % upper limit
+(:meth:`~fogts.allan.noise_model.NoiseModel.upper_limit`), so it never FAILs: it passes
+when even its largest plausible value is within the datasheet.  A measured term without a
+standard error is judged by its value alone.
 """
 
 from __future__ import annotations
@@ -26,6 +36,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
+from fogts.allan.distributions import norm_ppf
 from fogts.choices import OUTPUT_UNITS
 from fogts.errors import DataError
 from fogts.units import TERM_SI_FACTOR, term_unit
@@ -38,6 +49,9 @@ __all__ = ["SPEC_TERMS", "NoiseSpec", "SpecCheck", "check_spec"]
 #: The terms a specification may limit: those of the one-page summary
 #: (:mod:`fogts.report.summary`) and of the ``fogts batch`` table.
 SPEC_TERMS: tuple[str, ...] = ("N", "B", "K")
+
+#: Level of the one-sided bounds the decision uses (module docstring).
+SPEC_LEVEL = 0.95
 
 
 @dataclass(frozen=True)
@@ -136,12 +150,15 @@ class SpecCheck:
     limit_deg : float
         The limit in degree units.
     compared_deg : float or None
-        What was compared: the fitted value, or the 95 % upper limit of a term that is only
-        a limit (None: the term was not fitted).
+        The fitted value, or the 95 % upper limit of a term that is only a limit (None: the
+        term was not fitted).
     by_upper_limit : bool
-        True when the term is only an upper limit and that limit was compared.
+        True when the term is only an upper limit.
     passed : bool or None
-        None when the term was not fitted (nothing to compare).
+        True: PASS, False: FAIL; None when the term was not fitted or the decision is
+        inconclusive.
+    bounds_deg : tuple of float or None
+        The one-sided :data:`SPEC_LEVEL` lower and upper bounds that were compared.
     """
 
     name: str
@@ -149,20 +166,25 @@ class SpecCheck:
     compared_deg: float | None
     by_upper_limit: bool
     passed: bool | None
+    bounds_deg: tuple[float, float] | None = None
 
     @property
     def verdict(self) -> str:
-        """``"PASS"``, ``"FAIL"`` or ``"not fitted"``."""
-        return "not fitted" if self.passed is None else ("PASS" if self.passed else "FAIL")
+        """``"PASS"``, ``"FAIL"``, ``"INCONCLUSIVE"`` or ``"not fitted"``."""
+        if self.passed is None:
+            return "not fitted" if self.compared_deg is None else "INCONCLUSIVE"
+        return "PASS" if self.passed else "FAIL"
 
     def to_dict(self) -> dict[str, Any]:
         return {"term": self.name, "limit": self.limit_deg, "compared": self.compared_deg,
-                "by_upper_limit": self.by_upper_limit, "verdict": self.verdict}
+                "by_upper_limit": self.by_upper_limit, "verdict": self.verdict,
+                "bounds": None if self.bounds_deg is None else list(self.bounds_deg)}
 
 
 def check_spec(model: NoiseModel, spec: NoiseSpec) -> dict[str, SpecCheck]:
-    """Each term of ``spec`` against ``model``: PASS when the fitted value (or, for a term
-    that is only an upper limit, its one-sided 95 % upper limit) is at or below the limit.
+    """Each term of ``spec`` against ``model``: PASS when the term's one-sided 95 % upper
+    bound is at or below the limit, FAIL when its lower bound is above it, else
+    INCONCLUSIVE (module docstring).
 
     Examples
     --------
@@ -173,6 +195,8 @@ def check_spec(model: NoiseModel, spec: NoiseSpec) -> dict[str, SpecCheck]:
     0.0052
     >>> check_spec(model, NoiseSpec.from_mapping({"N": 0.006}))["N"].verdict
     'PASS'
+    >>> check_spec(model, NoiseSpec.from_mapping({"N": 0.0052}))["N"].verdict
+    'INCONCLUSIVE'
     >>> check_spec(model, NoiseSpec.from_mapping({"N": 0.005}))["N"].verdict
     'FAIL'
     """
@@ -183,7 +207,19 @@ def check_spec(model: NoiseModel, spec: NoiseSpec) -> dict[str, SpecCheck]:
             out[name] = SpecCheck(name, limit, None, False, None)
             continue
         term = model[name]
-        compared = model.upper_limit(name) if term.is_limit else term.value
-        out[name] = SpecCheck(name, limit, float(compared), term.is_limit,
-                              bool(compared <= limit))
+        compared = model.upper_limit(name, SPEC_LEVEL) if term.is_limit else term.value
+        low, high = _bounds(model, name)
+        passed = True if high <= limit else (False if low > limit else None)
+        out[name] = SpecCheck(name, limit, float(compared), term.is_limit, passed, (low, high))
     return out
+
+
+def _bounds(model: NoiseModel, name: str) -> tuple[float, float]:
+    """The one-sided :data:`SPEC_LEVEL` lower and upper bounds of a term (module docstring)."""
+    term = model[name]
+    if term.is_limit:
+        return 0.0, float(model.upper_limit(name, SPEC_LEVEL))
+    if not (math.isfinite(term.stderr) and term.stderr > 0):
+        return float(term.value), float(term.value)
+    a, spread = term.value**2, 2.0 * float(norm_ppf(SPEC_LEVEL)) * term.value * term.stderr
+    return math.sqrt(max(a - spread, 0.0)), math.sqrt(a + spread)

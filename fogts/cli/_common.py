@@ -105,7 +105,7 @@ InputOpt = Annotated[choices.InputKind | None, typer.Option("--input", rich_help
 AccelUnitsOpt = Annotated[str | None, typer.Option("--accel-units", rich_help_panel="Input", help="Unit of the accelerometer columns (acc*, ax.., linear_acceleration_*): m/s^2, g, mg, ug (default: from the names such as acc_x_mps2, else from the gravity magnitude, else m/s^2).")]
 JsonOpt = Annotated[str | None, typer.Option("--json", help="Write JSON to PATH, or '-' for stdout.")]
 ExportOpt = Annotated[tuple[str, Path] | None, typer.Option("--export", metavar="FORMAT PATH", help="Write the filter-ready noise parameters (N and K in SI; a term not measured as its 95 % upper limit, marked): kalibr (imu.yaml), imu_utils (OpenCV YAML) or json.")]
-SpecOpt = Annotated[Path | None, typer.Option("--spec", help="Datasheet limits (YAML: 'units: deg' or 'si', then any of N, B, K, e.g. 'N: 0.15'): PASS/FAIL per term in the summary; a term the data only bound passes if its 95 % upper limit is within the limit.")]
+SpecOpt = Annotated[Path | None, typer.Option("--spec", help="Datasheet limits (YAML: 'units: deg' or 'si', then any of N, B, K, e.g. 'N: 0.15'): PASS when a term's one-sided 95 % upper bound is within the limit, FAIL when its 95 % lower bound is above it, else INCONCLUSIVE (a term the data only bound never FAILs).")]
 OutputUnitsOpt = Annotated[choices.OutputUnits, typer.Option("--output-units", help="Units of the printed tables: deg (IEEE 952: deg/sqrt(h), deg/h, deg/h^1.5; the deviations in the input unit) or si (rad/s/sqrt(Hz), rad/s, rad/s^2/sqrt(Hz); deviations in rad/s). Accelerometer axes: m/s/sqrt(h), ug, m/s/h^1.5, or in si m/s^2/sqrt(Hz), m/s^2, m/s^3/sqrt(Hz). The JSON has both (noise, noise_si).")]
 
 

@@ -93,7 +93,7 @@ def allan_cmd(
 
     The output opens with a summary: one row per file and axis with N, B and K (± standard
     error, or '< x' when the data only bound the term), the fit verdict and, with --spec,
-    PASS/FAIL per term. The data are analysed raw unless --outliers, --detrend or --decimate
+    PASS/FAIL/INCONCLUSIVE per term. The data are analysed raw unless --outliers, --detrend or --decimate
     is given. JSON for one file: {"input", "axes": [{"axis", "kind", "units", "points",
     "noise", "noise_si", "curve", ...} per axis], "summary", ...} (the top-level copy of the
     first axis is deprecated); several files give {"inputs": [one such object per file],

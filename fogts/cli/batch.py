@@ -42,7 +42,7 @@ def batch_cmd(
 
     A bad file gives a row with status=error and the message; the batch goes on. The summary
     has, per term, its value, standard error, 95 % upper limit (a term the data only bound),
-    unit and, with --spec, PASS/FAIL (columns N, N_stderr, N_upper, N_unit, N_spec, ...), and
+    unit and, with --spec, PASS/FAIL/INCONCLUSIVE (columns N, N_stderr, N_upper, N_unit, N_spec, ...), and
     the fit verdict (fit); input_units is the rate unit of the input.
 
     Exit code 0 if every run is ok, 1 if any failed.

@@ -170,7 +170,7 @@ def _summary_blocks(ctx: ReportContext, notes: list[str]) -> list[Block]:
     verdict naming the terms that fail it."""
     from pathlib import Path
 
-    from fogts.report.summary import SUMMARY_TERMS, axis_row, summary_table
+    from fogts.report.summary import axis_row, summary_table
 
     units, spec = ctx.options.get("output_units", "deg"), ctx.options.get("spec")
     name = Path(ctx.run.source).name
@@ -180,11 +180,7 @@ def _summary_blocks(ctx: ReportContext, notes: list[str]) -> list[Block]:
     table = summary_table(rows, spec)
     blocks = [table_block(table), Block(kind="paragraph", text=table.caption)]
     if spec is not None:
-        failing = [f"{r['axis']}: {t}" for r in rows for t in SUMMARY_TERMS
-                   if r[f"{t}_spec"] == "FAIL"]
-        blocks.append(Block(kind="verdict", good=not failing, text=(
-            f"Spec {spec.source}: " + ("every term within its limit." if not failing
-                                       else "FAIL for " + ", ".join(failing) + "."))))
+        blocks.append(_spec_verdict(rows, spec))
     return blocks
 
 
@@ -302,6 +298,23 @@ def _prediction_blocks(ctx: ReportContext, i: int, notes: list[str]) -> list[Blo
                numeric=[False, True]),
         *_residual_blocks(best),
     ]
+
+
+def _spec_verdict(rows: list[dict[str, Any]], spec: Any) -> Block:
+    """The spec line: every term within its limit, or which terms FAIL and which the data
+    cannot decide (:func:`fogts.allan.datasheet.check_spec`)."""
+    from fogts.report.summary import SUMMARY_TERMS
+
+    def terms(verdict: str) -> list[str]:
+        return [f"{r['axis']}: {t}" for r in rows for t in SUMMARY_TERMS
+                if r[f"{t}_spec"] == verdict]
+
+    failing, open_ = terms("FAIL"), terms("INCONCLUSIVE")
+    parts = ([f"FAIL for {', '.join(failing)}"] if failing else []) + (
+        [f"INCONCLUSIVE for {', '.join(open_)} (the limit lies within the estimate's "
+         "uncertainty)"] if open_ else [])
+    return Block(kind="verdict", good=not parts, text=f"Spec {spec.source}: " + (
+        "every term within its limit." if not parts else "; ".join(parts) + "."))
 
 
 def _davar_blocks(ctx: ReportContext, i: int, notes: list[str]) -> list[Block]:

@@ -36,7 +36,7 @@ def term_fields(model: NoiseModel | None, units: OutputUnits = "deg",
     """For each of :data:`SUMMARY_TERMS`: ``T`` (the value), ``T_stderr``, ``T_upper`` (the
     one-sided 95 % upper limit of a term that is only a limit, else None), ``T_unit`` (in
     ``units``, for the model's quantity: an accelerometer's N is in m/s/sqrt(h), not
-    deg/sqrt(h)) and ``T_spec`` (``"PASS"``, ``"FAIL"``, ``"not fitted"``; None without a
+    deg/sqrt(h)) and ``T_spec`` (``"PASS"``, ``"FAIL"``, ``"INCONCLUSIVE"``, ``"not fitted"``; None without a
     limit for the term).  Values are None where the term was not fitted.  ``quantity``
     (``"rate"`` or ``"accel"``): the axis' quantity, for the units when there is no model
     (default: the model's, else ``"rate"``)."""
@@ -130,7 +130,9 @@ def _caption(spec: NoiseSpec | None, accel: bool = False) -> str:
         return text
     limits = ", ".join(f"{n} ≤ {spec.limit(n):g} {term_unit(n, spec.units)}"
                        for n in spec.names)
-    return (text + f" spec ({spec.source}: {limits}): PASS when the value is at or below the "
-            "limit; a term given only as an upper limit passes only if that upper limit is "
-            "below the spec.")
+    return (text + f" spec ({spec.source}: {limits}): PASS when the term's one-sided 95 % "
+            "upper bound is at or below the limit, FAIL when its 95 % lower bound is above "
+            "it, INCONCLUSIVE when the limit lies within its uncertainty (ISO 14253-1); a "
+            "term given only as an upper limit passes only if that upper limit is below the "
+            "spec.")
 

@@ -1,8 +1,9 @@
-"""Datasheet limits (fogts.allan.datasheet): the specification's checks and PASS/FAIL of a
-fitted model, a term the data only bound judged by its 95 % upper limit."""
+"""Datasheet limits (fogts.allan.datasheet): the specification's checks and the PASS, FAIL or
+INCONCLUSIVE of a fitted model by each term's one-sided 95 % bounds."""
 
 from __future__ import annotations
 
+import math
 import warnings
 from pathlib import Path
 from typing import Any
@@ -27,24 +28,37 @@ def model() -> fogts.NoiseModel:
     return fit
 
 
-def test_a_measured_term_is_judged_by_its_value(model: fogts.NoiseModel) -> None:
-    n = model["N"].value
-    checks = check_spec(model, NoiseSpec.from_mapping({"N": n * 1.01, "B": model["B"].value
-                                                       * 0.99}))
-    assert checks["N"].verdict == "PASS" and not checks["N"].by_upper_limit
-    assert checks["N"].compared_deg == pytest.approx(n, rel=1e-15)
-    assert checks["B"].verdict == "FAIL"
+def test_a_measured_term_is_judged_by_its_one_sided_95_bounds(model: fogts.NoiseModel
+                                                               ) -> None:
+    """The bounds are sqrt(C^2 -+ 1.645 * 2 C se(C)) (module docstring, 1e-12: the same
+    formula); a limit above the upper bound PASSes, below the lower bound FAILs, and one
+    between them, on either side of the value, is INCONCLUSIVE."""
+    n, se = model["N"].value, model["N"].stderr
+    spread = 2 * 1.6448536269514722 * n * se
+    low, high = math.sqrt(n * n - spread), math.sqrt(n * n + spread)
+    checks = {lim: check_spec(model, NoiseSpec.from_mapping({"N": lim}))["N"]
+              for lim in (high * 1.001, (n + high) / 2, (low + n) / 2, low * 0.999)}
+    assert [c.verdict for c in checks.values()] == ["PASS", "INCONCLUSIVE", "INCONCLUSIVE",
+                                                    "FAIL"]
+    first = next(iter(checks.values()))
+    assert first.bounds_deg == pytest.approx((low, high), rel=1e-12)
+    assert first.compared_deg == pytest.approx(n, rel=1e-15) and not first.by_upper_limit
+    assert [c.passed for c in checks.values()] == [True, None, None, False]
 
 
 def test_a_bounded_term_passes_only_below_its_upper_limit(model: fogts.NoiseModel) -> None:
-    """K's fitted value is below a limit its 95 % upper limit exceeds: that is a FAIL."""
+    """K's fitted value is below a limit its 95 % upper limit exceeds: the data cannot
+    decide (INCONCLUSIVE); a term that is only a limit never FAILs (its lower bound is 0)."""
     k, upper = model["K"].value, model.upper_limit("K")
     between = (k + upper) / 2
     assert k < between < upper
-    fail = check_spec(model, NoiseSpec.from_mapping({"K": between}))["K"]
-    assert fail.verdict == "FAIL" and fail.by_upper_limit
-    assert fail.compared_deg == pytest.approx(upper, rel=1e-15)
+    open_ = check_spec(model, NoiseSpec.from_mapping({"K": between}))["K"]
+    assert open_.verdict == "INCONCLUSIVE" and open_.by_upper_limit and open_.passed is None
+    assert open_.compared_deg == pytest.approx(upper, rel=1e-15)
+    assert open_.bounds_deg == (0.0, open_.compared_deg)
     assert check_spec(model, NoiseSpec.from_mapping({"K": upper * 1.01}))["K"].passed
+    assert check_spec(model, NoiseSpec.from_mapping({"K": k * 0.01}))["K"].verdict == \
+        "INCONCLUSIVE"
 
 
 def test_si_limits_are_converted_with_the_units_table(model: fogts.NoiseModel) -> None:

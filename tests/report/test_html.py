@@ -204,14 +204,15 @@ def test_multi_axis_run_gives_one_section_per_axis(tmp_path: Path) -> None:
 
 def test_summary_opens_the_report_with_every_axis_and_the_spec(tmp_path: Path) -> None:
     """The summary section: one row per axis with the Allan sections' own N (in the chosen
-    units), and the spec verdict naming the failing terms; each axis' warnings stay notes of
+    units), and the spec verdict naming the failing terms (N far above its limit) and those
+    the data cannot decide (B, not measured on white noise); each axis' warnings stay notes of
     its Allan section, although the summary computed the analysis first."""
     from fogts.allan.datasheet import NoiseSpec
     from fogts.units import TERM_SI_FACTOR
 
     rng = np.random.default_rng(2)
     run = read_run(rng.normal(size=(4000, 2)), fs_hz=10.0)
-    spec = NoiseSpec.from_mapping({"units": "si", "N": 1.0, "B": 1e-12}, source="ds.yaml")
+    spec = NoiseSpec.from_mapping({"units": "si", "N": 1e-9, "B": 1e-12}, source="ds.yaml")
     rep = build_report(run, parts=("allan", "summary"), output_units="si", spec=spec)
     assert [s.id for s in rep.sections] == ["summary", "allan-1", "allan-2"]
     summary = rep.sections[0]
@@ -222,7 +223,9 @@ def test_summary_opens_the_report_with_every_axis_and_the_spec(tmp_path: Path) -
     # white noise of unit variance at 10 Hz in deg/h: N = sqrt(1/10)/60 deg/sqrt(h)
     assert n_si == pytest.approx(math.sqrt(0.1) / 60 * TERM_SI_FACTOR["N"], rel=0.05)
     verdict = next(b for b in summary.blocks if b.kind == "verdict")
-    assert not verdict.good and verdict.text.startswith("Spec ds.yaml: FAIL for ")
+    assert not verdict.good and verdict.text.startswith(
+        f"Spec ds.yaml: FAIL for {run.axes[0]}: N, {run.axes[1]}: N; INCONCLUSIVE for "
+        f"{run.axes[0]}: B, {run.axes[1]}: B (the limit lies within the estimate's ")
     assert all(s.notes for s in rep.sections[1:]) and not summary.notes
 
 
