@@ -38,6 +38,7 @@ def run_batch(
     workers: int | None = None,
     scheduler: str | None = None,
     resume: bool = False,
+    overwrite: bool = False,
     options: BatchOptions | None = None,
     analysis: Callable[[str, BatchOptions], RunOutcome] = analyze_file,
     progress: Callable[[BatchProgress], None] | None = None,
@@ -65,6 +66,9 @@ def run_batch(
         Skip runs whose per-run JSON exists (their rows are read back from it).  A run that
         failed because of its file also has a JSON and is skipped; delete that JSON to retry
         it.  Runs lost to a dead worker have none and are retried.
+    overwrite : bool
+        Replace an existing summary and per-run JSON (:func:`fogts.io.paths.check_outputs`);
+        ``resume`` implies it.
     options : BatchOptions, optional
         Input and analysis options.
     analysis : callable
@@ -83,7 +87,8 @@ def run_batch(
     Raises
     ------
     DataError
-        No file matches, ``workers`` < 1, or the scheduler cannot be reached.
+        No file matches, ``workers`` < 1, the scheduler cannot be reached, or an output
+        exists (without ``overwrite`` or ``resume``).
     """
     t0 = time.perf_counter()
     options = options if options is not None else BatchOptions()
@@ -91,7 +96,7 @@ def run_batch(
     if workers is not None:
         workers = check_int("workers", workers, minimum=1)
     files = expand_patterns(patterns)
-    jdir = _json_dir(json_dir, summary, files)
+    jdir = _json_dir(json_dir, summary, files, replace=overwrite or resume)
     state = _BatchState(files, summary, jdir, progress)
     if resume:
         state.resume()
@@ -110,14 +115,15 @@ def _summary_path(summary_path: str | os.PathLike[str]) -> Path:
     return summary
 
 
-def _json_dir(json_dir: str | os.PathLike[str] | None, summary: Path, files: list[str]
-              ) -> Path:
-    """The folder of the per-run JSON, created; no output may overwrite an input."""
+def _json_dir(json_dir: str | os.PathLike[str] | None, summary: Path, files: list[str], *,
+              replace: bool) -> Path:
+    """The folder of the per-run JSON, created; no output may overwrite an input, nor an
+    existing file unless ``replace``."""
     jdir = Path(json_dir) if json_dir is not None else default_json_dir(summary)
-    check_outputs({"summary_path": summary}, {"patterns": files})
+    check_outputs({"summary_path": summary}, {"patterns": files}, overwrite=replace)
     jdir.mkdir(parents=True, exist_ok=True)
     check_outputs({f"per-run JSON of {f!r}": jdir / run_key(f) for f in files},
-                  {"patterns": files})
+                  {"patterns": files}, overwrite=replace)
     return jdir
 
 

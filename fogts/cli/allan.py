@@ -86,6 +86,7 @@ def allan_cmd(
     spec: common.SpecOpt = None,
     export: common.ExportOpt = None,
     bias_correction: Annotated[bool, typer.Option("--bias-correction", help="--kind totdev: divide TOTVAR by its bias at flicker- and random-walk-FM taus (Howe 1999), as Stable32 does.")] = False,
+    overwrite: common.OverwriteOpt = False,
     read: ReadSettings = common.DEFAULT_READ,
 ) -> None:
     """Allan deviation with confidence intervals, the IEEE-952 noise terms (Q, N, B, K, R)
@@ -112,7 +113,7 @@ def allan_cmd(
 
     export_path = export[1] if export is not None else None
     with common.guard({"tau_min": "--fit-tau-min", "tau_max": "--fit-tau-max"},
-                      outputs={"--json": json_out, "--csv": csv_out, "--plot": plot,
+                      overwrite=overwrite, outputs={"--json": json_out, "--csv": csv_out, "--plot": plot,
                                "--export": export_path},
                       inputs={"FILES": files, "--spec": [spec] if spec else []}):
         export_format = _export_format(export, files)

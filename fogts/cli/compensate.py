@@ -48,6 +48,7 @@ def compensate_cmd(
     axis: Annotated[str | None, typer.Option("--axis", help=AXIS_HELP)] = None,
     json_out: common.JsonOpt = None,
     plot: Annotated[Path | None, typer.Option("--plot", help="Raw rate, trend, compensated rate and temperature: .png, .svg or .pdf.")] = None,
+    overwrite: common.OverwriteOpt = False,
     read: ReadSettings = common.DEFAULT_READ,
 ) -> None:
     """Fit the start-up temperature-drift model D = aT·dT + bT² + cT + d·dT² + e·dT + f and
@@ -57,7 +58,7 @@ def compensate_cmd(
     compensation per axis]}."""
     from fogts.startup.startup_workflow import startup_compensation
 
-    with common.guard(outputs={"--output": output, "--save-model": save_model, "--json": json_out,
+    with common.guard(overwrite=overwrite, outputs={"--output": output, "--save-model": save_model, "--json": json_out,
                          "--plot": plot},
                 inputs={"FILE": [file], "--model": [model] if model else [],
                         "--calibration": calibration or []}):

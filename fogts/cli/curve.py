@@ -32,6 +32,7 @@ def curve_cmd(
     json_out: common.JsonOpt = None,
     plot: Annotated[Path | None, typer.Option("--plot", help="Log-log figure of the curve with the fit and its term lines: .png, .svg or .pdf.")] = None,
     export: common.ExportOpt = None,
+    overwrite: common.OverwriteOpt = False,
 ) -> None:
     """Fit the IEEE-952 noise terms (Q, N, B, K, R) to a published Allan-deviation curve,
     with standard errors, and read the curve (minimum, regions, slopes).
@@ -56,7 +57,7 @@ def curve_cmd(
     export_path = export[1] if export is not None else None
     with common.guard({"tau_min": "--fit-tau-min", "tau_max": "--fit-tau-max",
                        "fs_hz": "--fs", "n_samples": "--n-samples"},
-                      outputs={"--json": json_out, "--plot": plot, "--export": export_path},
+                      overwrite=overwrite, outputs={"--json": json_out, "--plot": plot, "--export": export_path},
                       inputs={"FILE": [file]}):
         export_format = common.export_format(export)
         common.check_output_names(plot=plot)

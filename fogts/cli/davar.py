@@ -27,6 +27,7 @@ def davar_cmd(
     min_change: Annotated[float, typer.Option("--min-change", help="Smallest relative change of the deviation called non-stationary (0.1 = 10 %); a significant smaller change is reported as stationary within it.")] = 0.10,
     json_out: common.JsonOpt = None,
     plot: Annotated[Path | None, typer.Option("--plot", help="Heat map of log deviation over (time, tau): .png, .svg or .pdf.")] = None,
+    overwrite: common.OverwriteOpt = False,
     read: ReadSettings = common.DEFAULT_READ,
 ) -> None:
     """Dynamic Allan deviation (DAVAR, Galleani & Tavella 2009): the deviation in a
@@ -34,7 +35,7 @@ def davar_cmd(
     from fogts.allan.dynamic import dynamic_allan
     from fogts.units import parse_duration
 
-    with common.guard({"min_change": "--min-change"}, outputs={"--json": json_out, "--plot": plot},
+    with common.guard({"min_change": "--min-change"}, overwrite=overwrite, outputs={"--json": json_out, "--plot": plot},
                       inputs={"FILE": [file]}):
         common.check_output_names(plot=plot)  # before any output is written
         window_s = parse_duration(window, "--window")

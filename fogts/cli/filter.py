@@ -39,6 +39,7 @@ def filter_cmd(
     axis: Annotated[str | None, typer.Option("--axis", help=AXIS_HELP)] = None,
     json_out: common.JsonOpt = None,
     plot: Annotated[Path | None, typer.Option("--plot", help="Figure (.png, .svg, .pdf): observed/filtered/smoothed for kalman; the before/after Allan overlay with --compare-allan.")] = None,
+    overwrite: common.OverwriteOpt = False,
     read: ReadSettings = common.DEFAULT_READ,
 ) -> None:
     """Filter a gyro record: Kalman filter with an ARMA drift model, or a
@@ -48,7 +49,7 @@ def filter_cmd(
     each figure the axis name in its file name, and the JSON is {"input", "method", "units",
     "axes": [one block per axis], "output"}.
     """
-    with common.guard(outputs={"--output": output, "--json": json_out, "--plot": plot},
+    with common.guard(overwrite=overwrite, outputs={"--output": output, "--json": json_out, "--plot": plot},
                 inputs={"FILE": [file]}):
         common.check_output_names(plot=plot, output=output)  # before any output is written
         _check_method_options(method, {

@@ -24,11 +24,12 @@ def _info_payload(run: Run) -> dict[str, Any]:
 def info_cmd(
     file: common.FileArg,
     json_out: common.JsonOpt = None,
+    overwrite: common.OverwriteOpt = False,
     read: ReadSettings = common.DEFAULT_READ,
 ) -> None:
     """Show what was read: columns, sample rate, duration, gaps, jitter, glitches and
     statistics."""
-    with common.guard(outputs={"--json": json_out}, inputs={"FILE": [file]}):
+    with common.guard(overwrite=overwrite, outputs={"--json": json_out}, inputs={"FILE": [file]}):
         run, quality = common.read_input(file, dataclasses.replace(read, gaps="ignore"))
         payload = {**_info_payload(run), "data_quality": quality.to_dict()}
         common.emit_json(payload, json_out)

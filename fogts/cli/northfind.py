@@ -84,6 +84,7 @@ def northfind_cmd(
     seed: Annotated[int, typer.Option("--seed", help="Random seed of the simulation mode.")] = 4,
     json_out: common.JsonOpt = None,
     plot: Annotated[Path | None, typer.Option("--plot", help="Simulation mode: azimuth error per trial (.png, .svg, .pdf).")] = None,
+    overwrite: common.OverwriteOpt = False,
     read: ReadSettings = common.DEFAULT_READ,
 ) -> None:
     """Four-position north seeking: azimuth of the input axis at position 0,
@@ -92,7 +93,7 @@ def northfind_cmd(
     from fogts.errors import DataError
     from fogts.startup import four_position, simulate_north_seeking
 
-    with common.guard(_NORTHFIND_OPTIONS, outputs={"--json": json_out, "--plot": plot},
+    with common.guard(_NORTHFIND_OPTIONS, overwrite=overwrite, outputs={"--json": json_out, "--plot": plot},
                 inputs={"FILES": files or [],
                         "--thermal-model": [thermal_model] if thermal_model else []}):
         common.check_output_names(plot=plot)  # before any output is written

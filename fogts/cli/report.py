@@ -29,6 +29,7 @@ def report_cmd(
     output_units: common.OutputUnitsOpt = "deg",
     spec: common.SpecOpt = None,
     method: common.MethodOpt = "wls",
+    overwrite: common.OverwriteOpt = False,
     read: ReadSettings = common.DEFAULT_READ,
 ) -> None:
     """Write one self-contained HTML report of a recording.
@@ -39,7 +40,7 @@ def report_cmd(
     """
     from fogts.report.html import build_report, write_report
 
-    with common.guard(outputs={"--output": output},
+    with common.guard(overwrite=overwrite, outputs={"--output": output},
                       inputs={"FILE": [file], "--spec": [spec] if spec else []}):
         if not output.name.lower().endswith((".html", ".htm")):
             from fogts.errors import DataError

@@ -54,6 +54,7 @@ def select_cmd(
     json_out: common.JsonOpt = None,
     plot: Annotated[Path | None, typer.Option("--plot", help="Diagnostics figure (data ACF/PACF, residual ACF, Q-Q, prediction): .png, .svg or .pdf.")] = None,
     predict: Annotated[Path | None, typer.Option("--predict", help="Write the one-step prediction as CSV (time, observed, predicted, residual); .csv, .csv.gz, .tsv or .parquet.")] = None,
+    overwrite: common.OverwriteOpt = False,
     read: ReadSettings = common.DEFAULT_READ,
 ) -> None:
     """Select the ARMA model of the drift: fit AR(1), AR(2), AR(3), ARMA(1,1) and ARMA(2,1), check that their residuals are white, rank them and predict one step ahead.
@@ -66,7 +67,7 @@ def select_cmd(
     from fogts.arma.select import parse_candidates
     from fogts.pipeline import SelectSettings, analyse_selection
 
-    with common.guard(outputs={"--json": json_out, "--plot": plot, "--predict": predict},
+    with common.guard(overwrite=overwrite, outputs={"--json": json_out, "--plot": plot, "--predict": predict},
                 inputs={"FILE": [file]}):
         orders = parse_candidates(candidates)
         common.check_output_names(plot=plot, predict=predict)

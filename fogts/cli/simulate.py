@@ -72,7 +72,7 @@ simulate_app = typer.Typer(
     no_args_is_help=True, rich_markup_mode="markdown")
 common.app.add_typer(simulate_app, name="simulate")
 
-OutputOpt = Annotated[Path, typer.Option("--output", "-o", help="Output file: .csv, .csv.gz, .tsv, .txt or .parquet. The true parameters go to OUTPUT.json beside it. An existing file is replaced only if fogts simulate wrote it.")]
+OutputOpt = Annotated[Path, typer.Option("--output", "-o", help="Output file: .csv, .csv.gz, .tsv, .txt or .parquet. The true parameters go to OUTPUT.json beside it. Existing files are replaced only with --overwrite.")]
 DurationOpt = Annotated[str | None, typer.Option("--duration", help="Record length: 3h, 90min, 600s, 1d, 1h30min or seconds (default 1h).")]
 BiasOpt = Annotated[float, typer.Option("--bias", help="Constant rate offset in deg/h.")]
 ThermalOpt = Annotated[str | None, typer.Option("--thermal", help="Temperature-driven drift D = a T dT + b T^2 + c T + d dT^2 + e dT + f, as `T*dT=a,T2=b,T=c,dT2=d,dT=e,1=f` (deg/h; dT in degC/s); with 'noise' it needs --temperature-profile; 'startup' default: `T*dT=0.4,T2=0.0015,T=-0.12,dT2=120,dT=25,1=2`.")]
@@ -104,6 +104,7 @@ def simulate_noise_cmd(
     seed: SeedOpt = None,
     units: OutUnitsOpt = "deg/h",
     decimals: DecimalsOpt = None,
+    overwrite: common.OverwriteOpt = False,
 ) -> None:
     """Simulate a static gyro record from IEEE-952 noise coefficients (IEEE Std 952-1997,
     Annex C, Table C.1).
@@ -122,7 +123,7 @@ def simulate_noise_cmd(
     from fogts.units import parse_duration
 
     sidecar_path = Path(f"{output}.json")  # never raises, whatever the user typed
-    with common.guard(_SIMULATE_OPTIONS, outputs={"--output": output,
+    with common.guard(_SIMULATE_OPTIONS, overwrite=overwrite, outputs={"--output": output,
                                             "--output's sidecar": sidecar_path},
                 inputs={"--from-json": [noise_json] if noise_json else []}):
         _check_simulation_output(output)
@@ -234,6 +235,7 @@ def simulate_startup_cmd(
     azimuth: Annotated[float | None, typer.Option("--azimuth", help="True azimuth of the input axis at position 0 in degrees, clockwise from north, for --positions.", rich_help_panel="Four-position north seeking")] = None,
     position_time: Annotated[str | None, typer.Option("--position-time", help="Time measured at each position (default 60s).", rich_help_panel="Four-position north seeking")] = None,
     turn_time: Annotated[str | None, typer.Option("--turn-time", help="Time spent turning between positions, left out of the file (default 10s).", rich_help_panel="Four-position north seeking")] = None,
+    overwrite: common.OverwriteOpt = False,
 ) -> None:
     """Simulate a cold start: warm-up temperature, thermal drift
     (--thermal), ARMA drift and white noise; writes time, rate, temperature for
@@ -243,7 +245,7 @@ def simulate_startup_cmd(
     parameters.
     """
     sidecar_path = Path(f"{output}.json")  # never raises, whatever the user typed
-    with common.guard(_SIMULATE_OPTIONS, outputs={"--output": output,
+    with common.guard(_SIMULATE_OPTIONS, overwrite=overwrite, outputs={"--output": output,
                                             "--output's sidecar": sidecar_path}):
         _check_simulation_output(output)
         cold = {"--ambient-c": ambient_c, "--peak-heating-c-s": peak_heating_c_s,
@@ -257,39 +259,13 @@ def simulate_startup_cmd(
 
 
 def _check_simulation_output(output: Path) -> None:
-    """Refuse an output name of another type, and any existing file a simulation would
-    replace that ``fogts simulate`` did not write: a simulated record looks like a
-    recording, so a mistyped ``-o`` must never overwrite the real one."""
+    """Refuse an output name of another type (an existing file is refused by the guard
+    without --overwrite: a simulated record looks like a recording)."""
     from fogts.errors import DataError
 
     if not output.name.lower().endswith(_SIM_SUFFIXES):
         raise DataError(f"--output must end in {', '.join(_SIM_SUFFIXES)}; got "
                         f"{output.name!r}")
-    sidecar = output.with_name(output.name + ".json")
-    if sidecar.exists() and not _simulation_sidecar(sidecar, output.name):
-        raise DataError(f"--output's sidecar {str(sidecar)!r} already exists and is not the "
-                        "record 'fogts simulate' writes beside its output; fogts simulate "
-                        "never replaces a file it did not write: choose another --output "
-                        "name or move that file away")
-    if output.exists() and not sidecar.exists():
-        raise DataError(f"--output {str(output)!r} already exists and was not written by "
-                        f"'fogts simulate' (no {sidecar.name} beside it); fogts simulate "
-                        "never replaces a file it did not write: choose another --output "
-                        "name or move that file away")
-
-
-def _simulation_sidecar(path: Path, output_name: str) -> bool:
-    """Whether ``path`` is the JSON record a simulation of ``output_name`` wrote beside it
-    (its ``generator`` names ``fogts ... simulate`` and its ``output`` that file)."""
-    import json
-
-    try:
-        record = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, ValueError):
-        return False
-    return (isinstance(record, dict) and str(record.get("generator", "")).startswith("fogts ")
-            and " simulate" in str(record.get("generator", ""))
-            and record.get("output") == output_name)
 
 
 def _startup_kwargs(cold: dict[str, Any], *, bias: float, arma: str | None,

@@ -7,7 +7,11 @@ device and inode: that sees through symbolic links, ``..`` and hard links.
 
 An output that already exists must be a regular file (it is replaced atomically by
 :func:`fogts.io.writer.atomic_path`); a device, FIFO, socket or directory is refused, so that
-``--json /dev/sda`` can never be replaced by a text file.
+``--json /dev/sda`` can never be replaced by a text file.  And an existing file that could
+hold data (anything but a figure or an HTML page, :data:`REPLACEABLE_SUFFIXES`) is
+replaced only when the user says so (``overwrite=True``, the CLI's ``--overwrite``): a
+mistyped output name must not turn another recording, or a sidecar that states its unit,
+into fogts' output.
 """
 
 from __future__ import annotations
@@ -19,7 +23,11 @@ from pathlib import Path
 
 from fogts.errors import DataError
 
-__all__ = ["check_outputs", "file_kind"]
+__all__ = ["REPLACEABLE_SUFFIXES", "check_outputs", "file_kind"]
+
+#: Outputs that replace an existing file without ``overwrite``: figures and HTML pages,
+#: which fogts never reads as input.
+REPLACEABLE_SUFFIXES = (".png", ".svg", ".pdf", ".html", ".htm")
 
 PathLike = str | os.PathLike[str]
 
@@ -59,9 +67,10 @@ def _identity(path: Path) -> tuple[int, int, int] | None:
 
 
 def check_outputs(outputs: Mapping[str, PathLike | None],
-                  inputs: Mapping[str, Iterable[PathLike]]) -> None:
+                  inputs: Mapping[str, Iterable[PathLike]], *, overwrite: bool = False) -> None:
     """Refuse any output that is one of the inputs, that names the same file as another
-    output, or that exists and is not a regular file.
+    output, that exists and is not a regular file, or (without ``overwrite``) that exists
+    and is not a figure or an HTML page.
 
     Parameters
     ----------
@@ -71,6 +80,8 @@ def check_outputs(outputs: Mapping[str, PathLike | None],
     inputs : mapping of argument name -> paths
         The files the command reads (``{"FILE": ["x.csv"]}``).  Inputs that do not exist
         are skipped: reading them will fail with its own message.
+    overwrite : bool
+        Allow replacing existing regular files that are not inputs.
 
     Raises
     ------
@@ -110,6 +121,11 @@ def check_outputs(outputs: Mapping[str, PathLike | None],
                 name, source = readers[ident[:2]]
                 raise DataError(f"{option} {str(path)!r} is the input {name} {source!r}; fogts "
                                 "never replaces an input: choose another output name")
+            if not overwrite and not path.name.lower().endswith(REPLACEABLE_SUFFIXES):
+                raise DataError(f"{option} {str(path)!r} already exists; fogts replaces an "
+                                "existing data file only with --overwrite: choose another "
+                                "output name, or pass --overwrite if that file is fogts' own "
+                                "output to be replaced")
         elif not path.parent.is_dir():
             raise DataError(f"{option} {str(path)!r}: the folder {str(path.parent)!r} does not "
                             "exist; create it first or choose another output name")

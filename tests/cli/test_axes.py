@@ -86,7 +86,7 @@ def test_filter_all_is_each_axis_alone(two_axes: Path, tmp_path: Path) -> None:
     doc = json.loads((tmp_path / "f.json").read_text())
     assert [a["axis"] for a in doc["axes"]] == ["gyro x", "gyro y"]
     code, text, _ = _invoke(["filter", two_axes, "--method", "iir", "--cutoff", "1",
-                             "-o", out_one])
+                             "-o", out_one, "--overwrite"])
     assert "axis      'gyro x' (default: the first of 2" in text
 
 

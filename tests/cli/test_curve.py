@@ -29,7 +29,7 @@ def _run(args: list[object], command: str = "curve") -> tuple[int, str, str]:
 
 
 def _json(args: list[object], tmp_path: Path) -> dict:
-    out = tmp_path / "c.json"
+    out = tmp_path / f"c{len(list(tmp_path.glob('c*.json')))}.json"
     code, _, err = _run([*args, "--json", out])
     assert code == 0, err
     return json.loads(out.read_text())
@@ -208,7 +208,7 @@ def test_export_says_when_the_update_rate_was_inferred(tmp_path: Path) -> None:
     assert "update_rate: 10.0  # inferred as 1 / the curve's shortest tau: check it is the " \
            "IMU's sample rate" in text
     assert "(a published oadev curve in deg/h (column name); 10 Hz (inferred)" in text
-    code, _, err = _run([path, "--fs", 200, "--export", "kalibr", yaml_path])
+    code, _, err = _run([path, "--fs", 200, "--export", "kalibr", yaml_path, "--overwrite"])
     assert code == 0, err
     assert "update_rate: 200.0\n" in yaml_path.read_text()
 

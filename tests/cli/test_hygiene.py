@@ -44,7 +44,8 @@ def test_cont_imu1_without_units_warns_and_names_rad_s(tmp_path: Path) -> None:
     assert doc["plausibility"]["verdict"] == "implausible"
     assert "rad/s" in [a["units"] for a in doc["plausibility"]["alternatives"]]
     # told the unit, the same record is a plausible MEMS and nothing is assumed
-    res = runner.invoke(app, ["allan", str(src), "--units", "rad/s", "--json", str(out)])
+    res = runner.invoke(app, ["allan", str(src), "--units", "rad/s", "--json", str(out),
+                              "--overwrite"])
     assert res.exit_code == 0
     assert not [ln for ln in _warnings(res.stderr) if "unit" in ln or "N = " in ln]
     doc = json.loads(out.read_text())

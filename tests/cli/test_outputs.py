@@ -1,7 +1,8 @@
-"""No output ever replaces an input (issue 13): every output option of every command is
-checked against the command's inputs before any analysis runs, through one shared check
+"""No output ever replaces an input, nor without --overwrite an existing data file: every
+output option of every command is checked against the command's inputs and the files that
+exist before any analysis runs, through one shared check
 (:func:`fogts.io.paths.check_outputs`).  Each attempt exits 2 with one ``error:`` line naming
-both the output option and the input, and leaves the input byte-identical (by hash)."""
+the output option and the file, and leaves the file byte-identical (by hash)."""
 
 from __future__ import annotations
 
@@ -102,42 +103,90 @@ def test_simulate_sidecar_never_replaces_its_from_json_input(tmp_path: Path) -> 
     sidecar = tmp_path / "Y.csv.json"
     before = _digest(sidecar)
     res = runner.invoke(app, ["simulate", "noise", "-o", str(out), "--from-json", str(sidecar),
-                              "--duration", "10s"])
+                              "--duration", "10s", "--overwrite"])   # never over an input
     assert res.exit_code == 2
     assert "--output's sidecar" in res.stderr and "is the input --from-json" in res.stderr
     assert _digest(sidecar) == before
 
 
-def test_simulate_never_replaces_a_file_it_did_not_write(recording: Path, tmp_path: Path) -> None:
+EXISTING = "already exists; fogts replaces an existing data file only with --overwrite"
+
+
+def test_simulate_replaces_an_existing_file_only_with_overwrite(recording: Path,
+                                                                 tmp_path: Path) -> None:
+    """A simulated record looks like a recording: ``-o`` over an existing file (a recording,
+    a file in the sidecar's name, or a simulation's own output) is refused and the file
+    left byte-identical; with --overwrite its own output is replaced."""
     sim = ["simulate", "noise", "--N", "0.1", "--duration", "10s", "-o"]
     before = _digest(recording)
-    res = runner.invoke(app, [*sim, str(recording)])          # a recording, no sidecar
+    res = runner.invoke(app, [*sim, str(recording)])
     assert res.exit_code == 2, res.output
-    assert error_output(res.stderr).startswith(f"error: --output '{recording}' already exists "
-                                               "and was not written by 'fogts simulate'")
+    assert error_output(res.stderr) == f"error: --output '{recording}' {EXISTING}: choose " \
+        "another output name, or pass --overwrite if that file is fogts' own output to be " \
+        "replaced"
     assert _digest(recording) == before and not Path(f"{recording}.json").exists()
 
     user_json = tmp_path / "new.csv.json"                    # the sidecar name taken
     user_json.write_text('{"mine": true}\n')
     res = runner.invoke(app, [*sim, str(tmp_path / "new.csv")])
     assert res.exit_code == 2
-    assert "--output's sidecar" in res.stderr and "is not the record" in res.stderr
+    assert error_output(res.stderr).startswith(f"error: --output's sidecar '{user_json}' "
+                                               f"{EXISTING}")
     assert user_json.read_text() == '{"mine": true}\n' and not (tmp_path / "new.csv").exists()
 
-    out = tmp_path / "sim.csv"                              # its own output: replaced
+    out = tmp_path / "sim.csv"
     assert runner.invoke(app, [*sim, str(out)]).exit_code == 0
     first = _digest(out)
     res = runner.invoke(app, [*sim[:-1], "--seed", "5", "-o", str(out)])
+    assert res.exit_code == 2 and EXISTING in res.stderr and _digest(out) == first
+    res = runner.invoke(app, [*sim[:-1], "--seed", "5", "--overwrite", "-o", str(out)])
     assert res.exit_code == 0, res.output
     assert _digest(out) != first
 
-    moved = tmp_path / "other.csv"                          # a sidecar naming another file
-    out.rename(moved)
-    Path(f"{out}.json").rename(Path(f"{moved}.json"))
-    (tmp_path / "other.csv.json").write_text(
-        (tmp_path / "other.csv.json").read_text().replace('"sim.csv"', '"elsewhere.csv"'))
-    res = runner.invoke(app, [*sim, str(moved)])
-    assert res.exit_code == 2 and "is not the record" in res.stderr
+
+@pytest.mark.parametrize(("args", "option"), [
+    (["allan", "{x}", "--json", "{y}"], "--json"),
+    (["allan", "{x}", "--csv", "{y}"], "--csv"),
+    (["select", "{x}", "--predict", "{y}"], "--predict"),
+    (["filter", "{x}", "-o", "{y}", "--method", "moving-average", "--window", "1"],
+     "--output"),
+    (["info", "{x}", "--json", "{y}"], "--json"),
+])
+def test_an_existing_data_file_is_replaced_only_with_overwrite(
+        recording: Path, tmp_path: Path, args: list[str], option: str) -> None:
+    """The audit's case: another recording named as an output was replaced; now it is
+    refused unless --overwrite is given (then it is replaced, atomically)."""
+    other = tmp_path / "Y.csv"
+    other.write_bytes(recording.read_bytes())
+    before = _digest(other)
+    filled = [a.format(x=recording, y=other) for a in args]
+    res = runner.invoke(app, filled)
+    assert res.exit_code == 2
+    assert error_output(res.stderr).startswith(f"error: {option} '{other}' {EXISTING}")
+    assert _digest(other) == before
+    res = runner.invoke(app, [*filled, "--overwrite"])
+    assert res.exit_code == 0, res.output
+    assert _digest(other) != before
+
+
+def test_figures_and_reports_are_replaced_and_batch_resume_keeps_its_summary(
+        recording: Path, tmp_path: Path) -> None:
+    """A figure or an HTML page is never read as input, so it is replaced without
+    --overwrite; ``batch --resume`` rewrites its own summary."""
+    png, html = tmp_path / "a.png", tmp_path / "r.html"
+    png.write_bytes(b"old"), html.write_text("old")
+    assert runner.invoke(app, ["allan", str(recording), "--plot", str(png)]).exit_code == 0
+    assert png.read_bytes()[:4] == b"\x89PNG"
+    res = runner.invoke(app, ["report", str(recording), "-o", str(html)])
+    assert res.exit_code == 0, res.output
+    assert html.read_text().startswith("<!DOCTYPE html>")
+    summary = tmp_path / "s.csv"
+    batch = ["batch", str(recording), "-o", str(summary), "--no-select", "--workers", "1"]
+    assert runner.invoke(app, batch).exit_code == 0
+    res = runner.invoke(app, batch)
+    assert res.exit_code == 2 and f"error: --output '{summary}' {EXISTING}" in res.stderr
+    assert runner.invoke(app, [*batch, "--resume"]).exit_code == 0
+    assert runner.invoke(app, [*batch, "--overwrite"]).exit_code == 0
 
 
 def test_special_file_and_duplicate_outputs_are_refused(recording: Path, tmp_path: Path) -> None:
@@ -163,6 +212,10 @@ def test_check_outputs_library_errors(tmp_path: Path) -> None:
         check_outputs({"--y": tmp_path / "o.csv", "--x": tmp_path / "o.csv"}, {})
     check_outputs({"--json": "-", "--csv": None}, {"FILE": [src]})  # nothing to check
     check_outputs({"--csv": tmp_path / "new.csv"}, {"FILE": [tmp_path / "absent.csv"]})
+    with pytest.raises(DataError, match=r"--csv '.*in\.csv' already exists; fogts replaces"):
+        check_outputs({"--csv": src}, {})
+    check_outputs({"--csv": src}, {}, overwrite=True)
+    check_outputs({"--plot": tmp_path / "in.csv.png"}, {})  # absent: nothing to check
 
 
 def test_debug_and_version_after_the_command(recording: Path,
