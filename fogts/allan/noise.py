@@ -76,7 +76,7 @@ from fogts.allan.noise_selection import (
     identify_terms,
     term_estimates,
 )
-from fogts.allan.readout import SlopeReadoff, slope_readoff
+from fogts.allan.readoff import SlopeReadoff, slope_readoff
 from fogts.allan.terms import (
     NOISE_TERMS,
     TERM_POWER,
@@ -309,7 +309,7 @@ def _noise_model(curve: FitCurve, names: tuple[str, ...], problem: LsqProblem,
         edf=curve.edf, edf_source=curve.edf_source, chi2=fit.chi2, dof=fit.dof,
         model_error=fit.model_error, stderr_method=fit.stderr_method,
         iterations=fit.iterations, converged=fit.converged,
-        readoff=slope_readoff(curve.tau, curve.dev, factor, curve.edf, quantity),
+        readoff=slope_readoff(curve.tau, curve.dev, factor, curve.edf, quantity, kind=curve.kind),
         excluded_tau_s=tuple(curve.excluded), significance=significance,
         _a=tuple(float(v) * problem.scale for v in selection.a[:len(names)]),
         quantity=quantity)
