@@ -28,7 +28,7 @@ from fogts.allan.terms import B_PLATEAU, TERM_SLOPE, TERMS, flicker_plateau, fro
 from fogts.units import term_in_units, term_unit
 
 __all__ = ["FIT_CHECKED", "READOFF_SLOPE_TOLERANCE", "FitBound", "SlopeReadoff", "fit_check",
-           "readoff_supported", "slope_readoff", "unsupported_reason"]
+           "readoff_of", "readoff_supported", "slope_readoff", "unsupported_reason"]
 
 #: A read-off line of a term's slope reads that term only through a segment whose local
 #: slope is nearer to it than to the neighbouring power laws', which lie 1/2 away
@@ -231,16 +231,28 @@ def _segment_note(name: str, tau: FloatArray, slopes: FloatArray, edf: FloatArra
     return ""
 
 
+def readoff_of(curve: Any, factor: float, quantity: str) -> SlopeReadoff:
+    """:func:`slope_readoff` of a noise fit's curve (:class:`~fogts.allan.noise_input.
+    FitCurve`): its EDF, estimator and, when it has them, the result's own intervals, so
+    that the B read-off's floor is the curve read-out's."""
+    ci = ((curve.ci_low, curve.ci_high)
+          if curve.ci_low is not None and curve.ci_high is not None else None)
+    return slope_readoff(curve.tau, curve.dev, factor, curve.edf, quantity, kind=curve.kind,
+                         ci=ci)
+
+
 def slope_readoff(tau: FloatArray, dev: FloatArray, factor: float,
                   edf: FloatArray | None = None, quantity: str = "rate", *,
-                  kind: str = "oadev") -> SlopeReadoff:
+                  kind: str = "oadev",
+                  ci: tuple[FloatArray, FloatArray] | None = None) -> SlopeReadoff:
     """The IEEE 952 Annex C / MATLAB ``allanvar`` read-offs of N, K and B.
 
     Lines of slope -1/2 (+1/2) through the point whose local log-log slope is closest to it,
     read at tau = 1 s (3 s); B = minimum / the estimator's flicker plateau factor.  The
     minimum is :func:`~fogts.allan.readout.read_curve`'s: the lowest point among those with
-    at least ``MIN_EDF_FOR_MINIMUM`` degrees of freedom, with 68.3 % chi-squared intervals
-    from ``edf``; B is not read where the curve has no floor there.  N and K are not read
+    at least ``MIN_EDF_FOR_MINIMUM`` degrees of freedom, with the intervals ``ci`` (else
+    68.3 % chi-squared intervals from ``edf``); B is not read where the curve has no floor
+    there.  N and K are not read
     where the segment's points' EDF do not pin its slope down (:func:`_segment_note`).
 
     Parameters
@@ -256,6 +268,8 @@ def slope_readoff(tau: FloatArray, dev: FloatArray, factor: float,
         (:data:`~fogts.allan.terms.ACCEL_TERMS`) units.
     kind : str
         The estimator of the curve (its flicker plateau factor).
+    ci : tuple of ndarray, optional
+        The points' confidence bounds ``(low, high)``, as the curve read-out shows them.
 
     Returns
     -------
@@ -287,8 +301,8 @@ def slope_readoff(tau: FloatArray, dev: FloatArray, factor: float,
     k_dev, tau_k, slope_k = line("K")
     plateau = flicker_plateau(kind)
     if tau.size >= 2:
-        lo = hi = None
-        if edf is not None:
+        lo, hi = ci if ci is not None else (None, None)
+        if ci is None and edf is not None:
             e = np.where(np.isfinite(edf) & (edf > 0), edf, np.nan)
             lo, hi = chi2_interval(dev, e, 0.683)
         floor = read_curve(tau, dev, lo, hi, edf=edf, kind=kind)

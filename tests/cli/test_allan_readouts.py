@@ -134,3 +134,14 @@ def test_the_report_prints_the_same_readout_words(tmp_path: Path) -> None:
             "7.17, fewer than the 10 a trusted point needs)") in sentences[0]
     assert "K = " not in sentences[0]
     assert "(minimum / 0.664; it lies outside the fit's 68.3 % interval " in sentences[0]
+
+
+def test_the_b_readoff_and_the_curve_readout_share_the_floor() -> None:
+    """iMAR's SMAC curve carries 95.4 % bounds: the B read-off judges the floor with those
+    intervals, as the curve read-out does (with 68.3 % intervals from the EDF, the Z axis had
+    a floor in the table but 'B not read' in the read-off sentence)."""
+    doc, _ = _json(["curve", shared_path("allan_curves", "smac_avar", "imar_av.csv"),
+                    "--units", "rad/s"])
+    found = [(a["curve"]["minimum"]["floor_found"], a["noise_fit"]["readoff"]["B"]["supported"])
+             for a in doc["axes"]]
+    assert found == [(False, False), (False, False), (True, True)]
