@@ -169,7 +169,7 @@ class CurveReadout:
         rows: list[tuple[str, str, str]] = [
             ("minimum", f"{self.tau_min_s:.4g} s",
              f"{self.dev_min:.4g} [{lo:.4g}, {hi:.4g}]{unit}{note}; "
-             + ("no floor (region C below)" if self.floor_note else self.floor_text(units)))]
+             + ("no floor (see region C)" if self.floor_note else self.floor_text(units)))]
         # "region B" (IEEE 952 Annex C's letters), not "(B)": beside "B dominates" a bare B
         # reads as the bias-instability term
         for name, label in (("B", "falling (region B)"), ("C", "floor (region C)"),
