@@ -90,7 +90,7 @@ from fogts.allan.noise_input import FitCurve, read_fit_curve
 from fogts.allan.noise_lsq import MAX_COVARIANCE_POINTS, LsqProblem, octave_density
 from fogts.allan.noise_model import NoiseModel, NoiseTerm
 from fogts.allan.noise_selection import identify_terms
-from fogts.allan.readout import slope_readoff
+from fogts.allan.readoff import readoff_of
 from fogts.allan.terms import NOISE_TERMS, TERM_POWER, term_rows
 from fogts.allan.wv_models import power_law_wv
 from fogts.errors import (
@@ -328,7 +328,7 @@ def _noise_model(curve: FitCurve, names: tuple[str, ...], data: WvData, best: Gm
         weight=weight / np.max(weight), edf=curve.edf, edf_source=curve.edf_source,
         chi2=best.j_stat, dof=dof, model_error=math.nan, stderr_method=stderr,
         iterations=sum(s.nfev for s in tried), converged=best.converged,
-        readoff=slope_readoff(curve.tau, curve.dev, factor, curve.edf, quantity),
+        readoff=readoff_of(curve, factor, quantity),
         excluded_tau_s=tuple(curve.excluded), significance=significance,
         _a=tuple(a_out), quantity=quantity, gmwm=summary)
     return _with_warnings(model, curve, best, summary)

@@ -82,7 +82,7 @@ from fogts.allan.ml_result import MlSummary
 from fogts.allan.noise_input import FitCurve, read_fit_curve
 from fogts.allan.noise_model import NoiseModel, NoiseTerm
 from fogts.allan.noise_selection import identify_terms
-from fogts.allan.readout import slope_readoff
+from fogts.allan.readoff import readoff_of
 from fogts.allan.terms import parse_terms
 from fogts.errors import ConvergenceWarning, DataError, UnidentifiableTermWarning
 from fogts.units import base_unit_factor, quantity_of
@@ -471,7 +471,7 @@ def _noise_model(curve: FitCurve, names: tuple[str, ...], st: Structure, theta: 
         dev=curve.dev, fitted_dev=np.sqrt(fitted), weight=np.ones_like(curve.tau),
         edf=curve.edf, edf_source=curve.edf_source, chi2=math.nan, dof=math.nan,
         model_error=math.nan, stderr_method=stderr, iterations=0, converged=converged,
-        readoff=slope_readoff(curve.tau, curve.dev, factor, curve.edf, quantity),
+        readoff=readoff_of(curve, factor, quantity),
         excluded_tau_s=tuple(curve.excluded), significance=None, _a=a_out,
         quantity=quantity, ml=summary)
     issued = []

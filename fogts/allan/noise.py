@@ -20,7 +20,7 @@ non-negative least squares on :math:`\\sigma^2(\\tau)`, in four steps:
 3. term selection (:mod:`fogts.allan.noise_selection`): backward elimination of terms that
    are neither significant nor visible in the curve (Self & Liang 1987);
 4. the result (:mod:`fogts.allan.noise_model`): values in deg/h-based units, intervals,
-   identifiability, and the classic slope read-offs (:func:`fogts.allan.readout.slope_readoff`,
+   identifiability, and the classic slope read-offs (:func:`fogts.allan.readoff.slope_readoff`,
    IEEE 952 Annex C; MATLAB's ``allanvar`` example) beside the fit for comparison, never as
    the answer.
 
@@ -76,7 +76,7 @@ from fogts.allan.noise_selection import (
     identify_terms,
     term_estimates,
 )
-from fogts.allan.readout import SlopeReadoff, slope_readoff
+from fogts.allan.readoff import SlopeReadoff, readoff_of
 from fogts.allan.terms import (
     NOISE_TERMS,
     TERM_POWER,
@@ -309,7 +309,7 @@ def _noise_model(curve: FitCurve, names: tuple[str, ...], problem: LsqProblem,
         edf=curve.edf, edf_source=curve.edf_source, chi2=fit.chi2, dof=fit.dof,
         model_error=fit.model_error, stderr_method=fit.stderr_method,
         iterations=fit.iterations, converged=fit.converged,
-        readoff=slope_readoff(curve.tau, curve.dev, factor, curve.edf, quantity),
+        readoff=readoff_of(curve, factor, quantity),
         excluded_tau_s=tuple(curve.excluded), significance=significance,
         _a=tuple(float(v) * problem.scale for v in selection.a[:len(names)]),
         quantity=quantity)

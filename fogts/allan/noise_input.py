@@ -43,6 +43,9 @@ class FitCurve:
         Averaging factors of the usable points (None if not all known).
     n_samples : int or None
     fs_hz : float or None
+    ci_low, ci_high : ndarray or None
+        The result's confidence bounds of the usable points (None when it has none): the
+        slope read-offs judge the floor with the intervals the curve read-out shows.
     """
 
     tau: FloatArray
@@ -56,6 +59,8 @@ class FitCurve:
     m: IntArray | None
     n_samples: int | None
     fs_hz: float | None
+    ci_low: FloatArray | None = None
+    ci_high: FloatArray | None = None
 
 
 def read_fit_curve(res: Any) -> FitCurve:
@@ -94,7 +99,17 @@ def read_fit_curve(res: Any) -> FitCurve:
                     kind=kind, axis=str(getattr(res, "axis", "")), excluded=excluded,
                     m=m_ok.astype(np.int64) if have_m else None,
                     n_samples=int(n_samples) if n_samples is not None else None,
-                    fs_hz=float(fs) if fs is not None and float(fs) > 0 else None)
+                    fs_hz=float(fs) if fs is not None and float(fs) > 0 else None,
+                    ci_low=_bound(res, "ci_low", n, ok), ci_high=_bound(res, "ci_high", n, ok))
+
+
+def _bound(res: Any, name: str, n: int, ok: np.ndarray) -> FloatArray | None:
+    """The usable points' confidence bound ``name`` of ``res``; None if it has none."""
+    value = getattr(res, name, None)
+    values = np.asarray(value, dtype=np.float64) if value is not None else None
+    if values is None or values.shape != (n,) or not np.any(np.isfinite(values[ok])):
+        return None
+    return values[ok]
 
 
 def _checked_arrays(res: Any) -> tuple[str, str, FloatArray, FloatArray]:

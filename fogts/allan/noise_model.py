@@ -18,7 +18,7 @@ from fogts.allan.distributions import norm_ppf
 from fogts.allan.gmwm_result import GmwmSummary
 from fogts.allan.markov import ExtraTerm
 from fogts.allan.ml_result import MlSummary
-from fogts.allan.readout import SlopeReadoff
+from fogts.allan.readoff import FitBound, SlopeReadoff
 from fogts.allan.terms import TERM_POWER, term_rows
 from fogts.choices import OutputUnits
 from fogts.errors import DataError
@@ -318,7 +318,7 @@ class NoiseModel(TableView):
             "units": self.units, "axis": self.axis, "output_units": units,
             **({"quantity": self.quantity} if self.quantity != "rate" else {}),
             "terms": self.noise_dict(units),
-            "readoff": self.readoff.to_dict(),
+            "readoff": self.readoff.to_dict(self.readoff_bounds()),
             "fit": {"n_points": int(self.tau_s.size),
                     "tau_range": [float(self.tau_s[0]), float(self.tau_s[-1])],
                     "chi2": self.chi2, "dof": self.dof, "model_error": self.model_error,
@@ -348,6 +348,23 @@ class NoiseModel(TableView):
             return math.sqrt(term.value**2 + 2.0 * z_level * term.value * term.stderr)
         z_conf = float(norm_ppf(0.5 + self.confidence / 2))
         return term.ci_high * math.sqrt(z_level / z_conf)
+
+    def readoff_bounds(self) -> dict[str, FitBound]:
+        """The fit's range of each term (degree units) that the slope read-offs are checked
+        against (:func:`fogts.allan.readoff.fit_check`): the 95 % upper limit of a term the
+        fit reports only as a limit, else its interval at ``confidence``."""
+        pct = f"{100 * self.confidence:.1f} % interval"
+        return {t.name: (FitBound(0.0, self.upper_limit(t.name), "95 % upper limit", True)
+                         if t.is_limit else FitBound(t.ci_low, t.ci_high, pct, False))
+                for t in self.terms}
+
+    def describe_readoff(self, number: Any = None, units: OutputUnits = "deg") -> str:
+        """The slope read-offs' sentence, each checked against the fit
+        (:meth:`SlopeReadoff.describe` with :meth:`readoff_bounds`): the one wording of the
+        terminal, the summary and the HTML report; ``number`` formats the values (default
+        4 significant digits)."""
+        fmt = number if number is not None else (lambda v: f"{v:.4g}")
+        return self.readoff.describe(fmt, units, fit=self.readoff_bounds())
 
     def _table_note(self, term: NoiseTerm, units: OutputUnits = "deg") -> str:
         if not term.is_limit:
@@ -404,7 +421,7 @@ class NoiseModel(TableView):
         chi-square, model error and term selection of the least-squares fits, the J test
         of the GMWM, the likelihood and decimation of ML."""
         lines = [self.term_table().to_text()]
-        lines.append(self.readoff.describe(lambda v: f"{v:.4e}"))
+        lines.append(self.describe_readoff(lambda v: f"{v:.4e}"))
         if self.gmwm is None and self.ml is None:
             lines.append(f"{chi2_sentence(self.chi2, self.dof, self.model_error)}; "
                          f"{self.iterations} iteration(s)"

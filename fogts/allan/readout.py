@@ -5,22 +5,25 @@ The log-log curve of an optical gyro is read in four regions (IEEE Std 952-1997 
 * A: the single-sample noise at the shortest tau;
 * B: the falling part that averaging removes (ARW has slope -1/2, quantization -1);
 * C: the minimum, giving the optimal averaging time and the noise floor (the
-  bias-instability point: B = sigma_min / :data:`~fogts.allan.terms.B_PLATEAU` for flicker
-  noise);
+  bias-instability point: B = sigma_min / the estimator's flicker plateau factor,
+  :data:`~fogts.allan.terms.FLICKER_PLATEAU`, 0.664 for the Allan variance), found only
+  where the curve is flat within the points' intervals around the minimum;
 * D: the rise from slow drift (rate random walk +1/2, rate ramp +1).
 
 :func:`read_curve` returns the minimum with its confidence interval, the log-log slope of
 every segment, the regions B-D found from the curve itself, and, when the fitted term
-lines are given, the tau range where each term dominates.  :func:`slope_readoff` gives the
-classic graphical N, K and B (IEEE 952 Annex C; MATLAB's ``allanvar`` example), which the
-noise fit reports beside its answer for comparison.
+lines are given, the tau range where each term dominates.  A curve still falling at its
+last trusted tau has no floor, and the read-out says so instead of dividing its lowest
+point by the plateau factor.  :func:`fogts.allan.readoff.slope_readoff` gives the classic
+graphical N, K and B (IEEE 952 Annex C; MATLAB's ``allanvar`` example), which the noise
+fit reports beside its answer for comparison.
 """
 
 from __future__ import annotations
 
 import dataclasses
 import math
-from collections.abc import Callable, Collection
+from collections.abc import Collection
 from dataclasses import dataclass
 from typing import Any
 
@@ -28,12 +31,12 @@ import numpy as np
 import pandas as pd
 
 from fogts._typing import FloatArray
-from fogts.allan.terms import B_PLATEAU, TERM_SLOPE, TERMS, from_seconds, term_rows
+from fogts.allan.terms import B_PLATEAU, TERM_SLOPE, flicker_plateau
 from fogts.errors import DataError, InsufficientDataError
 from fogts.tables import Column, Table, fields_dict
-from fogts.units import convert_sensor, term_in_units, term_unit
+from fogts.units import convert_sensor
 
-__all__ = ["CurveReadout", "DominantRange", "SlopeReadoff", "read_curve", "slope_readoff"]
+__all__ = ["MIN_EDF_FOR_MINIMUM", "CurveReadout", "DominantRange", "read_curve"]
 
 
 @dataclass(frozen=True)
@@ -52,6 +55,11 @@ class DominantRange:
         return fields_dict(self, tau_from_s="tau_from", tau_to_s="tau_to")
 
 
+#: Points with fewer equivalent degrees of freedom (68 % CI wider than about +-25 %) are
+#: not trusted as the curve's minimum: at the longest taus a chance low point would win.
+MIN_EDF_FOR_MINIMUM = 10.0
+
+
 @dataclass(frozen=True)
 class CurveReadout:
     """Read-outs of one Allan-deviation curve.
@@ -59,24 +67,40 @@ class CurveReadout:
     Attributes
     ----------
     tau_min_s, dev_min : float
-        The lowest point of the curve (optimal averaging time and noise floor).
+        The lowest trusted point of the curve (optimal averaging time and noise floor):
+        the lowest among the points with at least ``min_edf`` degrees of freedom.
     dev_min_ci : tuple of float
         Its confidence interval ``(low, high)`` at level ``confidence``.
     confidence : float
     bias_instability_floor : float
-        ``dev_min / B_PLATEAU`` (0.664): the flicker-floor estimate of B (IEEE 952 Annex C), in the
-        curve's rate unit.
+        ``dev_min / plateau``: the flicker-floor estimate of B (IEEE 952 Annex C), in the
+        curve's rate unit; NaN when the curve has no floor (``floor_note``) or the
+        estimator has no plateau factor.
     segment_tau_s : ndarray, shape (k, 2)
         Start and end tau of each segment between consecutive points.
     segment_slope : ndarray, shape (k,)
         d log sigma / d log tau of each segment.
     regions : dict
-        ``{"A": (tau, tau), "B": (from, to), "C": (from, to), "D": (from, to) or None}``:
-        A is the first point; B the falling part down to region C; C the points whose
-        deviation lies inside the minimum's confidence interval (the flat floor); D the
-        rise after C.
+        ``{"A": (tau, tau), "B": (from, to), "C": (from, to) or None, "D": (from, to) or
+        None}``: A is the first point; B the falling part down to region C; C the floor: the
+        contiguous points around the minimum whose deviation lies inside the minimum's
+        interval (None when the curve is still falling at its last trusted tau); D the rise
+        above that interval after C.
     dominant : tuple of DominantRange
         Where each fitted term dominates (empty without term curves).
+    kind : str
+        The estimator (its flicker plateau factor converts the floor to B).
+    plateau : float
+        The estimator's flicker-FM plateau factor (:data:`~fogts.allan.terms.FLICKER_PLATEAU`;
+        NaN when none is established).
+    min_edf : float or None
+        The EDF a point needs to be the minimum (None: no EDF given, every point counts).
+    lower_points : tuple of (tau_s, dev, edf)
+        Points below the minimum left out for their EDF below ``min_edf``.
+    minimum_note : str
+        Says how the minimum was chosen when the EDF rule mattered ("" otherwise).
+    floor_note : str
+        Why the curve has no floor ("" when it has one).
     """
 
     tau_min_s: float
@@ -88,6 +112,28 @@ class CurveReadout:
     segment_slope: FloatArray
     regions: dict[str, tuple[float, float] | None]
     dominant: tuple[DominantRange, ...] = ()
+    kind: str = "oadev"
+    plateau: float = B_PLATEAU
+    min_edf: float | None = None
+    lower_points: tuple[tuple[float, float, float], ...] = ()
+    minimum_note: str = ""
+    floor_note: str = ""
+
+    @property
+    def floor_found(self) -> bool:
+        """Whether the curve has a floor (region C) at its minimum."""
+        return not self.floor_note
+
+    def floor_text(self, units: str = "") -> str:
+        """The floor's B estimate (``floor/plateau = value``) or why there is none: the
+        one wording of the table, the JSON and the report."""
+        unit = f" {units}" if units else ""
+        if self.floor_note:
+            return self.floor_note
+        if not math.isfinite(self.plateau):
+            return (f"the floor is not converted to B: no flicker-FM plateau factor is "
+                    f"established for {self.kind}")
+        return f"floor/{self.plateau:.4g} = {self.bias_instability_floor:.4g}{unit}"
 
     def to_frame(self) -> pd.DataFrame:
         """One row per segment: tau_from, tau_to, slope."""
@@ -95,11 +141,18 @@ class CurveReadout:
                              "tau_to": self.segment_tau_s[:, 1], "slope": self.segment_slope})
 
     def to_dict(self) -> dict[str, Any]:
+        floor = self.bias_instability_floor
         return {
             "minimum": {"tau": self.tau_min_s, "dev": self.dev_min,
                         "ci_low": self.dev_min_ci[0], "ci_high": self.dev_min_ci[1],
                         "confidence": self.confidence,
-                        "bias_instability_floor": self.bias_instability_floor},
+                        "bias_instability_floor": floor if math.isfinite(floor) else None,
+                        "kind": self.kind,
+                        "plateau_factor": self.plateau if math.isfinite(self.plateau) else None,
+                        "min_edf": self.min_edf, "note": self.minimum_note or None,
+                        "lower_points": [{"tau": t, "dev": v, "edf": e}
+                                         for t, v, e in self.lower_points],
+                        "floor_found": self.floor_found, "floor": self.floor_text()},
             "regions": {k: (list(v) if v is not None else None) for k, v in self.regions.items()},
             "dominant": [d.to_dict() for d in self.dominant],
             "segments": [{"tau_from": float(a), "tau_to": float(b), "slope": float(s)}
@@ -112,10 +165,11 @@ class CurveReadout:
         and ``axis`` name the curve's unit and axis in the cells and the title."""
         lo, hi = self.dev_min_ci
         unit = f" {units}" if units else ""
+        note = f"; {self.minimum_note}" if self.minimum_note else ""
         rows: list[tuple[str, str, str]] = [
             ("minimum", f"{self.tau_min_s:.4g} s",
-             f"{self.dev_min:.4g} [{lo:.4g}, {hi:.4g}]{unit}; "
-             f"floor/{B_PLATEAU:g} = {self.bias_instability_floor:.4g}{unit}")]
+             f"{self.dev_min:.4g} [{lo:.4g}, {hi:.4g}]{unit}{note}; "
+             + ("no floor (see region C)" if self.floor_note else self.floor_text(units)))]
         # "region B" (IEEE 952 Annex C's letters), not "(B)": beside "B dominates" a bare B
         # reads as the bias-instability term
         for name, label in (("B", "falling (region B)"), ("C", "floor (region C)"),
@@ -123,6 +177,8 @@ class CurveReadout:
             span = self.regions.get(name)
             if span is not None:
                 rows.append((label, f"{span[0]:.4g} .. {span[1]:.4g} s", ""))
+            elif name == "C" and self.floor_note:
+                rows.append((label, "none", self.floor_note))
         for d in self.dominant:
             taus = f"{d.tau_from_s:.4g} .. {d.tau_to_s:.4g} s"
             if d.measured:
@@ -139,28 +195,27 @@ class CurveReadout:
         return self.table().to_text()
 
     def in_unit(self, unit: str, to_unit: str) -> CurveReadout:
-        """The read-outs with the deviations (minimum, its interval, the floor estimate)
-        converted from the curve's ``unit`` to ``to_unit`` (:func:`fogts.units.convert_sensor`),
-        e.g. for a points table shown in SI units; taus, slopes and regions stay."""
+        """The read-outs with the deviations (minimum, its interval, the floor estimate, the
+        lower points) converted from the curve's ``unit`` to ``to_unit``
+        (:func:`fogts.units.convert_sensor`), e.g. for a points table shown in SI units;
+        taus, slopes and regions stay."""
         if to_unit == unit:
             return self
         scale = float(convert_sensor(1.0, unit, to_unit))
         lo, hi = self.dev_min_ci
         return dataclasses.replace(self, dev_min=self.dev_min * scale,
                                    dev_min_ci=(lo * scale, hi * scale),
-                                   bias_instability_floor=self.bias_instability_floor * scale)
+                                   bias_instability_floor=self.bias_instability_floor * scale,
+                                   lower_points=tuple((t, v * scale, e)
+                                                      for t, v, e in self.lower_points))
 
 
-#: Points with fewer equivalent degrees of freedom (68 % CI wider than about +-25 %) are
-#: not trusted as the curve's minimum: at the longest taus a chance low point would win.
-MIN_EDF_FOR_MINIMUM = 10.0
-
-
+# Over 80 lines by its numpydoc docstring; the floor is _regions'.
 def read_curve(tau_s: Any, dev: Any, ci_low: Any = None, ci_high: Any = None, *,
                confidence: float = 0.683, edf: Any = None,
                min_edf: float = MIN_EDF_FOR_MINIMUM,
                term_curves: dict[str, Any] | None = None,
-               limits: Collection[str] = ()) -> CurveReadout:
+               limits: Collection[str] = (), kind: str = "oadev") -> CurveReadout:
     """Read the minimum, segment slopes, regions A-D and dominant-term ranges of a curve.
 
     Parameters
@@ -173,7 +228,8 @@ def read_curve(tau_s: Any, dev: Any, ci_low: Any = None, ci_high: Any = None, *,
         Level of the bounds.
     edf : array_like, optional
         Equivalent degrees of freedom per point.  When given, the minimum is searched
-        among the points with ``edf >= min_edf`` only (all points if none qualify).
+        among the points with ``edf >= min_edf`` only (all points if none qualify), and
+        the read-out says so when a lower point was left out.
     min_edf : float
         See ``edf``.
     term_curves : dict of str to array_like, optional
@@ -181,6 +237,17 @@ def read_curve(tau_s: Any, dev: Any, ci_low: Any = None, ci_high: Any = None, *,
     limits : collection of str
         The terms of ``term_curves`` the fit reports as upper limits: their ranges are
         marked not measured (:attr:`DominantRange.measured`).
+    kind : str
+        The estimator: its flicker plateau factor (:func:`~fogts.allan.terms.flicker_plateau`)
+        converts the floor to B.
+
+    Notes
+    -----
+    Region C, the floor, holds the contiguous points around the minimum whose deviation lies
+    inside the minimum's interval (a point below it is not floor).  The curve has no floor
+    when it is still falling at its last trusted tau: every point after the minimum lies
+    below the minimum's interval, or the minimum is the last point and the point before it
+    lies above its interval.
 
     Examples
     --------
@@ -189,6 +256,8 @@ def read_curve(tau_s: Any, dev: Any, ci_low: Any = None, ci_high: Any = None, *,
     >>> r = read_curve(tau, np.sqrt(1 / tau + tau / 100))
     >>> round(r.tau_min_s, 1), bool(r.regions["B"][0] == tau[0])
     (10.0, True)
+    >>> read_curve(tau, 1 / np.sqrt(tau)).floor_note
+    'no floor: the curve is still falling at its last trusted tau (1000 s)'
     """
     t = np.asarray(tau_s, dtype=np.float64)
     d = np.asarray(dev, dtype=np.float64)
@@ -204,40 +273,68 @@ def read_curve(tau_s: Any, dev: Any, ci_low: Any = None, ci_high: Any = None, *,
     lo = np.asarray(ci_low, dtype=np.float64)[ok] if ci_low is not None else d[ok]
     hi = np.asarray(ci_high, dtype=np.float64)[ok] if ci_high is not None else d[ok]
     t, d = t[ok], d[ok]
+    lo = np.where(np.isfinite(lo), lo, d)
+    hi = np.where(np.isfinite(hi), hi, d)
     trusted = np.ones(t.size, dtype=bool)
+    e = np.full(t.size, np.nan)
+    minimum_note = ""
     if edf is not None:
         e = np.asarray(edf, dtype=np.float64)[ok]
         trusted = np.isfinite(e) & (e >= min_edf)
         if not trusted.any():
             trusted[:] = True
+            minimum_note = (f"no point has EDF >= {min_edf:g}: the minimum is the lowest of "
+                            "all points")
     i_min = int(np.argmin(np.where(trusted, d, np.inf)))
+    lower = tuple((float(t[i]), float(d[i]), float(e[i])) for i in range(t.size)
+                  if not trusted[i] and d[i] < d[i_min])
+    if lower:
+        minimum_note = (f"the lowest point with EDF >= {min_edf:g} (lower points at "
+                        f"{', '.join(f'{p[0]:.4g}' for p in lower)} s have EDF < {min_edf:g})")
     slopes = np.diff(np.log(d)) / np.diff(np.log(t))
     segments = np.column_stack([t[:-1], t[1:]])
-    regions = _regions(t, d, lo, hi, i_min)
+    regions, floor_note = _regions(t, d, lo, hi, i_min)
     dominant = _dominant_ranges(t, ok, term_curves, set(limits)) if term_curves else ()
-    lo_min = float(lo[i_min]) if np.isfinite(lo[i_min]) else float(d[i_min])
-    hi_min = float(hi[i_min]) if np.isfinite(hi[i_min]) else float(d[i_min])
-    return CurveReadout(float(t[i_min]), float(d[i_min]), (lo_min, hi_min), float(confidence),
-                        float(d[i_min] / B_PLATEAU), segments, slopes, regions, dominant)
+    plateau = flicker_plateau(kind)
+    floor = float(d[i_min] / plateau) if not floor_note else math.nan
+    return CurveReadout(float(t[i_min]), float(d[i_min]), (float(lo[i_min]), float(hi[i_min])),
+                        float(confidence), floor, segments, slopes, regions, dominant,
+                        kind=kind, plateau=plateau,
+                        min_edf=float(min_edf) if edf is not None else None,
+                        lower_points=lower, minimum_note=minimum_note, floor_note=floor_note)
 
 
 def _regions(t: FloatArray, d: FloatArray, lo: FloatArray, hi: FloatArray, i_min: int
-             ) -> dict[str, tuple[float, float] | None]:
-    """Region C: contiguous points around the minimum whose CI overlaps the minimum's."""
-    floor_hi = hi[i_min] if np.isfinite(hi[i_min]) else d[i_min]
-    flat = d <= floor_hi
+             ) -> tuple[dict[str, tuple[float, float] | None], str]:
+    """Regions A-D and, when the curve has no floor, why (see :func:`read_curve`'s Notes).
+
+    Region C: contiguous points around the minimum whose deviation lies inside its
+    interval (not below it: a point below the minimum's interval is not floor)."""
+    flat = (d >= lo[i_min]) & (d <= hi[i_min])
     a = i_min
     while a > 0 and flat[a - 1]:
         a -= 1
     b = i_min
     while b < t.size - 1 and flat[b + 1]:
         b += 1
+    after = d[i_min + 1:]
+    falling = (bool(after.size) and bool(np.all(after < lo[i_min]))) or (
+        not after.size and a == i_min and i_min > 0)
+    first = (float(t[0]), float(t[0]))
+    if falling:
+        note = (f"no floor: the curve is still falling at its last trusted tau "
+                f"({t[i_min]:.4g} s)")
+        if after.size:
+            note += (f"; the points beyond it ({t[i_min + 1]:.4g} .. {t[-1]:.4g} s) lie below "
+                     "the minimum's interval")
+        return {"A": first, "B": (float(t[0]), float(t[-1])), "C": None, "D": None}, note
+    rises = b < t.size - 1 and d[b + 1] > hi[i_min]
     return {
-        "A": (float(t[0]), float(t[0])),
+        "A": first,
         "B": (float(t[0]), float(t[a])) if a > 0 else None,
         "C": (float(t[a]), float(t[b])),
-        "D": (float(t[b]), float(t[-1])) if b < t.size - 1 else None,
-    }
+        "D": (float(t[b]), float(t[-1])) if rises else None,
+    }, ""
 
 
 def _dominant_ranges(t: FloatArray, ok: np.ndarray, term_curves: dict[str, Any],
@@ -259,155 +356,14 @@ def _dominant_ranges(t: FloatArray, ok: np.ndarray, term_curves: dict[str, Any],
     return tuple(ranges)
 
 
-# --------------------------------------------------------------------------- slope read-offs
+_MOVED = ("READOFF_SLOPE_TOLERANCE", "SlopeReadoff", "readoff_supported", "slope_readoff")
 
 
-@dataclass(frozen=True)
-class SlopeReadoff:
-    """The classic graphical read-offs (comparison only; NOT the fitted answer).
+def __getattr__(name: str) -> Any:
+    """The slope read-offs live in :mod:`fogts.allan.readoff` (which reads the floor from
+    here); their old names here still resolve."""
+    if name in _MOVED:
+        from fogts.allan import readoff
 
-    IEEE Std 952-1997 Annex C and MATLAB's ``allanvar`` example: a line of the term's slope
-    is drawn through the curve point whose local log-log slope is closest to it; N is that
-    -1/2 line at tau = 1 s (divided by 60 for deg/sqrt(h)), K the +1/2 line at tau = 3 s
-    (times 60 for deg/h^1.5); B is the minimum deviation / :data:`B_PLATEAU`.
-
-    Attributes
-    ----------
-    N, K, B : float
-        In deg/sqrt(h), deg/h^1.5 and deg/h.
-    tau_N_s, tau_K_s, tau_B_s : float
-        The curve point each value was read from.
-    slope_N, slope_K : float
-        The local slope found there (how well the curve shows the -1/2 or +1/2 line).
-    """
-
-    N: float
-    K: float
-    B: float
-    tau_N_s: float
-    tau_K_s: float
-    tau_B_s: float
-    slope_N: float
-    slope_K: float
-    # the read-off points in the curve's own units, for plotting: (tau_s, dev)
-    points: tuple[tuple[str, float, float], ...] = ()
-    #: "rate" (units of TERMS) or "accel" (units of ACCEL_TERMS)
-    quantity: str = "rate"
-
-    def _unit(self, name: str) -> str:
-        return term_rows(self.quantity)[name].unit
-
-    def to_dict(self) -> dict[str, Any]:
-        return {"method": "slope read-off (IEEE 952 Annex C / MATLAB allanvar example); "
-                          "comparison only, not the fit",
-                "N": {"value": self.N, "unit": self._unit("N"), "tau": self.tau_N_s,
-                      "local_slope": self.slope_N, "read_at_tau": TERMS["N"].readoff_tau_s},
-                "K": {"value": self.K, "unit": self._unit("K"), "tau": self.tau_K_s,
-                      "local_slope": self.slope_K, "read_at_tau": TERMS["K"].readoff_tau_s},
-                "B": {"value": self.B, "unit": self._unit("B"), "tau": self.tau_B_s}}
-
-    def describe(self, number: Callable[[float], str] = lambda v: f"{v:.4g}",
-                 units: str = "deg") -> str:
-        """The read-offs as one sentence (``number`` formats the values) in ``units``
-        (``"deg"``: the term table's engineering units; ``"si"``: :mod:`fogts.units`).
-
-        N or K is given as "not read" when the curve has no segment of its slope
-        (:func:`readoff_supported`): a line of slope +1/2 through a flat or falling
-        segment reads nothing about rate random walk."""
-        def term(name: str) -> str:
-            value = term_in_units(name, getattr(self, name), units, self.quantity)
-            return f"{name} = {number(value)} {term_unit(name, units, self.quantity)}"
-
-        def line(name: str, sign: str) -> str:
-            at = f"{TERMS[name].readoff_tau_s:g}"
-            if readoff_supported(self, name):
-                return f"{term(name)} ({sign}1/2 line at tau = {at} s)"
-            slope, tau = getattr(self, f"slope_{name}"), getattr(self, f"tau_{name}_s")
-            return (f"{name} not read (no segment of slope {sign}1/2: the closest, "
-                    f"{slope:+.2f}, starts at tau = {tau:.4g} s)")
-
-        return (f"slope read-offs (comparison only, not the fit): {line('N', '-')}, "
-                f"{line('K', '+')}, {term('B')} (minimum / {B_PLATEAU:g})")
-
-
-#: A read-off line of a term's slope reads that term only through a segment whose local
-#: slope is nearer to it than to the neighbouring power laws', which lie 1/2 away
-#: (IEEE Std 952-1997 Annex C, Table C.1): within 1/4.
-READOFF_SLOPE_TOLERANCE = 0.25
-
-
-def readoff_supported(readoff: SlopeReadoff, name: str) -> bool:
-    """Whether the N or K read-off was drawn through a segment of (about) its slope:
-    ``|local slope - term slope| <= READOFF_SLOPE_TOLERANCE``; B (the minimum) always is.
-
-    Examples
-    --------
-    >>> tau = 2.0 ** np.arange(-4, 8)
-    >>> r = slope_readoff(tau, 0.6 / np.sqrt(tau), 1.0)
-    >>> readoff_supported(r, "N"), readoff_supported(r, "K")
-    (True, False)
-    """
-    if name not in ("N", "K"):
-        return True
-    slope = float(getattr(readoff, f"slope_{name}"))
-    return math.isfinite(slope) and abs(slope - TERM_SLOPE[name]) <= READOFF_SLOPE_TOLERANCE
-
-
-def slope_readoff(tau: FloatArray, dev: FloatArray, factor: float,
-                  edf: FloatArray | None = None, quantity: str = "rate") -> SlopeReadoff:
-    """The IEEE 952 Annex C / MATLAB ``allanvar`` read-offs of N, K and B.
-
-    Lines of slope -1/2 (+1/2) through the point whose local log-log slope is closest to it,
-    read at tau = 1 s (3 s); B = minimum / :data:`B_PLATEAU`.  The minimum is
-    :func:`read_curve`'s: the lowest point among those with at least ``MIN_EDF_FOR_MINIMUM``
-    degrees of freedom, so that a last point with two terms that happens to fall low is not
-    read as the flicker floor.
-
-    Parameters
-    ----------
-    tau, dev : ndarray
-        The curve (increasing tau, positive deviations).
-    factor : float
-        Multiplies ``dev`` to give deg/h (m/s^2 for ``quantity="accel"``).
-    edf : ndarray, optional
-        Equivalent degrees of freedom per point.
-    quantity : {"rate", "accel"}
-        Gyro (:data:`~fogts.allan.terms.TERMS`) or accelerometer
-        (:data:`~fogts.allan.terms.ACCEL_TERMS`) units.
-
-    Returns
-    -------
-    SlopeReadoff
-
-    Examples
-    --------
-    >>> tau = 2.0 ** np.arange(-4, 8)
-    >>> r = slope_readoff(tau, 0.6 / np.sqrt(tau), 1.0)
-    >>> round(r.N, 6), r.slope_N
-    (0.01, -0.5)
-    """
-    logt, logd = np.log10(tau), np.log10(dev)
-    slopes = np.diff(logd) / np.diff(logt) if tau.size >= 2 else np.array([math.nan])
-
-    def line(name: str) -> tuple[float, float, float]:
-        at, target = TERMS[name].readoff_tau_s, TERM_SLOPE[name]
-        if not np.any(np.isfinite(slopes)):
-            return math.nan, math.nan, math.nan
-        i = int(np.nanargmin(np.abs(slopes - target)))
-        b = logd[i] - target * logt[i]
-        return float(10 ** (target * math.log10(at) + b)), float(tau[i]), float(slopes[i])
-
-    n_dev, tau_n, slope_n = line("N")
-    k_dev, tau_k, slope_k = line("K")
-    if tau.size >= 2:
-        floor = read_curve(tau, dev, edf=edf)
-        b_dev, tau_b = floor.dev_min, floor.tau_min_s
-    else:
-        b_dev, tau_b = float(dev[0]), float(tau[0])
-    return SlopeReadoff(
-        N=from_seconds("N", n_dev * factor, quantity),
-        K=from_seconds("K", k_dev * factor, quantity),
-        B=from_seconds("B", b_dev * factor / B_PLATEAU, quantity), tau_N_s=tau_n, tau_K_s=tau_k, tau_B_s=tau_b,
-        slope_N=slope_n, slope_K=slope_k,
-        points=(("N", TERMS["N"].readoff_tau_s, n_dev), ("K", TERMS["K"].readoff_tau_s, k_dev),
-                ("B", tau_b, b_dev)), quantity=quantity)
+        return getattr(readoff, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

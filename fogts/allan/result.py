@@ -172,7 +172,7 @@ class AllanResult(TableView):
         limits = [t.name for t in noise.terms if t.is_limit] if noise is not None else ()
         return read_curve(self.tau_s, self.dev, self.ci_low, self.ci_high,
                           confidence=self.confidence, edf=self.edf, term_curves=lines,
-                          limits=limits)
+                          limits=limits, kind=self.kind)
 
     def _alpha_or_none(self) -> list[int | None]:
         # The alpha behind each point's EDF; None where no interval was computed.

@@ -40,10 +40,11 @@ import numpy as np
 from fogts.errors import DataError
 from fogts.units import ACCEL_TERM_UNIT, STANDARD_GRAVITY_MPS2, TERM_DEG_UNIT
 
-__all__ = ["ACCEL_TERMS", "B_PLATEAU", "C_UNIT", "FLICKER_AVAR", "NOISE_TERMS", "TERMS", "TERM_DESCRIPTION",
+__all__ = ["ACCEL_TERMS", "B_PLATEAU", "C_UNIT", "FLICKER_AVAR", "FLICKER_PLATEAU",
+           "HVAR_FLICKER_RATIO", "MVAR_FLICKER_RATIO", "NOISE_TERMS", "TERMS", "TERM_DESCRIPTION",
            "TERM_FACTOR", "TERM_POWER", "TERM_SLOPE", "TERM_UNIT", "TO_SECONDS", "NoiseTermInfo",
-           "TermName", "c_from_terms", "from_seconds", "parse_terms", "term_items", "term_rows",
-           "terms_from_c"]
+           "TermName", "c_from_terms", "flicker_plateau", "from_seconds", "parse_terms",
+           "term_items", "term_rows", "terms_from_c"]
 
 TermName = Literal["Q", "N", "B", "K", "R"]
 NOISE_TERMS: tuple[str, ...] = get_args(TermName)
@@ -53,6 +54,44 @@ B_PLATEAU = 0.664
 #: Flicker constant of the Allan variance, sigma^2 = FLICKER_AVAR B^2 (IEEE 952 Table C.1);
 #: B_PLATEAU rounds its square root.
 FLICKER_AVAR = 2.0 * math.log(2.0) / math.pi
+#: Flicker-FM modified Allan variance over the Allan variance for many samples per tau
+#: (NIST SP1065 sec. 5.2, modified Allan variance: its ratio R(n) to the Allan variance
+#: tends to about 0.67 for flicker FM).  From the
+#: transfer functions (SP1065 sec. 5.2), for S_y(f) = h_-1/f: AVAR = 2 h_-1 int sin^4 x/x^3
+#: dx = 2 ln2 h_-1 and, for n -> inf, MVAR = 2 h_-1 int sin^6 x/x^5 dx
+#: = (27/8 ln3 - 4 ln2) h_-1 = 0.9353 h_-1; the ratio is 0.6746.
+MVAR_FLICKER_RATIO = (27.0 / 8.0 * math.log(3.0) - 4.0 * math.log(2.0)) / (2.0 * math.log(2.0))
+#: Flicker-FM Hadamard variance over the Allan variance (SP1065 sec. 5.2, Hadamard variance; Riley,
+#: "Handbook of Frequency Stability Analysis", Hadamard transfer function
+#: 8/3 sin^6(x)/x^2): HVAR = 8/3 h_-1 int sin^6 x/x^3 dx = (4 ln2 - 3/2 ln3) h_-1
+#: = 1.1247 h_-1; the ratio is 0.8113.
+HVAR_FLICKER_RATIO = (4.0 * math.log(2.0) - 1.5 * math.log(3.0)) / (2.0 * math.log(2.0))
+#: Flicker-FM (bias-instability) plateau of each estimator's deviation per unit of B:
+#: ``floor = FLICKER_PLATEAU[kind] * B``.  adev, oadev and totdev share the Allan variance's
+#: expectation (:data:`B_PLATEAU`; plain totdev is biased low by sqrt(1 - tau/(3 ln2 T)) for
+#: flicker FM, Howe 1999, i.e. under 2.5 % at tau <= T/10); mdev and hdev/ohdev scale it by
+#: the square roots of :data:`MVAR_FLICKER_RATIO` (its large-m limit: at m = 1 MVAR is
+#: AVAR) and :data:`HVAR_FLICKER_RATIO`.  Checked by simulation in the tests.
+FLICKER_PLATEAU: dict[str, float] = {
+    "adev": B_PLATEAU, "oadev": B_PLATEAU, "totdev": B_PLATEAU,
+    "mdev": B_PLATEAU * math.sqrt(MVAR_FLICKER_RATIO),
+    "hdev": B_PLATEAU * math.sqrt(HVAR_FLICKER_RATIO),
+    "ohdev": B_PLATEAU * math.sqrt(HVAR_FLICKER_RATIO),
+}
+
+
+def flicker_plateau(kind: str) -> float:
+    """The flicker-FM plateau factor of estimator ``kind`` (:data:`FLICKER_PLATEAU`), NaN
+    for a kind without an established constant.
+
+    Examples
+    --------
+    >>> flicker_plateau("oadev"), round(flicker_plateau("mdev"), 4), flicker_plateau("x")
+    (0.664, 0.5454, nan)
+    """
+    return FLICKER_PLATEAU.get(kind, math.nan)
+
+
 #: sqrt(seconds per hour): deg/sqrt(h) = 60 deg/h sqrt(s).
 _SQRT_S_PER_H = 60.0
 

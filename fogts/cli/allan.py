@@ -40,7 +40,7 @@ def allan_tables(res: AllanResult, model: NoiseModel | None, check: dict[str, An
     common.say([f"note: {n}" for n in res.notes if not n.startswith("prepared: ")], quiet_json)
     if model is not None:
         common.print_out(common.rich_table(model.term_table(units)), quiet_json=quiet_json)
-        common.say([model.readoff.describe(units=units)], quiet_json)
+        common.say([model.describe_readoff(units=units)], quiet_json)
         if model.ml is not None:
             common.say([model.ml.describe()], quiet_json)
         elif model.gmwm is not None:

@@ -207,7 +207,7 @@ def _allan_blocks(ctx: ReportContext, i: int, notes: list[str]) -> list[Block]:
               table_block(terms), Block(kind="paragraph", text=terms.caption),
               *_comparison_blocks(ctx.get_comparison(i)),
               *_fit_check_blocks(ctx.get_fit_check(i)),
-              Block(kind="paragraph", text=model.readoff.describe(fmt_num)),
+              Block(kind="paragraph", text=model.describe_readoff(fmt_num)),
               table_block(res.points_table())]
     if res.dropped:
         blocks.append(Block(kind="list", caption="Taus not computed",

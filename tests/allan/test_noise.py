@@ -233,10 +233,10 @@ def test_argument_errors(kwargs: dict, exc: type, match: str) -> None:
 def test_the_noise_module_keeps_its_names() -> None:
     """fogts.allan.noise re-exports what its parts define."""
     import fogts.allan.noise as noise
-    from fogts.allan import noise_input, noise_lsq, noise_model, noise_selection, readout, terms
+    from fogts.allan import noise_input, noise_lsq, noise_model, noise_selection, readoff, terms
 
     assert noise.NoiseModel is noise_model.NoiseModel and noise.NoiseTerm is noise_model.NoiseTerm
-    assert noise.SlopeReadoff is readout.SlopeReadoff
+    assert noise.SlopeReadoff is readoff.SlopeReadoff
     assert noise.parse_terms is terms.parse_terms and noise.terms_from_c is terms.terms_from_c
     assert noise.FITTABLE_KINDS == noise_input.FITTABLE_KINDS == ("adev", "oadev", "totdev")
     assert noise.FIT_METHODS == noise_lsq.FIT_METHODS == ("wls", "gls", "ols", "gmwm", "ml")

@@ -89,3 +89,21 @@ class _Fake:
         self.m, self.n_samples, self.fs_hz = base.m, base.n_samples, base.fs_hz
         for k, v in override.items():
             setattr(self, k, v)
+
+
+def test_the_fit_curve_keeps_the_results_intervals() -> None:
+    """The usable points' bounds go with the curve (the B read-off judges the floor with
+    them); a result without bounds, or with a malformed one, gives None (the read-off then
+    uses 68.3 % intervals from the EDF)."""
+    from fogts.allan.noise_input import read_fit_curve
+
+    tau = 2.0 ** np.arange(0, 6)
+    dev = np.array([1.0, 0.7, np.nan, 0.4, 0.35, 0.3])
+    res = make_result(tau, dev, ci=(dev * 0.9, dev * 1.1))
+    curve = read_fit_curve(res)
+    assert curve.ci_low is not None and curve.ci_high is not None
+    np.testing.assert_allclose(curve.ci_low, dev[np.isfinite(dev)] * 0.9, rtol=1e-15)
+    assert read_fit_curve(make_result(tau, dev)).ci_low is None
+    odd = SimpleNamespace(kind="oadev", units="deg/h", tau_s=tau, dev=dev,
+                          edf=np.full(6, 100.0), ci_low=np.ones(3), ci_high=None)
+    assert read_fit_curve(odd).ci_low is None and read_fit_curve(odd).ci_high is None

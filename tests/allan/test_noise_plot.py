@@ -84,7 +84,7 @@ def test_plot_allan_leaves_out_a_readoff_the_curve_cannot_give() -> None:
     +1/2, so the figure neither labels nor draws a K read-off, nor widens its axes to reach
     it (ADIS16405 run 1 X drew "read-off K = 53.9" from a +0.13 segment near the floor, and
     its y axis went down to 1e-4 for it)."""
-    from fogts.allan.readout import readoff_supported
+    from fogts.allan.readoff import readoff_supported
     from tests.allan.noise_cases import avar, make_result
 
     tau = 2.0 ** np.arange(-4, 12)

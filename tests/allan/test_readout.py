@@ -5,12 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from fogts.allan.readout import (
-    READOFF_SLOPE_TOLERANCE,
-    read_curve,
-    readoff_supported,
-    slope_readoff,
-)
+from fogts.allan.readoff import READOFF_SLOPE_TOLERANCE, readoff_supported, slope_readoff
+from fogts.allan.readout import read_curve
 from fogts.allan.terms import B_PLATEAU
 from fogts.errors import DataError, InsufficientDataError
 from tests.allan.noise_cases import avar, make_result, quiet_fit
@@ -53,7 +49,8 @@ def test_minimum_and_regions_with_ci() -> None:
     assert b is not None and c is not None and d is not None
     assert b[0] == tau[0] and b[1] == c[0] and c[1] == d[0] and d[1] == tau[-1]
     assert c[0] <= r.tau_min_s <= c[1]
-    assert np.all(total[(tau >= c[0]) & (tau <= c[1])] <= hi[i])
+    in_c = total[(tau >= c[0]) & (tau <= c[1])]
+    assert np.all(in_c <= hi[i]) and np.all(in_c >= lo[i])
     assert r.to_frame().shape == (40, 3)
     assert r.to_dict()["minimum"]["tau"] == tau[i]
     assert r.summary().splitlines()[2].startswith("minimum") and "floor/0.664" in r.summary()
@@ -157,7 +154,9 @@ def test_a_readoff_without_a_segment_of_its_slope_is_not_read() -> None:
     K < 55.9)."""
     tau = 2.0 ** np.arange(-4, 12)
     dev = np.sqrt(avar(tau, N=0.02, B=0.1))
-    r = slope_readoff(tau, dev, 1.0)
+    # EDF 100 (68 % intervals of +-7 %): the last octaves, still 6 % apart without
+    # intervals, are flat within them, so the floor (and B) is read
+    r = slope_readoff(tau, dev, 1.0, np.full(tau.size, 100.0))
     assert readoff_supported(r, "N") and not readoff_supported(r, "K")
     assert readoff_supported(r, "B")
     assert abs(r.slope_K - 0.5) > READOFF_SLOPE_TOLERANCE  # the closest is the flat floor
@@ -220,3 +219,102 @@ def test_readouts_in_another_unit_scale_the_deviations_only() -> None:
                                                       rel=1e-15)
     assert si.tau_min_s == r.tau_min_s and si.regions == r.regions
     assert r.in_unit("deg/h", "deg/h") is r
+
+
+# --------------------------------------------------------------------------- floor and EDF
+
+
+def test_points_below_the_minimum_past_it_mean_no_floor() -> None:
+    """A curve that keeps falling past its last trusted point: no region C, no floor/0.664,
+    the lower low-EDF points named; B read-off not supported, with the same words."""
+    tau = 2.0 ** np.arange(0, 10)
+    dev = 1.0 / np.sqrt(tau)
+    edf = 4000.0 / tau  # the last three points (EDF 15.6, 7.8, 3.9 ...) : 512 s has 7.8
+    lo, hi = dev * 0.9, dev * 1.1
+    r = read_curve(tau, dev, lo, hi, edf=edf)
+    assert r.tau_min_s == 256.0 and r.regions["C"] is None and r.regions["D"] is None
+    assert r.regions["B"] == (1.0, 512.0)
+    assert np.isnan(r.bias_instability_floor) and not r.floor_found
+    assert r.floor_note == ("no floor: the curve is still falling at its last trusted tau "
+                            "(256 s); the points beyond it (512 .. 512 s) lie below the "
+                            "minimum's interval")
+    assert r.minimum_note == ("the lowest point with EDF >= 10 (lower points at 512 s have "
+                              "EDF < 10)")
+    d = r.to_dict()["minimum"]
+    assert d["bias_instability_floor"] is None and d["floor"] == r.floor_note
+    assert d["lower_points"] == [{"tau": 512.0, "dev": pytest.approx(dev[-1]),
+                                  "edf": pytest.approx(edf[-1])}]
+    assert "floor/" not in r.summary() and r.floor_note in r.summary()
+    ro = slope_readoff(tau, dev, 1.0, edf)
+    assert not readoff_supported(ro, "B")
+    assert f"B not read ({r.floor_note.split(';')[0]}" in ro.describe()
+
+
+def test_low_points_that_come_back_leave_the_floor() -> None:
+    """A low low-EDF point followed by one back inside the minimum's interval is scatter
+    on the floor: the floor stays (without the low point), no region D (nothing rises)."""
+    tau = 2.0 ** np.arange(0, 8)
+    dev = np.array([1.0, 0.7, 0.5, 0.31, 0.3, 0.3, 0.2, 0.29])
+    edf = np.array([1e4, 1e4, 1e3, 500, 200, 50, 5, 2])
+    r = read_curve(tau, dev, dev * 0.9, dev * 1.1, edf=edf)
+    assert r.tau_min_s == 16.0 and r.floor_found
+    assert r.regions["C"] == (8.0, 32.0) and r.regions["D"] is None
+    assert [p[0] for p in r.lower_points] == [64.0, 128.0]
+
+
+def test_no_trusted_point_is_said() -> None:
+    r = read_curve([1.0, 2.0, 4.0], [1.0, 0.5, 0.7], edf=[2.0, 2.0, 2.0])
+    assert r.minimum_note == "no point has EDF >= 10: the minimum is the lowest of all points"
+    assert r.tau_min_s == 2.0 and r.floor_found
+
+
+def test_a_kind_without_a_plateau_factor_does_not_convert_the_floor() -> None:
+    tau = np.array([1.0, 2.0, 4.0])
+    r = read_curve(tau, [1.0, 0.5, 0.7], kind="tdev")
+    assert np.isnan(r.bias_instability_floor)
+    assert r.floor_text() == ("the floor is not converted to B: no flicker-FM plateau factor "
+                              "is established for tdev")
+    assert r.to_dict()["minimum"]["plateau_factor"] is None
+    ro = slope_readoff(tau, np.array([1.0, 0.5, 0.7]), 1.0, kind="tdev")
+    assert "B not read (no flicker-FM plateau factor is established for tdev)" in ro.describe()
+
+
+def test_lower_points_follow_the_unit() -> None:
+    tau = np.array([1.0, 2.0, 4.0])
+    r = read_curve(tau, [1.0, 0.5, 0.2], edf=[100.0, 100.0, 2.0])
+    si = r.in_unit("deg/h", "rad/s")
+    assert si.lower_points[0][1] == pytest.approx(0.2 * np.pi / 180 / 3600, rel=1e-12)
+
+
+def test_a_readoff_segment_needs_trusted_points_and_a_decided_slope() -> None:
+    """The +1/2 segment's points need EDF >= 10, and its slope's standard error (from
+    var(ln sigma) = 1/(2 edf) per point) must keep it nearer +1/2 than 0 or +1."""
+    tau = 2.0 ** np.arange(0, 8)
+    dev = np.sqrt(avar(tau, N=1e-6, K=5.0))  # +1/2 throughout
+    assert readoff_supported(slope_readoff(tau, dev, 1.0, np.full(8, 1e4)), "K")
+    weak = slope_readoff(tau, dev, 1.0, np.full(8, 8.0))
+    assert not readoff_supported(weak, "K")
+    assert "rests on points with EDF 8 and 8, fewer than the 10" in weak.describe()
+    # EDF 20: se = sqrt(1/40 + 1/40) / ln 2 = 0.32, and |+0.5 - 0.5| + 0.32 < 0.5: read;
+    # EDF 12: se = 0.42, still read on an exact line, but not 0.15 off it
+    assert readoff_supported(slope_readoff(tau, dev, 1.0, np.full(8, 20.0)), "K")
+    tilted = slope_readoff(tau, dev * tau**0.15, 1.0, np.full(8, 12.0))
+    # (N = 1e-6 bends the line by under 1e-6 in slope)
+    assert abs(tilted.slope_K - 0.65) < 1e-5 and not readoff_supported(tilted, "K")
+    assert "does not exclude the neighbouring slopes +0 and +1" in tilted.describe()
+
+
+def test_a_readoff_outside_a_measured_interval_is_flagged() -> None:
+    from fogts.allan.readoff import FitBound, fit_check
+
+    tau = 2.0 ** np.arange(0, 8)
+    r = slope_readoff(tau, np.sqrt(avar(tau, N=1e-6, K=5.0)), 1.0)
+    inside = FitBound(4.0, 6.0, "68.3 % interval", False)
+    below = FitBound(5.5, 6.0, "68.3 % interval", False)
+    assert fit_check(r, "K", inside) == ""
+    assert fit_check(r, "K", below) == ("it lies outside the fit's 68.3 % interval 5.5 .. 6 "
+                                        "deg/h^1.5: the read-off and the fit disagree")
+    text = r.describe(fit={"K": below, "N": below})
+    assert "K = 5 deg/h^1.5 (+1/2 line at tau = 3 s; it lies outside" in text
+    assert "N not read" in text and "B = " in text  # N (no -1/2 segment) is not checked
+    assert r.to_dict({"K": below})["K"]["fit_check"] == fit_check(r, "K", below)

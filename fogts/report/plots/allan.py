@@ -8,7 +8,7 @@ from typing import Any
 import numpy as np
 from matplotlib.figure import Figure
 
-from fogts.allan.readout import readoff_supported
+from fogts.allan.readoff import fit_check, readoff_supported
 from fogts.report.plots._common import mpl_text, num_tex, time_unit, value_pm_tex
 from fogts.report.plots.allan_fit import (
     draw_outside_points,
@@ -145,14 +145,20 @@ def _readoff_line(ax: Any, res: Any, readoff: Any, name: str, tau_ro: float,
 def _readoff_points(ax: Any, res: Any, model: Any, xlim: tuple[float, float],
                     ylim: tuple[float, float]) -> None:
     """The classic slope read-offs (for comparison): the -1/2 line at tau = 1 s (N), the
-    +1/2 line at tau = 3 s (K) and the minimum / 0.664 (B), where inside the axes."""
+    +1/2 line at tau = 3 s (K) and the minimum / the estimator's plateau factor (B), where
+    inside the axes and supported by the curve; one outside the fit's bounds is marked so
+    (:func:`fogts.allan.readoff.fit_check`)."""
     ro = model.readoff
     names = {"N": f"read-off N = {num_tex(ro.N)} {_TERM_UNIT_TEX['N']} (−1/2 line at τ = 1 s)",
              "K": f"read-off K = {num_tex(ro.K)} {_TERM_UNIT_TEX['K']} (+1/2 line at τ = 3 s)",
-             "B": f"read-off B = {num_tex(ro.B)} {_TERM_UNIT_TEX['B']} (minimum / 0.664)"}
+             "B": f"read-off B = {num_tex(ro.B)} {_TERM_UNIT_TEX['B']} "
+                  f"(minimum / {ro.plateau:.4g})"}
+    bounds = model.readoff_bounds()
     for name, tau_ro, dev_ro in ro.points:
-        if not readoff_supported(ro, name):  # no segment of the term's slope: nothing read
+        if not readoff_supported(ro, name):  # not supported by the curve: nothing read
             continue
+        if name in bounds and fit_check(ro, name, bounds[name]):
+            names[name] += ", outside the fit"
         if (np.isfinite(dev_ro) and xlim[0] <= tau_ro <= xlim[1]
                 and ylim[0] <= dev_ro <= ylim[1]):
             ax.plot([tau_ro], [dev_ro], _READOFF_MARKER[name], color=_TERM_STYLE[name][0],
@@ -217,7 +223,7 @@ def plot_allan(result: Any, noise: Any = None, *, ax: Any = None,
     term's own line labelled with its slope (-1 Q, -1/2 N, 0 B, +1/2 K, +1 R; IEEE Std
     952-1997 Annex C, Fig. C.10) and value, and the classic slope read-off points
     (comparison only): the -1/2 line at tau = 1 s (N), the +1/2 line at tau = 3 s (K)
-    and the minimum (B = minimum / 0.664).  One curve with its fit also gets the fit range
+    and the minimum (B = minimum / the plateau factor, 0.664 for oadev).  One curve with its fit also gets the fit range
     shaded (the points outside it faded, the total dotted there) and, when the curve has
     confidence intervals, a residual panel underneath: each point's
     ``(data - fit) / CI half-width`` (:attr:`fogts.allan.misfit.FitCheck.residual`) with
