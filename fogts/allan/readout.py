@@ -355,15 +355,3 @@ def _dominant_ranges(t: FloatArray, ok: np.ndarray, term_curves: dict[str, Any],
             start = i
     return tuple(ranges)
 
-
-_MOVED = ("READOFF_SLOPE_TOLERANCE", "SlopeReadoff", "readoff_supported", "slope_readoff")
-
-
-def __getattr__(name: str) -> Any:
-    """The slope read-offs live in :mod:`fogts.allan.readoff` (which reads the floor from
-    here); their old names here still resolve."""
-    if name in _MOVED:
-        from fogts.allan import readoff
-
-        return getattr(readoff, name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
