@@ -44,11 +44,16 @@ from fogts.startup.compensation import (
 )
 from fogts.startup.thermal_cv import ThermalCrossValidation, thermal_cross_validation
 from fogts.startup.thermal_fit import fit_thermal
-from fogts.startup.thermal_identification import identification_note, reuse_warning
+from fogts.startup.thermal_identification import (
+    collinearity,
+    identification_note,
+    reuse_warning,
+)
 from fogts.startup.thermal_model import (
     DEFAULT_DT_SMOOTHING_S,
     ErrorModel,
     ThermalModel,
+    design_matrix,
     temperature_rate,
 )
 from fogts.startup.thermal_test import ThermalSignificance, thermal_significance
@@ -469,4 +474,5 @@ def _fit_on_runs(run: Run, prep: _FitInput, calibration: Sequence[Run],
                         dT_smoothing_s=dT_smoothing_s, units=run.units, errors=errors,
                         temperature_rate_degC_s=np.concatenate(rates),
                         t_ref_degC=float(np.mean(prep.temp[-tail:])))
-    return model, notes
+    X = design_matrix(np.concatenate(temps), np.concatenate(rates), model.terms)
+    return replace(model, collinearity=collinearity(X, model.terms)), notes

@@ -27,8 +27,8 @@ AR(16) recovers the drift curve D(T, ΔT) less well, so the estimate keeps the s
 Unidentifiable terms (for example every ΔT term when the temperature is constant) are
 detected by a greedy rank test on the column-normalised design matrix, reported with an
 :class:`~fogts.errors.UnidentifiableTermWarning` and left out of the fit.  Terms that pass it
-may still be nearly collinear: the variance inflation factors and condition number of the
-kept design go with the model (:mod:`~fogts.startup.thermal_identification`).
+may still be nearly collinear: :func:`~fogts.startup.thermal_identification.collinearity`
+measures that (the start-up workflow records it with the model).
 """
 
 from __future__ import annotations
@@ -44,7 +44,6 @@ import pandas as pd
 from fogts._typing import FloatArray
 from fogts._validate import check_choice, check_int, check_positive, pandas_index, to_float_array
 from fogts.errors import DataError, InsufficientDataError, UnidentifiableTermWarning
-from fogts.startup.thermal_identification import collinearity
 from fogts.startup.thermal_model import (
     DEFAULT_DT_SMOOTHING_S,
     ERROR_MODELS,
@@ -185,8 +184,7 @@ def fit_thermal(
         residual_std=float(np.std(resid, ddof=len(kept))),
         units=unit, fs_hz=fs, dT_smoothing_s=dT_smoothing_s, t_ref_degC=tref,
         temperature_range_degC=(float(temp.min()), float(temp.max())),
-        errors=errors, error_params=error_params, n=n, residual=resid_out,
-        collinearity=collinearity(X, kept))
+        errors=errors, error_params=error_params, n=n, residual=resid_out)
 
 
 # --------------------------------------------------------------------------- input checks

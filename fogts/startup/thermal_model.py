@@ -128,8 +128,10 @@ class ThermalModel(TableView):
         Samples fitted.
     collinearity : dict
         Variance inflation factors and condition number of the fitted design
-        (:func:`~fogts.startup.thermal_identification.collinearity`); empty for a model
-        saved before they were recorded.
+        (:func:`~fogts.startup.thermal_identification.collinearity`), recorded by
+        :func:`~fogts.startup.startup_workflow.startup_compensation`; empty from
+        :func:`~fogts.startup.thermal_fit.fit_thermal` alone (it is timed against plain OLS
+        and its cross-validation folds need no diagnostics) and for older saved models.
     identification_note : str or None
         Set when the coefficients are not separately identified (only the drift curve
         along the fit run's warm-up path is;
