@@ -106,5 +106,8 @@ def compensate_cmd(
             lines += ([f"{r.axis}:"] if many else []) + [r.summary()]
         if output is not None:
             lines.append(f"wrote {output} ({run.n * len(results)} rows)")
-        lines += [f"saved the thermal model to {path}" for path in saved]
+        lines += [f"saved the thermal model to {path}" + (
+            " (with its note: not separately identified, not for reuse on another ambient or "
+            "warm-up)" if r.model.identification_note else "")
+            for path, r in zip(saved, results, strict=False)]
         common.say(lines, json_out)

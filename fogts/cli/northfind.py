@@ -14,6 +14,8 @@ from fogts.pipeline import ReadSettings
 #: Library argument names of ``fogts northfind`` and their options.
 _NORTHFIND_OPTIONS = {"latitude_deg": "--latitude", "transition_s": "--transition",
                       "bias_sigma_deg_h": "--bias-sigma", "n_trials": "--simulate"}
+#: Argument names the Earth-rate warning asks the user to check, as options.
+_CHECK_OPTIONS = {"latitude_deg": "--latitude", "units": "--units"}
 
 if TYPE_CHECKING:
     from fogts._typing import FloatArray
@@ -89,7 +91,11 @@ def northfind_cmd(
 ) -> None:
     """Four-position north seeking: azimuth of the input axis at position 0,
     clockwise from true north, with its error budget; or, with --simulate N, the cold-start
-    error with and without thermal compensation."""
+    error with and without thermal compensation.
+
+    Exits 1 when the measured Earth-rate amplitude does not match Omega cos(latitude)
+    (a wrong --units, --latitude or scale factor; a warning names the likely cause) or when
+    the azimuth's 95 % interval spans a half circle ("no usable azimuth")."""
     from fogts.errors import DataError
     from fogts.startup import four_position, simulate_north_seeking
 
@@ -101,6 +107,10 @@ def northfind_cmd(
             "--bias-sigma": bias_sigma != 0.0, "--transition": transition != 0.0,
             "--position-column": position_column != "position_deg"})
         thermal = common.load_thermal_model(thermal_model) if thermal_model is not None else None
+        if thermal is not None:
+            from fogts.startup.thermal_identification import reuse_warning
+
+            common.warn(reuse_warning(thermal))
         if simulate is not None:
             if files:
                 raise DataError("--simulate takes no input files")
@@ -134,3 +144,7 @@ def northfind_cmd(
                    **result.to_dict()}
         common.emit_json(payload, json_out)
         common.say([result.summary()], json_out)
+        if result.scale_warning is not None:
+            common.warn(common._option_names(result.scale_warning, _CHECK_OPTIONS))
+    if result.exit_code:  # the Earth-rate check failed or the azimuth is not determined
+        raise typer.Exit(common.ExitCode.NEGATIVE)

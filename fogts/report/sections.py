@@ -342,6 +342,9 @@ def _thermal_blocks(ctx: ReportContext, i: int, notes: list[str]) -> list[Block]
     verdict = [] if res.significance is None else [
         Block(kind="verdict", good=res.significance.significant,
               text=res.significance.verdict[0].upper() + res.significance.verdict[1:] + ".")]
+    if model.identification_note:
+        note = model.identification_note
+        verdict.append(Block(kind="verdict", good=False, text=note[0].upper() + note[1:] + "."))
     if not res.applied:
         after_label = f"after (nothing compensated: {res.not_applied_reason()})"
     elif res.claims_improvement:

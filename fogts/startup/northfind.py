@@ -20,6 +20,8 @@ linearly at r (°/h per s) between positions measured at times t_k adds the dete
 error  δψ = [-sin ψ · r (t₀ - t₂) + cos ψ · r (t₃ - t₁)] / (2 Ω_h).
 
 Near the poles Ω_h → 0 and the azimuth is undefined: latitudes beyond ±89° are refused.
+Whether a record supports an azimuth at all (its Earth-rate amplitude against Ω_h, and an
+interval narrower than a half circle) is decided in :mod:`~fogts.startup.northfind_checks`.
 Simulated cold-start north seeking is in :mod:`~fogts.startup.northfind_simulation`.
 """
 
@@ -36,6 +38,14 @@ import pandas as pd
 from fogts._typing import FloatArray
 from fogts._validate import check_positive, to_float_array
 from fogts.errors import DataError
+from fogts.startup.northfind_checks import (
+    SCALE_TOLERANCE,
+    amplitude_stderr,
+    azimuth_usable,
+    no_azimuth_text,
+    scale_consistent,
+    scale_warning,
+)
 from fogts.tables import Column, Table, TableView
 from fogts.units import earth_rate_component, parse_rate_unit, to_deg_per_hour_factor
 
@@ -89,6 +99,15 @@ class NorthFinding(TableView):
         Standard error of one position mean used in the budget (°/h).
     position_time_s : dict
         Centre time of each position (s from the start of the first).
+    amplitude_stderr_deg_h : float
+        Standard uncertainty of ``amplitude_deg_h`` (°/h;
+        :func:`~fogts.startup.northfind_checks.amplitude_stderr`).
+    units : str
+        Rate unit the samples were declared in (named by the Earth-rate warning).
+
+    The verdict: :attr:`scale_consistent` (the amplitude agrees with Ω cos L),
+    :attr:`azimuth_usable` (the 95 % interval is narrower than a half circle) and
+    :attr:`exit_code`, 1 when either fails.
     """
 
     azimuth_deg: float
@@ -105,11 +124,42 @@ class NorthFinding(TableView):
     drift_error_deg: float
     sigma_mean_deg_h: float
     position_time_s: dict[int, float] = field(default_factory=dict)
+    amplitude_stderr_deg_h: float = math.nan
+    units: str = "deg/h"
 
     @property
     def scale_check(self) -> float:
         """``amplitude / (Ω cos L)``: about 1 for a healthy gyro and the right latitude."""
         return self.amplitude_deg_h / self.earth_rate_h_deg_h
+
+    @property
+    def scale_check_stderr(self) -> float:
+        """Standard uncertainty of :attr:`scale_check`."""
+        return self.amplitude_stderr_deg_h / self.earth_rate_h_deg_h
+
+    @property
+    def scale_consistent(self) -> bool:
+        """Whether :attr:`scale_check` agrees with 1 (within the scale tolerance and three
+        standard uncertainties; :func:`~fogts.startup.northfind_checks.scale_consistent`)."""
+        return scale_consistent(self.scale_check, self.scale_check_stderr)
+
+    @property
+    def scale_warning(self) -> str | None:
+        """The Earth-rate warning naming the likely cause, or None when consistent."""
+        return scale_warning(self.scale_check, self.scale_check_stderr,
+                             amplitude_deg_h=self.amplitude_deg_h,
+                             omega_h_deg_h=self.earth_rate_h_deg_h,
+                             latitude_deg=self.latitude_deg, units=self.units)
+
+    @property
+    def azimuth_usable(self) -> bool:
+        """Whether the 95 % azimuth interval is narrower than a half circle."""
+        return azimuth_usable(self.sigma_deg)
+
+    @property
+    def exit_code(self) -> int:
+        """0 for a usable azimuth from a consistent Earth rate, 1 otherwise (DESIGN.md)."""
+        return 0 if self.scale_consistent and self.azimuth_usable else 1
 
     def to_dict(self) -> dict[str, Any]:
         return {
@@ -132,6 +182,12 @@ class NorthFinding(TableView):
             "convention": ("azimuth of the input axis at position 0, clockwise from true north; "
                            "position k = axis turned clockwise by k*90 deg; "
                            "rate_k = Omega cos(L) cos(psi + k*90) + bias"),
+            "amplitude_stderr_deg_h": self.amplitude_stderr_deg_h,
+            "scale_check_stderr": self.scale_check_stderr,
+            "scale_check_limits": [1.0 / SCALE_TOLERANCE, SCALE_TOLERANCE],
+            "scale_consistent": self.scale_consistent,
+            "scale_warning": self.scale_warning,
+            "azimuth_usable": self.azimuth_usable,
         }
 
     def to_frame(self) -> pd.DataFrame:
@@ -144,17 +200,37 @@ class NorthFinding(TableView):
     def _view_table(self) -> Table:
         rows = [(p, self.mean_rates[p], self.std_rates[p], self.n_samples[p])
                 for p in POSITIONS_DEG]
-        b = self.budget_deg
         return Table.build(
             f"Four-position north finding at latitude {self.latitude_deg:g}°",
             (Column("position (°)"), Column("mean rate (°/h)", digits=6),
              Column("std (°/h)"), Column("n")), rows,
-            caption=f"azimuth ψ = {self.azimuth_deg:.4f}° ± {self.sigma_deg:.4f}° (1σ: ARW "
-                    f"{b['arw']:.4f}°, bias {b['bias']:.4f}°, drift {b['drift']:.4f}°)")
+            caption="; ".join([self._azimuth_line(), *filter(None, [self.scale_warning])]))
 
     def _view_headline(self) -> str:
+        if not self.azimuth_usable:
+            return (f"no usable azimuth (1σ {self.sigma_deg:.3g}°) at latitude "
+                    f"{self.latitude_deg:g}°")
         return (f"azimuth {self.azimuth_deg:.4f}° ± {self.sigma_deg:.4f}° at latitude "
                 f"{self.latitude_deg:g}°")
+
+    def _azimuth_line(self) -> str:
+        """ψ with its budget, or why there is no usable azimuth."""
+        b = self.budget_deg
+        if not self.azimuth_usable:
+            return no_azimuth_text(self.sigma_deg, b)
+        return (f"azimuth ψ = {self.azimuth_deg:.4f}° ± {self.sigma_deg:.4f}° (1σ: ARW "
+                f"{b['arw']:.4f}°, bias {b['bias']:.4f}°, drift {b['drift']:.4f}°)")
+
+    def _scale_line(self) -> str:
+        """The Earth-rate check with the numbers it rests on."""
+        lo, hi = 1.0 / SCALE_TOLERANCE, SCALE_TOLERANCE
+        ratio = f"ratio {self.scale_check:.4g} ± {self.scale_check_stderr:.2g} (1σ)"
+        if self.scale_consistent:
+            return (f"Earth-rate check: {ratio} is consistent with 1 (tolerance [{lo:.3f}, "
+                    f"{hi:.3f}] for scale factor and drift)")
+        return (f"Earth-rate check failed: {ratio} lies outside [{lo:.3f}, {hi:.3f}] by more "
+                "than 3σ: the rates do not match the Earth rate at this latitude (see the "
+                "warning)")
 
     def summary(self) -> str:
         lines = [f"Four-position north finding at latitude {self.latitude_deg:g}° "
@@ -163,11 +239,10 @@ class NorthFinding(TableView):
         for p in POSITIONS_DEG:
             lines.append(f"  {p:>6d}°  {self.mean_rates[p]:16.5f}  {self.std_rates[p]:11.4f}  "
                          f"{self.n_samples[p]:5d}")
-        b = self.budget_deg
-        lines.append(f"  azimuth ψ = {self.azimuth_deg:.4f}° ± {self.sigma_deg:.4f}° (1σ: ARW "
-                     f"{b['arw']:.4f}°, bias {b['bias']:.4f}°, drift {b['drift']:.4f}°)")
+        lines.append(f"  {self._azimuth_line()}")
         lines.append(f"  residual bias {self.bias_deg_h:.4f} °/h; measured Earth-rate amplitude "
                      f"{self.amplitude_deg_h:.4f} °/h (ratio {self.scale_check:.3f})")
+        lines.append(f"  {self._scale_line()}")
         return "\n".join(lines)
 
 
@@ -275,6 +350,8 @@ def four_position(
     Returns
     -------
     NorthFinding
+        Its ``scale_consistent`` and ``azimuth_usable`` say whether the data support the
+        azimuth (:mod:`~fogts.startup.northfind_checks`).
 
     Raises
     ------
@@ -294,26 +371,27 @@ def four_position(
     """
     lat = check_latitude(latitude_deg)
     fs = check_positive("fs_hz", fs_hz)
-    factor = to_deg_per_hour_factor(parse_rate_unit(units))
+    unit = parse_rate_unit(units)
     check_positive("transition_s", transition_s, allow_zero=True)
     sig_b = check_positive("bias_sigma_deg_h", bias_sigma_deg_h, allow_zero=True)
-    data = {p: v * factor for p, v in _normalise_positions(rates_by_position).items()}
+    data = {p: v * to_deg_per_hour_factor(unit)
+            for p, v in _normalise_positions(rates_by_position).items()}
     omega_h = earth_rate_component(lat, unit="deg/h", axis="north")
-
     means = {p: float(np.mean(data[p])) for p in POSITIONS_DEG}
     stds = {p: float(np.std(data[p], ddof=1)) for p in POSITIONS_DEG}
     counts = {p: int(data[p].size) for p in POSITIONS_DEG}
     psi, dx, dy = _azimuth_deg(means)
     slope, sigma_mean = _within_position_fit(data, counts, fs)
     times = _position_times(counts, fs, position_time_s, transition_s)
-    budget, drift_err = _error_budget(psi, slope, times, sigma_mean, sig_b, omega_h)
+    budget, drift_err, radial = _error_budget(psi, slope, times, sigma_mean, sig_b, omega_h)
     sigma = math.sqrt(sum(v * v for v in budget.values()))
     return NorthFinding(azimuth_deg=psi, sigma_deg=sigma, budget_deg=budget, latitude_deg=lat,
                         earth_rate_h_deg_h=omega_h, mean_rates=means, std_rates=stds,
                         n_samples=counts, bias_deg_h=float(np.mean(list(means.values()))),
                         amplitude_deg_h=0.5 * math.hypot(dx, dy),
                         drift_rate_deg_h_per_s=slope, drift_error_deg=drift_err,
-                        sigma_mean_deg_h=sigma_mean, position_time_s=times)
+                        sigma_mean_deg_h=sigma_mean, position_time_s=times, units=unit,
+                        amplitude_stderr_deg_h=amplitude_stderr(sigma_mean, sig_b, radial))
 
 
 def _azimuth_deg(means: Mapping[int, float]) -> tuple[float, float, float]:
@@ -367,15 +445,17 @@ def _position_times(counts: Mapping[int, int], fs: float,
 
 
 def _error_budget(psi: float, slope: float, times: Mapping[int, float], sigma_mean: float,
-                  sig_b: float, omega_h: float) -> tuple[dict[str, float], float]:
-    """The 1σ budget (ARW, bias, drift; degrees) and the signed drift error (module doc)."""
+                  sig_b: float, omega_h: float) -> tuple[dict[str, float], float, float]:
+    """The 1σ budget (ARW, bias, drift; degrees), the signed drift error (module doc) and
+    the drift's error along the measured Earth-rate vector (°/h, for its amplitude)."""
     rad = math.radians(psi)
     ex = slope * (times[0] - times[180]) / 2.0
     ey = slope * (times[270] - times[90]) / 2.0
     drift_err = math.degrees((-math.sin(rad) * ex + math.cos(rad) * ey) / omega_h)
+    radial = math.cos(rad) * ex + math.sin(rad) * ey
     arw_deg = math.degrees(sigma_mean / (math.sqrt(2.0) * omega_h))
     bias_deg = math.degrees(sig_b / (math.sqrt(2.0) * omega_h))
-    return {"arw": arw_deg, "bias": bias_deg, "drift": abs(drift_err)}, drift_err
+    return {"arw": arw_deg, "bias": bias_deg, "drift": abs(drift_err)}, drift_err, radial
 
 
 def angle_error_deg(estimate_deg: Any, truth_deg: Any) -> FloatArray:

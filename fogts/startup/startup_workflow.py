@@ -18,6 +18,7 @@
 from __future__ import annotations
 
 import math
+import warnings
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, replace
 from functools import partial
@@ -28,7 +29,12 @@ import pandas as pd
 
 from fogts._typing import FloatArray
 from fogts.choices import APPLY_RULES, ApplyRule
-from fogts.errors import DataError, InsufficientDataError, ModelFitError
+from fogts.errors import (
+    DataError,
+    InsufficientDataError,
+    ModelFitError,
+    UnidentifiableTermWarning,
+)
 from fogts.io.run import Run
 from fogts.startup.compensation import (
     BiasStability,
@@ -38,10 +44,16 @@ from fogts.startup.compensation import (
 )
 from fogts.startup.thermal_cv import ThermalCrossValidation, thermal_cross_validation
 from fogts.startup.thermal_fit import fit_thermal
+from fogts.startup.thermal_identification import (
+    collinearity,
+    identification_note,
+    reuse_warning,
+)
 from fogts.startup.thermal_model import (
     DEFAULT_DT_SMOOTHING_S,
     ErrorModel,
     ThermalModel,
+    design_matrix,
     temperature_rate,
 )
 from fogts.startup.thermal_test import ThermalSignificance, thermal_significance
@@ -162,11 +174,15 @@ class StartupCompensation(TableView):
     # -------------------------------------------------------------- notebook view
     def _view_table(self) -> Table:
         """The bias stability before and after, and the model's verdict."""
-        rows = [("bias stability before", self.before.value, self.before.unit),
-                ("bias stability after", self.after.value, self.after.unit),
-                ("improvement", self.improvement, "x" if self.claims_improvement
-                 else "x (not claimed)"),
-                ("thermal model R²", self.model.r2, "")]
+        rows: list[tuple[Any, ...]] = [
+            ("bias stability before", self.before.value, self.before.unit),
+            ("bias stability after", self.after.value, self.after.unit),
+            ("improvement" + (" in sample" if self.significance is not None else ""),
+             self.improvement, "x" if self.claims_improvement else "x (not claimed)")]
+        if self.out_of_sample is not None:
+            rows.append(("improvement out of sample", self.out_of_sample.ratio,
+                         f"x, {self.out_of_sample.interval_text() or 'one fold'}"))
+        rows.append(("thermal model R²", self.model.r2, ""))
         return Table.build(
             f"Start-up compensation of {self.axis or 'axis 0'} "
             f"({self.before.average_s:g} s averages)",
@@ -175,7 +191,10 @@ class StartupCompensation(TableView):
 
     def _view_headline(self) -> str:
         return (f"{self.axis or 'axis 0'}: bias stability {self.before.value:.4g} -> "
-                f"{self.after.value:.4g} {self.after.unit}")
+                f"{self.after.value:.4g} {self.after.unit}"
+                + ("" if self.significance is None else " (in sample"
+                   + (f"; out of sample {self.out_of_sample.gain_text()})"
+                      if self.out_of_sample is not None else ")")))
 
     def summary(self) -> str:
         lines = []
@@ -205,8 +224,15 @@ class StartupCompensation(TableView):
         stability = (f"bias stability ({self.before.average_s:g} s average, 1σ): "
                      f"before {self.before.value:.4g} {self.before.unit}, after "
                      f"{self.after.value:.4g} {self.after.unit}")
-        return (f"{stability} ({self.improvement:.2f}x in sample)" if self.claims_improvement
-                else f"{stability}; not claimed as an improvement: {self.no_claim_reason()}")
+        if not self.claims_improvement:
+            return f"{stability}; not claimed as an improvement: {self.no_claim_reason()}"
+        if self.significance is None:
+            return (f"{stability} ({self.improvement:.2f}x by the given model: out of sample "
+                    "unless it was fitted on this run)")
+        if self.out_of_sample is None:
+            return f"{stability} ({self.improvement:.2f}x in sample)"
+        return (f"{stability} ({self.improvement:.2f}x in sample; out of sample "
+                f"{self.out_of_sample.gain_text()})")
 
     def not_applied_reason(self) -> str:
         """Why a fitted model was not subtracted (the verdict's reason, in a clause)."""
@@ -243,7 +269,10 @@ def startup_compensation(
     """Start-up drift compensation, steps 1-7 of the module docstring, on one axis of a run.
 
     With ``emd=False`` steps 1-5 are skipped and the model is fitted to the raw series.
-    With ``model`` given, nothing is fitted: the saved model is applied.  ``calibration``
+    With ``model`` given, nothing is fitted: the saved model is applied (with a warning
+    when it carries an identification note).  A fitted model that is jointly significant
+    but whose coefficients are collinear and mostly insignificant gets that note and a
+    warning (:mod:`~fogts.startup.thermal_identification`).  ``calibration``
     adds further runs (same sample rate and units; for example cold starts at other ambient
     temperatures) to the fit: one warm-up determines only the combinations of the six
     coefficients along its own (T, ΔT) path, and several ambients make the model hold
@@ -254,6 +283,12 @@ def startup_compensation(
     ------
     DataError
         The run has no temperature, or a bad option.
+
+    Warns
+    -----
+    UnidentifiableTermWarning
+        The fitted coefficients are not separately identified, or the given model was saved
+        with that note.
 
     Examples
     --------
@@ -284,6 +319,10 @@ def startup_compensation(
         notes = [*prep.notes, *fit_notes]
         significance = thermal_significance(gyro, run.temperature, fs_hz=fs, terms=terms,
                                             dT_smoothing_s=dT_smoothing_s)
+        note = identification_note(model, significance.significant)
+        if note is not None:
+            warnings.warn(note, UnidentifiableTermWarning, stacklevel=2)
+            model = replace(model, identification_note=note)
         if significance.significant:
             out_of_sample, cv_note = _cross_validate(
                 [run, *calibration], axis, terms=terms, dT_smoothing_s=dT_smoothing_s,
@@ -292,6 +331,9 @@ def startup_compensation(
     elif not isinstance(model, ThermalModel):
         raise DataError(f"model must be a ThermalModel or None, got {type(model).__name__}")
     else:
+        reuse = reuse_warning(model)
+        if reuse is not None:
+            warnings.warn(reuse, UnidentifiableTermWarning, stacklevel=2)
         prep = _FitInput(gyro, np.asarray(run.temperature, dtype=float), None, None, None, "", [])
     applied = significance is None or significance.significant or apply == "always"
     comp = run
@@ -432,4 +474,5 @@ def _fit_on_runs(run: Run, prep: _FitInput, calibration: Sequence[Run],
                         dT_smoothing_s=dT_smoothing_s, units=run.units, errors=errors,
                         temperature_rate_degC_s=np.concatenate(rates),
                         t_ref_degC=float(np.mean(prep.temp[-tail:])))
-    return model, notes
+    X = design_matrix(np.concatenate(temps), np.concatenate(rates), model.terms)
+    return replace(model, collinearity=collinearity(X, model.terms)), notes

@@ -153,6 +153,19 @@ class ThermalCrossValidation:
         return pd.DataFrame([{k: v for k, v in f.to_dict().items()
                               if not k.endswith("_degC")} for f in self.folds])
 
+    def interval_text(self) -> str:
+        """``"95 % interval [1.0, 1.4]"``, or ``""`` without an interval."""
+        if not math.isfinite(self.low):
+            return ""
+        return f"{100 * self.confidence:g} % interval [{self.low:.3g}, {self.high:.3g}]"
+
+    def gain_text(self) -> str:
+        """The gain in a few words: ``"1.2x, 95 % interval [1.0, 1.4]"``,
+        ``"1.2x, one fold"`` or ``"not measured"``."""
+        if self.n_scored == 0:
+            return "not measured"
+        return f"{self.ratio:.3g}x, " + (self.interval_text() or "one fold")
+
     def summary(self) -> str:
         """``"out of sample (5 time blocks ...): 1.2x [1.0, 1.4] (95 %, ...)"``."""
         n = len(self.folds)

@@ -26,7 +26,9 @@ AR(16) recovers the drift curve D(T, ΔT) less well, so the estimate keeps the s
 
 Unidentifiable terms (for example every ΔT term when the temperature is constant) are
 detected by a greedy rank test on the column-normalised design matrix, reported with an
-:class:`~fogts.errors.UnidentifiableTermWarning` and left out of the fit.
+:class:`~fogts.errors.UnidentifiableTermWarning` and left out of the fit.  Terms that pass it
+may still be nearly collinear: :func:`~fogts.startup.thermal_identification.collinearity`
+measures that (the start-up workflow records it with the model).
 """
 
 from __future__ import annotations

@@ -126,6 +126,17 @@ class ThermalModel(TableView):
         ``{"maxlags": L}`` for ``"hac"``, ``{}`` for ``"ols"``.
     n : int
         Samples fitted.
+    collinearity : dict
+        Variance inflation factors and condition number of the fitted design
+        (:func:`~fogts.startup.thermal_identification.collinearity`), recorded by
+        :func:`~fogts.startup.startup_workflow.startup_compensation`; empty from
+        :func:`~fogts.startup.thermal_fit.fit_thermal` alone (it is timed against plain OLS
+        and its cross-validation folds need no diagnostics) and for older saved models.
+    identification_note : str or None
+        Set when the coefficients are not separately identified (only the drift curve
+        along the fit run's warm-up path is;
+        :func:`~fogts.startup.thermal_identification.identification_note`): the model
+        should not be reused on another ambient or warm-up.
     """
 
     terms: tuple[str, ...]
@@ -144,6 +155,8 @@ class ThermalModel(TableView):
     error_params: dict[str, Any]
     n: int
     residual: Any = field(default=None, repr=False)
+    collinearity: dict[str, Any] = field(default_factory=dict)
+    identification_note: str | None = None
 
     # ---- evaluation
     def predict(self, temperature: Any, *, fs_hz: float | None = None,
@@ -201,6 +214,8 @@ class ThermalModel(TableView):
             "errors": self.errors,
             "error_params": dict(self.error_params),
             "n": int(self.n),
+            "collinearity": _json_collinearity(self.collinearity),
+            "identification_note": self.identification_note,
         }
 
     @classmethod
@@ -235,6 +250,9 @@ class ThermalModel(TableView):
                 errors=str(data.get("errors", "ar")),
                 error_params=dict(data.get("error_params", {})),
                 n=int(data.get("n", 0)),
+                collinearity=dict(data.get("collinearity") or {}),
+                identification_note=(None if data.get("identification_note") is None
+                                     else str(data["identification_note"])),
             )
         except (KeyError, TypeError, AttributeError) as exc:
             raise DataError(f"malformed thermal model: {exc!r}") from None
@@ -274,7 +292,38 @@ class ThermalModel(TableView):
         lines.append(f"  R² = {self.r2:.4f}  residual std = {self.residual_std:.6g} {self.units}"
                      f"  (errors: {_ERROR_TEXT.get(self.errors, self.errors)})")
         lines.append(f"  fitted over T = {lo:.3g}..{hi:.3g} °C; reference T = {self.t_ref_degC:.4g} °C")
+        if self.identification_note:
+            lines.append(f"  {self._identification_line()}")
         return "\n".join(lines)
+
+    def _identification_line(self) -> str:
+        """The numbers behind :attr:`identification_note`, in one line."""
+        from fogts.startup.thermal_identification import (
+            T_CRITICAL,
+            VIF_THRESHOLD,
+            significant_terms,
+        )
+
+        diag = self.collinearity
+        n_thermal = sum(t != "1" for t in self.terms)
+        vif = (f"largest VIF {float(diag['max_vif']):.3g} ({diag.get('max_vif_term')}) > "
+               f"{VIF_THRESHOLD:g}; " if "max_vif" in diag else "")
+        return (f"coefficients not separately identified: {vif}"
+                f"{len(significant_terms(self))} of {n_thermal} thermal coefficients with "
+                f"|t| > {T_CRITICAL:.2f}; fitted to one warm-up path, not for reuse")
+
+
+def _json_collinearity(diag: Mapping[str, Any]) -> dict[str, Any]:
+    """The collinearity diagnostics with plain floats (JSON-safe)."""
+    out: dict[str, Any] = {}
+    for key, value in diag.items():
+        if isinstance(value, Mapping):
+            out[key] = {k: float(v) for k, v in value.items()}
+        elif isinstance(value, (int, float, np.floating)) and not isinstance(value, bool):
+            out[key] = float(value)
+        else:
+            out[key] = value
+    return out
 
 
 def _nan_float(v: Any) -> float:

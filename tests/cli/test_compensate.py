@@ -104,3 +104,29 @@ def test_compensate_constant_temperature_says_unidentifiable(tmp_path: Path, con
     assert res.exit_code == 0, res.output
     assert "unidentifiable term(s) left out" in res.stderr
     assert list(json.loads(res.stdout)["thermal"]["terms"]) == ["1"]
+
+
+def test_one_warm_up_model_is_saved_with_its_note_and_warns_when_reused(tmp_path: Path) -> None:
+    """The bundled 20 degC cold start: the six coefficients are jointly significant but each
+    insignificant and collinear; the saved model carries the note, and warns on reuse."""
+    root = Path(__file__).resolve().parents[2] / "data"
+    model = tmp_path / "m.json"
+    res = runner.invoke(app, ["compensate", str(root / "startup_cold_1hz.csv"), "--no-emd",
+                              "--save-model", str(model)])
+    assert res.exit_code == 0, res.output
+    warning = [x for x in res.stderr.splitlines() if "not separately identified" in x]
+    assert len(warning) == 1 and warning[0].startswith("warning: startup_cold_1hz.csv: ")
+    assert "largest variance inflation factor" in warning[0]
+    assert "do not reuse it on another ambient or warm-up without a calibration run" in warning[0]
+    assert f"saved the thermal model to {model} (with its note: not separately identified" \
+        in res.stdout
+    assert "x in sample; out of sample " in res.stdout
+    saved = json.loads(model.read_text())
+    assert saved["identification_note"] in warning[0]
+    assert saved["collinearity"]["max_vif"] > saved["collinearity"]["vif_threshold"]
+    res2 = runner.invoke(app, ["compensate", str(root / "startup_cold_15c_1hz.csv"), "--model",
+                               str(model)])
+    assert res2.exit_code == 0, res2.output
+    assert ("the thermal model applied here was fitted on another run and saved with this "
+            "note: the coefficients are not separately identified") in res2.stderr
+    assert "by the given model: out of sample unless it was fitted on this run" in res2.stdout

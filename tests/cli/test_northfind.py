@@ -119,3 +119,95 @@ def test_simulation_refuses_the_options_of_measured_files(args: list[str], stray
     assert error_output(res.stderr) == (
         f"error: --simulate does not use {stray} (options of measured positions files); drop "
         "it or give the files instead of --simulate")
+
+
+# --- does the record support an azimuth? ------------------------------------------------
+
+def _positions_file(tmp_path: Path, *, scale: float = 1.0, noise: float = 0.05,
+                    lat: float = LAT) -> Path:
+    om = earth_rate_component(lat, axis="north")
+    rng = np.random.default_rng(5)
+    rate = np.concatenate([scale * (om * math.cos(math.radians(PSI + p)) + 1.0)
+                           + noise * rng.standard_normal(60) for p in (0, 90, 180, 270)])
+    path = tmp_path / "pos.csv"
+    pd.DataFrame({"time": np.arange(240.0), "position_deg": np.repeat([0, 90, 180, 270], 60),
+                  "rate": rate}).to_csv(path, index=False)
+    return path
+
+
+def test_healthy_record_prints_the_azimuth_and_the_earth_rate_check(tmp_path: Path) -> None:
+    path = _positions_file(tmp_path)
+    res = runner.invoke(app, ["northfind", str(path), "--latitude", str(LAT), "--units", "deg/h",
+                              "--json", str(tmp_path / "n.json")])
+    assert res.exit_code == 0, res.output
+    lines = res.stdout.splitlines()
+    assert lines[-3].startswith("  azimuth ψ = ") and "(1σ: ARW " in lines[-3]
+    assert lines[-2].startswith("  residual bias ") and "(ratio " in lines[-2]
+    assert lines[-1].startswith("  Earth-rate check: ratio ") and "consistent with 1" in lines[-1]
+    assert "warning" not in res.stderr
+    payload = json.loads((tmp_path / "n.json").read_text())
+    assert payload["scale_consistent"] is True and payload["azimuth_usable"] is True
+    assert payload["scale_warning"] is None
+
+
+def test_wrong_unit_warns_names_the_cause_and_exits_1(tmp_path: Path) -> None:
+    path = _positions_file(tmp_path)           # deg/h data read as deg/s
+    res = runner.invoke(app, ["northfind", str(path), "--latitude", str(LAT), "--units", "deg/s",
+                              "--json", str(tmp_path / "n.json")])
+    assert res.exit_code == 1, res.output
+    warning = [line for line in res.stderr.splitlines() if line.startswith("warning: ")]
+    assert len(warning) == 1
+    assert "a ratio of about 3600 is deg/s vs deg/h" in warning[0]
+    assert "not deg/s (check --units)" in warning[0]
+    assert "no usable azimuth: 1σ = " in res.stdout and "azimuth ψ =" not in res.stdout
+    assert "Earth-rate check failed" in res.stdout
+    payload = json.loads((tmp_path / "n.json").read_text())
+    assert payload["scale_consistent"] is False and payload["azimuth_usable"] is False
+    assert "deg/s vs deg/h" in payload["scale_warning"] and "azimuth_deg" in payload
+
+
+def test_wrong_latitude_warns_and_exits_1(tmp_path: Path) -> None:
+    path = _positions_file(tmp_path)           # recorded at 32.05 deg
+    res = runner.invoke(app, ["northfind", str(path), "--latitude", "70", "--units", "deg/h"])
+    assert res.exit_code == 1, res.output
+    assert "it matches the horizontal Earth rate at latitude ±32." in res.stderr
+    assert "check --latitude (or --units, or the gyro's scale factor)" in res.stderr
+    assert "rad vs deg" not in res.stderr
+
+
+def test_near_the_pole_a_latitude_error_and_rad_vs_deg_are_both_named(tmp_path: Path) -> None:
+    # cos 32.05 / cos 89 = 48.6 is within the tolerance of 57.3 (rad vs deg)
+    path = _positions_file(tmp_path)
+    res = runner.invoke(app, ["northfind", str(path), "--latitude", "89", "--units", "deg/h"])
+    assert res.exit_code == 1, res.output
+    assert "a ratio of about 57.3 is rad vs deg" in res.stderr
+    assert "; or it matches the horizontal Earth rate at latitude ±32." in res.stderr
+
+
+def test_noise_too_large_for_an_azimuth_exits_1(tmp_path: Path) -> None:
+    # 150 deg/h noise against Omega cos L = 12.7 deg/h: the 95 % interval spans > 180 deg
+    path = _positions_file(tmp_path, noise=150.0)
+    res = runner.invoke(app, ["northfind", str(path), "--latitude", str(LAT), "--units", "deg/h",
+                              "--json", "-"])
+    assert res.exit_code == 1, res.output
+    payload = json.loads(res.stdout)
+    assert payload["azimuth_usable"] is False and payload["scale_consistent"] is True
+    assert "no usable azimuth" in res.stderr        # the text goes to stderr with --json -
+    assert "warning" not in res.stderr
+
+
+def test_a_thermal_model_saved_with_an_identification_note_warns(tmp_path: Path) -> None:
+    path = _positions_file(tmp_path)
+    model = {"model": "fogts-thermal-drift", "units": "deg/h", "terms": {
+        "T": {"value": 0.0, "stderr": 1.0}, "1": {"value": 0.0, "stderr": 1.0}},
+        "identification_note": "the coefficients are not separately identified (test)"}
+    (tmp_path / "m.json").write_text(json.dumps(model))
+    frame = pd.read_csv(path)
+    frame["temperature"] = np.linspace(20.0, 30.0, len(frame))
+    frame.to_csv(path, index=False)
+    res = runner.invoke(app, ["northfind", str(path), "--latitude", str(LAT), "--thermal-model",
+                              str(tmp_path / "m.json"), "--temperature-column", "temperature",
+                              "--units", "deg/h"])
+    assert res.exit_code == 0, res.output
+    assert ("warning: the thermal model applied here was fitted on another run and saved with "
+            "this note: the coefficients are not separately identified (test)") in res.stderr

@@ -311,6 +311,10 @@ def test_thermal_section_shows_the_out_of_sample_gain() -> None:
     assert len(table.rows) == 5 and "not scored" in table.rows[0][0]
     assert any(b.kind == "paragraph" and b.text.startswith("Out of sample (5 time blocks")
                for b in blocks)
+    # one warm-up: the coefficients are not separately identified, said as a failed verdict
+    note = [b for b in blocks if b.kind == "verdict" and not b.good]
+    assert len(note) == 1
+    assert note[0].text.startswith("The coefficients are not separately identified")
 
 
 def test_thermal_section_gives_the_summary_reason_for_no_claim(tmp_path: Path) -> None:
