@@ -211,7 +211,7 @@ def guard(options: Mapping[str, str] | None = None, *,
                 raise
             from fogts.report.text import error_message
 
-            message = _option_names(error_message(exc), options or {})
+            message = option_names(error_message(exc), options or {})
             err_console.print(f"error: {message}", markup=False, soft_wrap=True)
             raise typer.Exit(ExitCode.ERROR) from None
         finally:
@@ -255,7 +255,7 @@ def _attributed(text: str, file: str, axis: str | None) -> str:
     return f"{file}: {axis}: {text}" if axis is not None else f"{file}: {text}"
 
 
-def _option_names(message: str, options: Mapping[str, str]) -> str:
+def option_names(message: str, options: Mapping[str, str]) -> str:
     """Replace whole-word library argument names in ``message`` by option names."""
     for name, option in options.items():
         message = re.sub(rf"(?<![\w-]){re.escape(name)}(?!\w)", option, message)

@@ -145,6 +145,6 @@ def northfind_cmd(
         common.emit_json(payload, json_out)
         common.say([result.summary()], json_out)
         if result.scale_warning is not None:
-            common.warn(common._option_names(result.scale_warning, _CHECK_OPTIONS))
+            common.warn(common.option_names(result.scale_warning, _CHECK_OPTIONS))
     if result.exit_code:  # the Earth-rate check failed or the azimuth is not determined
         raise typer.Exit(common.ExitCode.NEGATIVE)

@@ -276,10 +276,10 @@ def test_northfind_errors_name_the_option(args: list[str], message: str) -> None
     assert "latitude_deg" not in res.stderr and "n_trials" not in res.stderr
 
 
-def test_option_names_replace_whole_words_only() -> None:
-    from fogts.cli._common import _option_names
+def testoption_names_replace_whole_words_only() -> None:
+    from fogts.cli._common import option_names
 
     names = {"fs_hz": "--fs", "tau_s": "--time-constants"}
-    assert _option_names("fs_hz must be > 0, got -3.0", names) == "--fs must be > 0, got -3.0"
-    assert _option_names("tau_s=(1, 2) but my_tau_s or tau_s2 stay", names) == (
+    assert option_names("fs_hz must be > 0, got -3.0", names) == "--fs must be > 0, got -3.0"
+    assert option_names("tau_s=(1, 2) but my_tau_s or tau_s2 stay", names) == (
         "--time-constants=(1, 2) but my_tau_s or tau_s2 stay")
