@@ -125,8 +125,8 @@ class MethodComparison(TableView):
         ``< x``, the 95 % upper limit of a term the method does not measure), and a last
         row with each method's model."""
         columns = [Column("term", numeric=False), Column("unit", numeric=False)]
-        columns += [Column(m.upper() + (" (primary)" if i == 0 else ""))
-                    for i, m in enumerate(self.methods)]
+        columns += [Column(_header(model, primary=i == 0))
+                    for i, model in enumerate(self.models)]
         rows = [[n, self._unit(n, units)] + [self._cell(m, n, units) for m in self.methods]
                 for n in self.terms]
         rows.append(["model", ""] + [model_label(m) for m in self.models])
@@ -138,7 +138,9 @@ class MethodComparison(TableView):
                     "has no such term. WLS, GLS and OLS fit the Allan curve, GMWM its "
                     "wavelet variances (Haar WV = Allan variance / 2), ML the record itself; "
                     "GMWM's and ML's B is the flicker equivalent of their Gauss-Markov "
-                    "terms. The other tables show the primary fit.")
+                    "terms. The other tables show the primary fit; a method whose model "
+                    "its own test rejects is marked, and its values and standard errors "
+                    "hold only under that rejected model.")
 
     def summary(self) -> str:
         return self.table().to_text()
@@ -162,6 +164,15 @@ class MethodComparison(TableView):
 
     def _view_headline(self) -> str:
         return f"{self.primary.axis!r} by {', '.join(m.upper() for m in self.methods)}"
+
+
+def _header(model: NoiseModel, *, primary: bool) -> str:
+    """A method's column title: the method, whether it is the primary fit, and a GMWM
+    model that its J test rejects."""
+    title = model.method.upper() + (" (primary)" if primary else "")
+    if model.gmwm is not None and not model.gmwm.consistent:
+        title += f" (model rejected: J test p = {model.gmwm.p_value:.2g})"
+    return title
 
 
 def side_by_side(models: Sequence[NoiseModel]) -> MethodComparison:

@@ -113,3 +113,17 @@ def test_errors(fits: dict[str, NoiseModel]) -> None:
     other = dataclasses.replace(fits["gmwm"], axis="y")
     with pytest.raises(DataError, match=r"models must be fits of one axis; got \[\('rate'"):
         side_by_side([fits["wls"], other])
+
+
+def test_a_gmwm_model_its_j_test_rejects_is_marked(fits: dict[str, NoiseModel]) -> None:
+    """CH104 z (the audit): the GMWM column showed Q and N with small standard errors from
+    a model its J test rejected (p = 4e-71), unmarked."""
+    import dataclasses
+
+    gmwm = fits["gmwm"]
+    assert gmwm.gmwm is not None
+    rejected = dataclasses.replace(gmwm, gmwm=dataclasses.replace(gmwm.gmwm, p_value=4e-71))
+    titles = side_by_side([fits["wls"], rejected]).table().titles
+    assert titles[2:] == ["WLS (primary)", "GMWM (model rejected: J test p = 4e-71)"]
+    if gmwm.gmwm.consistent:
+        assert side_by_side([fits["wls"], gmwm]).table().titles[3] == "GMWM"
