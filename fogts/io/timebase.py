@@ -117,7 +117,7 @@ def time_base(table: Table, time_name: str | None
             return time, start, Steps(time=time, summary=summary)
     elif origin is not None:
         time = time - origin
-    return time, start, Steps(_check_monotonic(time, name, table))
+    return time, start, Steps(_check_monotonic(time, name, table, origin or 0.0))
 
 
 def _fused_seconds(table: Table, name: str
@@ -173,14 +173,17 @@ def _datetime_seconds(index: pd.DatetimeIndex | pd.TimedeltaIndex) -> tuple[Floa
     return seconds, index[0].isoformat()
 
 
-def _check_monotonic(time: FloatArray, name: str, table: Table) -> FloatArray:
+def _check_monotonic(time: FloatArray, name: str, table: Table, origin: float = 0.0
+                     ) -> FloatArray:
+    """The steps of ``time`` (seconds since the first stamp); a step that is not positive
+    is refused, naming the stamps as the file has them (``time + origin``)."""
     dt = np.diff(time)
     if dt.size and dt.min() <= 0:  # a pass without allocation before the search
         i = int(np.argmax(dt <= 0)) + 1
         kind = "duplicated" if dt[i - 1] == 0 else "decreasing"
         raise DataError(f"time column {name!r} is {kind} at {where(table, i)}: "
-                        f"t={time[i]:.9g} after t={time[i - 1]:.9g}; time stamps must be "
-                        "strictly increasing")
+                        f"t={time[i] + origin:.9g} after t={time[i - 1] + origin:.9g}; time "
+                        "stamps must be strictly increasing")
     return dt
 
 

@@ -166,3 +166,13 @@ def test_read_yaml_reads_a_specification_and_names_its_errors(tmp_path: Path) ->
     (tmp_path / "bad.yaml").write_text("N: [0.15\nB: 10\n")
     with pytest.raises(DataError, match=r"'.*bad.yaml' is not valid YAML: .*line \d"):
         read_yaml(tmp_path / "bad.yaml")
+
+
+def test_a_time_order_error_shows_the_stamps_as_the_file_has_them(tmp_path: Path) -> None:
+    """The stamps are rebased to the first one internally; the error quotes the file's own
+    values (the audit's FOG copy said t=0.999 after t=1.0094 for 2.1597 after 2.1701)."""
+    path = tmp_path / "late.csv"
+    path.write_text("time,rate\n1.1503,1\n2.1701,2\n2.1597,3\n3.2,4\n")
+    with pytest.raises(DataError, match=r"'time' is decreasing at data row 2 \(line 4 of .*\): "
+                                        r"t=2\.1597 after t=2\.1701; time stamps must be"):
+        read_run(path)
