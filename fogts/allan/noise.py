@@ -213,8 +213,9 @@ def fit_noise(
     n_params = len(names) + 2 * len(extras)  # M and S: an amplitude and a parameter each
     if curve.tau.size < n_params:
         raise InsufficientDataError(
-            f"allan_result has {curve.tau.size} usable tau{'s' if curve.tau.size != 1 else ''}"
-            f", fewer than the {n_params} "
+            f"allan_result (the Allan curve) has {curve.tau.size} usable "
+            f"tau{'s' if curve.tau.size != 1 else ''} "
+            f"({', '.join(f'{t:.4g}' for t in curve.tau.tolist())} s), fewer than the {n_params} "
             + ("terms" if not extras else "parameters of the terms")
             + f" requested ({', '.join(names + extras)}); use more taus or fewer terms "
               "(CLI --taus, --terms), or a longer record")

@@ -253,7 +253,8 @@ def test_a_record_too_short_for_the_terms_says_what_to_change() -> None:
     res = allan_deviation(np.array([1.0, 2.0, 3.0]), fs_hz=10.0)
     assert res.tau_s.size == 1
     with pytest.raises(InsufficientDataError,
-                       match=r"^allan_result has 1 usable tau, fewer than the 5 terms requested "
+                       match=r"^allan_result \(the Allan curve\) has 1 usable tau \(\S+ s\), fewer than "
+                             r"the 5 terms requested "
                              r"\(Q, N, B, K, R\); use more taus or fewer terms \(CLI --taus, "
                              r"--terms\), or a longer record$"):
         fit_noise(res)

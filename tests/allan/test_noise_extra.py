@@ -129,7 +129,7 @@ def test_the_cli_reports_the_term_and_its_test(tmp_path: Path) -> None:
 def test_too_few_taus_for_the_extra_parameters() -> None:
     res = fogts.allan_deviation(fogts.read_run(EXAMPLE)).within(1.0, 8.0)
     with pytest.raises(InsufficientDataError,
-                       match="3 usable taus, fewer than the 5 parameters of the terms "
+                       match=r"3 usable taus \(1\.6, 3\.2, 6\.4 s\), fewer than the 5 parameters of the terms "
                              r"requested \(N, B, K, M\)"):
         fogts.fit_noise(res, terms="N,B,K,M")
 

@@ -72,7 +72,7 @@ def test_input_errors() -> None:
     with pytest.raises(DataError, match="no usable edf at tau = 0.0625 s"):
         fit_noise(_Fake(edf=np.full(good.tau_s.size, np.nan), n_samples=None))
     short = make_result(good.tau_s[:3], good.dev[:3])
-    with pytest.raises(InsufficientDataError, match="3 usable taus, fewer than the 5 terms"):
+    with pytest.raises(InsufficientDataError, match=r"3 usable taus \(0\.0625, 0\.125, 0\.25 s\), fewer than the 5 terms"):
         fit_noise(short)
     model = quiet_fit(good, terms="N,K")
     with pytest.raises(DataError, match="tau_s must be finite and > 0"):
