@@ -201,6 +201,7 @@ class NoiseSpec:
 def _term_mapping(noise: Any) -> Mapping[str, Any]:
     if isinstance(noise, Mapping):
         inner = noise.get("terms") if "terms" in noise else noise.get("noise")
+        _say_which_axis(noise, inner)
         return inner if isinstance(inner, Mapping) else noise
     terms = getattr(noise, "terms", None)
     if isinstance(terms, Mapping):
@@ -217,6 +218,22 @@ def _term_mapping(noise: Any) -> Mapping[str, Any]:
     raise DataError(f"noise must be a NoiseSpec, a mapping of term names (Q, N, B, K, R, q_c, "
                     f"T_c, Omega_0, f_0, bias) to values, or a fitted NoiseModel; got "
                     f"{type(noise).__name__}")
+
+
+def _say_which_axis(doc: Mapping[str, Any], inner: Any) -> None:
+    """A ``fogts allan`` JSON of several axes carries the first axis' terms at its top
+    level: say that those are the ones taken."""
+    axes = doc.get("axes")
+    if not (isinstance(inner, Mapping) and isinstance(axes, list) and len(axes) > 1):
+        return
+    import warnings
+
+    from fogts.errors import DataQualityWarning
+
+    names = [str(a.get("axis")) for a in axes if isinstance(a, Mapping)]
+    warnings.warn(f"the noise terms are those of axis {names[0]!r}, the first of {len(names)} "
+                  f"in the document ({', '.join(names)}); write one axis' JSON (fogts allan "
+                  "--axis) to simulate another", DataQualityWarning, stacklevel=4)
 
 
 def _canonical_term(key: str, allowed: Sequence[str]) -> str:

@@ -92,3 +92,21 @@ def test_markov_avar_limits_and_series_continuity() -> None:
     h = np.array([0.0999999, 0.1000001])  # the switch between series and exact form
     below, above = markov_avar(q, T, h)
     assert below == pytest.approx(above, rel=1e-5)
+
+
+def test_a_several_axis_allan_document_says_which_axis_is_taken() -> None:
+    """``fogts allan --json`` of a three-axis file has the first axis' terms at its top
+    level; taking them says so (and one-axis documents stay silent)."""
+    import warnings
+
+    from fogts.errors import DataQualityWarning
+
+    noise = {"N": {"value": 0.1}, "B": {"value": 2.0}}
+    doc = {"noise": noise, "axes": [{"axis": a, "noise": noise} for a in ("gx", "gy", "gz")]}
+    with pytest.warns(DataQualityWarning, match=r"^the noise terms are those of axis 'gx', the "
+                                                r"first of 3 in the document \(gx, gy, gz\)"):
+        spec = NoiseSpec.from_any(doc)
+    assert spec.N == pytest.approx(0.1, rel=1e-15) and spec.B == pytest.approx(2.0, rel=1e-15)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", DataQualityWarning)
+        NoiseSpec.from_any({"noise": noise, "axes": [{"axis": "gx", "noise": noise}]})
