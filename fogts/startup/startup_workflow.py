@@ -123,8 +123,10 @@ class StartupCompensation(TableView):
     @property
     def claims_improvement(self) -> bool:
         """Whether the compensation may be called an improvement: the model was tested and
-        found significant, or it was given (a calibrated model applied to a new run)."""
-        return self.significance is None or self.significance.significant
+        found significant, or it was given (a calibrated model applied to a new run), and
+        the bias stability after it is better than before."""
+        tested = self.significance is None or self.significance.significant
+        return tested and self.improvement > 1.0
 
     @property
     def improvement(self) -> float:
@@ -244,6 +246,11 @@ class StartupCompensation(TableView):
     def no_claim_reason(self) -> str:
         """Why the bias-stability change is not an improvement, as the verdict says (the
         terminal summary and the HTML report give this one reason)."""
+        if (self.significance is None or self.significance.significant) \
+                and not self.improvement > 1.0:
+            return (f"the bias stability is {self.improvement:.2f}x, no better after the "
+                    + ("given model: it does not describe this run's thermal drift"
+                       if self.significance is None else "fitted model"))
         if self.significance is not None and not self.significance.testable:
             return ("the thermal model is not testable on this record, so the change is the "
                     "fit absorbing drift")

@@ -153,3 +153,25 @@ def test_gain_text_without_an_interval() -> None:
     none = dataclasses.replace(one, folds=(dataclasses.replace(fold, scored=False),),
                                ratio=math.nan)
     assert none.gain_text() == "not measured"
+
+
+def test_a_given_model_that_makes_the_rate_less_stable_is_not_an_improvement() -> None:
+    """A model fitted on a warm-up, applied to a run whose rate has no thermal drift (white
+    noise under the same temperature record): the compensation adds the model's drift, the
+    bias stability gets worse, and that is said instead of 'Nx by the given model'."""
+    import pandas as pd
+
+    warm = fogts.read_run(COLD[0])
+    with pytest.warns(UnidentifiableTermWarning):
+        model = fogts.startup_compensation(warm, emd=False).model
+    white = np.random.default_rng(7).normal(scale=0.05, size=warm.n)
+    flat = fogts.read_run(pd.DataFrame({"time": warm.time, "rate_deg_h": white,
+                                        "temperature": warm.temperature}))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UnidentifiableTermWarning)
+        res = fogts.startup_compensation(flat, emd=False, model=model)
+    assert res.improvement < 1.0 and not res.claims_improvement
+    assert res.to_dict()["bias_stability"]["improvement_claimed"] is False
+    assert f"not claimed as an improvement: the bias stability is {res.improvement:.2f}x, " \
+           "no better after the given model: it does not describe this run's thermal " \
+           "drift" in res.summary()
