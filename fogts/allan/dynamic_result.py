@@ -177,26 +177,45 @@ class Nonstationarity:
             "transient": self.transient.to_dict() if self.transient is not None else None,
         }
 
-    def summary(self) -> str:
-        """The verdict, then the changes it rests on, the largest first."""
+    def _verdict(self) -> tuple[str, str]:
+        """The verdict and, for a significant change below ``min_change``, its size."""
         if not self.stationary:
-            verdict = "NOT stationary"
-        elif self.significant:
-            verdict = (f"stationary within {100 * self.min_change:.3g} % (the change is "
-                       f"significant but only {100 * self.effect:.2g} %)")
-        else:
-            verdict = "stationary"
-        text = (f"non-stationarity score {self.score:.3g} at tau = {self.tau_s:g} s "
-                f"(1 = chance; p = {self.pvalue:.3g}, {self.n_independent} independent "
-                f"windows): {verdict}")
-        changes = []  # (effect, text): every change at least min_change, largest first
+            return "NOT stationary", ""
+        if self.significant:
+            return (f"stationary within {100 * self.min_change:.3g} %",
+                    f"the change is significant but only {100 * self.effect:.2g} %")
+        return "stationary", ""
+
+    def _changes(self) -> list[str]:
+        """Every change at least ``min_change``, the largest first."""
+        changes = []  # (effect, text)
         if self.step_is_change and self.change_time_s is not None \
                 and self.change_ratio is not None:
             changes.append((self.effect, f"most likely change at t = {self.change_time_s:.6g} "
                                          f"s, deviation x {self.change_ratio:.3g}"))
         if self.transient is not None and self.transient_is_change:
             changes.append((self.transient.effect, self.transient.describe(self.units)))
-        text += "".join(f"; {t}" for _, t in sorted(changes, key=lambda c: -c[0]))
+        return [t for _, t in sorted(changes, key=lambda c: -c[0])]
+
+    def noise_level(self) -> str:
+        """The verdict in one line for a summary of the noise terms: whether the noise level
+        is stationary, in the words of :meth:`summary`, and, when it is not, that the
+        noise terms fitted to the whole record average over the change."""
+        head = (f"non-stationarity score {self.score:.3g} at tau = {self.tau_s:g} s, "
+                f"p = {self.pvalue:.3g}")
+        verdict, size = self._verdict()
+        if self.stationary:
+            return f"noise level: {verdict} (DAVAR: {head}{'; ' + size if size else ''})"
+        return (f"noise level: NOT stationary (DAVAR: {'; '.join(self._changes()) or head}): "
+                "the noise terms average over it")
+
+    def summary(self) -> str:
+        """The verdict, then the changes it rests on, the largest first."""
+        verdict, size = self._verdict()
+        text = (f"non-stationarity score {self.score:.3g} at tau = {self.tau_s:g} s "
+                f"(1 = chance; p = {self.pvalue:.3g}, {self.n_independent} independent "
+                f"windows): {verdict}{f' ({size})' if size else ''}")
+        text += "".join(f"; {t}" for t in self._changes())
         if self.flagged_windows:
             text += f"; {len(self.flagged_windows)} window(s) outside the stationary interval"
             if self.transient is not None and not self.transient_is_change:

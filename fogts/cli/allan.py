@@ -40,17 +40,12 @@ def allan_tables(res: AllanResult, model: NoiseModel | None, check: dict[str, An
     common.say([f"note: {n}" for n in res.notes if not n.startswith("prepared: ")], quiet_json)
     if model is not None:
         common.print_out(common.rich_table(model.term_table(units)), quiet_json=quiet_json)
-        common.say([model.describe_readoff(units=units)], quiet_json)
-        if model.ml is not None:
-            common.say([model.ml.describe()], quiet_json)
-        elif model.gmwm is not None:
-            common.say([model.gmwm.describe()], quiet_json)
-        else:
-            from fogts.allan.noise_model import chi2_sentence
+        from fogts.report.text import fit_sentences
 
-            common.say([f"fit: {chi2_sentence(model.chi2, model.dof, model.model_error)}; "
-                        f"standard errors: {model.stderr_method}"], quiet_json)
-        common.say([e.describe() for e in model.extra_terms], quiet_json)
+        common.say([model.describe_readoff(units=units)], quiet_json)
+        fit, *extras = fit_sentences(model)
+        common.say([fit], quiet_json)
+        common.say(extras, quiet_json)  # without extra terms: the blank line before the curve
     if check is not None:
         worst = check["max_rel_diff"]
         common.say([f"allantools check ({check['peer']}): largest relative difference "

@@ -73,6 +73,12 @@ class StationarityReport:
 
     ``verdict`` combines them at the 5 % level: ``"stationary"`` (ADF rejects, KPSS does
     not), ``"non-stationary"`` (KPSS rejects, ADF does not), ``"inconclusive"`` otherwise.
+
+    Both test the level of the series (a unit root, a drifting mean), not its noise level:
+    a record whose noise halves mid-run with a constant mean passes them (the dynamic Allan
+    deviation, :mod:`fogts.allan.dynamic`, tests the noise level).  :meth:`summary` says so
+    (D. Kwiatkowski et al., J. Econometrics 54, 1992, eq. 1: KPSS's null is a constant
+    level plus stationary error).
     """
 
     adf_stat: float
@@ -91,7 +97,19 @@ class StationarityReport:
                 "kpss": {"stat": self.kpss_stat, "pvalue": self.kpss_pvalue,
                          "lags": self.kpss_lags},
                 "n_tested": self.n_tested, "block": self.block, "verdict": self.verdict,
-                "notes": list(self.notes)}
+                "notes": list(self.notes), "summary": self.summary()}
+
+    def summary(self) -> str:
+        """The verdict with both p-values, naming what the tests test (the preparation step
+        ``fogts select`` and the report print)."""
+        return (f"level: {self.verdict} (ADF p={self.adf_pvalue:.3g}, KPSS "
+                f"p={self.kpss_pvalue:.3g}; tests the mean, not the noise level)")
+
+    def contract_step(self) -> str:
+        """The step as the ``steps`` of ``Prepared.to_dict()`` word it (the JSON contract's
+        wording, kept byte for byte; :meth:`summary` is the sentence shown)."""
+        return (f"stationarity: {self.verdict} (ADF p={self.adf_pvalue:.3g}, "
+                f"KPSS p={self.kpss_pvalue:.3g})")
 
 
 @dataclass(frozen=True)
@@ -179,7 +197,11 @@ class Prepared:
             "n_input": self.n_input,
             "n": self.n,
             "fs_hz": self.fs_hz,
-            "steps": list(self.steps),
+            # the JSON keeps the stationarity step's contract wording; its sentence as shown
+            # is ``stationarity.summary``
+            "steps": [self.stationarity.contract_step()
+                      if self.stationarity is not None and s == self.stationarity.summary()
+                      else s for s in self.steps],
             "outliers": self.outliers.to_dict() if self.outliers else None,
             "detrend": None if self.trend_order is None else {
                 "order": self.trend_order, "coefficients": list(self.trend_coefficients)},
@@ -254,7 +276,7 @@ def prepare(
     >>> x = np.arange(500.0) + np.random.default_rng(0).normal(size=500)
     >>> p = prepare(x, fs_hz=10, detrend=1)
     >>> p.steps
-    ('removed a polynomial trend of order 1', 'stationarity: stationary (ADF p=0, KPSS p=0.1)')
+    ('removed a polynomial trend of order 1', 'level: stationary (ADF p=0, KPSS p=0.1; tests the mean, not the noise level)')
     """
     inp = ensure_series(data, "data", fs_hz=fs_hz, units=units, axis=axis,
                         min_length=MIN_PREPARE_SAMPLES, accept_prepared=False, require_fs=True)
@@ -305,8 +327,7 @@ def prepare(
 
     stat = _stationarity(out) if stationarity else None
     if stat is not None:
-        steps.append(f"stationarity: {stat.verdict} (ADF p={stat.adf_pvalue:.3g}, "
-                     f"KPSS p={stat.kpss_pvalue:.3g})")
+        steps.append(stat.summary())
     return Prepared(x=out if isinstance(out, Demeaned)  # type: ignore[arg-type]  # HeldSeries
                     else np.ascontiguousarray(out), fs_hz=fs, units=units, axis=name,
                     time=time,  # type: ignore[arg-type]  # formed by _TimeField on access

@@ -31,6 +31,7 @@ if TYPE_CHECKING:
     from fogts.allan.misfit import FitCheck
     from fogts.allan.noise_compare import MethodComparison
     from fogts.allan.noise_model import NoiseModel
+    from fogts.allan.readout import CurveReadout
     from fogts.allan.result import AllanResult
     from fogts.arma.selection import Selection
     from fogts.pipeline import AxisAllan, AxisSelection
@@ -93,6 +94,9 @@ class ReportContext:
 
     def get_fit_range(self, i: int) -> tuple[float | None, float | None] | None:
         return self._allan_axis(i).fit_range
+
+    def get_readout(self, i: int) -> CurveReadout:
+        return self._allan_axis(i).readout
 
     def get_prepared(self, i: int) -> Prepared:
         return self._selection(i).prepared

@@ -204,16 +204,20 @@ def _checked_methods(methods: Sequence[str]) -> tuple[str, ...]:
 def _collect_sections(ctx: ReportContext, wanted: Sequence[str]
                       ) -> tuple[list[Section], list[tuple[str, str]]]:
     """The wanted parts in :data:`PARTS` order: their sections, and the parts left out with
-    the reason."""
+    the reason.  The summary is built last (it shows the verdicts of the sections that ran,
+    such as the dynamic Allan deviation's) and placed first."""
     sections: list[Section] = []
     omitted: list[tuple[str, str]] = []
     parts = [part for part in PARTS if part in wanted]
     tick = progress.ticker(f"report: {len(parts)} parts", len(parts))
-    for done, part in enumerate(parts):
+    for done, part in enumerate([p for p in parts if p != "summary"] + (
+            ["summary"] if "summary" in parts else [])):
         tick(done)
         if part in RUN_BUILDERS:
-            sections.append(make_section(part, part, SECTION_TITLES[part],
-                                     partial(RUN_BUILDERS[part], ctx)))
+            section = make_section(part, part, SECTION_TITLES[part],
+                                   partial(RUN_BUILDERS[part], ctx))
+            # the summary is PARTS' first part
+            sections.insert(0 if part == "summary" else len(sections), section)
             continue
         reason = _omission(ctx, part)
         if reason is not None:

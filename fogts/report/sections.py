@@ -22,6 +22,7 @@ from fogts.report.text import (
     axes_rows,
     duration_text,
     error_message,
+    fit_sentences,
     run_info,
     time_base_verdict,
     warning_texts,
@@ -35,7 +36,9 @@ _HOW = {
                "(angle random walk), B (bias instability) and K (rate random walk) with their "
                "standard errors, or '< x' where the data only bound a term; the fit verdict "
                "says whether the five-term model describes the curve (each axis' Allan "
-               "section has the details and the warnings).",
+               "section has the details and the warnings); when the dynamic Allan deviation "
+               "ran, a line per axis says whether the noise level stayed constant (the terms "
+               "are averages over the record, and average over any change).",
     "input": "What fogts read from the file and what it did to the data before modelling; "
              "check the sample rate, the gaps and the units first, since every other number "
              "depends on them.",
@@ -147,9 +150,11 @@ def _input_blocks(ctx: ReportContext, notes: list[str]) -> list[Block]:
                             items=tuple(shown)))
     steps: list[str] = []
     for i in range(ctx.run.n_axes):
-        with _collect_warnings(notes):
+        axis_notes: list[str] = []
+        with _collect_warnings(axis_notes):
             p = ctx.get_prepared(i)
-        prefix = f"{ctx.run.axes[i]}: " if ctx.run.n_axes > 1 else ""
+        prefix = _axis_prefix(ctx, i)
+        notes.extend(n for n in (prefix + t for t in axis_notes) if n not in notes)
         steps += [prefix + s for s in p.steps] or [prefix + "none"]
     blocks.append(Block(kind="list", caption="Preprocessing before the ARMA analysis "
                         "(the Allan analysis uses the raw rate)", items=tuple(steps)))
@@ -181,7 +186,22 @@ def _summary_blocks(ctx: ReportContext, notes: list[str]) -> list[Block]:
     blocks = [table_block(table), Block(kind="paragraph", text=table.caption)]
     if spec is not None:
         blocks.append(_spec_verdict(rows, spec))
-    return blocks
+    return blocks + _noise_level_blocks(ctx)
+
+
+def _noise_level_blocks(ctx: ReportContext) -> list[Block]:
+    """The dynamic Allan deviation's verdict on each axis' noise level, for the axes whose
+    DAVAR section ran (the summary is built after it): the noise terms above are fitted to
+    the whole record, and average over a change in the noise."""
+    return [Block(kind="verdict", good=bool(ns.stationary),
+                  text=_axis_prefix(ctx, i) + ns.noise_level())
+            for i in range(ctx.run.n_axes) if i in ctx.dynamic
+            for ns in (ctx.dynamic[i].nonstationarity,)]
+
+
+def _axis_prefix(ctx: ReportContext, i: int) -> str:
+    """"Y: " before a line about axis ``i`` of a run with several axes, else nothing."""
+    return f"{ctx.run.axes[i]}: " if ctx.run.n_axes > 1 else ""
 
 
 # --------------------------------------------------------------------------- per axis
@@ -208,12 +228,22 @@ def _allan_blocks(ctx: ReportContext, i: int, notes: list[str]) -> list[Block]:
               *_comparison_blocks(ctx.get_comparison(i)),
               *_fit_check_blocks(ctx.get_fit_check(i)),
               Block(kind="paragraph", text=model.describe_readoff(fmt_num)),
+              *(Block(kind="paragraph", text=line) for line in fit_sentences(model)),
+              *_readout_blocks(ctx, i),
               table_block(res.points_table())]
     if res.dropped:
         blocks.append(Block(kind="list", caption="Taus not computed",
                             items=tuple(f"τ = {fmt_num(d.tau_s)} s: {d.reason}"
                                         for d in res.dropped)))
     return blocks
+
+
+def _readout_blocks(ctx: ReportContext, i: int) -> list[Block]:
+    """The curve read-outs (minimum, regions, dominant terms) as ``fogts allan`` prints them
+    (:meth:`fogts.allan.readout.CurveReadout.table`), in the points' unit."""
+    res, readout = ctx.get_allan(i), ctx.get_readout(i)
+    table = readout.table(res.units, res.axis)
+    return [table_block(table), Block(kind="paragraph", text=table.caption)]
 
 
 def _comparison_blocks(comparison: Any) -> list[Block]:

@@ -20,8 +20,8 @@ from fogts.io.run import Run
 from fogts.io.timebase import REGULAR_JITTER
 from fogts.units import quantity_of
 
-__all__ = ["axes_rows", "duration_text", "error_message", "info_text", "json_dumps", "run_info",
-           "time_base_verdict", "to_jsonable", "warning_texts"]
+__all__ = ["axes_rows", "duration_text", "error_message", "fit_sentences", "info_text",
+           "json_dumps", "run_info", "time_base_verdict", "to_jsonable", "warning_texts"]
 
 
 def to_jsonable(obj: Any) -> Any:
@@ -84,6 +84,23 @@ def warning_texts(caught: Iterable[warnings.WarningMessage]) -> list[str]:
 
 
 # --------------------------------------------------------------------------- run info
+
+
+def fit_sentences(model: Any) -> list[str]:
+    """The noise fit's own account under its term table, as ``fogts allan`` prints it and
+    the report shows it: the ML or GMWM description, else the least-squares
+    ``fit: chi2 ...`` line (:func:`fogts.allan.noise_model.chi2_sentence`) with the
+    standard errors' method; then one sentence per extra term (Markov, sinusoid)."""
+    if model.ml is not None:
+        lines = [model.ml.describe()]
+    elif model.gmwm is not None:
+        lines = [model.gmwm.describe()]
+    else:
+        from fogts.allan.noise_model import chi2_sentence
+
+        lines = [f"fit: {chi2_sentence(model.chi2, model.dof, model.model_error)}; "
+                 f"standard errors: {model.stderr_method}"]
+    return lines + [e.describe() for e in model.extra_terms]
 
 
 def _stats(x: np.ndarray) -> dict[str, float]:

@@ -125,3 +125,21 @@ def test_select_bad_data_exit_2(tmp_path: Path) -> None:
     res = runner.invoke(app, ["select", str(tmp_path / "missing.csv")])
     assert res.exit_code == 2 and res.stderr.startswith("error: ")
     assert "Traceback" not in res.output
+
+
+def test_stationarity_line_says_it_tests_the_level(ar1_file: Path, tmp_path: Path) -> None:
+    """The terminal prints the ADF/KPSS verdict as a test of the level (the mean), not of the
+    noise level; the JSON carries that sentence in ``stationarity.summary`` and keeps the
+    contract's wording in ``steps``."""
+    out_json = tmp_path / "s.json"
+    res = runner.invoke(app, ["select", str(ar1_file), "--detrend", "1", "--json",
+                              str(out_json)])
+    assert res.exit_code == 0, res.output
+    pre = json.loads(out_json.read_text())["preprocessing"]
+    sentence = pre["stationarity"]["summary"]
+    assert sentence.startswith(f"level: {pre['stationarity']['verdict']} (ADF p=")
+    assert sentence.endswith("; tests the mean, not the noise level)")
+    assert sentence in res.stdout and "stationarity:" not in res.stdout
+    assert list(pre["stationarity"])[-1] == "summary"  # added last: the other keys keep order
+    assert pre["steps"][-1] == sentence.replace("level: ", "stationarity: ", 1).replace(
+        "; tests the mean, not the noise level)", ")")
