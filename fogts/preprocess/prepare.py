@@ -105,12 +105,6 @@ class StationarityReport:
         return (f"level: {self.verdict} (ADF p={self.adf_pvalue:.3g}, KPSS "
                 f"p={self.kpss_pvalue:.3g}; tests the mean, not the noise level)")
 
-    def contract_step(self) -> str:
-        """The step as the ``steps`` of ``Prepared.to_dict()`` word it (the JSON contract's
-        wording, kept byte for byte; :meth:`summary` is the sentence shown)."""
-        return (f"stationarity: {self.verdict} (ADF p={self.adf_pvalue:.3g}, "
-                f"KPSS p={self.kpss_pvalue:.3g})")
-
 
 @dataclass(frozen=True)
 class Prepared:
@@ -197,11 +191,7 @@ class Prepared:
             "n_input": self.n_input,
             "n": self.n,
             "fs_hz": self.fs_hz,
-            # the JSON keeps the stationarity step's contract wording; its sentence as shown
-            # is ``stationarity.summary``
-            "steps": [self.stationarity.contract_step()
-                      if self.stationarity is not None and s == self.stationarity.summary()
-                      else s for s in self.steps],
+            "steps": list(self.steps),
             "outliers": self.outliers.to_dict() if self.outliers else None,
             "detrend": None if self.trend_order is None else {
                 "order": self.trend_order, "coefficients": list(self.trend_coefficients)},
