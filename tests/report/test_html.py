@@ -287,7 +287,8 @@ def test_cli_report_output_must_be_html(tmp_path: Path) -> None:
 
 
 def test_cli_report_on_a_real_fog_recording(tmp_path: Path) -> None:
-    """61 s of a real FOG at 100 Hz with temperature (too short for DAVar)."""
+    """61 s of a real FOG at 100 Hz with temperature: every section, the DAVAR one with the
+    noise step it finds (the summary repeats it)."""
     from fogts.cli import app
 
     out = tmp_path / "fog.html"
@@ -299,6 +300,8 @@ def test_cli_report_on_a_real_fog_recording(tmp_path: Path) -> None:
                   "Allan deviation and noise coefficients", "Thermal model"):
         assert title in text
     assert "time, fog, T" in text
+    assert "Dynamic Allan deviation" in text
+    assert text.count("noise level: NOT stationary") >= 1
 
 
 def test_thermal_section_shows_the_out_of_sample_gain() -> None:
