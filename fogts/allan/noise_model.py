@@ -105,7 +105,7 @@ class NoiseTerm:
     def note(self) -> str:
         """Why the value is only an upper limit, or not identifiable; "" otherwise."""
         note = ("upper limit (fit at zero)" if self.status == "at_bound" else
-                f"upper limit (dropped, z = {self.z_score:.2f})" if self.status == "dropped"
+                f"upper limit (dropped, z(C²) = {self.z_score:.2f})" if self.status == "dropped"
                 else "")
         if not self.identifiable:
             note = (note + "; " if note else "") + "not identifiable"
@@ -369,9 +369,9 @@ class NoiseModel(TableView):
     def _table_note(self, term: NoiseTerm, units: OutputUnits = "deg") -> str:
         if not term.is_limit:
             return term.note
-        why = (f"dropped, z = {term.z_score:.2f}" if term.status == "dropped"
+        why = (f"dropped, z(C²) = {term.z_score:.2f}" if term.status == "dropped"
                else "fit at zero" if term.at_bound
-               else f"z = {term.z_score:.2f} < {Z_MEASURED:g}")
+               else f"z(C²) = {term.z_score:.2f} < {Z_MEASURED:g}")
         limit = self.in_units(term.name, units)["upper_limit_95"]
         note = f"< {limit:.3g} (95 % upper limit; {why})"
         return note + ("; not identifiable" if not term.identifiable else "")
@@ -401,10 +401,25 @@ class NoiseModel(TableView):
                     + ("specific force in m/s^2" if self.quantity == "accel" else "rate in deg/h")
                     + ", tau in s). The interval is formed on C_n^2 (so it is asymmetric) "
                     "and, in a least-squares fit, also covers a band-limited bias instability: "
-                    "it can be wider than value ± z stderr. Upper limit: a term at zero, "
-                    "dropped, or fitted with z < 2 "
-                    "is not measured; the note gives its one-sided 95 % bound. Not identifiable: the term makes up a sizeable share of the "
+                    "it can be wider than value ± k·stderr (k the normal quantile). Upper "
+                    "limit: a term at zero, dropped, or fitted with z(C²) < "
+                    f"{Z_MEASURED:g}, where z(C²) = C_n²/se(C_n²) ≈ value/(2·stderr), is not "
+                    "measured (the rule is on C_n², at about 95 %); the note gives its "
+                    "one-sided 95 % bound." + self._limit_in_interval(pct)
+                    + " Not identifiable: the term makes up a sizeable share of the "
                     "fitted sigma^2 at too few taus of this grid to be measured.")
+
+    def _limit_in_interval(self, pct: str) -> str:
+        """Why a term whose interval excludes 0 is still only a limit (its interval is at
+        the model's confidence, the measured/limit rule at z(C²) = 2); "" if none is."""
+        names = [t.name for t in self.terms if t.is_limit and not t.at_bound and t.ci_low > 0]
+        if not names:
+            return ""
+        verb = "excludes" if len(names) == 1 else "exclude"
+        weaker = (f", a stricter test than a {pct} interval" if self.confidence < 0.95
+                  else "")
+        return (f" {', '.join(names)}: the {pct} interval {verb} 0, yet only a limit: the "
+                f"rule asks for z(C²) ≥ {Z_MEASURED:g}{weaker}.")
 
     # -------------------------------------------------------------- notebook view
     def _view_table(self) -> Table:

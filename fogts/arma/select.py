@@ -31,7 +31,11 @@ exceeds AIC's penalty more often than the chi-squared asymptotics assume (Davies
 data, so it cannot drive a prediction or a Kalman filter, and at short record lengths the
 restricted-likelihood estimate piles up there by chance (Davis & Dunsmuir 1996).  The
 verdict names a candidate ranked down either way, with its numbers.  The other redundancy flags (a near-cancelling AR/MA root pair, an insignificant
-coefficient) only inform: the criterion already penalises the extra parameters.
+coefficient) only inform: the criterion already penalises the extra parameters.  A
+simpler candidate that fails the residual checks only by a margin within sampling noise,
+close in the criterion and nested in the selected model with insignificant extra
+coefficients, is named in the verdict as an equally good choice but not promoted
+(:mod:`fogts.arma.margins` gives the reasons).
 """
 
 from __future__ import annotations

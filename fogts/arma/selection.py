@@ -11,6 +11,7 @@ import pandas as pd
 from fogts.arma.candidate import Candidate
 from fogts.arma.gauss_markov import GaussMarkov, gauss_markov
 from fogts.arma.identification import Correlogram
+from fogts.arma.margins import EquivalentSimpler, equivalent_simpler
 from fogts.arma.whiteness import BAND_Z, LB_ALPHA
 from fogts.errors import ModelFitError
 from fogts.tables import Column, Table, TableView
@@ -110,6 +111,14 @@ class Selection(TableView):
             rows.append(row)
         return pd.DataFrame(rows).set_index("model")
 
+    @property
+    def equivalent_simpler(self) -> EquivalentSimpler | None:
+        """A simpler candidate that fails the residual checks only marginally, is close in
+        the criterion and whose omitted coefficients are not significant in the selected
+        model: the data cannot decide between the two (:mod:`fogts.arma.margins`); None
+        if there is none."""
+        return equivalent_simpler(self.selected, self.candidates, self.criterion)
+
     def gauss_markov(self) -> GaussMarkov | None:
         """The Gauss–Markov equivalent (correlation time, sigma, driving noise) of the selected
         model's dominant real AR root, in the input unit and in SI; None without one."""
@@ -130,6 +139,8 @@ class Selection(TableView):
                         "prediction": sel.prediction_summary()}
             gm = self.gauss_markov()
             selected["gauss_markov"] = gm.to_dict() if gm is not None else None
+            eq = self.equivalent_simpler
+            selected["equivalent_simpler"] = eq.to_dict() if eq is not None else None
         return {
             "input": dict(self.input),
             "preprocessing": self.preprocessing,
@@ -157,6 +168,7 @@ class Selection(TableView):
                    Column("white", numeric=False), Column("notes", numeric=False))
         rows: list[tuple[Any, ...]] = []
         failed: list[tuple[int, int]] = []
+        eq = self.equivalent_simpler
         for i, c in enumerate(self.candidates):
             d = c.diagnostics
             if not c.ok or d is None:
@@ -168,9 +180,13 @@ class Selection(TableView):
             failed += [(i, 5 + k) for k, ok in enumerate(checks) if ok is False]
             if not c.white:
                 failed.append((i, len(columns) - 2))
+            notes = c.notes
+            if eq is not None and c.model == eq.model and self.selected is not None:
+                notes = "; ".join(filter(None, (f"marginally not white: as good as "
+                                                f"{self.selected.model}", notes)))
             rows.append((c.rank, c.model, c.criterion_value, c.criterion_value - best,
                          c.sigma2, d.rho_a2.value, d.rho_ax3.value,
-                         *(x.pvalue for x in d.ljung_box), c.white, c.notes))
+                         *(x.pvalue for x in d.ljung_box), c.white, notes))
         band = BAND_Z / math.sqrt(self.n)
         return Table.build(
             f"ARMA candidates ranked by {crit}, white residuals first", columns, rows,

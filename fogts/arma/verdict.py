@@ -10,6 +10,7 @@ import numpy as np
 from fogts._typing import FloatArray
 from fogts.arma.candidate import Candidate
 from fogts.arma.identification import Correlogram
+from fogts.arma.margins import CLOSE_CALL, equivalent_simpler
 from fogts.arma.redundancy import common_factor_z
 from fogts.arma.roots import unit_circle_root
 from fogts.arma.whiteness import BAND_Z
@@ -17,10 +18,6 @@ from fogts.arma.whiteness import BAND_Z
 __all__ = ["CLOSE_CALL", "QUANT_CHECK_SAMPLES", "QUANT_MAX_LEVELS", "SMALL_PREDICTION",
            "on_unit_circle", "quantization_note", "ranks_down", "write_verdict"]
 
-#: A simpler white candidate within this many criterion units of the selected one is named in
-#: the verdict (Burnham & Anderson, *Model Selection and Multimodel Inference*, 2nd ed.,
-#: sec. 2.6: Delta AIC <= 2 means substantial support).
-CLOSE_CALL = 2.0
 #: Below this share of variance removed by the one-step prediction, the verdict says the
 #: series is nearly white (the model explains almost nothing).
 SMALL_PREDICTION = 0.05
@@ -66,7 +63,8 @@ def quantization_note(raw: FloatArray | None, units: str | None) -> str | None:
 def _cancellation_sentence(sel: Candidate, ranked: Sequence[Candidate], criterion: str,
                            simpler_exists: bool) -> str:
     """What nearly cancelling AR/MA roots mean here: a lower order does as well only when a
-    lower-order candidate is white and close in the criterion; otherwise say why not, with
+    lower-order candidate is white and close in the criterion, or fails the residual checks
+    only marginally (``simpler_exists``; the caller says which); otherwise say why not, with
     the numbers of the best lower-order candidate."""
     lead = " Its AR and MA roots nearly cancel"
     if not sel.flagged("common_factor") and sel.fit is not None:
@@ -172,12 +170,17 @@ def _selected_verdict(sel: Candidate, ranked: Sequence[Candidate], criterion: st
         text += _common_factor_sentence(sel, demoted, criterion)
         simpler = [c for c in ranked if c.white and c.p + c.q < sel.p + sel.q
                    and getattr(c, criterion) - getattr(sel, criterion) < CLOSE_CALL]
+        # a simpler candidate that fails the residual checks only marginally
+        marginal = None if simpler else equivalent_simpler(sel, ranked, criterion)
         if sel.flagged("near_cancellation"):
-            text += _cancellation_sentence(sel, ranked, criterion, bool(simpler))
+            text += _cancellation_sentence(sel, ranked, criterion,
+                                           bool(simpler) or marginal is not None)
         if simpler:
             alt = min(simpler, key=lambda c: (c.p + c.q, getattr(c, criterion)))
             text += (f" The simpler {alt.model} is within {CLOSE_CALL:g} {crit} units and also "
                      f"white: the data support it about as well.")
+        elif marginal is not None:
+            text += marginal.sentence(sel.model)
         if removed_fraction < SMALL_PREDICTION:
             text += (" The series is nearly white at this sample rate (white rate noise, i.e. "
                      "angle random walk, dominates): decimate to model the slower drift.")
