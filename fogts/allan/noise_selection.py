@@ -194,10 +194,11 @@ def _drop_reason(term: NoiseTerm, significance: float | None) -> str:
     visible at no data tau (module docstring)."""
     level = significance if significance is not None else math.nan
     if math.isfinite(level) and term.z_score >= float(norm_ppf(1.0 - level)):
-        return (f"it was dropped although z = {term.z_score:.2f} passes the level-{level:g} "
+        return (f"it was dropped although z(C²) = {term.z_score:.2f} passes the level-{level:g} "
                 f"test: it reaches {100 * COVERAGE_SHARE:g} % of sigma^2 at no data tau, so "
                 "only the curvature at the edge of the tau range measures it")
-    return f"it was dropped as not significant, z = {term.z_score:.2f} at level {level:g}"
+    return (f"it was dropped as not significant, z(C²) = {term.z_score:.2f} at level "
+            f"{level:g}")
 
 
 def _unidentifiable_message(model: NoiseModel, term: NoiseTerm, tau: FloatArray, n_cov: int,

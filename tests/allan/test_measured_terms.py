@@ -41,4 +41,4 @@ def test_a_weak_term_is_a_limit_with_a_one_sided_bound() -> None:
     assert r.status == "fitted" and r.value > 0 and r.z_score < Z_MEASURED and r.is_limit
     expected = math.sqrt(r.value**2 + 2 * 1.6448536269514722 * r.value * r.stderr)
     assert model.upper_limit("R") == pytest.approx(expected, rel=1e-9)
-    assert f"z = {r.z_score:.2f} < 2" in model.term_table().to_text()
+    assert f"z(C²) = {r.z_score:.2f} < 2" in model.term_table().to_text()

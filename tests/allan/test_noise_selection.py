@@ -45,7 +45,7 @@ def test_a_term_dropped_for_visibility_alone_is_not_called_insignificant() -> No
                       terms=("N", "B", "K"))
     term = dataclasses.replace(model["N"], status="dropped", z_score=2.30)
     assert _drop_reason(term, 0.05).startswith(
-        "it was dropped although z = 2.30 passes the level-0.05 test: it reaches 25 % of "
+        "it was dropped although z(C²) = 2.30 passes the level-0.05 test: it reaches 25 % of "
         "sigma^2 at no data tau")
     weak = dataclasses.replace(term, z_score=1.60)
-    assert _drop_reason(weak, 0.05) == "it was dropped as not significant, z = 1.60 at level 0.05"
+    assert _drop_reason(weak, 0.05) == "it was dropped as not significant, z(C²) = 1.60 at level 0.05"
