@@ -32,6 +32,18 @@ def _save_models(save_model: Path | None, run: Run, picks: list[int],
     return saved
 
 
+def _check_model_paths(save_model: Path | None, run: Run, picks: list[int], file: Path, *,
+                       overwrite: bool) -> None:
+    """With several axes, ``--save-model`` writes one file per axis: each is an output
+    (:func:`fogts.io.paths.check_outputs`), checked before any analysis."""
+    if save_model is None or len(picks) < 2:
+        return
+    from fogts.io.paths import check_outputs
+
+    check_outputs({f"--save-model ({run.axes[i]})": axis_path(save_model, run, i, True)
+                   for i in picks}, {"FILE": [file]}, overwrite=overwrite)
+
+
 @common.app.command("compensate")
 @common.reads_input(gaps=False)
 def compensate_cmd(
@@ -66,6 +78,7 @@ def compensate_cmd(
         run, quality = common.read_input(file, read)
         picks = axis_picks(run, axis)
         many = len(picks) > 1
+        _check_model_paths(save_model, run, picks, file, overwrite=overwrite)
         given = common.load_thermal_model(model) if model is not None else None
         extra = [common.read_input(c, read)[0]
                  for c in (calibration or [])]

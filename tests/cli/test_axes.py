@@ -114,6 +114,16 @@ def test_compensate_all_fits_a_model_per_axis(tmp_path: Path) -> None:
     assert code == 2
     assert error_output(err) == ("error: --model holds the thermal model of one axis: give "
                                  "--axis NAME or INDEX, not --axis all")
+    # the per-axis model files are outputs too: an existing one needs --overwrite
+    before = (tmp_path / "m_b.json").read_bytes()
+    args = ["compensate", src, "--axis", "all", "--no-emd", "--rate-column", "a,b",
+            "--save-model", model]
+    code, _, err = _invoke(args)
+    assert code == 2 and error_output(err).startswith(
+        f"error: --save-model (a) '{tmp_path / 'm_a.json'}' already exists; fogts replaces")
+    assert (tmp_path / "m_b.json").read_bytes() == before
+    code, _, err = _invoke([*args, "--overwrite"])
+    assert code == 0, err
 
 
 def test_axis_paths(tmp_path: Path) -> None:
