@@ -1,13 +1,16 @@
-"""The fast path for delimited text files: pyarrow's multi-threaded CSV reader.
+"""The fast path for delimited text files: pandas' parallel C reader or pyarrow's.
 
 Clean numeric text (comma, semicolon or tab separated, a header or none, ``#`` comment
-lines, a UTF-8 byte-order mark, CRLF line ends, plain or gzip-compressed) is parsed by
-:func:`pyarrow.csv.read_csv` straight from the file, every column as float64, and checked
-with vectorised passes (no empty cell, every value finite and within
-:data:`~fogts.io.table.MAX_ABS_VALUE`).  Anything else returns None, and the caller takes
-the checked path of :mod:`fogts.io.text`, which knows each row's file line and words every
-error.  Numbers are parsed to the nearest float64 here and on the checked path alike (both
-round correctly), so the two paths give the same values bit for bit.
+lines, a UTF-8 byte-order mark, CRLF line ends, plain or gzip-compressed) is parsed straight
+from the file, every column as float64, and checked with vectorised passes (no empty cell,
+every value finite and within :data:`~fogts.io.table.MAX_ABS_VALUE`).  A plain file whose
+data hold no comment line goes to :func:`pandas.read_csv` when pandas splits a local file
+among threads itself (pandas 3.1 and later); the rest (a ``.gz`` stream, comment lines
+among the data, a byte-order mark, an older pandas) to :func:`pyarrow.csv.read_csv`.
+Anything else returns None, and the caller takes the checked path of :mod:`fogts.io.text`,
+which knows each row's file line and words every error.  Numbers are parsed to the nearest
+float64 by both readers and on the checked path (all three round correctly), so the paths
+give the same values bit for bit.
 
 The input limits of :mod:`fogts.io.limits` hold here too, without reading the file into
 memory: a plain file is checked for over-long lines through a memory map (a few pages per
@@ -20,6 +23,8 @@ from __future__ import annotations
 import dataclasses
 import io
 import mmap
+import re
+import warnings
 import zlib
 from pathlib import Path
 from typing import Any
@@ -29,7 +34,7 @@ import pandas as pd
 
 from fogts.errors import DataError
 from fogts.io.limits import CHUNK_BYTES, first_long_line, max_input_bytes, too_big
-from fogts.io.sniff import BOM, PROBE_BYTES, Layout, comment_lines, layout
+from fogts.io.sniff import BOM, PROBE_BYTES, Layout, comment_lines, layout, split
 from fogts.io.table import Table, finite_and_bounded
 
 __all__ = ["fast_text_table"]
@@ -37,6 +42,10 @@ __all__ = ["fast_text_table"]
 #: Bytes read to find the layout; a file whose first data line lies further in takes the
 #: checked path.
 SNIFF_BYTES = 1 << 16
+
+#: pandas reads a local file with its own thread pool, and rounds every number correctly,
+#: from 3.1 on (``pandas.io.parsers.readers``: byte-range chunks cut at line ends).
+PANDAS_SPLITS_FILES = tuple(int(v) for v in re.findall(r"\d+", pd.__version__)[:2]) >= (3, 1)
 
 
 class _Fallback(Exception):
@@ -69,6 +78,10 @@ def _plain_table(path: Path) -> Table:
         if first_long_line(mm, 0)[0] >= 0:
             raise _Fallback  # the checked path names the line
         skipped = comment_lines(mm, begin, begin + found.start)
+        if skipped is not None and _pandas_takes(mm, begin, found):
+            frame = _pandas_frame(path, found, _rows_before_data(mm, found))
+            return Table(frame, str(path), None, tuple(skipped), None, None, found.header,
+                         checked=True)
         import pyarrow as pa
 
         with pa.OSFile(str(path)) as stream:
@@ -100,6 +113,48 @@ def _layout(head: bytes, *, complete: bool) -> Layout:
     if not complete and len(head) < found.start + PROBE_BYTES:
         raise _Fallback
     return found
+
+
+def _pandas_takes(mm: mmap.mmap, begin: int, found: Layout) -> bool:
+    """Whether pandas' reader takes the file: it splits files itself, there is no
+    byte-order mark, no ``#`` among the data (a comment line there is pyarrow's to skip)
+    and the first data row has one cell per column (pandas would take an extra cell in the
+    first row for an index, and drop a trailing one)."""
+    if not PANDAS_SPLITS_FILES or begin or mm.find(b"#", found.start) != -1:
+        return False
+    row = mm.find(b"\n", found.start) + 1 if found.header else found.start
+    end = mm.find(b"\n", row)
+    first = mm[row:len(mm) if end == -1 else end].rstrip(b"\r").decode("utf-8", "replace")
+    return len(split(first, found.sep)) == len(found.names)
+
+
+def _rows_before_data(mm: mmap.mmap, found: Layout) -> int:
+    """Lines before the first data row (blank and comment lines, and the header)."""
+    return len(mm[:found.start].splitlines()) + int(found.header)
+
+
+def _pandas_frame(path: Path, found: Layout, skiprows: int) -> pd.DataFrame:
+    """Parse the data rows with :func:`pandas.read_csv` (C engine; pandas splits a large
+    file among its threads) into checked float64 columns; a parse error, a warning (a
+    row of another length) or a column that fails the checks of :func:`_frame` raises
+    :class:`_Fallback`."""
+    try:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            frame = pd.read_csv(path, sep=found.sep, header=None, names=found.names,
+                                skiprows=skiprows, index_col=False, dtype=np.float64,
+                                decimal=found.decimal, engine="c", encoding="utf-8")
+    except (ValueError, OverflowError, OSError):
+        raise _Fallback from None
+    if caught or len(frame) == 0:
+        raise _Fallback
+    out: dict[str, np.ndarray] = {}
+    for name in found.names:
+        values = np.ascontiguousarray(frame[name].to_numpy(), dtype=np.float64)
+        if not finite_and_bounded(values):
+            raise _Fallback
+        out[name] = values
+    return pd.DataFrame(out, copy=False)
 
 
 def _parse(stream: Any, found: Layout) -> tuple[pd.DataFrame, int]:

@@ -2,8 +2,8 @@
 
 ``#`` comment lines may appear anywhere (FOG loggers write a trailing one); a UTF-8 BOM,
 CRLF line ends and gzip compression (``.gz``, or the gzip signature) are accepted.  A file
-goes first through the fast path (:mod:`fogts.io.fastcsv`: pyarrow's multi-threaded reader
-on the file itself).  Whatever that path does not take (whitespace-separated text, inline
+goes first through the fast path (:mod:`fogts.io.fastcsv`: pandas' or pyarrow's threaded
+reader on the file itself).  Whatever that path does not take (whitespace-separated text, inline
 comments, empty or non-numeric cells, ...) is read whole and parsed by pandas' C reader,
 and when that fails too, line by line; the line-by-line path knows each data row's file
 line and words every error.  A table from either fast reader keeps the line-by-line parse
@@ -15,6 +15,7 @@ from __future__ import annotations
 import dataclasses
 import io as _io
 import re
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -102,13 +103,17 @@ def _fast_numeric_table(body: bytes, found: Layout, source: str) -> Table | None
     comments = tuple(m.group(0).strip().decode("utf-8", "replace")
                      for m in _COMMENT_LINE.finditer(body)) if b"#" in body else ()
     try:
-        frame = pd.read_csv(_io.BytesIO(body), sep=found.sep,
-                            header=0 if found.header else None, names=found.names,
-                            decimal=found.decimal, comment="#" if comments else None,
-                            skip_blank_lines=True, engine="c", index_col=False,
-                            skipinitialspace=True, encoding="utf-8")
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            frame = pd.read_csv(_io.BytesIO(body), sep=found.sep,
+                                header=0 if found.header else None, names=found.names,
+                                decimal=found.decimal, comment="#" if comments else None,
+                                skip_blank_lines=True, engine="c", index_col=False,
+                                skipinitialspace=True, encoding="utf-8")
     except (pd.errors.ParserError, ValueError):
         return None
+    if caught:
+        return None  # a row of another length (pandas cut it): the checked path words it
     if frame.shape[0] == 0 or frame.shape[1] != len(found.names):
         return None
     for col in frame.columns:
@@ -138,6 +143,11 @@ def _checked_text_table(text: str, found: Layout, source: str) -> Table:
         raise InsufficientDataError(f"{source!r} has a header ({', '.join(names)}) but no "
                                     "data rows")
     sample = split(data_lines[0], sep)
+    if any(sample[len(names):]):
+        # pandas would take the extra cells for an index, or drop them with a warning
+        raise DataError(f"{source!r}: data row 1 (line {data_line_no[0]}) has {len(sample)} "
+                        f"cells ({', '.join(sample)}) but the header names {len(names)} "
+                        f"columns ({', '.join(names)}); fogts never drops a value")
     decimal = "," if sep != "," and any(re.match(r"^[+-]?\d+,\d+", t) for t in sample) else "."
     try:
         frame = pd.read_csv(_io.StringIO("\n".join(data_lines)), sep=sep, header=None,

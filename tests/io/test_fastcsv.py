@@ -169,3 +169,92 @@ def test_gzip_feed_never_raises_inside_the_parser(tmp_path: Path,
         feed.close()
     with pytest.raises(DataError, match="decompresses to more than the input limit of 1 MiB"):
         read_run(path)
+
+
+def _reader_used(monkeypatch: pytest.MonkeyPatch) -> list[str]:
+    """Record which fast reader parses: 'pandas' or 'pyarrow'."""
+    import fogts.io.fastcsv as fastcsv
+
+    used: list[str] = []
+    pandas_frame, pyarrow_parse = fastcsv._pandas_frame, fastcsv._parse
+
+    def via_pandas(*args: object) -> object:
+        used.append("pandas")
+        return pandas_frame(*args)  # type: ignore[arg-type]
+
+    def via_pyarrow(*args: object) -> object:
+        used.append("pyarrow")
+        return pyarrow_parse(*args)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(fastcsv, "_pandas_frame", via_pandas)
+    monkeypatch.setattr(fastcsv, "_parse", via_pyarrow)
+    return used
+
+
+@pytest.mark.skipif(not __import__("fogts.io.fastcsv").io.fastcsv.PANDAS_SPLITS_FILES,
+                    reason="pandas < 3.1 does not split a file among threads: pyarrow reads")
+def test_a_file_pandas_splits_among_threads_reads_bit_for_bit(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    # Over 5 MiB of data (pandas' threshold for its threaded read), with blank and comment
+    # lines before the header: the chunks pandas cuts hold edge numbers at every boundary.
+    numbers = _edge_numbers(170_000, 3)
+    text = "# logger\n\n# v2\ntime,rate\n" + "".join(
+        f"{i / 100!r},{x}\n" for i, x in enumerate(numbers))
+    assert len(text) > 5 * 1024 * 1024
+    path = write_file(tmp_path, "big.csv", text)
+    used = _reader_used(monkeypatch)
+    fast = fast_text_table(path, compressed=False)
+    assert used == ["pandas"] and fast is not None
+    assert fast.comments == ("# logger", "# v2")
+    expected = np.array([float(v) for v in numbers])
+    np.testing.assert_array_equal(fast.frame["rate"].to_numpy().view(np.int64),
+                                  expected.view(np.int64))
+    np.testing.assert_array_equal(fast.frame["time"].to_numpy(),
+                                  np.arange(len(numbers)) / 100)
+
+
+@pytest.mark.parametrize(("name", "text", "reader"), [
+    ("clean.csv", csv_text(), "pandas"),
+    ("headerless.csv", csv_text().split("\n", 1)[1], "pandas"),
+    ("trailing_comment.csv", csv_text() + "# end\n", "pyarrow"),
+    ("bom.csv", "\ufeff" + csv_text(), "pyarrow"),
+])
+def test_pandas_reads_unless_comments_follow_or_a_bom_leads(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch, name: str, text: str,
+        reader: str) -> None:
+    import fogts.io.fastcsv as fastcsv
+
+    path = write_file(tmp_path, name, text)
+    used = _reader_used(monkeypatch)
+    fast = fast_text_table(path, compressed=False)
+    assert fast is not None
+    assert used == [reader if fastcsv.PANDAS_SPLITS_FILES else "pyarrow"]
+    _same_values(fast, _checked(text_file_table(path)))
+
+
+def test_a_first_row_with_an_extra_cell_is_refused_not_cut(tmp_path: Path) -> None:
+    # pandas would take the extra cell for an index, or drop it with a warning
+    path = write_file(tmp_path, "extra.csv", "time,rate\n0,1,5\n0.1,2\n0.2,3\n")
+    assert fast_text_table(path, compressed=False) is None
+    with pytest.raises(DataError, match=r"'.*extra.csv': data row 1 \(line 2\) has 3 cells "
+                                        r"\(0, 1, 5\) but the header names 2 columns "
+                                        r"\(time, rate\); fogts never drops a value"):
+        read_run(path)
+
+
+def test_trailing_separators_are_read_as_without_them(tmp_path: Path) -> None:
+    path = write_file(tmp_path, "trailing.csv", "time,rate\n0,1,\n0.1,2,\n0.2,3,\n0.3,4,\n")
+    assert fast_text_table(path, compressed=False) is None  # the checked path reads it
+    np.testing.assert_array_equal(read_run(path).rate, [1.0, 2.0, 3.0, 4.0])
+
+
+def test_older_pandas_leaves_plain_files_to_pyarrow(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    import fogts.io.fastcsv as fastcsv
+
+    monkeypatch.setattr(fastcsv, "PANDAS_SPLITS_FILES", False)
+    path = write_file(tmp_path, "clean.csv", csv_text())
+    used = _reader_used(monkeypatch)
+    fast = fast_text_table(path, compressed=False)
+    assert used == ["pyarrow"] and fast is not None
+    _same_values(fast, _checked(text_file_table(path)))
