@@ -219,8 +219,8 @@ def fit_noise(
             f"tau{'s' if curve.tau.size != 1 else ''} "
             f"({', '.join(f'{t:.4g}' for t in curve.tau.tolist())} s), fewer than the {n_params} "
             + ("terms" if not extras else "parameters of the terms")
-            + f" requested ({', '.join(names + extras)}); use more taus or fewer terms "
-              "(CLI --taus, --terms), or a longer record")
+            + f" requested ({', '.join(names + extras)}); use more taus (taus=) or "
+              "fewer terms (terms=), or a longer record")
     if extras and quantity_of(curve.units) != "rate":
         raise DataError(f"terms {', '.join(extras)} (Markov, sinusoid) are fitted to gyro "
                         f"rate curves only; this curve is in {curve.units!r} (an "
