@@ -293,7 +293,7 @@ def _fit_ml(result: AllanResult, s: AllanSettings, series: Any, fs_hz: float
     from fogts.errors import DataError
 
     if s.fit_range is not None:
-        raise DataError("--fit-tau-min/--fit-tau-max do not apply to method 'ml' (it fits "
+        raise DataError("fit_tau_min/fit_tau_max do not apply to method 'ml' (it fits "
                         "the record, not the curve); leave them out")
     terms = tuple(t for t in s.terms if t in ML_TERMS)
     left = [t for t in s.terms if t not in ML_TERMS]

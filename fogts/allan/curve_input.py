@@ -239,8 +239,8 @@ def check_curve_methods(methods: list[str] | tuple[str, ...], provenance: CurveP
                             "RECORDING --method ml', or fit the curve with wls, gls or ols")
         if method == "gmwm" and provenance.n_source == "estimated":
             raise DataError("method 'gmwm' needs the record length for its moment "
-                            "covariance; this curve does not state it: give --n-samples N "
-                            "(n_samples=), or fit with wls, gls or ols")
+                            "covariance; this curve does not state it: give n_samples=N, or "
+                            "fit with wls, gls or ols")
         if method not in CURVE_METHODS:
             raise DataError(f"method must be one of {', '.join(CURVE_METHODS)} for a curve; "
                             f"got {method!r}")
@@ -303,7 +303,7 @@ def _channels(table: CurveTable, channel: str | None, unit: str, notes: list[str
     if table.channel is None:
         if channel not in (None, "all"):
             raise DataError(f"channel {channel!r}: {table.source} has no channel column "
-                            "(one curve); leave --channel out")
+                            "(one curve); leave out channel=")
         return [(Path(table.source).name.split(".")[0], np.arange(table.tau.size))]
     names = list(dict.fromkeys(table.channel.tolist()))
     if channel is None:
@@ -380,7 +380,7 @@ def _whole_m(table: CurveTable, rows: np.ndarray, tau: FloatArray, fs: float) ->
         raise DataError(f"{table.source}: tau = {tau[i]:.6g} s at {table.where(rows[i])} is "
                         f"not a whole number of samples at fs = {fs:.6g} Hz (tau fs = "
                         f"{exact[i]:.6g}); taus must be m / fs with m = 1, 2, ...: give the "
-                        "record's --fs, or round a digitised curve's taus to whole samples")
+                        "record's fs_hz=, or round a digitised curve's taus to whole samples")
     stated = table.numbers.get("m")
     if stated is not None:
         differ = np.isfinite(stated[rows]) & (stated[rows] != m)
@@ -388,7 +388,7 @@ def _whole_m(table: CurveTable, rows: np.ndarray, tau: FloatArray, fs: float) ->
             i = int(np.flatnonzero(differ)[0])
             raise DataError(f"{table.source}: column {table.columns['m']!r} says m = "
                             f"{stated[rows][i]:g} at {table.where(rows[i])}, but tau fs = "
-                            f"{exact[i]:.6g} at fs = {fs:.6g} Hz; give the record's --fs "
+                            f"{exact[i]:.6g} at fs = {fs:.6g} Hz; give the record's fs_hz= "
                             f"({stated[rows][i] / tau[i]:.6g} Hz by the file)")
     return m.astype(np.int64)
 

@@ -105,9 +105,9 @@ def curve_weights(table: CurveTable, rows: np.ndarray, kind: str, tau: FloatArra
     if n is None:
         raise DataError(f"{table.source}: the noise fit needs each point's weight, and "
                         "this curve has neither an edf nor an errors column, nor the record "
-                        "length to compute them: give --n-samples N (n_samples=, the number "
-                        "of rate samples the curve was computed from), or add an edf or "
-                        "errors column")
+                        "length to compute them: give n_samples=N (the number of rate "
+                        "samples the curve was computed from), or add an edf or errors "
+                        "column")
     file_alpha = table.numbers.get("alpha")
     if file_alpha is not None and np.all(np.isfinite(file_alpha[rows])):
         alpha, method = file_alpha[rows].astype(np.int64), "file"
@@ -120,7 +120,7 @@ def curve_weights(table: CurveTable, rows: np.ndarray, kind: str, tau: FloatArra
         edf = edf_for(kind, alpha, m, n + 1)
     except InsufficientDataError as exc:
         raise DataError(f"{table.source}: n_samples = {n:,} is too short for this curve "
-                        f"({exc}); give the record's --n-samples") from None
+                        f"({exc}); give the record's own n_samples=N") from None
     except DataError as exc:  # an alpha column outside the estimator's range
         raise DataError(f"{table.source}: column {table.columns.get('alpha', 'alpha')!r}: "
                         f"{exc}") from None

@@ -195,8 +195,9 @@ def fit_noise(
     0.008333
     """
     names, extras = split_terms(terms)
+    shown = None  # with a fit range: the whole curve, which the read-offs are read from
     if tau_range is not None:
-        allan_result = _within(allan_result, tau_range, len(names))
+        shown, allan_result = allan_result, _within(allan_result, tau_range, len(names))
     method = check_choice("method", method, FIT_METHODS)  # type: ignore[assignment]
     confidence = check_fraction("confidence", confidence)
     significance = _check_significance(significance)
@@ -207,8 +208,9 @@ def fit_noise(
     if method == "gmwm":
         from fogts.allan.gmwm import fit_gmwm  # gmwm builds on this module's pieces
 
-        return fit_gmwm(allan_result, terms=terms, confidence=confidence,
-                        significance=significance if significance is not None else 0.05)
+        return _read_off_whole(fit_gmwm(
+            allan_result, terms=terms, confidence=confidence,
+            significance=significance if significance is not None else 0.05), shown)
     curve = read_fit_curve(allan_result)
     n_params = len(names) + 2 * len(extras)  # M and S: an amplitude and a parameter each
     if curve.tau.size < n_params:
@@ -217,8 +219,8 @@ def fit_noise(
             f"tau{'s' if curve.tau.size != 1 else ''} "
             f"({', '.join(f'{t:.4g}' for t in curve.tau.tolist())} s), fewer than the {n_params} "
             + ("terms" if not extras else "parameters of the terms")
-            + f" requested ({', '.join(names + extras)}); use more taus or fewer terms "
-              "(CLI --taus, --terms), or a longer record")
+            + f" requested ({', '.join(names + extras)}); use more taus (taus=) or "
+              "fewer terms (terms=), or a longer record")
     if extras and quantity_of(curve.units) != "rate":
         raise DataError(f"terms {', '.join(extras)} (Markov, sinusoid) are fitted to gyro "
                         f"rate curves only; this curve is in {curve.units!r} (an "
@@ -253,7 +255,21 @@ def fit_noise(
     identified, messages = identify_terms(model, curve.tau)
     for message in messages:
         _warn(issued, UnidentifiableTermWarning, message, curve.axis)
-    return dataclasses.replace(model, terms=identified, warnings=tuple(issued))
+    return _read_off_whole(dataclasses.replace(model, terms=identified, warnings=tuple(issued)),
+                           shown)
+
+
+def _read_off_whole(model: NoiseModel, shown: Any) -> NoiseModel:
+    """``model`` (fitted over part of ``shown``) with the slope read-offs of the whole curve
+    ``shown``, the one the points table and the curve read-out show; those read outside the
+    fitted taus say so (:attr:`~fogts.allan.readoff.SlopeReadoff.outside`).  ``shown`` None
+    (no fit range): ``model`` as it is."""
+    if shown is None:
+        return model
+    fit_taus = (float(model.tau_s[0]), float(model.tau_s[-1]))
+    readoff = readoff_of(read_fit_curve(shown), model.deg_per_hour_factor, model.quantity,
+                         fit_tau_s=fit_taus)
+    return dataclasses.replace(model, readoff=readoff)
 
 
 def _check_significance(significance: float | None) -> float | None:

@@ -10,6 +10,11 @@ through a segment of about its slope whose slope the points' EDF pin down well e
 exclude the neighbouring power laws, B only where the curve has a floor
 (:func:`fogts.allan.readout.read_curve`).  A read-off that lies outside the fit's interval
 or above its upper limit is flagged in words with both numbers (:func:`fit_check`).
+
+The read-offs are read from the whole curve, the one the points table and the curve
+read-out show, also when the noise terms are fitted over part of it (``tau_range``,
+``--fit-tau-min``/``--fit-tau-max``): a read-off read outside the fit's taus says so
+(:attr:`SlopeReadoff.outside`), so that it can be reconciled with the table.
 """
 
 from __future__ import annotations
@@ -77,6 +82,12 @@ class SlopeReadoff:
     notes : tuple of (str, str)
         Term name and why its read-off is not supported by the points' EDF (N, K) or by
         the curve's shape (B: no floor).
+    fit_tau_s : (float, float) or None
+        The first and last tau of the noise fit, when it was fitted over part of the curve
+        (the read-offs are still read from the whole curve, the one the points table shows).
+    outside : tuple of str
+        The read-offs read outside ``fit_tau_s``: N or K through a segment that leaves it,
+        B at a minimum beyond it.
     """
 
     N: float
@@ -92,9 +103,21 @@ class SlopeReadoff:
     kind: str = "oadev"
     plateau: float = B_PLATEAU
     notes: tuple[tuple[str, str], ...] = ()
+    fit_tau_s: tuple[float, float] | None = None
+    outside: tuple[str, ...] = ()
 
     def _unit(self, name: str) -> str:
         return term_rows(self.quantity)[name].unit
+
+    def outside_text(self, name: str) -> str:
+        """Where the read-off of ``name`` was read, when outside the fit's taus ("" when
+        inside or without a fit range)."""
+        if name not in self.outside or self.fit_tau_s is None:
+            return ""
+        lo, hi = self.fit_tau_s
+        tau = float(getattr(self, f"tau_{name}_s"))
+        where = f"through tau = {tau:.4g} s" if name in ("N", "K") else f"at tau = {tau:.4g} s"
+        return f"read {where}, outside the fit range {lo:.4g} .. {hi:.4g} s"
 
     def to_dict(self, fit: Mapping[str, FitBound] | None = None) -> dict[str, Any]:
         """JSON-safe read-offs; each term also says whether it is ``supported``, why not
@@ -104,7 +127,8 @@ class SlopeReadoff:
             why = unsupported_reason(self, name)
             check = (fit_check(self, name, fit[name])
                      if fit and name in fit and name in FIT_CHECKED and not why else "")
-            return {"supported": not why, "note": why or None, "fit_check": check or None}
+            return {"supported": not why, "note": why or None, "fit_check": check or None,
+                    "outside_fit_range": name in self.outside}
 
         return {"method": "slope read-off (IEEE 952 Annex C / MATLAB allanvar example); "
                           "comparison only, not the fit",
@@ -126,7 +150,8 @@ class SlopeReadoff:
 
         A term is given as "not read" with the reason when the curve does not support it
         (:func:`unsupported_reason`); given the fit's bounds (``fit``), a read-off outside
-        them says so with both numbers (:func:`fit_check`)."""
+        them says so with both numbers (:func:`fit_check`); one read outside the fit's tau
+        range says where (:meth:`outside_text`)."""
         def term(name: str) -> str:
             value = term_in_units(name, getattr(self, name), units, self.quantity)
             return f"{name} = {number(value)} {term_unit(name, units, self.quantity)}"
@@ -137,7 +162,8 @@ class SlopeReadoff:
                 return f"{name} not read ({why})"
             check = (fit_check(self, name, fit[name], number, units)
                      if fit and name in fit and name in FIT_CHECKED else "")
-            return f"{term(name)} ({how}{'; ' + check if check else ''})"
+            said = [how, *(text for text in (self.outside_text(name), check) if text)]
+            return f"{term(name)} ({'; '.join(said)})"
 
         at_n, at_k = TERMS["N"].readoff_tau_s, TERMS["K"].readoff_tau_s
         return (f"slope read-offs (comparison only, not the fit): "
@@ -231,20 +257,24 @@ def _segment_note(name: str, tau: FloatArray, slopes: FloatArray, edf: FloatArra
     return ""
 
 
-def readoff_of(curve: Any, factor: float, quantity: str) -> SlopeReadoff:
+def readoff_of(curve: Any, factor: float, quantity: str,
+               fit_tau_s: tuple[float, float] | None = None) -> SlopeReadoff:
     """:func:`slope_readoff` of a noise fit's curve (:class:`~fogts.allan.noise_input.
     FitCurve`): its EDF, estimator and, when it has them, the result's own intervals, so
-    that the B read-off's floor is the curve read-out's."""
+    that the B read-off's floor is the curve read-out's; ``fit_tau_s``: see
+    :func:`slope_readoff`."""
     ci = ((curve.ci_low, curve.ci_high)
           if curve.ci_low is not None and curve.ci_high is not None else None)
     return slope_readoff(curve.tau, curve.dev, factor, curve.edf, quantity, kind=curve.kind,
-                         ci=ci)
+                         ci=ci, fit_tau_s=fit_tau_s)
 
 
+# Over 80 lines by its numpydoc docstring; the reading is line() and read_curve's floor.
 def slope_readoff(tau: FloatArray, dev: FloatArray, factor: float,
                   edf: FloatArray | None = None, quantity: str = "rate", *,
                   kind: str = "oadev",
-                  ci: tuple[FloatArray, FloatArray] | None = None) -> SlopeReadoff:
+                  ci: tuple[FloatArray, FloatArray] | None = None,
+                  fit_tau_s: tuple[float, float] | None = None) -> SlopeReadoff:
     """The IEEE 952 Annex C / MATLAB ``allanvar`` read-offs of N, K and B.
 
     Lines of slope -1/2 (+1/2) through the point whose local log-log slope is closest to it,
@@ -270,6 +300,9 @@ def slope_readoff(tau: FloatArray, dev: FloatArray, factor: float,
         The estimator of the curve (its flicker plateau factor).
     ci : tuple of ndarray, optional
         The points' confidence bounds ``(low, high)``, as the curve read-out shows them.
+    fit_tau_s : (float, float), optional
+        The first and last tau of a noise fit over part of the curve: each read-off read
+        outside them is listed in :attr:`SlopeReadoff.outside`.
 
     Returns
     -------
@@ -285,6 +318,13 @@ def slope_readoff(tau: FloatArray, dev: FloatArray, factor: float,
     logt, logd = np.log10(tau), np.log10(dev)
     slopes = np.diff(logd) / np.diff(logt) if tau.size >= 2 else np.array([math.nan])
     notes: list[tuple[str, str]] = []
+    outside: list[str] = []
+
+    def beyond(*taus: float) -> bool:
+        if fit_tau_s is None:
+            return False
+        lo, hi = fit_tau_s
+        return any(t < lo * (1 - 1e-9) or t > hi * (1 + 1e-9) for t in taus)
 
     def line(name: str) -> tuple[float, float, float]:
         at, target = TERMS[name].readoff_tau_s, TERM_SLOPE[name]
@@ -294,6 +334,8 @@ def slope_readoff(tau: FloatArray, dev: FloatArray, factor: float,
         note = _segment_note(name, tau, slopes, edf, i)
         if note:
             notes.append((name, note))
+        if beyond(float(tau[i]), float(tau[i + 1])):
+            outside.append(name)
         b = logd[i] - target * logt[i]
         return float(10 ** (target * math.log10(at) + b)), float(tau[i]), float(slopes[i])
 
@@ -309,6 +351,8 @@ def slope_readoff(tau: FloatArray, dev: FloatArray, factor: float,
         b_dev, tau_b = floor.dev_min, floor.tau_min_s
         if floor.floor_note:
             notes.append(("B", floor.floor_note))
+        if beyond(tau_b):
+            outside.append("B")
     else:
         b_dev, tau_b = float(dev[0]), float(tau[0])
         notes.append(("B", "a single point shows no floor"))
@@ -319,4 +363,4 @@ def slope_readoff(tau: FloatArray, dev: FloatArray, factor: float,
         tau_B_s=tau_b, slope_N=slope_n, slope_K=slope_k,
         points=(("N", TERMS["N"].readoff_tau_s, n_dev), ("K", TERMS["K"].readoff_tau_s, k_dev),
                 ("B", tau_b, b_dev)), quantity=quantity, kind=kind, plateau=plateau,
-        notes=tuple(notes))
+        notes=tuple(notes), fit_tau_s=fit_tau_s, outside=tuple(outside))

@@ -43,13 +43,15 @@ __all__ = ["MIN_EDF_FOR_MINIMUM", "CurveReadout", "DominantRange", "read_curve"]
 class DominantRange:
     """A contiguous tau range where one fitted term is the largest contribution;
     ``measured`` is False for a term the fit reports as an upper limit (its line is the
-    fitted value, which the data do not distinguish from zero)."""
+    fitted value, which the data do not distinguish from zero); ``extrapolated`` is True for
+    a range that leaves the taus the terms were fitted over (the fitted lines extended)."""
 
     term: str
     tau_from_s: float
     tau_to_s: float
     slope: float
     measured: bool = True
+    extrapolated: bool = False
 
     def to_dict(self) -> dict[str, Any]:
         return fields_dict(self, tau_from_s="tau_from", tau_to_s="tau_to")
@@ -101,6 +103,9 @@ class CurveReadout:
         Says how the minimum was chosen when the EDF rule mattered ("" otherwise).
     floor_note : str
         Why the curve has no floor ("" when it has one).
+    fit_tau_s : (float, float) or None
+        The first and last tau the term lines of ``dominant`` were fitted over, when that is
+        part of the curve (the ranges beyond it are marked extrapolated).
     """
 
     tau_min_s: float
@@ -118,6 +123,7 @@ class CurveReadout:
     lower_points: tuple[tuple[float, float, float], ...] = ()
     minimum_note: str = ""
     floor_note: str = ""
+    fit_tau_s: tuple[float, float] | None = None
 
     @property
     def floor_found(self) -> bool:
@@ -181,11 +187,16 @@ class CurveReadout:
                 rows.append((label, "none", self.floor_note))
         for d in self.dominant:
             taus = f"{d.tau_from_s:.4g} .. {d.tau_to_s:.4g} s"
+            beyond = ""
+            if d.extrapolated and self.fit_tau_s is not None:
+                beyond = (f"; beyond the fit range {self.fit_tau_s[0]:.4g} .. "
+                          f"{self.fit_tau_s[1]:.4g} s the fitted lines are extrapolated")
             if d.measured:
-                rows.append((f"{d.term} dominates", taus, f"slope {d.slope:+g}"))
+                rows.append((f"{d.term} dominates", taus, f"slope {d.slope:+g}{beyond}"))
             else:
                 rows.append((f"{d.term} line largest", taus, f"slope {d.slope:+g}; {d.term} is "
-                             "not measured (an upper limit): its fitted line, not a finding"))
+                             f"not measured (an upper limit): its fitted line, not a finding"
+                             f"{beyond}"))
         return Table.build(f"curve of {axis}" if axis else "curve read-outs",
                            (Column("read-out", numeric=False), Column("tau", numeric=False),
                             Column("value", numeric=False)), rows,
@@ -215,7 +226,8 @@ def read_curve(tau_s: Any, dev: Any, ci_low: Any = None, ci_high: Any = None, *,
                confidence: float = 0.683, edf: Any = None,
                min_edf: float = MIN_EDF_FOR_MINIMUM,
                term_curves: dict[str, Any] | None = None,
-               limits: Collection[str] = (), kind: str = "oadev") -> CurveReadout:
+               limits: Collection[str] = (), kind: str = "oadev",
+               fit_tau_s: tuple[float, float] | None = None) -> CurveReadout:
     """Read the minimum, segment slopes, regions A-D and dominant-term ranges of a curve.
 
     Parameters
@@ -240,6 +252,9 @@ def read_curve(tau_s: Any, dev: Any, ci_low: Any = None, ci_high: Any = None, *,
     kind : str
         The estimator: its flicker plateau factor (:func:`~fogts.allan.terms.flicker_plateau`)
         converts the floor to B.
+    fit_tau_s : (float, float), optional
+        The first and last tau the ``term_curves`` were fitted over: a dominant range that
+        leaves them is marked :attr:`DominantRange.extrapolated`.
 
     Notes
     -----
@@ -294,14 +309,16 @@ def read_curve(tau_s: Any, dev: Any, ci_low: Any = None, ci_high: Any = None, *,
     slopes = np.diff(np.log(d)) / np.diff(np.log(t))
     segments = np.column_stack([t[:-1], t[1:]])
     regions, floor_note = _regions(t, d, lo, hi, i_min)
-    dominant = _dominant_ranges(t, ok, term_curves, set(limits)) if term_curves else ()
+    dominant = _dominant_ranges(t, ok, term_curves, set(limits), fit_tau_s) if term_curves \
+        else ()
     plateau = flicker_plateau(kind)
     floor = float(d[i_min] / plateau) if not floor_note else math.nan
     return CurveReadout(float(t[i_min]), float(d[i_min]), (float(lo[i_min]), float(hi[i_min])),
                         float(confidence), floor, segments, slopes, regions, dominant,
                         kind=kind, plateau=plateau,
                         min_edf=float(min_edf) if edf is not None else None,
-                        lower_points=lower, minimum_note=minimum_note, floor_note=floor_note)
+                        lower_points=lower, minimum_note=minimum_note, floor_note=floor_note,
+                        fit_tau_s=fit_tau_s if dominant else None)
 
 
 def _regions(t: FloatArray, d: FloatArray, lo: FloatArray, hi: FloatArray, i_min: int
@@ -338,7 +355,9 @@ def _regions(t: FloatArray, d: FloatArray, lo: FloatArray, hi: FloatArray, i_min
 
 
 def _dominant_ranges(t: FloatArray, ok: np.ndarray, term_curves: dict[str, Any],
-                     limits: set[str]) -> tuple[DominantRange, ...]:
+                     limits: set[str], fit_tau_s: tuple[float, float] | None = None
+                     ) -> tuple[DominantRange, ...]:
+    lo, hi = fit_tau_s if fit_tau_s is not None else (0.0, math.inf)
     names = list(term_curves)
     stack = np.vstack([np.asarray(term_curves[n], dtype=np.float64)[ok] for n in names])
     stack = np.where(np.isfinite(stack), stack, 0.0)
@@ -349,9 +368,10 @@ def _dominant_ranges(t: FloatArray, ok: np.ndarray, term_curves: dict[str, Any],
         if i == t.size or winner[i] != winner[start]:
             name = names[int(winner[start])]
             if stack[winner[start], start:i].max() > 0:
-                ranges.append(DominantRange(name, float(t[start]), float(t[i - 1]),
-                                            TERM_SLOPE.get(name, float("nan")),
-                                            measured=name not in limits))
+                ranges.append(DominantRange(
+                    name, float(t[start]), float(t[i - 1]), TERM_SLOPE.get(name, float("nan")),
+                    measured=name not in limits,
+                    extrapolated=bool(t[start] < lo * (1 - 1e-9) or t[i - 1] > hi * (1 + 1e-9))))
             start = i
     return tuple(ranges)
 

@@ -164,15 +164,19 @@ class AllanResult(TableView):
         """Curve read-outs: minimum with its CI, regions A-D, segment slopes and, given the
         fitted :class:`~fogts.allan.noise.NoiseModel`, where each term dominates.
 
-        Returns a :class:`fogts.allan.readout.CurveReadout` (see :func:`read_curve`).
+        Returns a :class:`fogts.allan.readout.CurveReadout` (see :func:`read_curve`); the
+        dominant ranges that leave the taus ``noise`` was fitted over (a ``tau_range`` fit)
+        are marked extrapolated.
         """
         from fogts.allan.readout import read_curve
 
         lines = noise.lines(self.tau_s) if noise is not None else None
         limits = [t.name for t in noise.terms if t.is_limit] if noise is not None else ()
+        fitted = (float(noise.tau_s[0]), float(noise.tau_s[-1])) \
+            if noise is not None and len(noise.tau_s) else None
         return read_curve(self.tau_s, self.dev, self.ci_low, self.ci_high,
                           confidence=self.confidence, edf=self.edf, term_curves=lines,
-                          limits=limits, kind=self.kind)
+                          limits=limits, kind=self.kind, fit_tau_s=fitted)
 
     def _alpha_or_none(self) -> list[int | None]:
         # The alpha behind each point's EDF; None where no interval was computed.

@@ -34,6 +34,7 @@ from typer.core import TyperGroup
 
 from fogts import choices
 from fogts._version import __version__
+from fogts.cli._arguments import option_names
 from fogts.pipeline import ReadSettings
 
 try:  # typer >= 0.16 vendors click as typer._click
@@ -193,7 +194,8 @@ def guard(options: Mapping[str, str] | None = None, *,
 
     ``options`` maps library argument names (``latitude_deg``) to the command's option
     names (``--latitude``), so that an error raised by the library names what the user
-    typed.  ``outputs`` (option -> path) and ``inputs`` (argument -> paths) are checked by
+    typed (:func:`fogts.cli._arguments.option_names`, which also maps the keywords every
+    command shares, ``fs_hz=`` to ``--fs``).  ``outputs`` (option -> path) and ``inputs`` (argument -> paths) are checked by
     :func:`fogts.io.paths.check_outputs` before the body runs: no output replaces an input,
     nor, without ``overwrite`` (``--overwrite``), an existing data file."""
     with warnings.catch_warnings(record=True) as caught:
@@ -253,13 +255,6 @@ def _attributed(text: str, file: str, axis: str | None) -> str:
         text = re.sub(r"^axis '[^']*': ", "", text)
         text = text[len(axis) + 2:] if text.startswith(f"{axis}: ") else text
     return f"{file}: {axis}: {text}" if axis is not None else f"{file}: {text}"
-
-
-def option_names(message: str, options: Mapping[str, str]) -> str:
-    """Replace whole-word library argument names in ``message`` by option names."""
-    for name, option in options.items():
-        message = re.sub(rf"(?<![\w-]){re.escape(name)}(?!\w)", option, message)
-    return message
 
 
 def pauses_cycle_collection(command: Callable[..., R]) -> Callable[..., R]:

@@ -19,7 +19,10 @@ if TYPE_CHECKING:
 
 def _save_models(save_model: Path | None, run: Run, picks: list[int],
                  results: list[StartupCompensation], many: bool) -> list[Path]:
-    """Write each axis' thermal model as JSON (``--save-model``); the paths written."""
+    """Write each axis' thermal model as JSON (``--save-model``); the paths written.
+
+    A fitted model the likelihood-ratio test does not find significant is saved with its
+    note, and a ``warning:`` line says so (the collinearity note warned at the fit)."""
     if save_model is None:
         return []
     from fogts.io.writer import write_text_atomic
@@ -29,7 +32,19 @@ def _save_models(save_model: Path | None, run: Run, picks: list[int],
     for i, r in zip(picks, results, strict=True):
         saved.append(axis_path(save_model, run, i, many))
         write_text_atomic(saved[-1], json_dumps(r.model.to_dict()) + "\n")
+        if r.significance is not None and not r.significance.significant \
+                and r.model.identification_note:
+            common.warn(f"{Path(run.source).name}: {run.axes[i]}: --save-model {saved[-1]} "
+                        f"is saved with its note: {r.model.identification_note}")
     return saved
+
+
+def _saved_line(path: Path, result: StartupCompensation) -> str:
+    """``saved the thermal model to PATH``, with the model's note in brief."""
+    from fogts.startup.thermal_identification import note_in_brief
+
+    brief = note_in_brief(result.model)
+    return f"saved the thermal model to {path}" + (f" (with its note: {brief})" if brief else "")
 
 
 def _check_model_paths(save_model: Path | None, run: Run, picks: list[int], file: Path, *,
@@ -119,8 +134,5 @@ def compensate_cmd(
             lines += ([f"{r.axis}:"] if many else []) + [r.summary()]
         if output is not None:
             lines.append(f"wrote {output} ({run.n * len(results)} rows)")
-        lines += [f"saved the thermal model to {path}" + (
-            " (with its note: not separately identified, not for reuse on another ambient or "
-            "warm-up)" if r.model.identification_note else "")
-            for path, r in zip(saved, results, strict=False)]
+        lines += [_saved_line(path, r) for path, r in zip(saved, results, strict=False)]
         common.say(lines, json_out)

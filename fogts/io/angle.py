@@ -75,7 +75,7 @@ def input_kind(given: str | None, names: Sequence[str]) -> str:
     kinds = {_kind_of_name(n) or "rate" for n in names}
     if len(kinds) > 1:
         raise DataError(f"the columns {', '.join(names)} mix {', '.join(sorted(kinds))}; "
-                        "read them separately or pass input= (CLI --input)")
+                        "read them separately or pass input=")
     return kinds.pop() if kinds else "rate"
 
 

@@ -158,7 +158,7 @@ def _detect_rate(table: Table, cols: list[str], time: str | None,
     if len(rest) == 1:
         return (rest[0],)
     raise DataError("cannot tell which column is the rate; columns are: "
-                    f"{', '.join(cols)}; pass rate_column= (CLI --rate-column)")
+                    f"{', '.join(cols)}; pass rate_column=")
 
 
 def _unit_from_names(names: Sequence[str]) -> str | None:

@@ -46,7 +46,7 @@ def apply_missing_drop(table: Table, roles: Roles, policy: str
             row = int(np.argmax(bad))
             raise DataError(f"time column {roles.time!r} has an empty or NaN time stamp at "
                             f"{where(table, row)}; time stamps are never interpolated: pass "
-                            "nan='drop' (CLI --nan drop)")
+                            "nan='drop'")
         return table, None, None
     bad = np.logical_or.reduce(list(bad_by_col.values()))
     if not bad.any():

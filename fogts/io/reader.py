@@ -268,7 +268,7 @@ def _table_to_run(table: Table, *, rate_column: str | Sequence[str] | None,
     if fs_hz is None and steps is None and table.fs_hz is None:
         cols = ", ".join(table.frame.columns)
         raise DataError(f"no time column found (columns are: {cols}) and no sample rate "
-                        "given; pass fs_hz= (CLI --fs) or add a time column")
+                        "given; pass fs_hz= or add a time column")
     if steps is not None:  # one median for both uses
         fs, fs_source = steps.sample_rate(fs_hz, table.fs_hz, table.source)
     else:

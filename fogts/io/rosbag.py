@@ -86,7 +86,7 @@ def _imu_connections(reader: Any, bag: Path, topic: str | None) -> list[Any]:
                         f"{found or '(none)'}")
     if topic is None and len(topics) > 1:
         raise DataError(f"ROS bag {str(bag)!r} has several IMU topics ({', '.join(topics)}); "
-                        "choose one with topic= (CLI --topic)")
+                        "choose one with topic=NAME")
     chosen = topics[0] if topic is None else topic
     if chosen not in topics:
         raise DataError(f"topic {topic!r} is not an IMU topic of {str(bag)!r}; IMU topics "

@@ -84,7 +84,7 @@ def numeric_column(table: Table, name: str, *, missing_ok: bool = False) -> Floa
         cell = table.frame[name].iloc[row]
         empty = str(cell).strip() == ""
         shown = "an empty cell" if empty else f"non-numeric value {cell!r}"
-        hint = ("; pass nan='drop' or nan='interpolate' (CLI --nan drop|interpolate)" if empty
+        hint = ("; pass nan='drop' or nan='interpolate'" if empty
                 else "")
         raise DataError(f"column {name!r} has {shown} at {where(table, row)}{hint}")
     nonfinite = ~np.isfinite(values)
@@ -93,8 +93,7 @@ def numeric_column(table: Table, name: str, *, missing_ok: bool = False) -> Floa
     elif nonfinite.any():
         row = int(np.argmax(nonfinite))
         raise DataError(f"column {name!r} has {float(values[row])!r} at {where(table, row)}; fogts "
-                        "never drops rows silently: pass nan='drop' or nan='interpolate' "
-                        "(CLI --nan drop|interpolate)")
+                        "never drops rows silently: pass nan='drop' or nan='interpolate'")
     huge = np.abs(values) > MAX_ABS_VALUE
     if huge.any():
         row = int(np.argmax(huge))

@@ -173,7 +173,7 @@ def fill_gaps_nan(run: Run) -> Run:
     shared = int(np.count_nonzero(np.diff(slot) <= 0))
     if shared:
         raise DataError(
-            f"{run.source}: gaps='nan' (CLI --gaps nan) puts each sample at its nearest grid "
+            f"{run.source}: gaps='nan' puts each sample at its nearest grid "
             f"point k/fs ({run.fs_hz:.6g} Hz), and {shared:,} sample(s) would land on the point "
             "of the sample before (time stamps logged in bursts, or jittering by half a step), "
             "merging samples: use gaps='warn' (analysed as regular) or gaps='split'")

@@ -189,13 +189,13 @@ def assess_run(run: Run, *, gaps: GapPolicy = "warn", glitches: bool = True,
                   run.sampling.jitter_rel if run.sampling is not None else 0.0,
                   run.sampling is not None and run.sampling.fs_source == "mean step")
     if gaps == "error" and report.n_gaps:
-        raise DataError(f"{run.source}: {report.summary()}; gaps='error' (CLI --gaps error) "
+        raise DataError(f"{run.source}: {report.summary()}; gaps='error' "
                         "refuses it: pass "
                         + ("gaps='warn'" if report.burst_logged else "gaps='split' to analyse "
                            "the longest regular segment or gaps='warn'"))
     segment = report.longest_segment() if gaps == "split" and report.n_gaps else None
     if segment is not None and report.burst_logged:
-        raise DataError(f"{run.source}: gaps='split' (CLI --gaps split) needs regular stretches "
+        raise DataError(f"{run.source}: gaps='split' needs regular stretches "
                         "between gaps, and these time stamps are logged in bursts: the longest "
                         f"stretch is {segment[1] - segment[0]:,} of {run.n:,} samples; use "
                         "gaps='warn' (the record at its mean rate)")

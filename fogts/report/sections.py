@@ -372,7 +372,8 @@ def _thermal_blocks(ctx: ReportContext, i: int, notes: list[str]) -> list[Block]
     verdict = [] if res.significance is None else [
         Block(kind="verdict", good=res.significance.significant,
               text=res.significance.verdict[0].upper() + res.significance.verdict[1:] + ".")]
-    if model.identification_note:
+    # a fitted model's note of no significance repeats the verdict above it
+    if model.identification_note and (res.significance is None or res.significance.significant):
         note = model.identification_note
         verdict.append(Block(kind="verdict", good=False, text=note[0].upper() + note[1:] + "."))
     if not res.applied:

@@ -48,6 +48,7 @@ from fogts.startup.thermal_identification import (
     collinearity,
     identification_note,
     reuse_warning,
+    significance_note,
 )
 from fogts.startup.thermal_model import (
     DEFAULT_DT_SMOOTHING_S,
@@ -279,7 +280,10 @@ def startup_compensation(
     With ``model`` given, nothing is fitted: the saved model is applied (with a warning
     when it carries an identification note).  A fitted model that is jointly significant
     but whose coefficients are collinear and mostly insignificant gets that note and a
-    warning (:mod:`~fogts.startup.thermal_identification`).  ``calibration``
+    warning (:mod:`~fogts.startup.thermal_identification`); one the likelihood-ratio test
+    does not find significant gets the note of
+    :func:`~fogts.startup.thermal_identification.significance_note` (the verdict says it, so
+    no warning; the note warns when the saved model is reused).  ``calibration``
     adds further runs (same sample rate and units; for example cold starts at other ambient
     temperatures) to the fit: one warm-up determines only the combinations of the six
     coefficients along its own (T, ΔT) path, and several ambients make the model hold
@@ -329,6 +333,9 @@ def startup_compensation(
         note = identification_note(model, significance.significant)
         if note is not None:
             warnings.warn(note, UnidentifiableTermWarning, stacklevel=2)
+        else:  # the verdict says it here; the note keeps the model from silent reuse
+            note = significance_note(significance)
+        if note is not None:
             model = replace(model, identification_note=note)
         if significance.significant:
             out_of_sample, cv_note = _cross_validate(

@@ -28,6 +28,13 @@ level against the joint test's 0.1 %, so the note is not given for a coefficient
 narrowly misses).  Fits on several cold starts at different ambients usually still have
 VIFs far above 10 (T and T² over 15-50 °C are nearly collinear), but most of their
 coefficients are then individually significant and no note is given.
+
+A fitted model that the likelihood-ratio test does **not** find jointly significant
+(:func:`~fogts.startup.thermal_test.thermal_significance`) gets the other note, of
+:func:`significance_note`: its coefficients fit the run's own drift, not a temperature
+dependence, and must not be reused on another run.  Either note travels with the saved
+model (``identification_note``), and :func:`reuse_warning` repeats it when the model is
+applied to another run.
 """
 
 from __future__ import annotations
@@ -44,9 +51,11 @@ from fogts._typing import FloatArray
 
 if TYPE_CHECKING:
     from fogts.startup.thermal_model import ThermalModel
+    from fogts.startup.thermal_test import ThermalSignificance
 
-__all__ = ["CONDITION_THRESHOLD", "T_CRITICAL", "VIF_THRESHOLD", "collinearity",
-           "identification_note", "reuse_warning", "significant_terms"]
+__all__ = ["CONDITION_THRESHOLD", "NOT_SIGNIFICANT", "T_CRITICAL", "VIF_THRESHOLD",
+           "collinearity", "identification_note", "note_in_brief", "reuse_warning",
+           "significance_note", "significant_terms"]
 
 #: Largest variance inflation factor of coefficients that are not collinear (Kutner et al.).
 VIF_THRESHOLD = 10.0
@@ -54,6 +63,8 @@ VIF_THRESHOLD = 10.0
 CONDITION_THRESHOLD = 30.0
 #: |t| of an individually significant coefficient (two-sided 5 %).
 T_CRITICAL = NormalDist().inv_cdf(0.975)
+#: How the note of :func:`significance_note` begins (and is told from the collinearity note).
+NOT_SIGNIFICANT = "the model is not significant"
 
 
 def collinearity(X: FloatArray, terms: Sequence[str]) -> dict[str, Any]:
@@ -142,6 +153,45 @@ def identification_note(model: ThermalModel, jointly_significant: bool) -> str |
             f"significant (|t| > {T_CRITICAL:.2f}) although the model is jointly significant); "
             "the model describes this run's warm-up path only; do not reuse it on another "
             "ambient or warm-up without a calibration run")
+
+
+def significance_note(significance: ThermalSignificance) -> str | None:
+    """The note for a fitted model the likelihood-ratio test does not find jointly
+    significant, or None for a significant one.
+
+    Parameters
+    ----------
+    significance : ThermalSignificance
+        The verdict of :func:`~fogts.startup.thermal_test.thermal_significance` on the run
+        the model was fitted to.
+
+    Examples
+    --------
+    >>> from fogts.startup.thermal_test import ThermalSignificance
+    >>> sig = ThermalSignificance(True, False, 3.65, 5, 0.6, 0.001, 20.0, 3000, 3.6)
+    >>> significance_note(sig)[:75]
+    'the model is not significant (likelihood-ratio test against a random-walk d'
+    """
+    if significance.significant:
+        return None
+    if significance.testable:
+        why = f"{significance.test_text()}, above the level {significance.alpha:g}"
+    else:
+        why = (f"the temperature spans only {significance.span_degC:.3g} °C: the "
+               "coefficients cannot be identified")
+    return (f"{NOT_SIGNIFICANT} ({why}): its coefficients fit this run's drift, not a "
+            "temperature dependence; do not reuse it to compensate another run")
+
+
+def note_in_brief(model: ThermalModel) -> str | None:
+    """The model's note in a few words (for a line such as "saved the model (with its note:
+    ...)"), or None without a note."""
+    note = model.identification_note
+    if not note:
+        return None
+    if note.startswith(NOT_SIGNIFICANT):
+        return "not significant, not for reuse on another run"
+    return "not separately identified, not for reuse on another ambient or warm-up"
 
 
 def reuse_warning(model: ThermalModel) -> str | None:

@@ -135,8 +135,10 @@ class ThermalModel(TableView):
     identification_note : str or None
         Set when the coefficients are not separately identified (only the drift curve
         along the fit run's warm-up path is;
-        :func:`~fogts.startup.thermal_identification.identification_note`): the model
-        should not be reused on another ambient or warm-up.
+        :func:`~fogts.startup.thermal_identification.identification_note`), or when the
+        likelihood-ratio test does not find the fitted model significant
+        (:func:`~fogts.startup.thermal_identification.significance_note`): the model
+        should not be reused on another ambient or warm-up (another run).
     """
 
     terms: tuple[str, ...]
@@ -297,12 +299,17 @@ class ThermalModel(TableView):
         return "\n".join(lines)
 
     def _identification_line(self) -> str:
-        """The numbers behind :attr:`identification_note`, in one line."""
+        """The numbers behind :attr:`identification_note`, in one line (the note itself
+        when it is the likelihood-ratio test's)."""
         from fogts.startup.thermal_identification import (
+            NOT_SIGNIFICANT,
             T_CRITICAL,
             VIF_THRESHOLD,
             significant_terms,
         )
+
+        if self.identification_note and self.identification_note.startswith(NOT_SIGNIFICANT):
+            return self.identification_note
 
         diag = self.collinearity
         n_thermal = sum(t != "1" for t in self.terms)

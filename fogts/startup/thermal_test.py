@@ -81,12 +81,17 @@ class ThermalSignificance:
             return (f"temperature spans only {self.span_degC:.3g} °C (less than "
                     f"{MIN_SPAN_DEGC:g} °C): the thermal coefficients cannot be identified; "
                     "nothing to compensate")
-        p = f"p = {self.pvalue:.2g}" if self.pvalue >= 1e-6 else "p < 1e-6"
-        how = (f"likelihood-ratio test against a random-walk drift, {p}, "
-               f"chi2 = {self.statistic:.3g} on {self.df} df")
+        how = self.test_text()
         if self.significant:
             return f"significant temperature dependence ({how})"
         return f"no significant temperature dependence ({how}); nothing to compensate"
+
+    def test_text(self) -> str:
+        """The test and its result in a clause: ``likelihood-ratio test against a random-walk
+        drift, p = 0.6, chi2 = 3.65 on 5 df`` (a testable record only)."""
+        p = f"p = {self.pvalue:.2g}" if self.pvalue >= 1e-6 else "p < 1e-6"
+        return (f"likelihood-ratio test against a random-walk drift, {p}, "
+                f"chi2 = {self.statistic:.3g} on {self.df} df")
 
     def to_dict(self) -> dict[str, Any]:
         return {"testable": self.testable, "significant": self.significant,

@@ -207,19 +207,19 @@ def test_channels_default_all_of_the_unit_quantity_or_named(tmp_path: Path) -> N
      r"2.5\); taus must be m / fs"),
     ("tau,m,adev,edf\n0.01,1,1,9\n0.02,2,1,9\n", {"fs_hz": 200.0},
      r"column 'm' says m = 1 at line 2, but tau fs = 2 at fs = 200 Hz; give the record's "
-     r"--fs \(100 Hz by the file\)"),
+     r"fs_hz= \(100 Hz by the file\)"),
     ("tau,adev,edf\n0.01,1,9\n0.02,1,0\n", {}, r"column 'edf' has 0.0 at line 3; edf must be "
                                               r"a finite number > 0"),
     ("tau,adev,errors\n0.01,1,0.1\n0.02,1,nan\n", {}, r"column 'errors' has nan at line 3"),
     ("tau,adev\n0.01,1\n0.02,0.7\n", {}, r"needs each point's weight, and this curve has "
                                          r"neither an edf nor an errors column, nor the record "
-                                         r"length to compute them: give --n-samples N"),
+                                         r"length to compute them: give n_samples=N \(the number"),
     ("tau,adev\n0.01,1\n0.02,0.7\n", {"n_samples": 3},
-     r"n_samples = 3 is too short for this curve .*; give the record's --n-samples"),
+     r"n_samples = 3 is too short for this curve .*; give the record's own n_samples=N$"),
     ("tau,adev,alpha\n0.01,1,5\n0.02,0.7,0\n", {"n_samples": 1000},
      r"c.csv: column 'alpha': alpha must be an integer in \[-2, 2\] for kind='adev', got 5"),
     ("tau,adev,edf\n0.01,1,9\n", {"channel": "x"}, r"channel 'x': .* has no channel column "
-                                                   r"\(one curve\); leave --channel out"),
+                                                   r"\(one curve\); leave out channel=$"),
     ("tau,adev,edf\n0.01,1,9\n", {"kind": "xdev"}, r"kind must be one of adev, oadev"),
     ("tau,adev,edf\n0.01,1,9\n", {"fs_hz": -1.0}, r"fs_hz must be a finite number > 0, got -1.0"),
     ("tau,adev,edf\n0.01,1,9\n", {"n_samples": 1}, r"n_samples must be .*>= 2"),
@@ -245,7 +245,7 @@ def test_methods_a_curve_cannot_support_are_refused(tmp_path: Path) -> None:
                                         r"'fogts allan RECORDING --method ml'"):
         check_curve_methods(["wls", "ml"], estimated)
     with pytest.raises(DataError, match=r"method 'gmwm' needs the record length .* give "
-                                        r"--n-samples N"):
+                                        r"n_samples=N, or fit with wls"):
         check_curve_methods(["gmwm"], estimated)
     check_curve_methods(["gmwm"], read_curves(path, units="deg/h", n_samples=1000).provenance)
     with pytest.raises(DataError, match=r"method must be one of wls, gls, ols, gmwm for a "

@@ -255,6 +255,6 @@ def test_a_record_too_short_for_the_terms_says_what_to_change() -> None:
     with pytest.raises(InsufficientDataError,
                        match=r"^allan_result \(the Allan curve\) has 1 usable tau \(\S+ s\), fewer than "
                              r"the 5 terms requested "
-                             r"\(Q, N, B, K, R\); use more taus or fewer terms \(CLI --taus, "
-                             r"--terms\), or a longer record$"):
+                             r"\(Q, N, B, K, R\); use more taus \(taus=\) or fewer terms "
+                             r"\(terms=\), or a longer record$"):
         fit_noise(res)

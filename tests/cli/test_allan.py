@@ -456,6 +456,6 @@ def test_burst_logged_stamps_count_no_missing_time_and_refuse_split(tmp_path: Pa
     code, _, err = _run([path, "--axis", "0", "--gaps", "split", "--json", out])
     assert code == 2 and not out.exists()
     assert error_output(err).endswith(
-        "gaps='split' (CLI --gaps split) needs regular stretches between gaps, and these "
+        "--gaps split needs regular stretches between gaps, and these "
         "time stamps are logged in bursts: the longest stretch is 18 of 65,067 samples; use "
-        "gaps='warn' (the record at its mean rate)")
+        "--gaps warn (the record at its mean rate)")

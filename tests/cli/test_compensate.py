@@ -130,3 +130,42 @@ def test_one_warm_up_model_is_saved_with_its_note_and_warns_when_reused(tmp_path
     assert ("the thermal model applied here was fitted on another run and saved with this "
             "note: the coefficients are not separately identified") in res2.stderr
     assert "by the given model: out of sample unless it was fitted on this run" in res2.stdout
+
+
+def test_a_model_that_is_not_significant_is_saved_with_a_warning_and_warns_when_reused(
+        tmp_path: Path) -> None:
+    """A warm-up with no thermal drift (simulated): the likelihood-ratio test finds nothing;
+    --save-model still writes the model, with its note, and one warning line quoting the
+    test; --model with that file warns again."""
+    from fogts import simulate_gyro
+    from fogts.simulate import TemperatureProfile
+
+    run = simulate_gyro({"N": 0.002, "B": 0.01, "K": 0.05}, fs_hz=1, duration_s=3600, rng=700,
+                        temperature=TemperatureProfile.parse("warmup:22,26,15min"))
+    src = tmp_path / "flat.csv"
+    pd.DataFrame({"time": run.time, "rate": run.axis(0),
+                  "temperature": run.temperature}).to_csv(src, index=False)
+    model, js = tmp_path / "m.json", tmp_path / "c.json"
+    res = runner.invoke(app, ["compensate", str(src), "--no-emd", "--save-model", str(model),
+                              "--json", str(js)])
+    assert res.exit_code == 0, res.output
+    doc = json.loads(js.read_text())
+    sig = doc["significance"]
+    assert sig["testable"] and not sig["significant"]
+    warning = [x for x in res.stderr.splitlines() if "not significant" in x]
+    assert len(warning) == 1
+    assert warning[0].startswith(f"warning: flat.csv: rate: --save-model {model} is saved "
+                                 "with its note: the model is not significant (likelihood-ratio")
+    assert f"p = {sig['pvalue']:.2g}, chi2 = {sig['statistic']:.3g} on {sig['df']} df" \
+        in warning[0]
+    saved = json.loads(model.read_text())
+    assert saved["identification_note"] in warning[0]
+    assert doc["thermal"]["model"]["identification_note"] == saved["identification_note"]
+    assert f"saved the thermal model to {model} (with its note: not significant, not for " \
+           "reuse on another run)" in res.stdout
+    root = Path(__file__).resolve().parents[2] / "data"
+    res2 = runner.invoke(app, ["compensate", str(root / "startup_cold_1hz.csv"), "--model",
+                               str(model)])
+    assert res2.exit_code == 0, res2.output
+    assert ("the thermal model applied here was fitted on another run and saved with this "
+            "note: the model is not significant (likelihood-ratio test") in res2.stderr

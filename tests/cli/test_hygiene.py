@@ -97,7 +97,7 @@ def test_gaps_split_and_error(gappy_csv: Path, tmp_path: Path) -> None:
     res = runner.invoke(app, ["select", str(gappy_csv), "--gaps", "error"])
     assert res.exit_code == 2
     assert error_output(res.stderr).startswith("error: ")
-    assert "--gaps error) refuses it" in res.stderr
+    assert "; --gaps error refuses it: pass --gaps split to analyse" in res.stderr
     res = runner.invoke(app, ["davar", str(gappy_csv), "--gaps", "sometimes"])
     assert res.exit_code == 2 and error_output(res.stderr) == (
         "error: Invalid value for '--gaps': 'sometimes' is not one of 'warn', 'error', "
@@ -144,7 +144,7 @@ def test_nan_default_is_an_error_naming_the_row_and_option(holey_csv: Path) -> N
     assert res.exit_code == 2
     assert error_output(res.stderr) == (
         f"error: column 'rate_deg_h' has an empty cell at data row 100 (line 102 of "
-        f"{holey_csv}); pass nan='drop' or nan='interpolate' (CLI --nan drop|interpolate)")
+        f"{holey_csv}); pass --nan drop or --nan interpolate")
 
 
 def test_nan_drop_and_interpolate_report_counts(holey_csv: Path, tmp_path: Path) -> None:

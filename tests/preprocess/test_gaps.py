@@ -29,7 +29,7 @@ def test_fill_gaps_nan_refuses_stamps_that_would_share_a_grid_point() -> None:
     t = np.r_[0.0, 0.09, 0.11, 0.2, 0.6, 0.7]
     run = Run(rate=np.arange(6.0), time=t, fs_hz=10.0, units="deg/h", axes=("rate",),
               source="clumps.csv")
-    with pytest.raises(DataError, match=r"^clumps\.csv: gaps='nan' \(CLI --gaps nan\) puts each "
+    with pytest.raises(DataError, match=r"^clumps\.csv: gaps='nan' puts each "
                        r"sample at its nearest grid point k/fs \(10 Hz\), and 1 sample\(s\) "
                        r"would land on the point of the sample before"):
         fill_gaps_nan(run)

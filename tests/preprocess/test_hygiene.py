@@ -30,7 +30,7 @@ def test_assess_run_gap_policies() -> None:
     _, q = assess_run(run, gaps="ignore")
     assert q.warnings() == [] and q.to_dict()["gaps"]["n_gaps"] == 1
     with pytest.raises(DataError, match=r"1 gap\(s\) in the time base .*gaps='error' "
-                                        r"\(CLI --gaps error\) refuses it"):
+                                        r"refuses it: pass gaps='split'"):
         assess_run(run, gaps="error")
     with pytest.raises(DataError, match="gaps must be one of warn, error, split, ignore"):
         assess_run(run, gaps="skip")  # type: ignore[arg-type]

@@ -336,3 +336,9 @@ def test_thermal_section_gives_the_summary_reason_for_no_claim(tmp_path: Path) -
            "identify its coefficients)" in text
     assert "Fitted drift model, not applied: the temperature spans 0.4 °C" in text
     assert "model not significant" not in text
+    # the model's note of no significance (kept for a saved model) repeats the verdict:
+    # the verdict is the only one said
+    thermal = next(s for s in rep.sections if s.id == "thermal-1")
+    assert thermal.blocks[0].kind == "verdict" and "less than 1 °C" in thermal.blocks[0].text
+    assert [b.kind for b in thermal.blocks].count("verdict") == 1
+    assert "do not reuse it to compensate another run" not in text

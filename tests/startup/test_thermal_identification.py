@@ -1,6 +1,7 @@
 """Are the thermal coefficients separately identified?  Variance inflation factors, the
 note on a jointly significant model of individually insignificant, collinear coefficients,
-the note's way through a saved model, and the in-sample / out-of-sample headline.
+the note on a model that is not significant at all, the notes' way through a saved model,
+and the in-sample / out-of-sample headline.
 
 Truth: a VIF is ``1 / (1 - R²)`` of one column regressed on the others (computed here with
 numpy's least squares, independently of statsmodels); the bundled cold starts
@@ -23,10 +24,13 @@ import fogts
 from fogts.errors import UnidentifiableTermWarning
 from fogts.startup.thermal_cv import CvFold, ThermalCrossValidation
 from fogts.startup.thermal_identification import (
+    NOT_SIGNIFICANT,
     T_CRITICAL,
     collinearity,
     identification_note,
+    note_in_brief,
     reuse_warning,
+    significance_note,
 )
 from fogts.startup.thermal_model import ThermalModel
 
@@ -175,3 +179,52 @@ def test_a_given_model_that_makes_the_rate_less_stable_is_not_an_improvement() -
     assert f"not claimed as an improvement: the bias stability is {res.improvement:.2f}x, " \
            "no better after the given model: it does not describe this run's thermal " \
            "drift" in res.summary()
+
+
+def _no_thermal_effect(seed: int = 700) -> fogts.Run:
+    """A 1 h record with a warm-up temperature (22 -> 26 degC) and no thermal drift."""
+    from fogts.simulate import TemperatureProfile
+
+    return fogts.simulate_gyro({"N": 0.002, "B": 0.01, "K": 0.05}, fs_hz=1, duration_s=3600,
+                               rng=seed, temperature=TemperatureProfile.parse("warmup:22,26,15min"))
+
+
+def test_a_model_that_is_not_significant_carries_the_note_and_warns_when_reused() -> None:
+    """No thermal drift under a warm-up: the likelihood-ratio test finds nothing (measured
+    p = 0.23), the fitted model is saved with a note quoting the test, and reusing it on
+    another run warns with that note."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        res = fogts.startup_compensation(_no_thermal_effect(), emd=False)
+    sig = res.significance
+    assert sig is not None and sig.testable and not sig.significant
+    # the verdict says it: no warning at the fit (only the dropped collinear term's)
+    assert not [w for w in caught if "not significant" in str(w.message)]
+    note = res.model.identification_note
+    assert note == significance_note(sig)
+    assert note is not None and note.startswith(f"{NOT_SIGNIFICANT} (likelihood-ratio test")
+    assert f"p = {sig.pvalue:.2g}, chi2 = {sig.statistic:.3g} on {sig.df} df" in note
+    assert note.endswith("do not reuse it to compensate another run")
+    assert res.to_dict()["thermal"]["model"]["identification_note"] == note
+    assert note_in_brief(res.model) == "not significant, not for reuse on another run"
+    back = ThermalModel.from_dict(json.loads(json.dumps(res.model.to_dict())))
+    assert back.identification_note == note and note in back.summary()
+    with pytest.warns(UnidentifiableTermWarning, match="fitted on another run and saved with "
+                                                       "this note: the model is not significant"):
+        fogts.startup_compensation(fogts.read_run(COLD[0]), model=back)
+
+
+def test_the_significance_note_of_an_untestable_and_of_a_significant_record() -> None:
+    from fogts.startup.thermal_test import ThermalSignificance
+
+    flat = ThermalSignificance(False, False, math.nan, 5, math.nan, 0.001, 0.471, 3000, 1.0)
+    note = significance_note(flat)
+    assert note is not None and note.startswith(
+        "the model is not significant (the temperature spans only 0.471 °C: the coefficients "
+        "cannot be identified)")
+    assert significance_note(dataclasses.replace(flat, testable=True, significant=True)) is None
+    # the collinearity note keeps its brief
+    assert note_in_brief(_model({"T": 1.0}, 5e5)) is None
+    noted = dataclasses.replace(_model({"T": 1.0}, 5e5), identification_note="the coefficients")
+    assert note_in_brief(noted) == ("not separately identified, not for reuse on another "
+                                    "ambient or warm-up")

@@ -147,7 +147,8 @@ def _readoff_points(ax: Any, res: Any, model: Any, xlim: tuple[float, float],
     """The classic slope read-offs (for comparison): the -1/2 line at tau = 1 s (N), the
     +1/2 line at tau = 3 s (K) and the minimum / the estimator's plateau factor (B), where
     inside the axes and supported by the curve; one outside the fit's bounds is marked so
-    (:func:`fogts.allan.readoff.fit_check`)."""
+    (:func:`fogts.allan.readoff.fit_check`), and so is one read outside the fit's tau range
+    (:attr:`fogts.allan.readoff.SlopeReadoff.outside`)."""
     ro = model.readoff
     names = {"N": f"read-off N = {num_tex(ro.N)} {_TERM_UNIT_TEX['N']} (−1/2 line at τ = 1 s)",
              "K": f"read-off K = {num_tex(ro.K)} {_TERM_UNIT_TEX['K']} (+1/2 line at τ = 3 s)",
@@ -159,6 +160,8 @@ def _readoff_points(ax: Any, res: Any, model: Any, xlim: tuple[float, float],
             continue
         if name in bounds and fit_check(ro, name, bounds[name]):
             names[name] += ", outside the fit"
+        if name in ro.outside:
+            names[name] += ", read outside the fit range"
         if (np.isfinite(dev_ro) and xlim[0] <= tau_ro <= xlim[1]
                 and ylim[0] <= dev_ro <= ylim[1]):
             ax.plot([tau_ro], [dev_ro], _READOFF_MARKER[name], color=_TERM_STYLE[name][0],
