@@ -8,9 +8,10 @@ warmed before each timing, so the figures are parsing speed, not disk speed.
 
 Figures (ratio = peer seconds / fogts seconds, > 1 means fogts is faster):
 
-* CSV: ``read_run`` against ``pandas.read_csv`` (C engine, one thread) and against
-  ``pyarrow.csv.read_csv`` (multi-threaded); the single-threaded sibling times both with
-  one arrow thread (``pyarrow.set_cpu_count(1)``; the peer with ``use_threads=False``);
+* CSV: ``read_run`` against ``pandas.read_csv`` (C engine; pandas 3.1 splits a local file
+  among its threads) and against ``pyarrow.csv.read_csv`` (multi-threaded); the
+  single-threaded siblings time all three on one thread (pandas ``mode.max_threads=1``,
+  ``pyarrow.set_cpu_count(1)``; the pyarrow peer with ``use_threads=False``);
 * the split of ``read_run``'s CSV work, timed within one call: the parse
   (``fogts.io.text.text_file_table``: pyarrow plus the per-column checks) and the rest
   (column roles, time base, gaps, jitter, sample rate), as the CPU share of the rest;
@@ -34,7 +35,8 @@ import gzip
 import shutil
 import tempfile
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
@@ -98,7 +100,8 @@ def _timed(fn: Callable[[], Any]) -> Callable[[], None]:
 
 class _Split:
     """``read_run``'s two stages timed within one call: the parse
-    (:func:`fogts.io.text.text_file_table`: pyarrow plus the per-column checks) and the rest
+    (:func:`fogts.io.text.text_file_table`: pandas' or pyarrow's reader plus the per-column
+    checks) and the rest
     (column roles, time base, gaps, jitter, sample rate); the round with the shortest
     call is kept, so both parts come from the same call."""
 
@@ -119,6 +122,24 @@ class _Split:
         parts = (w1 - w0, c1 - c0, w2 - w1, c2 - c1)
         if self.best is None or parts[0] + parts[2] < self.best[0] + self.best[2]:
             self.best = parts
+
+
+@contextmanager
+def _pandas_threads(count: int) -> Iterator[None]:
+    """pandas' worker threads (``mode.max_threads``, pandas 3.1: its threaded read_csv)
+    limited to ``count`` within the block; nothing to limit on an older pandas."""
+    import pandas as pd
+
+    try:
+        old = pd.get_option("mode.max_threads")
+    except (KeyError, pd.errors.OptionError):
+        yield
+        return
+    pd.set_option("mode.max_threads", count)
+    try:
+        yield
+    finally:
+        pd.set_option("mode.max_threads", old)
 
 
 def _csv_figures(files: dict[str, Path], n: int, repeat: int, quick: bool) -> list[Metric]:
@@ -145,9 +166,12 @@ def _csv_figures(files: dict[str, Path], n: int, repeat: int, quick: bool) -> li
     one = pacsv.ReadOptions(use_threads=False)
     pa.set_cpu_count(1)
     try:
-        t1 = measure({"fogts": _timed(lambda: read_run(csv)),
-                      "arrow 1 thread": _timed(lambda: pacsv.read_csv(csv, read_options=one))},
-                     repeat=repeat, min_total_s=min_s)
+        with _pandas_threads(1):
+            t1 = measure({"fogts": _timed(lambda: read_run(csv)),
+                          "pandas 1 thread": _timed(lambda: pd.read_csv(csv)),
+                          "arrow 1 thread": _timed(lambda: pacsv.read_csv(csv,
+                                                                          read_options=one))},
+                         repeat=repeat, min_total_s=min_s)
     finally:
         pa.set_cpu_count(threads)
     assert split.best is not None
@@ -163,15 +187,18 @@ def _csv_figures(files: dict[str, Path], n: int, repeat: int, quick: bool) -> li
         speed_from(t, f"speed.read_run.csv_arrow.{tag}", f"read_run, {size} CSV, vs "
                    "pyarrow.csv.read_csv (multi-threaded)", peer_key="arrow",
                    peer="pyarrow.csv", parallel=True, details=details),
-        # the single-threaded sibling of the two CSV figures above
+        # the single-threaded siblings of the two CSV figures above
+        speed_from(t1, f"speed.read_run.csv_1thread_pandas.{tag}", f"read_run, {size} CSV, "
+                   "one thread (pandas mode.max_threads=1, pyarrow.set_cpu_count(1)), vs "
+                   "pandas.read_csv on one thread", peer_key="pandas 1 thread",
+                   peer="pandas.read_csv 1 thread", details=details),
         speed_from(t1, f"speed.read_run.csv_1thread.{tag}", f"read_run, {size} CSV, one "
-                   "arrow thread (pyarrow.set_cpu_count(1)), vs pyarrow.csv.read_csv "
-                   "(use_threads=False)", peer_key="arrow 1 thread",
-                   peer="pyarrow.csv 1 thread", details=details),
+                   "thread (as above), vs pyarrow.csv.read_csv (use_threads=False)",
+                   peer_key="arrow 1 thread", peer="pyarrow.csv 1 thread", details=details),
         accuracy_metric(f"share.read_run.csv_checks.{tag}", f"read_run, {size} CSV: CPU "
                         "share of the work after the parse (roles, time base, gaps, jitter, "
-                        f"sample rate: {rest_cpu:.3g} s CPU; the parse, pyarrow plus the "
-                        f"column checks: {parse_cpu:.3g} s CPU), in one call",
+                        f"sample rate: {rest_cpu:.3g} s CPU; the parse, pandas' or pyarrow's "
+                        f"reader plus the column checks: {parse_cpu:.3g} s CPU), in one call",
                         value=round(rest_cpu / (parse_cpu + rest_cpu), 3), better="lower",
                         abs_tolerance=0.05, details=details),
     ]
