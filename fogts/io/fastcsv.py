@@ -117,10 +117,14 @@ def _layout(head: bytes, *, complete: bool) -> Layout:
 
 def _pandas_takes(mm: mmap.mmap, begin: int, found: Layout) -> bool:
     """Whether pandas' reader takes the file: it splits files itself, there is no
-    byte-order mark, no ``#`` among the data (a comment line there is pyarrow's to skip)
-    and the first data row has one cell per column (pandas would take an extra cell in the
-    first row for an index, and drop a trailing one)."""
-    if not PANDAS_SPLITS_FILES or begin or mm.find(b"#", found.start) != -1:
+    byte-order mark, no ``#`` among the data (a comment line there is pyarrow's to skip),
+    no quote in the lines before the header (pandas' tokenizer opens a quoted field in a
+    line it skips, ``# gyro,"FOG 200``, and closes it lines later: the first data row would
+    be lost) and the first data row has one cell
+    per column (pandas would take an extra cell in the first row for an index, and drop a
+    trailing one)."""
+    if (not PANDAS_SPLITS_FILES or begin or mm.find(b"#", found.start) != -1
+            or mm.find(b'"', 0, found.start) != -1):
         return False
     row = mm.find(b"\n", found.start) + 1 if found.header else found.start
     end = mm.find(b"\n", row)
@@ -128,12 +132,25 @@ def _pandas_takes(mm: mmap.mmap, begin: int, found: Layout) -> bool:
     return len(split(first, found.sep)) == len(found.names)
 
 
-def _rows_before_data(mm: mmap.mmap, found: Layout) -> int:
-    """Lines before the first data row (blank and comment lines, and the header)."""
-    return len(mm[:found.start].splitlines()) + int(found.header)
+def _rows_before_data(mm: mmap.mmap, found: Layout) -> tuple[int | None, int | None]:
+    """:func:`pandas.read_csv`'s ``header`` and ``skiprows`` (in that order) that pass over
+    the lines before the first data row (comment lines, blank lines, the header).
+
+    A header after comment lines alone is pandas' ``header=k`` (the lines before it are
+    dropped as it parses); ``skiprows`` tests every line of the file against its count,
+    which makes pandas' single-threaded parse a third slower, so it is used only for a
+    preamble pandas would count differently (blank lines) or a headerless one.
+    """
+    lines = mm[:found.start].splitlines()
+    if found.header and all(line.strip() for line in lines):
+        return len(lines), None
+    if not lines and not found.header:
+        return None, None
+    return None, len(lines) + int(found.header)
 
 
-def _pandas_frame(path: Path, found: Layout, skiprows: int) -> pd.DataFrame:
+def _pandas_frame(path: Path, found: Layout, rows: tuple[int | None, int | None]
+                  ) -> pd.DataFrame:
     """Parse the data rows with :func:`pandas.read_csv` (C engine; pandas splits a large
     file among its threads) into checked float64 columns; a parse error, a warning (a
     row of another length) or a column that fails the checks of :func:`_frame` raises
@@ -141,9 +158,9 @@ def _pandas_frame(path: Path, found: Layout, skiprows: int) -> pd.DataFrame:
     try:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
-            frame = pd.read_csv(path, sep=found.sep, header=None, names=found.names,
-                                skiprows=skiprows, index_col=False, dtype=np.float64,
-                                decimal=found.decimal, engine="c", encoding="utf-8")
+            frame = pd.read_csv(path, sep=found.sep, names=found.names, index_col=False,
+                                dtype=np.float64, decimal=found.decimal, engine="c",
+                                encoding="utf-8", header=rows[0], skiprows=rows[1])
     except (ValueError, OverflowError, OSError):
         raise _Fallback from None
     if caught or len(frame) == 0:

@@ -248,6 +248,30 @@ def test_trailing_separators_are_read_as_without_them(tmp_path: Path) -> None:
     np.testing.assert_array_equal(read_run(path).rate, [1.0, 2.0, 3.0, 4.0])
 
 
+@pytest.mark.parametrize("preamble", ["# logger\n# v2\n", "# logger\n\n# v2\n", ""],
+                         ids=["comments", "blank line", "none"])
+@pytest.mark.parametrize("header", [True, False], ids=["header", "headerless"])
+def test_every_preamble_keeps_every_row(tmp_path: Path, preamble: str, header: bool) -> None:
+    rows = "".join(f"{i / 10!r},{i % 7 - 3.25}\n" for i in range(50))
+    path = write_file(tmp_path, "p.csv", preamble + ("time,rate\n" if header else "") + rows)
+    fast = fast_text_table(path, compressed=False)
+    assert fast is not None
+    assert fast.comments == tuple(line for line in preamble.splitlines() if line)
+    np.testing.assert_array_equal(fast.frame.iloc[:, 1].to_numpy(),
+                                  [i % 7 - 3.25 for i in range(50)])
+
+
+def test_a_quote_before_the_header_leaves_the_file_to_pyarrow(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    # pandas would open a quoted field in the skipped comment and lose the first data row
+    path = write_file(tmp_path, "q.csv", '# gyro,"FOG 200\n"time","rate"\n0,1\n0.1,2\n0.2,3\n')
+    used = _reader_used(monkeypatch)
+    fast = fast_text_table(path, compressed=False)
+    assert used == ["pyarrow"] and fast is not None
+    np.testing.assert_array_equal(fast.frame["rate"].to_numpy(), [1.0, 2.0, 3.0])
+    np.testing.assert_array_equal(read_run(path).rate, [1.0, 2.0, 3.0])
+
+
 def test_older_pandas_leaves_plain_files_to_pyarrow(
         tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     import fogts.io.fastcsv as fastcsv
