@@ -78,19 +78,27 @@ def _plain_table(path: Path) -> Table:
         if first_long_line(mm, 0)[0] >= 0:
             raise _Fallback  # the checked path names the line
         skipped = comment_lines(mm, begin, begin + found.start)
-        if skipped is not None and _pandas_takes(mm, begin, found):
-            frame = _pandas_frame(path, found, _rows_before_data(mm, found))
-            return Table(frame, str(path), None, tuple(skipped), None, None, found.header,
-                         checked=True)
-        import pyarrow as pa
+        if skipped is None or not _pandas_takes(mm, begin, found):
+            return _pyarrow_table(path, mm, begin, found, skipped)
+        rows = _rows_before_data(mm, found)
+    # pandas parses after the map is closed: the scan for '#' touched every page of it,
+    # which would otherwise count a second time in the resident set beside pandas' own map
+    frame = _pandas_frame(path, found, rows)
+    return Table(frame, str(path), None, tuple(skipped), None, None, found.header, checked=True)
 
-        with pa.OSFile(str(path)) as stream:
-            stream.seek(begin + found.start)
-            frame, n_comments = _parse(stream, found)
-        # Comment lines after the first data line were skipped by the parser; their
-        # text is read here, in file order (each ``#`` is one of them: the parse failed
-        # on any other).
-        comments = (comment_lines(mm, begin) if n_comments else skipped)
+
+def _pyarrow_table(path: Path, mm: mmap.mmap, begin: int, found: Layout,
+                   skipped: list[str] | None) -> Table:
+    """Parse a plain file with pyarrow from its first data line on; ``mm`` maps the file,
+    ``skipped``: the comment lines before the data."""
+    import pyarrow as pa
+
+    with pa.OSFile(str(path)) as stream:
+        stream.seek(begin + found.start)
+        frame, n_comments = _parse(stream, found)
+    # Comment lines after the first data line were skipped by the parser; their text is
+    # read here, in file order (each ``#`` is one of them: the parse failed on any other).
+    comments = comment_lines(mm, begin) if n_comments else skipped
     if comments is None:
         raise _Fallback
     return Table(frame, str(path), None, tuple(comments), None, None, found.header,
