@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import gzip
 import random
+import warnings
 import zlib
 from pathlib import Path
 
@@ -282,3 +283,36 @@ def test_older_pandas_leaves_plain_files_to_pyarrow(
     fast = fast_text_table(path, compressed=False)
     assert used == ["pyarrow"] and fast is not None
     _same_values(fast, _checked(text_file_table(path)))
+
+
+def test_the_reference_text_files_read_alike_through_pandas_and_pyarrow(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    """Every text file of ``../shared/data`` that a fast path takes gives the same columns,
+    values (bit for bit), comments and header through pandas' reader as through pyarrow's."""
+    import fogts.io.fastcsv as fastcsv
+    from tests.conftest import shared_path
+
+    root = shared_path()
+    files = sorted(p for p in root.rglob("*") if p.is_file()
+                   and p.suffix.lower() in {".csv", ".txt", ".tsv", ".dat"})
+    assert files
+    taken = 0
+    for path in files:
+        tables = []
+        for pandas_reads in (True, False):
+            monkeypatch.setattr(fastcsv, "PANDAS_SPLITS_FILES", pandas_reads)
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                tables.append(fast_text_table(path, compressed=False))
+        a, b = tables
+        assert (a is None) == (b is None), path
+        if a is None or b is None:
+            continue
+        taken += 1
+        assert (list(a.frame.columns), a.comments, a.header) == \
+            (list(b.frame.columns), b.comments, b.header), path
+        for name in a.frame.columns:
+            np.testing.assert_array_equal(a.frame[name].to_numpy().view(np.int64),
+                                          b.frame[name].to_numpy().view(np.int64),
+                                          err_msg=f"{path}: {name}")
+    assert taken >= 100  # the published Allan curves and the bench recordings
