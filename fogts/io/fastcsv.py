@@ -124,13 +124,15 @@ def _layout(head: bytes, *, complete: bool) -> Layout:
 
 
 def _pandas_takes(mm: mmap.mmap, begin: int, found: Layout) -> bool:
-    """Whether pandas' reader takes the file: it splits files itself, there is no
-    byte-order mark, no ``#`` among the data (a comment line there is pyarrow's to skip),
-    no quote in the lines before the header (pandas' tokenizer opens a quoted field in a
-    line it skips, ``# gyro,"FOG 200``, and closes it lines later: the first data row would
-    be lost) and the first data row has one cell
-    per column (pandas would take an extra cell in the first row for an index, and drop a
-    trailing one)."""
+    """Whether pandas' reader takes the file.
+
+    It does when pandas splits files itself, there is no byte-order mark, no ``#`` among
+    the data (a comment line there is pyarrow's to skip), no quote in the lines before the
+    header (pandas' tokenizer opens a quoted field in a line it skips, ``# gyro,"FOG 200``,
+    and closes it lines later: the first data row would be lost), and the first data row
+    has one cell per column (pandas would take an extra cell in the first row for an index,
+    and drop a trailing one).
+    """
     if (not PANDAS_SPLITS_FILES or begin or mm.find(b"#", found.start) != -1
             or mm.find(b'"', 0, found.start) != -1):
         return False
@@ -161,8 +163,8 @@ def _pandas_frame(path: Path, found: Layout, rows: tuple[int | None, int | None]
                   ) -> pd.DataFrame:
     """Parse the data rows with :func:`pandas.read_csv` (C engine; pandas splits a large
     file among its threads) into checked float64 columns; a parse error, a warning (a
-    row of another length) or a column that fails the checks of :func:`_frame` raises
-    :class:`_Fallback`."""
+    row of another length) or a column with an empty, non-finite or huge value
+    (:func:`~fogts.io.table.finite_and_bounded`) raises :class:`_Fallback`."""
     try:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
