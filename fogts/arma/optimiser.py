@@ -241,6 +241,7 @@ def solve(model: ExactLikelihood, phi: FloatArray, theta: FloatArray, *,
     # in four evaluations (damped to 1/8) ends the run, which then starts again without it
     res = newton(model, phi, theta, d_curvature=curvature,
                  max_trials=_LONG_MAX_TRIALS if curvature and n > 4 * PREFIXES[0] else None)
+    curved = curvature
     if long and not res.converged and not res.at_unit_root:
         # the steps went astray (D's curvature misled them, a run of damped ones; or the
         # plain steps crawled along the boundary): again the other way; a run stopped at a
@@ -248,7 +249,12 @@ def solve(model: ExactLikelihood, phi: FloatArray, theta: FloatArray, *,
         other = newton(model, phi, theta, d_curvature=not curvature,
                        max_trials=_LONG_MAX_TRIALS if not curvature else None)
         if other.converged or other.ev.f < res.ev.f:
-            res = other
+            res, curved = other, not curvature
+    if long and not curved:
+        # the standard errors of a long series take D's curvature with S's (as the exact
+        # Hessians of a short one do): at the optimum a plain run reached, from the start-up
+        # block alone
+        res.HD = d_hessian(model, res.ev)
     if polish:
         # polish with the exact Hessian; it also gives the observed information
         res2 = newton(model, res.ev.phi, res.ev.theta, small_step=1e-7, exact=True,
