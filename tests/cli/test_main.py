@@ -88,6 +88,8 @@ def test_info_is_deterministic(tmp_path: Path) -> None:
      "rate column 'rate' not found; columns are: time, fog"),
     ("time,rate\n0,1\n0.1,2\n0.2,3\n", ["--units", "mph"], "units must be one of"),
     ("time,rate\n0,1\n0.1,2\n0.05,3\n", [], "'time' is decreasing at data row 2"),
+    ("time,rate\n0,1,5\n0.1,2\n0.2,3\n", [], "data row 1 (line 2) has 3 cells (0, 1, 5) "
+     "but the header names 2 columns (time, rate); fogts never drops a value"),
 ])
 def test_info_errors_one_line_exit_2(tmp_path: Path, content: str | None, args: list[str],
                                      message: str) -> None:
