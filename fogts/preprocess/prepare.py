@@ -101,9 +101,37 @@ class StationarityReport:
 
     def summary(self) -> str:
         """The verdict with both p-values, naming what the tests test (the preparation step
-        ``fogts select`` and the report print)."""
-        return (f"level: {self.verdict} (ADF p={self.adf_pvalue:.3g}, KPSS "
-                f"p={self.kpss_pvalue:.3g}; tests the mean, not the noise level)")
+        ``fogts select`` and the report print).
+
+        A p-value beyond its table is shown as the bound it is: KPSS's look-up table
+        (Kwiatkowski et al. 1992, table 1) spans 0.01-0.1, and statsmodels returns the end
+        it passed (``p<0.01``, ``p>0.1``, said by the KPSS note); MacKinnon's (1994, 2010)
+        approximation returns 0 for an ADF statistic below its range (``p<0.0001``, as for
+        any p-value under 1e-4).
+        """
+        return (f"level: {self.verdict} (ADF {_p_text(self.adf_pvalue)}, KPSS "
+                f"{_p_text(self.kpss_pvalue, self._kpss_beyond_table())}; tests the mean, "
+                "not the noise level)")
+
+    def _kpss_beyond_table(self) -> str:
+        """``"<"`` or ``">"`` when statsmodels said the KPSS p-value lies beyond its table
+        (the InterpolationWarning kept in :attr:`notes`), else ``""``."""
+        for note in self.notes:
+            if note.startswith("KPSS:") and "p-value is smaller" in note:
+                return "<"
+            if note.startswith("KPSS:") and "p-value is greater" in note:
+                return ">"
+        return ""
+
+
+def _p_text(p: float, beyond: str = "") -> str:
+    """``p=0.0123``; ``p<0.01`` for a p-value that is an upper bound (``beyond="<"``),
+    ``p>0.1`` for a lower bound; ``p<0.0001`` below 1e-4."""
+    if beyond:
+        return f"p{beyond}{p:.3g}"
+    if p < 1e-4:
+        return "p<0.0001"
+    return f"p={p:.3g}"
 
 
 @dataclass(frozen=True)
@@ -266,7 +294,7 @@ def prepare(
     >>> x = np.arange(500.0) + np.random.default_rng(0).normal(size=500)
     >>> p = prepare(x, fs_hz=10, detrend=1)
     >>> p.steps
-    ('removed a polynomial trend of order 1', 'level: stationary (ADF p=0, KPSS p=0.1; tests the mean, not the noise level)')
+    ('removed a polynomial trend of order 1', 'level: stationary (ADF p<0.0001, KPSS p>0.1; tests the mean, not the noise level)')
     """
     inp = ensure_series(data, "data", fs_hz=fs_hz, units=units, axis=axis,
                         min_length=MIN_PREPARE_SAMPLES, accept_prepared=False, require_fs=True)

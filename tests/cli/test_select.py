@@ -137,7 +137,7 @@ def test_stationarity_line_says_it_tests_the_level(ar1_file: Path, tmp_path: Pat
     assert res.exit_code == 0, res.output
     pre = json.loads(out_json.read_text())["preprocessing"]
     sentence = pre["stationarity"]["summary"]
-    assert sentence.startswith(f"level: {pre['stationarity']['verdict']} (ADF p=")
+    assert sentence.startswith(f"level: {pre['stationarity']['verdict']} (ADF p")
     assert sentence.endswith("; tests the mean, not the noise level)")
     assert sentence in res.stdout and "stationarity:" not in res.stdout
     assert list(pre["stationarity"])[-1] == "summary"  # added last: the other keys keep order

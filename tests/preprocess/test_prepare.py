@@ -84,6 +84,31 @@ def test_stationarity_verdicts() -> None:
     assert walk.stationarity is not None and walk.stationarity.verdict == "non-stationary"
 
 
+
+def test_stationarity_summary_shows_table_bounds_as_bounds() -> None:
+    # KPSS's table spans 0.01-0.1: statsmodels returns the end it passed and says so (the
+    # note); the summary shows the bound, not a value.  MacKinnon's ADF p-value is 0 for a
+    # statistic beyond its range: shown as p<0.0001.
+    white = prepare(_white(3000), fs_hz=1.0).stationarity
+    walk = prepare(np.cumsum(_white(3000, 1)), fs_hz=1.0).stationarity
+    assert white is not None and walk is not None
+    assert any("greater than the p-value returned" in n for n in white.notes)
+    assert white.kpss_pvalue == pytest.approx(0.1, abs=1e-12)
+    assert "KPSS p>0.1;" in white.summary() and "KPSS p=" not in white.summary()
+    assert any("smaller than the p-value returned" in n for n in walk.notes)
+    assert "KPSS p<0.01;" in walk.summary()
+    assert white.adf_pvalue < 1e-4 and "(ADF p<0.0001," in white.summary()
+    assert f"(ADF p={walk.adf_pvalue:.3g}," in walk.summary()
+
+
+def test_stationarity_summary_of_interpolated_kpss_pvalue() -> None:
+    # a KPSS statistic inside the table: the interpolated value, with '='
+    from fogts.preprocess.prepare import StationarityReport
+
+    rep = StationarityReport(-5.0, 0.02, 1, 0.3, 0.0417, 3, 100, 1, "stationary")
+    assert rep.summary() == ("level: stationary (ADF p=0.02, KPSS p=0.0417; tests the mean, "
+                             "not the noise level)")
+
 def test_units_of_array_input() -> None:
     assert prepare(_white(100), fs_hz=1.0, units="deg/s", stationarity=False).units == "deg/s"
     assert prepare(_white(100), fs_hz=1.0, stationarity=False).units == "deg/h"
