@@ -1,17 +1,20 @@
-"""Library argument names in an error message, as the options the user typed.
+"""Library argument names in a message, as the options the user typed.
 
-The library's errors name its arguments (``fs_hz``, ``nan='drop'``); the command line's
-error guard (:func:`fogts.cli._common.guard`) passes each message through
-:func:`option_names`, so that the same error names ``--fs`` or ``--nan drop`` there.  One
-table for the options every command shares, one mapping per command for its own.
+The library's errors, warnings and notes name its arguments (``fs_hz``, ``nan='drop'``,
+``pass units=``); the command line passes each message through :func:`option_names` (the
+error guard, :func:`fogts.cli._common.guard`) or :func:`option_keywords` (the warnings
+and notes it prints, and those of the JSON it writes: :func:`cli_payload`), so that the
+same text names ``--fs``, ``--nan drop`` or ``pass --units`` there.  One table for the
+options every command shares, one mapping per command for its own.
 """
 
 from __future__ import annotations
 
 import re
 from collections.abc import Callable, Mapping
+from typing import Any
 
-__all__ = ["ARGUMENT_OPTIONS", "option_names"]
+__all__ = ["ARGUMENT_OPTIONS", "MESSAGE_KEYS", "cli_payload", "option_keywords", "option_names"]
 
 #: The library keywords whose option is the same in every command (the shared input
 #: options, and those a library error suggests): the library's messages name the keyword
@@ -22,8 +25,67 @@ ARGUMENT_OPTIONS: dict[str, str] = {
     "fs_hz": "--fs", "rate_column": "--rate-column", "time_column": "--time-column",
     "temperature_column": "--temperature-column", "topic": "--topic", "input": "--input",
     "nan": "--nan", "gaps": "--gaps", "n_samples": "--n-samples", "taus": "--taus",
-    "terms": "--terms", "channel": "--channel",
+    "terms": "--terms", "channel": "--channel", "units": "--units", "kind": "--kind",
+    "outliers": "--outliers",
 }
+
+#: The JSON keys whose strings are messages (a warning, a note, a message, a line of text)
+#: that may suggest a library keyword: :func:`cli_payload` names the option there instead.
+MESSAGE_KEYS = frozenset({"warnings", "notes", "message", "text"})
+
+
+def option_keywords(message: str, options: Mapping[str, str] | None = None) -> str:
+    """Name in ``message`` the options the user typed instead of the keywords the library
+    suggests: ``name=`` with an optional value (quoted or a word) becomes the option with
+    that value, for the names of :data:`ARGUMENT_OPTIONS` and of ``options``.  Bare words
+    stay: for the warnings and notes the command line prints and writes into its JSON,
+    whose other words (a column name, a quantity) are not arguments.
+
+    Examples
+    --------
+    >>> option_keywords("assuming deg/h; pass units= (deg/h, deg/s, rad/s, arcsec/s)")
+    'assuming deg/h; pass --units (deg/h, deg/s, rad/s, arcsec/s)'
+    >>> option_keywords("gaps='split' analyses the longest regular segment")
+    '--gaps split analyses the longest regular segment'
+    >>> option_keywords("outliers=7: samples beyond 7 robust sigmas; units and n_samples stay")
+    '--outliers 7: samples beyond 7 robust sigmas; units and n_samples stay'
+    """
+    def keyword(option: str) -> Callable[[re.Match[str]], str]:
+        def sub(match: re.Match[str]) -> str:
+            value = match.group(1) if match.group(1) is not None else match.group(2)
+            return f"{option} {value}" if value else option
+        return sub
+
+    for name, option in {**ARGUMENT_OPTIONS, **(options or {})}.items():
+        message = re.sub(rf"(?<![\w.-]){re.escape(name)}=(?!\.\.\.|[(\[{{])"
+                         r"(?:'([^']*)'|(\w(?:[\w./|-]*\w)?))?", keyword(option), message)
+    return message
+
+
+def cli_payload(payload: Any) -> Any:
+    """``payload`` (a command's JSON) with :func:`option_keywords` applied to the strings
+    under :data:`MESSAGE_KEYS` (``data_quality.warnings``, ``notes``,
+    ``plausibility.message``, ``outliers_effect.text``, at any depth); every other value,
+    a file or column name included, as it was.
+
+    Examples
+    --------
+    >>> cli_payload({"source": "units=x.csv", "data_quality": {"warnings": ["pass units="]}})
+    {'source': 'units=x.csv', 'data_quality': {'warnings': ['pass --units']}}
+    """
+    def messages(value: Any) -> Any:
+        if isinstance(value, str):
+            return option_keywords(value)
+        if isinstance(value, list | tuple):
+            return [messages(v) for v in value]
+        return cli_payload(value)
+
+    if isinstance(payload, dict):
+        return {k: messages(v) if k in MESSAGE_KEYS else cli_payload(v)
+                for k, v in payload.items()}
+    if isinstance(payload, list | tuple):
+        return [cli_payload(v) for v in payload]
+    return payload
 
 
 def option_names(message: str, options: Mapping[str, str]) -> str:
@@ -47,15 +109,7 @@ def option_names(message: str, options: Mapping[str, str]) -> str:
     >>> option_names("give n_samples=N.", {})
     'give --n-samples N.'
     """
-    def keyword(option: str) -> Callable[[re.Match[str]], str]:
-        def sub(match: re.Match[str]) -> str:
-            value = match.group(1) if match.group(1) is not None else match.group(2)
-            return f"{option} {value}" if value else option
-        return sub
-
-    for name, option in {**ARGUMENT_OPTIONS, **options}.items():
-        message = re.sub(rf"(?<![\w.-]){re.escape(name)}=(?!\.\.\.|[(\[{{])"
-                         r"(?:'([^']*)'|(\w(?:[\w./|-]*\w)?))?", keyword(option), message)
+    message = option_keywords(message, options)
     for name, option in options.items():
         message = re.sub(rf"(?<![\w-]){re.escape(name)}(?!\w)", option, message)
     return message

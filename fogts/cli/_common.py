@@ -34,7 +34,7 @@ from typer.core import TyperGroup
 
 from fogts import choices
 from fogts._version import __version__
-from fogts.cli._arguments import option_names
+from fogts.cli._arguments import cli_payload, option_keywords, option_names
 from fogts.pipeline import ReadSettings
 
 try:  # typer >= 0.16 vendors click as typer._click
@@ -224,9 +224,11 @@ def guard(options: Mapping[str, str] | None = None, *,
 
 
 def warn(text: str | None) -> None:
-    """Print ``warning: TEXT`` on stderr (nothing for None)."""
+    """Print ``warning: TEXT`` on stderr (nothing for None); a library keyword the text
+    suggests (``pass units=``) is named as the option (``pass --units``:
+    :func:`fogts.cli._arguments.option_keywords`)."""
     if text is not None:
-        err_console.print(f"warning: {text}", markup=False, soft_wrap=True)
+        err_console.print(f"warning: {option_keywords(text)}", markup=False, soft_wrap=True)
 
 
 @contextmanager
@@ -341,13 +343,15 @@ def read_input(path: Path, read: ReadSettings, *, glitches: bool = True,
 
 
 def emit_json(payload: dict[str, Any], target: str | None) -> None:
-    """Write ``payload`` as JSON to ``target`` ('-' = stdout); files are written atomically."""
+    """Write ``payload`` as JSON to ``target`` ('-' = stdout); files are written atomically.
+    The warnings and notes in it name the options, not the library's keywords
+    (:func:`fogts.cli._arguments.cli_payload`)."""
     if target is None:
         return
     from fogts.io.writer import write_text_atomic
     from fogts.report.text import json_dumps
 
-    text = json_dumps(payload)
+    text = json_dumps(cli_payload(payload))
     if target == "-":
         sys.stdout.write(text + "\n")
     else:

@@ -37,7 +37,8 @@ def allan_tables(res: AllanResult, model: NoiseModel | None, check: dict[str, An
         common.say([f"dropped tau = {d.tau_s:g} s (m = {d.m}): {d.reason}"], quiet_json)
     # the curve's own notes (taus rounded to whole samples, missing samples, totdev's bias
     # correction), as in its summary() and JSON; the preparation steps are printed above
-    common.say([f"note: {n}" for n in res.notes if not n.startswith("prepared: ")], quiet_json)
+    common.say([f"note: {common.option_keywords(n)}" for n in res.notes
+                if not n.startswith("prepared: ")], quiet_json)
     if model is not None:
         common.print_out(common.rich_table(model.term_table(units)), quiet_json=quiet_json)
         from fogts.report.text import fit_sentences
@@ -169,7 +170,8 @@ def allan_cmd(
                   f"({run.duration_s:.6g} s), rate in {run.units}"], json_out)
             for ax in analysis.axes:
                 if ax.notes:
-                    common.say([f"{ax.result.axis}: {line}" for line in ax.notes], json_out)
+                    common.say([f"{ax.result.axis}: {common.option_keywords(line)}"
+                                for line in ax.notes], json_out)
                 allan_tables(ax.result, ax.model, ax.check, json_out, output_units)
                 if ax.comparison is not None:
                     common.print_out(common.rich_table(ax.comparison.table(output_units)),

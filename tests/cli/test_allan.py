@@ -112,8 +112,8 @@ def test_bias_correction_with_another_kind_is_a_usage_error(gyro_npy: Path) -> N
     code, _out, err = _run([gyro_npy, "--fs", FS, "--bias-correction"])
     assert code == 2
     assert error_output(err).splitlines() == [
-        "error: bias_correction applies to kind='totdev' only (the other estimators are "
-        "unbiased for every power-law noise), got kind='oadev'"]
+        "error: bias_correction applies to --kind totdev only (the other estimators are "
+        "unbiased for every power-law noise), got --kind oadev"]
 
 
 def test_mdev_is_computed_but_not_fitted(gyro_npy: Path) -> None:
@@ -238,8 +238,11 @@ def test_si_tables_and_a_kalibr_export_that_reads_back(tmp_path: Path) -> None:
                                  "got 'ros'"),
     (["--export", "kalibr", "OUT", "SECOND"], "--export describes one sensor: give one input "
                                               "file, not 2"),
-    (["--export", "kalibr", "OUT", "--kind", "mdev"], "the export needs the noise terms"),
-    (["--export", "kalibr", "OUT", "--terms", "N,B"], "K was not fitted"),
+    (["--export", "kalibr", "OUT", "--kind", "mdev"], "the export needs the noise terms, and "
+                                                      "rate has none (fitted to --kind adev, "
+                                                      "oadev or totdev only)"),
+    (["--export", "kalibr", "OUT", "--terms", "N,B"], "K was not fitted (--terms must include "
+                                                      "N and K)"),
     (["--export", "kalibr", "INPUT"], "fogts never replaces an input"),
     (["--output-units", "rad"], "Invalid value for '--output-units'"),
 ])

@@ -210,6 +210,27 @@ def test_keywords_become_options_and_other_words_stay() -> None:
         == "--fit-tau-min/--fit-tau-max do not apply"
 
 
+def test_warnings_and_json_messages_name_the_options_and_nothing_else_changes() -> None:
+    """Warnings, notes and the JSON's messages: ``name=`` forms only (a bare word may be a
+    column or a quantity), and in the JSON only the strings under its message keys."""
+    from fogts.cli._arguments import cli_payload, option_keywords
+
+    assert option_keywords("pass units= (deg/h); give kind=; give fs_hz= if faster") == \
+        "pass --units (deg/h); give --kind; give --fs if faster"
+    assert option_keywords("outliers=K replaces; gaps='nan': the whole record") == \
+        "--outliers K replaces; --gaps nan: the whole record"
+    assert option_keywords("the units and kind of n_samples") == "the units and kind of n_samples"
+    payload = {"source": "units=deg/x.csv", "columns": {"dev": "units=x"},
+               "data_quality": {"warnings": ["pass units= (deg/h)"]},
+               "axes": [{"notes": ["give n_samples=N"], "plausibility": {"message": "(units=)"},
+                         "outliers_effect": {"text": "outliers=8: replaced", "share": 0.1}}]}
+    assert cli_payload(payload) == {
+        "source": "units=deg/x.csv", "columns": {"dev": "units=x"},
+        "data_quality": {"warnings": ["pass --units (deg/h)"]},
+        "axes": [{"notes": ["give --n-samples N"], "plausibility": {"message": "(--units)"},
+                  "outliers_effect": {"text": "--outliers 8: replaced", "share": 0.1}}]}
+
+
 def test_a_bag_with_several_imu_topics_names_the_topic_option(tmp_path: Path) -> None:
     """The Python side is tests/io/test_rosbag.py (``choose one with topic=NAME``)."""
     pytest.importorskip("rosbags")
