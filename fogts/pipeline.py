@@ -416,7 +416,7 @@ def _outlier_effect(run: Run, axis: int, prepared: Prepared, model: NoiseModel |
     share = report.count / max(prepared.n_input, 1)
     out: dict[str, Any] = {"replaced": report.count, "share": share,
                            "sigma_factor": report.sigma_factor}
-    text = (f"--outliers {report.sigma_factor:g}: replaced {report.count:,} of "
+    text = (f"outliers={report.sigma_factor:g}: replaced {report.count:,} of "
             f"{prepared.n_input:,} samples ({100 * share:.3g} %)")
     if model is None or "N" not in model.names:
         out["text"] = text

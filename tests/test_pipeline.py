@@ -67,6 +67,8 @@ def test_preparation_is_applied_and_reported() -> None:
     assert axis.prepared.outliers.count == 1
     assert axis.outliers_effect is not None and axis.outliers_effect["replaced"] == 1
     assert any("replaced 1 of 20,000" in note for note in axis.notes)
+    # AllanSettings' keyword; the command line's --outliers 8: tests/cli/test_hygiene.py
+    assert axis.outliers_effect["text"].startswith("outliers=8: replaced 1 of 20,000 samples")
     block = axis.to_dict()
     assert block["preprocessing"] is not None and "outliers_effect" in block
 

@@ -207,7 +207,7 @@ def read_curves(path: str | os.PathLike[str], *, units: str | None = None,
                 notes.append(f"the record length is not stated: estimated as m (edf + 1) "
                              f"= {n_rec:,} samples at the shortest tau (IEEE Std 952-1997 "
                              "C.3); it shapes the model covariance behind the standard "
-                             "errors and gls; give --n-samples N")
+                             "errors and gls; give n_samples=N")
         low, high, lvl, lvl_source = _bounds(table, rows, d, w.edf, level)
         terms = (table.numbers["terms"][rows] if "terms" in table.numbers
                  and np.all(np.isfinite(table.numbers["terms"][rows]))
@@ -252,7 +252,7 @@ def _kind(table: CurveTable, kind: str | None, notes: list[str]) -> tuple[str, s
     if table.kind is not None:
         return table.kind, "file"
     notes.append("the estimator is not stated: taken as oadev (overlapping Allan "
-                 "deviation); give --kind")
+                 "deviation); give kind=")
     return "oadev", "assumed"
 
 
@@ -263,7 +263,7 @@ def _unit(table: CurveTable, units: str | None, name: str) -> tuple[str, str]:
         return table.unit, "column name"
     column = table.columns.get("dev", table.columns.get("var", ""))
     warnings.warn(f"{name}: no unit in the deviation column {column!r}; assuming deg/h; "
-                  "pass --units (deg/h, deg/s, rad/s, arcsec/s)", DataQualityWarning,
+                  "pass units= (deg/h, deg/s, rad/s, arcsec/s)", DataQualityWarning,
                   stacklevel=3)
     return "deg/h", "assumed"
 
@@ -314,7 +314,7 @@ def _channels(table: CurveTable, channel: str | None, unit: str, notes: list[str
             chosen, left = names, []
         if left:
             notes.append(f"left out the channels {', '.join(left)} (another quantity than "
-                         f"{unit}); pick one with --channel NAME and its --units")
+                         f"{unit}); pick one with channel=NAME and its units=")
     elif channel == "all":
         chosen = names
     else:
@@ -365,7 +365,7 @@ def _sample_rate(table: CurveTable, rows: np.ndarray, fs: float | None, notes: l
         if np.all(np.abs(rates / rates[0] - 1.0) <= M_TOLERANCE):
             return float(np.median(rates)), "file"
     notes.append(f"the sample rate is not stated: the shortest tau, {tau[0]:g} s, taken as "
-                 f"the sample interval (fs = {1.0 / tau[0]:.6g} Hz); give --fs if the "
+                 f"the sample interval (fs = {1.0 / tau[0]:.6g} Hz); give fs_hz= if the "
                  "record was sampled faster")
     return 1.0 / float(tau[0]), "inferred"
 

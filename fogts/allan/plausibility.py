@@ -199,7 +199,7 @@ class PlausibilityReport:
         else:
             text += ("; no other rate unit (" + ", ".join(a.units for a in self.alternatives)
                      + f") makes {them} plausible: check the recording's scale factor")
-        return text + "; set the rate unit explicitly (--units)"
+        return text + "; set the rate unit explicitly (units=)"
 
     def _groups(self, units: tuple[str, ...]) -> list[list[UnitAlternative]]:
         """``units`` grouped by scale factor (deg/h and arcsec/s give the same numbers)."""

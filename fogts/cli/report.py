@@ -3,13 +3,16 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
 import typer
 
 from fogts.cli import _common as common
 from fogts.cli.progress import shows_progress
 from fogts.pipeline import ReadSettings
+
+if TYPE_CHECKING:
+    from fogts.report.page import HtmlReport
 
 
 @common.app.command("report")
@@ -53,6 +56,7 @@ def report_cmd(
                            decimate=decimate, kind=kind, taus=taus, criterion=criterion,
                            davar_window_s=davar_window, output_units=output_units,
                            spec=limits, methods=method.split(","))
+        rep = _options_named(rep)
         write_report(output, rep)
         failed = [s for s in rep.sections if s.status != "ok"]
         for s in failed:
@@ -62,3 +66,22 @@ def report_cmd(
         for part, why in rep.omitted:
             common.console.print(f"not included: {part}: {why}", markup=False, soft_wrap=True)
     raise typer.Exit(common.ExitCode.NEGATIVE if failed else common.ExitCode.OK)
+
+
+def _options_named(rep: HtmlReport) -> HtmlReport:
+    """The report with the options the user typed where its messages suggest a library
+    keyword (``pass units=`` becomes ``pass --units``): the data-quality findings, the
+    sections' notes and errors, the reasons a part was left out.  The tables and the
+    file's comment lines, whose text comes from the input, stay as they are."""
+    from dataclasses import replace
+
+    from fogts.report.sections import QUALITY_CAPTION
+
+    named = common.option_keywords
+    sections = tuple(replace(
+        s, message=named(s.message), notes=tuple(named(n) for n in s.notes),
+        blocks=tuple(replace(b, items=tuple(named(i) for i in b.items))
+                     if b.kind == "list" and b.caption == QUALITY_CAPTION else b
+                     for b in s.blocks)) for s in rep.sections)
+    return replace(rep, sections=sections, omitted=tuple((part, named(why))
+                                                         for part, why in rep.omitted))

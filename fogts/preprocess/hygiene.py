@@ -3,7 +3,7 @@
 Every command runs :func:`assess_run` right after reading, so that what could make an
 answer wrong is printed before the answer, and recorded in the JSON:
 
-* the rate unit was assumed (no unit in the column names, no ``--units``);
+* the rate unit was assumed (no unit in the column names, no ``units=``);
 * empty/NaN cells were dropped or interpolated (:class:`fogts.io.run.MissingReport`);
 * the time base has gaps (:class:`~fogts.preprocess.gaps.GapReport`), handled by the gap
   policy: ``warn`` (analyse as if regular and say so), ``error``, ``split`` (the longest
@@ -55,7 +55,7 @@ class DataQuality:
     glitches : tuple of GlitchReport
         One per axis (empty when glitch detection was off).
     outliers : float or None
-        The ``--outliers K`` of the analysis that follows (samples beyond K robust sigmas
+        The ``outliers`` (K) of the analysis that follows (samples beyond K robust sigmas
         replaced): the glitch lines then say so; None: the glitches stay in the analysis.
     """
 
@@ -82,7 +82,7 @@ class DataQuality:
         if self.units_source == "assumed":
             cols = ", ".join(repr(a) for a in self.axes)
             out.append(f"no unit in the rate column(s) {cols}; assuming {self.units}; pass "
-                       "--units (deg/h, deg/s, rad/s, arcsec/s)")
+                       "units= (deg/h, deg/s, rad/s, arcsec/s)")
         if self.missing is not None:
             out.append(self.missing.summary())
         out += self._gap_lines()
@@ -98,18 +98,18 @@ class DataQuality:
                 else [f"time steps jitter by {100 * g.jitter_rel:.3g} % of the nominal step; "
                       "analysed as if regular"]
         if self.gap_policy == "nan":
-            return [f"{g.summary()}; --gaps nan: the whole record on the regular grid, "
+            return [f"{g.summary()}; gaps='nan': the whole record on the regular grid, "
                     "missing samples as NaN, gap-robust overlapping ADEV (Sesia & Tavella "
                     "2008)"]
         if self.segment is not None:
             a, b = self.segment
-            return [f"{g.summary()}; --gaps split: analysing the longest regular segment, "
+            return [f"{g.summary()}; gaps='split': analysing the longest regular segment, "
                     f"rows {a}..{b - 1} ({b - a:,} of {self.n_input:,} samples, "
                     f"{(b - a) / self.fs_hz:.6g} s) of {len(g.segments)}"]
         if g.burst_logged:
             return [f"{g.summary()}; analysed at the mean rate"]
-        return [f"{g.summary()}; analysed as if the samples were regular (--gaps split "
-                "analyses the longest regular segment, --gaps error refuses the file)"]
+        return [f"{g.summary()}; analysed as if the samples were regular (gaps='split' "
+                "analyses the longest regular segment, gaps='error' refuses the file)"]
 
     def to_dict(self) -> dict[str, Any]:
         return {"units": self.units, "units_source": self.units_source,
@@ -131,7 +131,7 @@ class DataQuality:
 
 
 #: What the glitch warning says of the glitches when the analysis keeps them.
-GLITCHES_KEPT = "kept in the analysis (--outliers K replaces samples beyond K robust sigmas)"
+GLITCHES_KEPT = "kept in the analysis (outliers=K replaces samples beyond K robust sigmas)"
 
 
 def glitches_replaced(outliers: float) -> str:
@@ -141,9 +141,9 @@ def glitches_replaced(outliers: float) -> str:
     Examples
     --------
     >>> glitches_replaced(7.0)
-    '--outliers 7: samples beyond 7 robust sigmas are replaced before the analysis (counted below)'
+    'outliers=7: samples beyond 7 robust sigmas are replaced before the analysis (counted below)'
     """
-    return (f"--outliers {outliers:g}: samples beyond {outliers:g} robust sigmas are replaced "
+    return (f"outliers={outliers:g}: samples beyond {outliers:g} robust sigmas are replaced "
             "before the analysis (counted below)")
 
 
@@ -180,7 +180,7 @@ def assess_run(run: Run, *, gaps: GapPolicy = "warn", glitches: bool = True,
     >>> run, q = assess_run(read_run(np.random.default_rng(0).standard_normal(1000),
     ...                              fs_hz=10.0))
     >>> q.warnings()
-    ["no unit in the rate column(s) 'rate'; assuming deg/h; pass --units (deg/h, deg/s, rad/s, arcsec/s)"]
+    ["no unit in the rate column(s) 'rate'; assuming deg/h; pass units= (deg/h, deg/s, rad/s, arcsec/s)"]
     """
     check_choice("gaps", gaps, GAP_POLICIES)
     report = find_gaps(run.time, fs_hz=run.fs_hz, sampling=run.sampling) \

@@ -142,11 +142,11 @@ def exported_terms(axis: AxisAllan) -> dict[str, ExportedTerm]:
     model, name = axis.model, axis.result.axis
     if model is None:
         raise DataError(f"the export needs the noise terms, and {name} has none (fitted to "
-                        "--kind adev, oadev or totdev only)")
+                        "kind= adev, oadev or totdev only)")
     out = {}
     for term in _FILTER_TERMS:
         if term not in model.names:
-            raise DataError(f"the export needs N and K; {term} was not fitted (--terms "
+            raise DataError(f"the export needs N and K; {term} was not fitted (terms= "
                             "must include N and K)")
         shown = model.in_units(term, "si")
         limit = model[term].is_limit

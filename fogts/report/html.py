@@ -239,7 +239,7 @@ def _omission(ctx: ReportContext, part: str) -> str | None:
         ctx.options["davar_window_s"] = window
     elif part == "thermal" and run.temperature is None:
         return ("the file has no temperature column (name it T or temperature, or pass "
-                "--temperature-column)")
+                "temperature_column=)")
     return None
 
 

@@ -114,7 +114,7 @@ def _input_rows(ctx: ReportContext, info: dict[str, Any]) -> list[tuple[str, str
         ("duration", duration_text(info["duration_s"])),
         ("columns", ", ".join(info["columns"])),
         *axes_rows(info, ctx.run.accel_units_source),
-        ("rate unit from", "ASSUMED (no unit in the column names; pass --units)"
+        ("rate unit from", "ASSUMED (no unit in the column names; see Data quality)"
          if ctx.run.units_assumed else ctx.run.units_source),
         ("temperature", "yes" if info["temperature"] else "no temperature column"),
     ]
@@ -130,13 +130,17 @@ def _input_rows(ctx: ReportContext, info: dict[str, Any]) -> list[tuple[str, str
     return rows
 
 
+#: The caption of the input section's list of data-quality findings
+#: (:meth:`fogts.preprocess.hygiene.DataQuality.warnings`).
+QUALITY_CAPTION = "Data quality (units, missing cells, gaps, glitches)"
+
+
 def _input_blocks(ctx: ReportContext, notes: list[str]) -> list[Block]:
     info = run_info(ctx.run)
     blocks = [html_table("What was read", ["item", "value"], _input_rows(ctx, info),
                      numeric=[False, False])]
     issues = tuple(ctx.quality.warnings()) if ctx.quality is not None else ()
-    blocks.append(Block(kind="list", caption="Data quality (units, missing cells, gaps, "
-                        "glitches)", items=issues or ("no issue found: units named, no "
+    blocks.append(Block(kind="list", caption=QUALITY_CAPTION, items=issues or ("no issue found: units named, no "
                                                       "missing cells, no gaps, no glitches",)))
     stats = [[name, st["mean"], st["std"], st["min"], st["max"]]
              for name, st in info["stats"].items()]

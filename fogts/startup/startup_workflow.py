@@ -67,7 +67,7 @@ if TYPE_CHECKING:  # annotations only: EMD and the Kalman filter are imported wh
 __all__ = ["StartupCompensation", "startup_compensation"]
 
 #: Appended to the missing-temperature error of the workflow (its input comes from a file).
-_COLUMN_HINT = "; name it with --temperature-column"
+_COLUMN_HINT = "; name it with temperature_column="
 
 
 @dataclass(frozen=True, repr=False)

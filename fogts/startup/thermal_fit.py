@@ -209,8 +209,8 @@ def _aligned_series(gyro: Any, temperature: Any, temperature_rate_degC_s: Any, *
     ``n_terms`` terms; the rate is computed unless given."""
     y = to_float_array(gyro, "gyro")
     if temperature is None:
-        raise DataError("temperature is required: the thermal model needs a temperature record "
-                        "(give --temperature-column on the command line)")
+        raise DataError("temperature is required: the thermal model needs a temperature record; "
+                        "pass temperature= (deg C, aligned sample by sample with gyro)")
     temp = to_float_array(temperature, "temperature")
     if temp.size != y.size:
         raise DataError(f"temperature has {temp.size} samples but gyro has {y.size}; they must "

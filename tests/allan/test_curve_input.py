@@ -116,7 +116,7 @@ def test_inferred_sample_rate_and_record_length_are_said(tmp_path: Path) -> None
     assert (p.fs_hz, p.fs_source, p.n_source) == (12.5, "inferred", "estimated")
     assert p.n_samples == round(1 * (1e5 / 0.08 + 1))
     assert any("the shortest tau, 0.08 s, taken as the sample interval (fs = 12.5 Hz); give "
-               "--fs if the record was sampled faster" in n for n in p.notes)
+               "fs_hz= if the record was sampled faster" in n for n in p.notes)
     assert any("the record length is not stated" in n for n in got.curves[0].notes)
     assert p.weights == "the edf column" and p.to_dict()["fs_source"] == "inferred"
 
@@ -129,7 +129,7 @@ def test_units_given_from_the_name_or_assumed_with_a_warning(tmp_path: Path) -> 
                         n_samples=N_REC)
     assert (given.provenance.units, given.provenance.units_source) == ("deg/s", "given")
     with pytest.warns(DataQualityWarning, match=r"c.csv: no unit in the deviation column "
-                                                r"'adev'; assuming deg/h; pass --units"):
+                                                r"'adev'; assuming deg/h; pass units= "):
         bare = read_curves(_curve_csv(tmp_path, dev, "tau,adev"), n_samples=N_REC)
     assert bare.provenance.units_assumed
 
@@ -251,3 +251,41 @@ def test_methods_a_curve_cannot_support_are_refused(tmp_path: Path) -> None:
     with pytest.raises(DataError, match=r"method must be one of wls, gls, ols, gmwm for a "
                                         r"curve; got 'lsq'"):
         check_curve_methods(["lsq"], estimated)
+
+
+# --------------------------------------------------------------------------- wording
+
+
+def _bare_channels_csv(tmp_path: Path) -> Path:
+    """Nothing stated but the taus, the deviations and their EDF: no unit, estimator,
+    sample rate or record length; a gyro and an accelerometer channel."""
+    lines = ["channel,tau,dev,edf"]
+    for ch in ("Gyro. X", "Accel. X"):
+        lines += [f"{ch},{float(t)!r},{1 / math.sqrt(t)!r},{float(1e5 / t)!r}" for t in TAU]
+    return _write(tmp_path, "\n".join(lines) + "\n", "bare.csv")
+
+
+#: What each inference note suggests, as read_curve_file's keyword (the command line's
+#: option is tests/cli/test_curve.py's ``test_inference_notes_name_the_options``).
+CURVE_NOTE_KEYWORDS = {
+    "the estimator is not stated": "give kind=",
+    "left out the channels Accel. X": "pick one with channel=NAME and its units=",
+    "the sample rate is not stated": "give fs_hz= if the record was sampled faster",
+    "the record length is not stated": "give n_samples=N",
+}
+
+
+def test_inference_notes_and_the_unit_warning_name_the_keywords(tmp_path: Path) -> None:
+    """In Python the notes and the warning name read_curve_file's keywords (``units=``,
+    ``kind=``, ``fs_hz=``, ``n_samples=``, ``channel=``), never an option (``--units``)."""
+    with pytest.warns(DataQualityWarning) as caught:
+        got = read_curves(_bare_channels_csv(tmp_path))
+    (warning,) = [str(w.message) for w in caught if "no unit" in str(w.message)]
+    assert warning == ("bare.csv: no unit in the deviation column 'dev'; assuming deg/h; pass "
+                       "units= (deg/h, deg/s, rad/s, arcsec/s)")
+    notes = got.provenance.notes
+    for start, keyword in CURVE_NOTE_KEYWORDS.items():
+        (note,) = [n for n in notes if n.startswith(start)]
+        assert note.endswith(keyword), note
+    assert got.curves[0].notes[:len(notes)] == notes
+    assert not any("--" in n for n in (*notes, warning))

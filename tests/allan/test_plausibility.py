@@ -61,6 +61,14 @@ def test_rad_s_read_as_deg_h_is_implausible_and_suggests_rad_s() -> None:
     assert "\n" not in msg
 
 
+def test_the_message_names_the_units_keyword() -> None:
+    """In Python the implausible verdict names read_run's ``units=`` (the command line's
+    ``--units``: tests/cli/test_hygiene.py's ``test_cont_imu1_without_units_warns_and_names_rad_s``)."""
+    msg = check_plausibility(CONT_N, CONT_B, units="deg/h").message
+    assert msg.endswith("; set the rate unit explicitly (units=)")
+    assert "--" not in msg
+
+
 def test_rad_s_read_as_deg_h_on_n_alone() -> None:
     r = check_plausibility(CONT_N, None, units="deg/h")
     assert r.verdict == "implausible"

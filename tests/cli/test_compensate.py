@@ -79,6 +79,9 @@ def test_compensate_bad_input(tmp_path: Path) -> None:
                  ).to_csv(path, index=False)
     res = runner.invoke(app, ["compensate", str(path)])
     assert res.exit_code == 2 and "has no temperature column" in res.stderr
+    # the option, not read_run's temperature_column= (tests/startup/test_startup_workflow.py)
+    assert error_output(res.stderr).endswith("(columns are: time, rate); name it with "
+                                             "--temperature-column")
     bad = tmp_path / "bad.json"
     bad.write_text("{not json")
     src = _write(5, 20.0, tmp_path / "s.csv")

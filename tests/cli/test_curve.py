@@ -225,3 +225,35 @@ def test_export_errors_write_nothing(tmp_path: Path) -> None:
     assert not out.exists()
     code, _, err = _run([_smac("imar"), "--units", "rad/s", "--export", "json", _smac("imar")])
     assert code == 2 and "is the input FILE" in error_output(err)
+
+
+def test_inference_notes_name_the_options(tmp_path: Path) -> None:
+    """The notes and the unit warning of tests/allan/test_curve_input.py's
+    ``test_inference_notes_and_the_unit_warning_name_the_keywords``, as the command line
+    prints them and writes them into its JSON: the options (``--units``, ``--kind``,
+    ``--fs``, ``--n-samples N``, ``--channel NAME``), never the keywords."""
+    from tests.allan.test_curve_input import CURVE_NOTE_KEYWORDS, _bare_channels_csv
+
+    out = tmp_path / "bare.json"
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        code, printed, err = _run([_bare_channels_csv(tmp_path), "--terms", "N,K",
+                                   "--json", out])
+    assert code == 0, err
+    assert ("warning: bare.csv: no unit in the deviation column 'dev'; assuming deg/h; pass "
+            "--units (deg/h, deg/s, rad/s, arcsec/s)") in err.splitlines()
+    options = {"give kind=": "give --kind",
+               "pick one with channel=NAME and its units=": "pick one with --channel NAME "
+                                                            "and its --units",
+               "give fs_hz= if the record was sampled faster": "give --fs if the record was "
+                                                              "sampled faster",
+               "give n_samples=N": "give --n-samples N"}
+    doc = json.loads(out.read_text())
+    for start, keyword in CURVE_NOTE_KEYWORDS.items():
+        line = next(ln for ln in printed.splitlines() if ln.startswith(f"note: {start}"))
+        assert line.endswith(options[keyword]), line
+        for notes in (doc["notes"], doc["input"]["notes"], doc["axes"][0]["notes"]):
+            (note,) = [n for n in notes if n.startswith(start)]
+            assert note == line[len("note: "):]
+    texts = [*doc["notes"], *doc["input"]["notes"], err, printed]
+    assert not any(re.search(r"\b(units|kind|fs_hz|n_samples|channel)=", t) for t in texts)

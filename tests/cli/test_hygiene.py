@@ -7,6 +7,7 @@ on N, and a DatetimeIndex with dropped samples is gaps, not burst logging."""
 from __future__ import annotations
 
 import json
+import re
 import warnings
 from pathlib import Path
 
@@ -39,7 +40,12 @@ def test_cont_imu1_without_units_warns_and_names_rad_s(tmp_path: Path) -> None:
                         "arcsec/s)")
     implausible = next(ln for ln in lines if "gyro_x: N = 1.09e-05 deg/sqrt(h)" in ln)
     assert "rad/s" in implausible and "N = 2.25 deg/sqrt(h)" in implausible  # x 206265
+    # the option, not read_run's units= (tests/allan/test_plausibility.py)
+    assert implausible.endswith("; set the rate unit explicitly (--units)")
     doc = json.loads(out.read_text())
+    assert doc["plausibility"]["message"].endswith("; set the rate unit explicitly (--units)")
+    assert doc["data_quality"]["warnings"][0].endswith("; pass --units (deg/h, deg/s, rad/s, "
+                                                       "arcsec/s)")
     assert doc["input"]["units_source"] == "assumed"
     assert doc["plausibility"]["verdict"] == "implausible"
     assert "rad/s" in [a["units"] for a in doc["plausibility"]["alternatives"]]
@@ -235,3 +241,43 @@ def test_axis_minus_one_means_the_last_axis_everywhere(tmp_path: Path) -> None:
     assert res.exit_code == 2
     assert "--axis must be an axis name or an index in -3..2, got -4; axes are: " \
            "rate_x_deg_h, rate_y_deg_h, rate_z_deg_h" in res.stderr
+
+
+def test_quality_warnings_name_the_options(tmp_path: Path) -> None:
+    """The findings of tests/preprocess/test_hygiene.py's
+    ``test_quality_warnings_name_the_keywords`` as the command line prints them and writes
+    them into its JSON: ``--units``, ``--gaps split``, ``--outliers K``, not the keywords;
+    with ``--outliers 8`` the glitch line and the effect on N say ``--outliers 8``."""
+    from tests.preprocess.test_hygiene import unnamed_gappy_frame
+
+    path = tmp_path / "bare.csv"
+    unnamed_gappy_frame().to_csv(path, index=False)
+    options = {
+        "units": "; assuming deg/h; pass --units (deg/h, deg/s, rad/s, arcsec/s)",
+        "warn": "; analysed as if the samples were regular (--gaps split analyses the longest "
+                "regular segment, --gaps error refuses the file)",
+        "nan": "; --gaps nan: the whole record on the regular grid, missing samples as NaN",
+        "split": "; --gaps split: analysing the longest regular segment, rows 0..2999",
+        "kept": "; kept in the analysis (--outliers K replaces samples beyond K robust sigmas)",
+        "replaced": "; --outliers 8: samples beyond 8 robust sigmas are replaced before the "
+                    "analysis (counted below)",
+    }
+    runs = {"warn": ["units", "warn", "kept"], "nan": ["nan"], "split": ["split"]}
+    for policy, findings in runs.items():
+        out = tmp_path / f"{policy}.json"
+        res = runner.invoke(app, ["allan", str(path), "--gaps", policy, "--json", str(out)])
+        assert res.exit_code == 0, res.stderr
+        printed = [ln.removeprefix("warning: bare.csv: ") for ln in _warnings(res.stderr)]
+        written = json.loads(out.read_text())["data_quality"]["warnings"]
+        assert written == printed[:len(written)]
+        for finding in findings:
+            assert any(options[finding] in w for w in written), (finding, written)
+        assert not any(re.search(r"\b(units|gaps|outliers)=", w) for w in printed)
+    out = tmp_path / "replaced.json"
+    res = runner.invoke(app, ["allan", str(path), "--outliers", "8", "--json", str(out)])
+    assert res.exit_code == 0, res.stderr
+    doc = json.loads(out.read_text())
+    assert any(options["replaced"] in w for w in doc["data_quality"]["warnings"])
+    assert doc["outliers_effect"]["text"].startswith("--outliers 8: replaced 1 of 6,000 samples")
+    assert any(ln.startswith("rate: --outliers 8: replaced 1 of 6,000") for ln in
+               res.stdout.splitlines())

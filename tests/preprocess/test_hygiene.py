@@ -25,7 +25,7 @@ def test_assess_run_gap_policies() -> None:
     split, q = assess_run(run, gaps="split")
     assert split.n == 5900 and q.segment == (3000, 8900)
     assert split.time[0] == 0.0 and split.sampling is not None and split.sampling.n_gaps == 0
-    assert "--gaps split: analysing the longest regular segment, rows 3000..8899" in \
+    assert "gaps='split': analysing the longest regular segment, rows 3000..8899" in \
         q.warnings()[0]
     _, q = assess_run(run, gaps="ignore")
     assert q.warnings() == [] and q.to_dict()["gaps"]["n_gaps"] == 1
@@ -70,5 +70,42 @@ def test_glitch_wording_with_and_without_replacement() -> None:
     from fogts.preprocess.hygiene import GLITCHES_KEPT, glitches_replaced
 
     assert GLITCHES_KEPT.startswith("kept in the analysis")
-    assert glitches_replaced(5.5) == ("--outliers 5.5: samples beyond 5.5 robust sigmas are "
+    assert glitches_replaced(5.5) == ("outliers=5.5: samples beyond 5.5 robust sigmas are "
                                       "replaced before the analysis (counted below)")
+
+
+def unnamed_gappy_frame() -> pd.DataFrame:
+    """10 min at 10 Hz in a column without a unit, 1 s missing after t = 300 s and one
+    spike at t = 100 s: every finding of DataQuality.warnings() that suggests an argument.
+    The command line's side is tests/cli/test_hygiene.py's
+    ``test_quality_warnings_name_the_options``."""
+    t = np.r_[np.arange(3000), np.arange(3010, 6010)] / 10.0
+    rate = np.random.default_rng(8).standard_normal(t.size)
+    rate[1000] += 40.0
+    return pd.DataFrame({"time": t, "rate": rate})
+
+
+#: Each warning's suggestion in Python: the keywords of read_run/assess_run/AllanSettings.
+QUALITY_KEYWORDS = {
+    "units": "; assuming deg/h; pass units= (deg/h, deg/s, rad/s, arcsec/s)",
+    "warn": "; analysed as if the samples were regular (gaps='split' analyses the longest "
+            "regular segment, gaps='error' refuses the file)",
+    "nan": "; gaps='nan': the whole record on the regular grid, missing samples as NaN",
+    "split": "; gaps='split': analysing the longest regular segment, rows 0..2999",
+    "kept": "; kept in the analysis (outliers=K replaces samples beyond K robust sigmas)",
+}
+
+
+def test_quality_warnings_name_the_keywords() -> None:
+    """In Python the data-quality findings name the keywords (``units=``, ``gaps='split'``,
+    ``outliers=K``), in the warnings and in to_dict(), never an option (``--units``)."""
+    frame = unnamed_gappy_frame()
+    lines: list[str] = []
+    for policy in ("warn", "nan", "split"):
+        _, q = assess_run(read_run(frame), gaps=policy)  # type: ignore[arg-type]
+        assert q.to_dict()["warnings"] == q.warnings()
+        lines += q.warnings()
+        assert any(QUALITY_KEYWORDS[policy] in w for w in q.warnings()), q.warnings()
+    for finding in ("units", "kept"):
+        assert any(QUALITY_KEYWORDS[finding] in w for w in lines), finding
+    assert not any("--" in w for w in lines)

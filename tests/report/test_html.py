@@ -170,6 +170,8 @@ def test_short_record_without_temperature_omits_davar_and_thermal(tmp_path: Path
     reasons = dict(rep.omitted)
     assert f"{n:,} samples" in reasons["Dynamic Allan deviation"]
     assert "no temperature column" in reasons["Thermal model"]
+    # read_run's keyword (fogts report says --temperature-column: tests/cli/test_report.py)
+    assert reasons["Thermal model"].endswith("or pass temperature_column=)")
     text = rep.render()
     assert 'id="not-included"' in text and "no temperature column" in text
 

@@ -198,3 +198,27 @@ def test_noise_level_line_of_a_small_significant_change() -> None:
         "0.01 s, p = 0.0039; the change is significant but only 0.73 %)")
     assert ns.summary().endswith(
         "windows): stationary within 10 % (the change is significant but only 0.73 %)")
+
+
+def test_input_section_names_the_keywords() -> None:
+    """Built in Python, the report's data-quality list names the keywords (``units=``,
+    ``gaps='split'``, ``outliers=K``), as DataQuality.warnings() does, and the "rate unit
+    from" row points to that list: the table is never rewritten for the command line
+    (tests/cli/test_report.py), since its cells come from the input."""
+    from fogts.preprocess.hygiene import assess_run
+    from fogts.report.sections import QUALITY_CAPTION
+    from tests.preprocess.test_hygiene import unnamed_gappy_frame
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        run, quality = assess_run(read_run(unnamed_gappy_frame()))
+        rep = build_report(run, quality=quality, parts=("input",))
+    blocks = rep.sections[0].blocks
+    rows = dict(next(b for b in blocks if b.caption == "What was read").rows)
+    assert rows["rate unit from"] == "ASSUMED (no unit in the column names; see Data quality)"
+    (found,) = [b.items for b in blocks if b.caption == QUALITY_CAPTION]
+    assert found == tuple(quality.warnings())
+    assert "assuming deg/h; pass units= (deg/h, deg/s, rad/s, arcsec/s)" in found[0]
+    assert "(gaps='split' analyses the longest regular segment" in found[1]
+    assert "(outliers=K replaces samples beyond K robust sigmas)" in found[2]
+    assert not any("--" in f for f in found)

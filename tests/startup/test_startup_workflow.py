@@ -34,8 +34,10 @@ def test_workflow_bad_calibration_runs() -> None:
     with pytest.raises(DataError, match=r"calibration\[0\] must be a fogts Run"):
         startup_compensation(sim.run, emd=False, calibration=["x.csv"])  # type: ignore[list-item]
     no_temp = Run(rate=sim.run.rate, time=sim.run.time, fs_hz=1.0, units="deg/h", axes=("g",))
-    with pytest.raises(DataError, match="has no temperature column"):
+    with pytest.raises(DataError, match="has no temperature column") as info:
         startup_compensation(no_temp)
+    # read_run's keyword; the command line's --temperature-column: tests/cli/test_compensate.py
+    assert str(info.value).endswith("(columns are: g); name it with temperature_column=")
     with pytest.raises(DataError, match="calibration run .* has no temperature column"):
         startup_compensation(sim.run, emd=False, calibration=[no_temp])
     deg_s = Run(rate=sim.run.rate, time=sim.run.time, fs_hz=1.0, units="deg/s", axes=("g",),

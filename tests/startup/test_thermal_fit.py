@@ -52,8 +52,13 @@ def test_bad_input() -> None:
     rng = np.random.default_rng(0)
     g = rng.standard_normal(500)
     temp = 20.0 + 10.0 * (1.0 - np.exp(-np.arange(500.0) / 200.0))
-    with pytest.raises(DataError, match="temperature is required"):
+    with pytest.raises(DataError, match="temperature is required") as info:
         fit_thermal(g, None, fs_hz=1.0)
+    # fit_thermal's own argument, not the command line's option (which never reaches here:
+    # fogts compensate refuses a run without a temperature column first)
+    assert str(info.value).endswith("; pass temperature= (deg C, aligned sample by sample "
+                                    "with gyro)")
+    assert "--" not in str(info.value)
     with pytest.raises(DataError, match="temperature has 400 samples but gyro has 500"):
         fit_thermal(g, temp[:400], fs_hz=1.0)
     with pytest.raises(InsufficientDataError, match="at least 30 samples"):
