@@ -28,13 +28,19 @@ MISSING = "–"
 @dataclass(frozen=True)
 class Column:
     """A column: its ``title`` (shown), whether it holds numbers (right-aligned) and the
-    ``digits`` (significant, or decimals with ``fixed``) numbers are shown with."""
+    ``digits`` (significant, or decimals with ``fixed``) numbers are shown with.
+
+    ``wrap`` marks free text (a note, a read-out's explanation): the terminal may wrap it
+    between words.  Every other column (numbers, intervals, p values, model names, units,
+    file names) is kept whole on one line, however narrow the terminal
+    (:func:`fogts.cli._rich_table.rich_table`)."""
 
     title: str
     numeric: bool = True
     digits: int = 4
     fixed: bool = False
     signed: bool = False
+    wrap: bool = False
 
 
 def fields_dict(result: Any, **keys: str) -> dict[str, Any]:

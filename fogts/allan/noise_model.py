@@ -384,7 +384,7 @@ class NoiseModel(TableView):
         columns = (Column("term", numeric=False), Column("name", numeric=False),
                    Column("value"), Column("± stderr", digits=3),
                    Column(f"{pct} interval"), Column("unit", numeric=False),
-                   Column("C_n"), Column("note", numeric=False))
+                   Column("C_n"), Column("note", numeric=False, wrap=True))
         shown = {t.name: self.in_units(t.name, units) for t in self.terms}
         described = term_rows(self.quantity)
         rows = [(t.name, described[t.name].description, shown[t.name]["value"],

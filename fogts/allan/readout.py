@@ -199,7 +199,7 @@ class CurveReadout:
                              f"{beyond}"))
         return Table.build(f"curve of {axis}" if axis else "curve read-outs",
                            (Column("read-out", numeric=False), Column("tau", numeric=False),
-                            Column("value", numeric=False)), rows,
+                            Column("value", numeric=False, wrap=True)), rows,
                            caption=f"minimum with its {100 * self.confidence:.1f} % interval")
 
     def summary(self) -> str:

@@ -29,12 +29,12 @@ from typing import TYPE_CHECKING, Annotated, Any, TypeVar
 
 import typer
 from rich.console import Console
-from rich.table import Table
 from typer.core import TyperGroup
 
 from fogts import choices
 from fogts._version import __version__
 from fogts.cli._arguments import cli_payload, option_keywords, option_names
+from fogts.cli._rich_table import rich_table as rich_table  # the commands' common.rich_table
 from fogts.pipeline import ReadSettings
 
 try:  # typer >= 0.16 vendors click as typer._click
@@ -156,7 +156,6 @@ if TYPE_CHECKING:
     from fogts.io.run import Run
     from fogts.preprocess.hygiene import DataQuality
     from fogts.startup.thermal_model import ThermalModel
-    from fogts.tables import Table as FogtsTable
 
 
 
@@ -358,29 +357,12 @@ def emit_json(payload: dict[str, Any], target: str | None) -> None:
         write_text_atomic(Path(target), text + "\n")
 
 
-def rich_table(table: FogtsTable) -> Table:
-    """A :class:`fogts.tables.Table` on the terminal: failed checks in red, emphasised rows
-    in bold, the caption under it."""
-    from rich.markup import escape
-    from rich.text import Text
-
-    out = Table(title=escape(table.title), title_justify="left",
-                caption=escape(table.caption) or None, caption_justify="left")
-    for c in table.columns:
-        # cells fold rather than end in an ellipsis: a file name or a number is never cut
-        out.add_column(escape(c.title), justify="right" if c.numeric else "left",
-                       overflow="fold")
-    for i, row in enumerate(table.cells()):
-        style = "bold" if i in table.highlight else ""
-        out.add_row(*[Text(v, "red" if (i, j) in table.failed else style)
-                      for j, v in enumerate(row)])
-    return out
-
-
 def print_out(*objects: Any, quiet_json: str | None = None) -> None:
-    """Print to the terminal unless JSON goes to stdout (keep stdout parseable)."""
+    """Print to the terminal unless JSON goes to stdout (keep stdout parseable); uncropped,
+    so that a table wider than the terminal (:func:`rich_table`: its numbers are never
+    split) runs long instead of being cut at the terminal's width."""
     target = err_console if quiet_json == "-" else console
-    target.print(*objects)
+    target.print(*objects, crop=False)
 
 
 

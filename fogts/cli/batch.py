@@ -7,7 +7,6 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
-from rich.table import Table
 
 from fogts import choices
 from fogts.cli import _common as common
@@ -16,6 +15,8 @@ from fogts.pipeline import ReadSettings
 
 if TYPE_CHECKING:
     from rich.progress import Progress
+
+    from fogts.tables import Table as FogtsTable
 
 
 @common.app.command("batch")
@@ -80,7 +81,7 @@ def batch_cmd(
             common.warn(line)
         errors = [r for r in result.rows if r["status"] == "error"]
         if errors:
-            common.console.print(_failed_runs_table(errors))
+            common.print_out(common.rich_table(_failed_runs_table(errors)))
     if result.interrupted:
         common.err_console.print("error: interrupted; rerun with --resume to finish", markup=False)
         raise typer.Exit(common.ExitCode.ERROR)
@@ -107,16 +108,15 @@ def _runs_bar() -> Progress:
                     console=common.err_console, transient=False, disable=not bar_enabled())
 
 
-def _failed_runs_table(errors: Iterable[Mapping[str, Any]]) -> Table:
-    """The runs that failed: file, axis and the error message."""
-    from rich.text import Text
+def _failed_runs_table(errors: Iterable[Mapping[str, Any]]) -> FogtsTable:
+    """The runs that failed: file and axis (kept whole) and the error message (wrapped)."""
+    from fogts.tables import Column
+    from fogts.tables import Table as FogtsTable
 
-    failed = Table(title="failed runs", title_justify="left")
-    for c in ("file", "axis", "error"):
-        failed.add_column(c)
-    for r in errors:  # Text(): file names and messages are not rich markup
-        failed.add_row(Text(r["file"]), Text(r["axis"] or ""), Text(r["error"]))
-    return failed
+    return FogtsTable.build("failed runs", (Column("file", numeric=False),
+                                            Column("axis", numeric=False),
+                                            Column("error", numeric=False, wrap=True)),
+                            [(r["file"], r["axis"] or "", r["error"]) for r in errors])
 
 
 def _batch_quality_lines(rows: Iterable[Mapping[str, Any]]) -> list[str]:

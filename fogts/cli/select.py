@@ -147,7 +147,7 @@ def _print_selection(analysis: AxisSelection, json_out: str | None) -> None:
     corr = sel.correlogram
     say(f"{'ACF/PACF':<10}ACF {corr.acf_pattern.describe()}, PACF "
         f"{corr.pacf_pattern.describe()} -> {corr.suggestion}")
-    out.print(common.rich_table(sel.candidate_table()))
+    common.print_out(common.rich_table(sel.candidate_table()), quiet_json=json_out)
     best = sel.selected
     if best is not None:
         how = (f"lowest {sel.criterion.upper()} among the white candidates" if best.white
