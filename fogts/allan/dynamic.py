@@ -20,7 +20,8 @@ tau is the observed variance of ``log(avar_i)`` across windows divided by that
 chance value: about 1 for a stationary record, much larger when the level changes.
 Its p-value treats ``(K - 1) score`` as chi-squared with ``K - 1`` degrees of freedom,
 ``K`` being the number of non-overlapping windows in the record (overlapping windows are
-not independent).  Windows whose variance lies outside the chi-squared interval around
+not independent), or the number of windows computed when the step is longer than the
+window (the samples between them are not tested).  Windows whose variance lies outside the chi-squared interval around
 the pooled (all-window) variance at a Bonferroni-corrected level are flagged, and the
 most likely single change time is the split of the window sequence that minimises the
 within-segment sum of squares of the window variances (binary segmentation, one step; on
@@ -230,7 +231,9 @@ def _one(y: FloatArray, name: str, *, fs: float, units: str, window: float, step
     avar = dev**2
     with np.errstate(divide="ignore", invalid="ignore"):
         reference = np.sqrt(np.mean(avar, axis=0))
-    n_indep = max(n // win_n, MIN_WINDOWS)
+    # independent windows: the record's non-overlapping windows, but never more than the
+    # windows computed (a step longer than the window leaves the record between them out)
+    n_indep = max(min(n // win_n, n_win), MIN_WINDOWS)
     outside = _outside(avar, reference**2, edf, level / n_indep)
     times = np.asarray((starts + win_n / 2.0) / fs, dtype=np.float64)
     stat = _nonstationarity(avar, edf, m / fs, times, win_n / fs / 2.0, outside, n_indep,

@@ -35,7 +35,7 @@ def davar_cmd(
     from fogts.allan.dynamic import dynamic_allan
     from fogts.units import parse_duration
 
-    with common.guard({"min_change": "--min-change"}, overwrite=overwrite, outputs={"--json": json_out, "--plot": plot},
+    with common.guard({"min_change": "--min-change", "window_s": "--window", "step_s": "--step"}, overwrite=overwrite, outputs={"--json": json_out, "--plot": plot},
                       inputs={"FILE": [file]}):
         common.check_output_names(plot=plot)  # before any output is written
         window_s = parse_duration(window, "--window")

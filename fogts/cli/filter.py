@@ -49,7 +49,7 @@ def filter_cmd(
     each figure the axis name in its file name, and the JSON is {"input", "method", "units",
     "axes": [one block per axis], "output"}.
     """
-    with common.guard(overwrite=overwrite, outputs={"--output": output, "--json": json_out, "--plot": plot},
+    with common.guard(_FILTER_OPTIONS, overwrite=overwrite, outputs={"--output": output, "--json": json_out, "--plot": plot},
                 inputs={"FILE": [file]}):
         common.check_output_names(plot=plot, output=output)  # before any output is written
         _check_method_options(method, {
@@ -99,6 +99,9 @@ class _Filtered:
 
 
 #: The options that apply to each --method (the rest are refused, not ignored).
+#: Library argument names of ``fogts filter`` and their options, for its error messages.
+_FILTER_OPTIONS = {"cutoff_hz": "--cutoff", "window_s": "--window"}
+
 _METHOD_OPTIONS: dict[str, tuple[str, ...]] = {
     "kalman": ("--model", "--measurement-noise"),
     "iir": ("--cutoff", "--order", "--design", "--compare-allan"),

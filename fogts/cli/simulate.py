@@ -23,7 +23,7 @@ _SIMULATE_OPTIONS = {
     "start_delay_s": "--start-after", "start_s": "--start-after",
     "ambient_degC": "--ambient-c", "peak_rate_degC_s": "--peak-heating-c-s",
     "tau_s": "--time-constants", "white_sigma_deg_h": "--white-deg-h",
-    "temperature_resolution_degC": "--temperature-resolution-c",
+    "temperature_resolution_degC": "--temperature-resolution-c", "n_axes": "--axes",
 }
 
 

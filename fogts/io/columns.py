@@ -213,7 +213,7 @@ def _stated_unit(rate_names: Sequence[str], file_key: str, sidecar: str | None
                  ) -> tuple[str, str] | None:
     """The unit the file itself states and where, in the reader's order of precedence."""
     if sidecar is not None:
-        return sidecar, "its fogts sidecar"
+        return sidecar, "fogts sidecar"
     for names, what in ((rate_names, "column name"), ([file_key] if file_key else [], "key")):
         named = _named_unit(names)
         if named is not None:

@@ -235,7 +235,7 @@ def _omission(ctx: ReportContext, part: str) -> str | None:
     if part == "davar":
         window = _davar_window(run, ctx.options["davar_window_s"])
         if window is None:
-            return _davar_too_short(run)
+            return _davar_too_short(run, ctx.options["davar_window_s"])
         ctx.options["davar_window_s"] = window
     elif part == "thermal" and run.temperature is None:
         return ("the file has no temperature column (name it T or temperature, or pass "
@@ -283,9 +283,18 @@ def _davar_window(run: Run, window_s: float | None) -> float | None:
     return window_s
 
 
-def _davar_too_short(run: Run) -> str:
-    """The reason a record too short for the dynamic Allan deviation gives."""
+def _davar_too_short(run: Run, window_s: float | None = None) -> str:
+    """Why the dynamic Allan deviation does not run: the record is too short for it, or
+    the given window (``davar_window_s``) does not fit the record."""
     need = DAVAR_MIN_WINDOWS * DAVAR_MIN_WINDOW_SAMPLES
+    min_window = DAVAR_MIN_WINDOW_SAMPLES / run.fs_hz
+    longest = run.duration_s / DAVAR_MIN_WINDOWS
+    if window_s is not None and longest >= min_window:
+        return (f"the given window ({window_s:g} s) does not fit this record: a window needs "
+                f"at least {DAVAR_MIN_WINDOW_SAMPLES} samples ({min_window:g} s at "
+                f"{fmt_num(run.fs_hz, 6)} Hz) and the record ({run.duration_s:g} s) must "
+                f"hold {DAVAR_MIN_WINDOWS} of them, so it may be {min_window:g} .. "
+                f"{longest:g} s")
     return (f"the record has {run.n:,} samples; the dynamic Allan deviation needs at least "
             f"{DAVAR_MIN_WINDOWS} windows of {DAVAR_MIN_WINDOW_SAMPLES} samples ({need:,} "
             "samples)")

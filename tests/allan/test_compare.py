@@ -106,8 +106,8 @@ def test_cli_moving_average(record: Path, tmp_path: Path) -> None:
 
 
 @pytest.mark.parametrize(("args", "message"), [
-    (["--method", "iir", "--cutoff", "50"], "cutoff_hz must be below the Nyquist frequency 50 Hz"),
-    (["--method", "iir", "--cutoff", "80"], "cutoff_hz must be below the Nyquist frequency"),
+    (["--method", "iir", "--cutoff", "50"], "--cutoff must be below the Nyquist frequency 50 Hz"),
+    (["--method", "iir", "--cutoff", "80"], "--cutoff must be below the Nyquist frequency"),
     (["--method", "iir", "--cutoff", "2", "--order", "0"], "order must be >= 1, got 0"),
     (["--method", "iir", "--cutoff", "2", "--order", "-3"], "order must be >= 1, got -3"),
     (["--method", "iir"], "--method iir needs --cutoff HZ"),

@@ -93,6 +93,18 @@ def test_stationary_white_noise_is_flat_within_cis() -> None:
     assert res.outside.mean() < 0.01  # Bonferroni-level flags are rare
 
 
+def test_a_step_longer_than_the_window_counts_only_the_windows_computed() -> None:
+    # 3600 s at 10 Hz, windows of 10 s every 100 s: 36 windows, not the 360 the record
+    # would hold side by side; the score test and the flags count the 36 (audit2: davar
+    # --window 0.05 printed "500 windows ... 200000 independent windows")
+    res = dynamic_allan(_white(36_000, 11), fs_hz=FS, window_s=10, step_s=100)
+    assert res.dev.shape[0] == 36
+    assert res.nonstationarity.n_independent == 36
+    assert "36 independent windows" in res.nonstationarity.summary()
+    overlapping = dynamic_allan(_white(36_000, 11), fs_hz=FS, window_s=100, step_s=25)
+    assert overlapping.nonstationarity.n_independent == 36  # n // window, as before
+
+
 def test_level_doubling_half_way_is_found_at_the_right_time() -> None:
     res = dynamic_allan(_step(), fs_hz=FS, window_s=200, step_s=20)
     assert isinstance(res, DynamicAllanResult)

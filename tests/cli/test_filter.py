@@ -97,3 +97,21 @@ def test_kalman_text_states_the_rate_unit(ar_file: Path, tmp_path: Path) -> None
                               "-o", str(tmp_path / "f.csv")])
     assert res.exit_code == 0, res.output
     assert "[rate in deg/s; sigma2 and H in (deg/s)^2]" in res.stdout
+
+
+@pytest.mark.parametrize(("args", "says"), [
+    (["--method", "iir", "--cutoff", "80"], "--cutoff must be below the Nyquist frequency 5 Hz"),
+    (["--method", "iir", "--cutoff", "-1"], "--cutoff must be a finite number > 0, got -1.0"),
+    (["--method", "moving-average", "--window", "0"],
+     "--window must be a finite number > 0, got 0.0"),
+])
+def test_filter_errors_name_the_option_typed(ar_file: Path, tmp_path: Path, args: list[str],
+                                             says: str) -> None:
+    # audit2: they named the library's keywords cutoff_hz and window_s
+    out = tmp_path / "o.csv"
+    res = runner.invoke(app, ["filter", str(ar_file), "-o", str(out), *args])
+    assert res.exit_code == 2, res.output
+    lines = error_output(res.stderr).splitlines()
+    assert len(lines) == 1 and lines[0].startswith("error: ") and says in lines[0]
+    assert "cutoff_hz" not in lines[0] and "window_s" not in lines[0]
+    assert not out.exists()

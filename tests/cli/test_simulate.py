@@ -189,3 +189,22 @@ def test_davar_bad_input(step_file: Path, tmp_path: Path, args: list[str],
 def test_davar_missing_file(tmp_path: Path) -> None:
     res = runner.invoke(app, ["davar", str(tmp_path / "nope.csv")])
     assert res.exit_code == 2 and res.stderr.startswith("error: ")
+
+
+@pytest.mark.parametrize(("args", "says", "keyword"), [
+    (["davar", "{file}", "--window", "1000s"],
+     "--window 1000 s (10000 samples) is longer than the record", "window_s"),
+    (["davar", "{file}", "--window", "0.2s"], "--window 0.2 s is 2 sample(s) at 10 Hz", "window_s"),
+    (["davar", "{file}", "--window", "20s", "--step", "0s"], "--step must be > 0", "step_s"),
+    (["simulate", "noise", "-o", "{out}", "--axes", "0"], "--axes must be >= 1, got 0", "n_axes"),
+])
+def test_errors_name_the_option_typed(tmp_path: Path, args: list[str], says: str,
+                                      keyword: str) -> None:
+    # audit2: these errors named the library's keyword (window_s=1e+09 s, n_axes must be ...)
+    file = _simulate(tmp_path, "--fs", "10", "--duration", "5min", "--N", "0.01")
+    out = tmp_path / "new.csv"
+    res = runner.invoke(app, [a.format(file=file, out=out) for a in args])
+    assert res.exit_code == 2, res.output
+    lines = [ln for ln in res.stderr.splitlines() if ln.startswith("error: ")]
+    assert len(lines) == 1 and says in lines[0] and keyword not in lines[0], res.stderr
+    assert not out.exists()

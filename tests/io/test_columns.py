@@ -55,3 +55,21 @@ def test_a_given_unit_over_a_unit_the_file_states_warns(tmp_path: Path) -> None:
         warnings.simplefilter("error", DataQualityWarning)
         assert read_run(path, units="dps").units == "deg/s"
         assert read_run(plain, units="rad/s").units == "rad/s"
+
+
+def test_a_given_unit_over_the_sidecar_unit_reads_plainly(tmp_path: Path) -> None:
+    """The warning names the sidecar in plain words (audit2: 'from the its fogts sidecar')."""
+    import json
+
+    from fogts.errors import DataQualityWarning
+
+    path = write_file(tmp_path, "s.csv", "\n".join(
+        ["time,rate"] + [f"{i / 10},{(-1) ** i * 0.1}" for i in range(20)]))
+    path.with_name("s.csv.json").write_text(json.dumps(
+        {"generator": "fogts 0.1.0 simulate noise", "units": "deg/h"}))
+    with pytest.warns(DataQualityWarning) as caught:
+        run = read_run(path, units="deg/s")
+    assert run.units == "deg/s"
+    assert [str(w.message) for w in caught] == [
+        f"{path}: units = deg/s (given) overrides the unit the file states, deg/h (from the "
+        "fogts sidecar); the given unit is used"]

@@ -176,6 +176,21 @@ def test_short_record_without_temperature_omits_davar_and_thermal(tmp_path: Path
     assert 'id="not-included"' in text and "no temperature column" in text
 
 
+def test_a_given_davar_window_that_does_not_fit_says_so(tmp_path: Path) -> None:
+    # audit2: --davar-window 1e9 on a 10,000 s record said "the record has 1,000,000
+    # samples; ... needs at least 10 windows of 256 samples (2,560 samples)"
+    src = tmp_path / "r.csv"
+    _write_recording(src, n=6_000, temperature=False)  # 600 s at 10 Hz
+    run = read_run(src)
+    for window in (1e9, 1.0):
+        rep = build_report(run, parts=("davar",), davar_window_s=window)
+        reason = dict(rep.omitted)["Dynamic Allan deviation"]
+        assert reason.startswith(f"the given window ({window:g} s) does not fit this record")
+        assert "may be 25.6 .. 60 s" in reason and "6,000 samples" not in reason
+    rep = build_report(run, parts=("davar",), davar_window_s=30.0)
+    assert not rep.omitted
+
+
 def test_a_failing_part_becomes_an_error_section(tmp_path: Path,
                                                  monkeypatch: pytest.MonkeyPatch) -> None:
     import fogts.report.analyses as analyses
