@@ -20,7 +20,7 @@ from fogts.report.blocks import figure_block, fmt_num, fmt_pval, html_table, tab
 from fogts.report.page import Block, Section
 from fogts.report.text import (
     axes_rows,
-    duration_text,
+    duration_line,
     error_message,
     fit_sentences,
     run_info,
@@ -111,7 +111,7 @@ def _input_rows(ctx: ReportContext, info: dict[str, Any]) -> list[tuple[str, str
         ("source", str(info["source"])),
         ("samples", f"{info['n']:,}"),
         ("sample rate", f"{fmt_num(info['fs_hz'], 6)} Hz (from {info['fs_source']})"),
-        ("duration", duration_text(info["duration_s"])),
+        ("duration", duration_line(info)),
         ("columns", ", ".join(info["columns"])),
         *axes_rows(info, ctx.run.accel_units_source),
         ("rate unit from", "ASSUMED (no unit in the column names; see Data quality)"

@@ -16,12 +16,13 @@ from typing import Any
 
 import numpy as np
 
-from fogts.io.run import Run
+from fogts.io.run import Run, held_time
 from fogts.io.timebase import REGULAR_JITTER
 from fogts.units import quantity_of
 
-__all__ = ["axes_rows", "duration_text", "error_message", "fit_sentences", "info_text",
-           "json_dumps", "run_info", "time_base_verdict", "to_jsonable", "warning_texts"]
+__all__ = ["axes_rows", "duration_line", "duration_text", "error_message", "fit_sentences",
+           "info_text", "json_dumps", "run_info", "time_base_verdict", "time_span_s",
+           "to_jsonable", "warning_texts"]
 
 
 def to_jsonable(obj: Any) -> Any:
@@ -112,8 +113,10 @@ def run_info(run: Run) -> dict[str, Any]:
     """The ``fogts info`` JSON payload (its keys are stable).
 
     Keys: ``source, n, fs_hz, duration_s, columns, units, axes, axis_units, gaps, jitter,
-    stats`` (plus ``start_time``, ``temperature``, ``fs_source`` and ``comments``);
-    ``axis_units`` gives each axis' own unit (an accelerometer axis' is not ``units``).
+    stats`` (plus ``span_s``, ``start_time``, ``temperature``, ``fs_source`` and
+    ``comments``); ``axis_units`` gives each axis' own unit (an accelerometer axis' is not
+    ``units``).  ``duration_s`` is the samples' time, ``n / fs_hz``; ``span_s`` the time
+    the stamps cover (first to last stamp, plus one step), longer by the gaps.
     """
     sampling = run.sampling
     assert sampling is not None
@@ -125,6 +128,7 @@ def run_info(run: Run) -> dict[str, Any]:
         "n": run.n,
         "fs_hz": run.fs_hz,
         "duration_s": run.duration_s,
+        "span_s": time_span_s(run),
         "columns": list(run.columns),
         "units": run.units,
         "axes": list(run.axes),
@@ -141,6 +145,15 @@ def run_info(run: Run) -> dict[str, Any]:
         "temperature": run.temperature is not None,
         "comments": list(run.comments),
     }
+
+
+def time_span_s(run: Run) -> float:
+    """The time the stamps cover: first to last stamp plus one step (``n / fs_hz`` for a
+    time base built from the sample rate); longer than ``run.duration_s`` by the gaps."""
+    stamps = held_time(run)
+    if stamps is None or stamps.size == 0:
+        return run.duration_s
+    return float(stamps[-1] - stamps[0]) + 1.0 / run.fs_hz
 
 
 def duration_text(seconds: float) -> str:
@@ -183,6 +196,17 @@ def time_base_verdict(info: Mapping[str, Any]) -> str:
     return "IRREGULAR" + (f" ({', '.join(why)})" if why else "")
 
 
+def duration_line(info: Mapping[str, Any]) -> str:
+    """The duration of :func:`run_info`'s payload, and the stamps' span after it when gaps
+    make the span longer by over one step ("2.83 h (10200 s) of samples; the time stamps
+    span 3 h (10800 s)")."""
+    text = duration_text(info["duration_s"])
+    span = info.get("span_s")
+    if span is None or span - info["duration_s"] <= 1.0 / info["fs_hz"]:
+        return text
+    return f"{text} of samples; the time stamps span {duration_text(span)}"
+
+
 def info_text(info: Mapping[str, Any], accel_source: str = "") -> str:
     """Plain-text rendering of :func:`run_info` for the terminal (``accel_source``: see
     :func:`axes_rows`)."""
@@ -192,7 +216,7 @@ def info_text(info: Mapping[str, Any], accel_source: str = "") -> str:
         f"source      {info['source']}",
         f"samples     {info['n']}",
         f"sample rate {info['fs_hz']:.6g} Hz (from {info['fs_source']})",
-        f"duration    {duration_text(info['duration_s'])}",
+        f"duration    {duration_line(info)}",
         f"columns     {', '.join(info['columns'])}",
         *(f"{label:<11} {text}" for label, text in shown),
     ]

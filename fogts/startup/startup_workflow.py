@@ -202,8 +202,11 @@ class StartupCompensation(TableView):
     def summary(self) -> str:
         lines = []
         if self.gyro_split is not None:
-            lines.append(f"EMD: {self.gyro_split.n_imfs} IMFs, trend from IMF {self.gyro_split.k} "
-                         f"(mean-energy rule); rest modelled as {self.arma_model}")
+            split = self.gyro_split
+            trend = (f"trend from IMF {split.k} (mean-energy rule)" if split.k <= split.n_imfs
+                     else "trend = the residue only (the mean-energy rule puts no IMF in it)")
+            lines.append(f"EMD: {split.n_imfs} IMFs, {trend}; rest modelled as "
+                         f"{self.arma_model}")
         if self.kalman is not None:
             lines.append(f"Kalman: H = {self.kalman.measurement_noise:.4g} "
                          f"({self.kalman.measurement_noise_source}), {self.kalman.method}")

@@ -68,3 +68,22 @@ def test_an_irregular_time_base_says_why() -> None:
     assert time_base_verdict(info).startswith("IRREGULAR (gaps")
     regular = pd.DataFrame({"time": np.arange(n) / 100.0, "rate_deg_h": rng.normal(size=n)})
     assert time_base_verdict(run_info(read_run(regular))) == "regular"
+
+
+def test_the_duration_of_a_record_with_gaps_gives_the_span_too() -> None:
+    """audit2: a 3 h record missing 600 s printed "duration 2.83 h (10200 s)" alone; the
+    samples' time stays ``duration_s`` and the stamps' span is given beside it."""
+    from fogts.report.text import duration_line, time_span_s
+
+    rng = np.random.default_rng(2)
+    t = np.arange(1000) / 10.0
+    t[600:] += 60.0  # 60 s missing after 60 s
+    run = read_run(pd.DataFrame({"time": t, "rate_deg_h": rng.normal(size=t.size)}))
+    info = run_info(run)
+    assert abs(info["duration_s"] - 100.0) < 1e-9 and abs(info["span_s"] - 160.0) < 1e-9
+    assert abs(time_span_s(run) - 160.0) < 1e-9
+    assert duration_line(info) == ("1.67 min (100 s) of samples; the time stamps span "
+                                   "2.67 min (160 s)")
+    assert "duration    1.67 min (100 s) of samples; the time stamps span" in info_text(info)
+    regular = run_info(read_run(rng.normal(size=1000), fs_hz=10.0))
+    assert regular["span_s"] == regular["duration_s"] and duration_line(regular) == "1.67 min (100 s)"

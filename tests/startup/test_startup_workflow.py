@@ -26,6 +26,23 @@ def test_workflow_emd_kalman_thermal_improves_bias_stability() -> None:
     assert {"raw", "trend", "compensated", "temperature"} <= set(res.to_frame().columns)
 
 
+def test_summary_of_a_trend_that_is_the_residue_only() -> None:
+    # audit2: the MPU6050 record printed "EMD: 15 IMFs, trend from IMF 16" (k = n_imfs + 1
+    # means no IMF is in the trend)
+    import dataclasses
+
+    res = startup_compensation(simulate_startup(duration_s=1200, rng=4).run, emd=True,
+                               arma_model="AR(1)")
+    assert res.gyro_split is not None
+    n = res.gyro_split.n_imfs
+    assert f"trend from IMF {res.gyro_split.k} (mean-energy rule)" in res.summary()
+    only = dataclasses.replace(res, gyro_split=dataclasses.replace(res.gyro_split, k=n + 1))
+    text = only.summary()
+    assert f"EMD: {n} IMFs, trend = the residue only (the mean-energy rule puts no IMF in " \
+        "it); rest modelled as AR(1)" in text
+    assert f"IMF {n + 1}" not in text
+
+
 def test_workflow_bad_calibration_runs() -> None:
     sim = simulate_startup(duration_s=600, rng=1)
     other = simulate_startup(duration_s=600, fs_hz=2.0, rng=2).run
