@@ -291,7 +291,8 @@ class Run:
 
     @property
     def duration_s(self) -> float:
-        """Time span covered: ``n / fs_hz``."""
+        """The samples' time, ``n / fs_hz``; the time stamps of a record with gaps span
+        longer (:func:`fogts.report.text.time_span_s`)."""
         return self.n / self.fs_hz
 
     def axis(self, name_or_index: str | int = 0) -> FloatArray:
