@@ -34,7 +34,17 @@ def _position_rates(files: list[Path], *, position_column: str, read: ReadSettin
 
     if len(files) == 1:
         both = f"{read.rate_column or 'rate'},{position_column}"
-        run, _ = common.read_input(files[0], dataclasses.replace(read, rate_column=both), glitches=False)
+        try:
+            run, _ = common.read_input(files[0], dataclasses.replace(read, rate_column=both),
+                                       glitches=False)
+        except DataError as exc:  # the position column is read as a second rate column
+            said = f"rate column {position_column!r} not found"
+            if not str(exc).startswith(said):
+                raise
+            raise DataError(f"position column {position_column!r} (--position-column) not "
+                            f"found{str(exc)[len(said):]}; give one file with the positions "
+                            "in degrees, or four files (0, 90, 180, 270 degrees in that "
+                            "order)") from None
         if thermal is not None:
             run = compensate(run, thermal, axis=0)
         import pandas as pd

@@ -252,7 +252,9 @@ def check_latitude(latitude_deg: float) -> float:
     except (TypeError, ValueError):
         raise DataError(f"latitude_deg must be a number in degrees, got {latitude_deg!r}") from None
     if not math.isfinite(lat) or abs(lat) > 90.0:
-        raise DataError(f"latitude_deg must be in [-90, 90], got {latitude_deg!r}")
+        raise DataError(f"latitude_deg must be in [-{MAX_LATITUDE_DEG:g}, {MAX_LATITUDE_DEG:g}] "
+                        f"(north finding needs the horizontal Earth rate), got "
+                        f"{latitude_deg!r}")
     if abs(lat) > MAX_LATITUDE_DEG:
         raise DataError(f"latitude_deg={lat:g} is within {90 - MAX_LATITUDE_DEG:g}° of the pole: the "
                         "horizontal Earth rate Ω cos L is too small to find north "

@@ -64,6 +64,8 @@ def test_simulation_mode(tmp_path: Path) -> None:
 
 @pytest.mark.parametrize(("args", "message"), [
     (["--latitude", "89.5"], "of the pole"),
+    (["--latitude", "95"], "error: --latitude must be in [-89, 89] (north finding needs the "
+                           "horizontal Earth rate), got 95.0"),
     (["--latitude", "32", "--simulate", "5", "EXTRA"], "--simulate takes no input files"),
     (["--latitude", "32"], "give one positions file or four files"),
 ])
@@ -91,6 +93,22 @@ def test_missing_position_and_wrong_file_count(tmp_path: Path) -> None:
     assert res.exit_code == 2 and "positions 180 are missing" in res.stderr
     res = runner.invoke(app, ["northfind", str(path), str(path), "--latitude", "32", "--fs", "1"])
     assert res.exit_code == 2 and "four files" in res.stderr
+
+
+def test_a_missing_position_column_is_named_as_such(tmp_path: Path) -> None:
+    # audit2: a file without positions said "rate column 'position_deg' not found"
+    path = tmp_path / "plain.csv"
+    pd.DataFrame({"time": np.arange(240.0), "rate": _rates()[0].repeat(4)}).to_csv(path,
+                                                                                 index=False)
+    for extra, name in (([], "position_deg"), (["--position-column", "pos"], "pos")):
+        res = runner.invoke(app, ["northfind", str(path), "--latitude", "32", *extra])
+        assert res.exit_code == 2, res.output
+        lines = error_output(res.stderr).splitlines()
+        assert lines == [f"error: position column {name!r} (--position-column) not found; "
+                         "columns are: time, rate; give one file with the positions in "
+                         "degrees, or four files (0, 90, 180, 270 degrees in that order)"]
+    res = runner.invoke(app, ["northfind", str(path), "--latitude", "32", "--rate-column", "x"])
+    assert res.exit_code == 2 and "rate column 'x' not found" in res.stderr
 
 
 def test_plot_outside_simulation_is_refused_before_any_output(tmp_path: Path) -> None:

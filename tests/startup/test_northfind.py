@@ -76,7 +76,9 @@ def test_bad_input() -> None:
     rates = _rates(10.0)
     with pytest.raises(DataError, match="within 1° of the pole"):
         four_position(rates, latitude_deg=89.5)
-    with pytest.raises(DataError, match=r"latitude_deg must be in \[-90, 90\]"):
+    # audit2: the range said [-90, 90], and 90 was then refused as too near the pole
+    with pytest.raises(DataError, match=r"latitude_deg must be in \[-89, 89\] \(north finding "
+                                        r"needs the horizontal Earth rate\), got 95.0"):
         four_position(rates, latitude_deg=95.0)
     with pytest.raises(DataError, match="latitude_deg must be a number"):
         four_position(rates, latitude_deg="north")  # type: ignore[arg-type]
