@@ -179,7 +179,7 @@ def _noise_spec(noise_json: Path | None, given: dict[str, float], *, markov: str
         from fogts.io.reader import read_json
 
         loaded = read_json(noise_json, "--from-json file")
-        values.update(dataclasses.asdict(NoiseSpec.from_any(loaded)))
+        values.update(dataclasses.asdict(_from_json_terms(loaded, given)))
     values.update({k: v for k, v in given.items() if v != 0.0 or k not in values})
     pm = _pair(markov, "--markov", "q_c,T_c")
     if pm is not None:
@@ -188,6 +188,24 @@ def _noise_spec(noise_json: Path | None, given: dict[str, float], *, markov: str
     if ps is not None:
         values["Omega_0"], values["f_0"] = ps
     return NoiseSpec(**values)
+
+
+def _from_json_terms(loaded: Any, given: dict[str, float]) -> NoiseSpec:
+    """``--from-json``'s terms; the warning that a term was not measured is left out for a
+    term the command line sets itself (``--K 0.3``)."""
+    import warnings
+
+    from fogts.simulate import NoiseSpec
+    from fogts.simulate.noise_spec import NOT_MEASURED_PREFIX
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        spec = NoiseSpec.from_any(loaded)
+    set_here = tuple(f"{NOT_MEASURED_PREFIX}{k} = " for k, v in given.items() if v != 0.0)
+    for w in caught:
+        if not str(w.message).startswith(set_here):
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+    return spec
 
 
 def _rounded(frame: pd.DataFrame, decimals: int | None) -> pd.DataFrame:

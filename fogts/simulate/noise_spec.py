@@ -131,6 +131,9 @@ class NoiseSpec:
             if value is None:
                 continue
             values[name] = value
+            upper = raw.get("upper_limit_95") if isinstance(raw, Mapping) else None
+            if value > 0 and upper is not None:
+                _say_not_measured(name, value, float(upper))
         return cls(**values)
 
     # ---- derived quantities
@@ -234,6 +237,24 @@ def _say_which_axis(doc: Mapping[str, Any], inner: Any) -> None:
     warnings.warn(f"the noise terms are those of axis {names[0]!r}, the first of {len(names)} "
                   f"in the document ({', '.join(names)}); write one axis' JSON (fogts allan "
                   "--axis) to simulate another", DataQualityWarning, stacklevel=4)
+
+
+#: How :meth:`NoiseSpec.from_any`'s warning about a term the fit did not measure begins,
+#: followed by the term's name and " = ".
+NOT_MEASURED_PREFIX = "the fit did not measure "
+
+
+def _say_not_measured(name: str, value: float, upper: float) -> None:
+    """A term a fit gave only as an upper limit (``upper_limit_95`` in its JSON) is taken at
+    its fitted value: say so, since the data did not establish that value."""
+    import warnings
+
+    from fogts.errors import DataQualityWarning
+
+    warnings.warn(f"{NOT_MEASURED_PREFIX}{name} = {value:.4g} (its 95 % upper limit is "
+                  f"{upper:.4g}): the data only bound it, yet its fitted value is taken as the "
+                  f"truth to simulate; give {name} explicitly to simulate another value",
+                  DataQualityWarning, stacklevel=4)
 
 
 def _canonical_term(key: str, allowed: Sequence[str]) -> str:

@@ -208,3 +208,24 @@ def test_errors_name_the_option_typed(tmp_path: Path, args: list[str], says: str
     lines = [ln for ln in res.stderr.splitlines() if ln.startswith("error: ")]
     assert len(lines) == 1 and says in lines[0] and keyword not in lines[0], res.stderr
     assert not out.exists()
+
+
+def test_from_json_warns_of_a_term_the_fit_only_bounds_unless_it_is_given(
+        tmp_path: Path) -> None:
+    # audit2: an allan JSON's K given as '< 1.34' was simulated at its fitted 0.787 silently
+    doc = tmp_path / "allan.json"
+    doc.write_text(json.dumps({"noise": {
+        "N": {"value": 0.05, "upper_limit_95": None},
+        "K": {"value": 0.7872, "upper_limit_95": 1.345}}}))
+    out = tmp_path / "a.csv"
+    res = runner.invoke(app, ["simulate", "noise", "-o", str(out), "--from-json", str(doc),
+                              "--duration", "1min", "--seed", "1"])
+    assert res.exit_code == 0, res.output
+    assert "warning: the fit did not measure K = 0.7872 (its 95 % upper limit is 1.345)" \
+        in res.stderr
+    out2 = tmp_path / "b.csv"
+    res = runner.invoke(app, ["simulate", "noise", "-o", str(out2), "--from-json", str(doc),
+                              "--K", "0.3", "--duration", "1min", "--seed", "1"])
+    assert res.exit_code == 0, res.output
+    assert "did not measure" not in res.stderr
+    assert json.loads((tmp_path / "b.csv.json").read_text())["noise"]["K"]["value"] == 0.3

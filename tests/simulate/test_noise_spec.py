@@ -52,6 +52,28 @@ def test_noise_spec_from_mappings_and_models() -> None:
     assert "noiseless" in NoiseSpec().summary()
 
 
+def test_a_term_the_fit_only_bounds_is_taken_with_a_warning() -> None:
+    """audit2: ``simulate noise --from-json`` of an allan JSON took K = 0.787 (given there
+    as '< 1.34', not measured) as the truth without a word."""
+    import warnings
+
+    from fogts.errors import DataQualityWarning
+
+    doc = {"noise": {"N": {"value": 0.05, "upper_limit_95": None},
+                     "K": {"value": 0.7872, "upper_limit_95": 1.345},
+                     "R": {"value": 0.0, "upper_limit_95": 1.12}}}
+    with pytest.warns(DataQualityWarning) as caught:
+        spec = NoiseSpec.from_any(doc)
+    assert spec == NoiseSpec(N=0.05, K=0.7872)
+    assert [str(w.message) for w in caught] == [
+        "the fit did not measure K = 0.7872 (its 95 % upper limit is 1.345): the data only "
+        "bound it, yet its fitted value is taken as the truth to simulate; give K explicitly "
+        "to simulate another value"]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", DataQualityWarning)  # R is 0: nothing taken
+        assert NoiseSpec.from_any({"noise": {"R": doc["noise"]["R"]}}) == NoiseSpec()
+
+
 def test_noise_spec_from_fitted_noise_model() -> None:
     from fogts.allan import allan_deviation
     from fogts.allan.noise import fit_noise
