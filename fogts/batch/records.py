@@ -41,7 +41,7 @@ SUMMARY_COLUMNS: tuple[str, ...] = (
     "fit", "selected", "aic", "white", "status", "error", "json",
 )
 
-_INTEGER_COLUMNS = ("n",)
+_INTEGER_COLUMNS = ("n", "n_gaps", "n_glitches")
 _FLOAT_COLUMNS = ("fs_hz", "N", "N_stderr", "N_upper", "B", "B_stderr", "B_upper", "K",
                   "K_stderr", "K_upper", "aic")
 

@@ -10,6 +10,7 @@ import typer
 
 from fogts import choices
 from fogts.cli import _common as common
+from fogts.cli._arguments import option_keywords
 from fogts.cli.progress import bar_enabled, shows_progress
 from fogts.pipeline import ReadSettings
 
@@ -116,7 +117,8 @@ def _failed_runs_table(errors: Iterable[Mapping[str, Any]]) -> FogtsTable:
     return FogtsTable.build("failed runs", (Column("file", numeric=False),
                                             Column("axis", numeric=False),
                                             Column("error", numeric=False, wrap=True)),
-                            [(r["file"], r["axis"] or "", r["error"]) for r in errors])
+                            [(r["file"], r["axis"] or "", option_keywords(str(r["error"])))
+                             for r in errors])  # the options to pass, not the keywords
 
 
 def _batch_quality_lines(rows: Iterable[Mapping[str, Any]]) -> list[str]:

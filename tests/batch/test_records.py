@@ -31,3 +31,21 @@ def test_read_settings_carry_every_input_option() -> None:
         rate_column="x, y", time_column="t", temperature_column="T", fs_hz=5.0,
         units="deg/s", nan="drop", gaps="split")
     assert BatchOptions().read_settings == ReadSettings()
+
+
+def test_counts_stay_integers_beside_a_failed_run() -> None:
+    """audit2: with one failed run in the batch, n_gaps and n_glitches were written 0.0."""
+    import io
+
+    from fogts.batch.records import SUMMARY_COLUMNS, rows_frame
+
+    ok = {c: None for c in SUMMARY_COLUMNS} | {"file": "a.csv", "n": 10, "n_gaps": 0,
+                                                "n_glitches": 2, "status": "ok"}
+    failed = {"file": "b.csv", "status": "error", "error": "too short"}
+    frame = rows_frame([ok, failed])
+    assert [str(frame[c].dtype) for c in ("n", "n_gaps", "n_glitches")] == ["Int64"] * 3
+    buffer = io.StringIO()
+    frame.to_csv(buffer, index=False)
+    lines = buffer.getvalue().splitlines()
+    cells = dict(zip(lines[0].split(","), lines[1].split(","), strict=False))
+    assert (cells["n"], cells["n_gaps"], cells["n_glitches"]) == ("10", "0", "2")
