@@ -265,6 +265,16 @@ def _fit_check_blocks(check: Any) -> list[Block]:
     return [Block(kind="verdict", good=check.ok, text=f"Fit check: {text}.")]
 
 
+def _estimate_cell(name: str, value: Any) -> Any:
+    """An AR or MA coefficient as the equation prints it: never "1" for one near a unit
+    root (0.99995 stays 0.99995; :func:`fogts.arma.fit_result.coefficient_text`)."""
+    from fogts.arma.fit_result import coefficient_text
+
+    if name.startswith(("ar.", "ma.")) and isinstance(value, float) and math.isfinite(value):
+        return coefficient_text(value, 4)
+    return value
+
+
 def _arma_blocks(ctx: ReportContext, i: int, notes: list[str]) -> list[Block]:
     sel = ctx.get_selection(i)
     candidates = sel.candidate_table()
@@ -277,7 +287,7 @@ def _arma_blocks(ctx: ReportContext, i: int, notes: list[str]) -> list[Block]:
                             text=best.equation()))
         blocks.append(html_table("Parameters of the selected model (statsmodels names)",
                              ["parameter", "estimate", "± std. error", "t"],
-                             [[name, r["estimate"], r["bse"], r["t"]]
+                             [[name, _estimate_cell(str(name), r["estimate"]), r["bse"], r["t"]]
                               for name, r in best.to_frame().iterrows()],
                              numeric=[False, True, True, True]))
         gm = sel.gauss_markov()

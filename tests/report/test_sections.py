@@ -222,3 +222,17 @@ def test_input_section_names_the_keywords() -> None:
     assert "(gaps='split' analyses the longest regular segment" in found[1]
     assert "(outliers=K replaces samples beyond K robust sigmas)" in found[2]
     assert not any("--" in f for f in found)
+
+
+def test_the_parameter_table_never_rounds_a_coefficient_near_a_unit_root_to_1() -> None:
+    """audit2: the report's parameter table printed ar.L1 = 0.99995 as "1" (a unit root to
+    the reader) while the equation above it said 0.99995."""
+    from fogts.report.blocks import fmt_num
+    from fogts.report.sections import _estimate_cell
+
+    assert fmt_num(0.99995) == "1"  # the table's plain 4-digit cell
+    assert _estimate_cell("ar.L1", 0.99995) == "0.99995"
+    assert _estimate_cell("ma.L1", -0.99981) == "-0.9998"
+    assert _estimate_cell("ma.L1", -0.99997) == "-0.99997"
+    assert _estimate_cell("ar.L2", np.float64(-0.01716)) == "-0.01716"
+    assert _estimate_cell("sigma2", 902.4) == 902.4 and _estimate_cell("mean", 0.004) == 0.004
