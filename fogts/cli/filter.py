@@ -100,7 +100,8 @@ class _Filtered:
 
 #: The options that apply to each --method (the rest are refused, not ignored).
 #: Library argument names of ``fogts filter`` and their options, for its error messages.
-_FILTER_OPTIONS = {"cutoff_hz": "--cutoff", "window_s": "--window"}
+_FILTER_OPTIONS = {"cutoff_hz": "--cutoff", "window_s": "--window",
+                   "measurement_noise": "--measurement-noise"}
 
 _METHOD_OPTIONS: dict[str, tuple[str, ...]] = {
     "kalman": ("--model", "--measurement-noise"),

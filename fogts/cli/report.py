@@ -43,7 +43,7 @@ def report_cmd(
     """
     from fogts.report.html import build_report, write_report
 
-    with common.guard(overwrite=overwrite, outputs={"--output": output},
+    with common.guard({"davar_window_s": "--davar-window"}, overwrite=overwrite, outputs={"--output": output},
                       inputs={"FILE": [file], "--spec": [spec] if spec else []}):
         if not output.name.lower().endswith((".html", ".htm")):
             from fogts.errors import DataError

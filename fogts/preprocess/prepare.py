@@ -318,7 +318,7 @@ def prepare(
     # no decimation: the full time axis (a regular one formed on first access of .time)
     time: FloatArray | RegularTime = base
     if decimate is not None and decimate != 1:
-        k = check_int("decimate", decimate, minimum=2)
+        k = check_int("decimate", decimate, minimum=1)  # 1 (no decimation) is allowed
         if x.size // k < MIN_PREPARE_SAMPLES:
             raise InsufficientDataError(f"decimate={k} leaves {x.size // k} samples; at least "
                                         f"{MIN_PREPARE_SAMPLES} are needed")

@@ -28,6 +28,7 @@ import numpy as np
 import pandas as pd
 
 from fogts._typing import FloatArray
+from fogts._validate import check_positive
 from fogts.choices import APPLY_RULES, ApplyRule
 from fogts.errors import (
     DataError,
@@ -317,6 +318,10 @@ def startup_compensation(
     if apply not in APPLY_RULES:
         raise DataError(f"apply must be one of {', '.join(map(repr, APPLY_RULES))}, "
                         f"got {apply!r}")
+    # checked before the fit, which takes seconds and may warn before a late error
+    average_s = check_positive("average_s", average_s)
+    if dT_smoothing_s is not None:
+        dT_smoothing_s = check_positive("dT_smoothing_s", dT_smoothing_s)
     require_temperature(run, hint=_COLUMN_HINT)
     gyro = run.axis(axis)
     name = axis if isinstance(axis, str) else run.axes[int(axis)]

@@ -172,3 +172,18 @@ def test_a_model_that_is_not_significant_is_saved_with_a_warning_and_warns_when_
     assert res2.exit_code == 0, res2.output
     assert ("the thermal model applied here was fitted on another run and saved with this "
             "note: the model is not significant (likelihood-ratio test") in res2.stderr
+
+
+@pytest.mark.parametrize(("args", "says"), [
+    (["--average", "-1"], "error: --average must be a finite number > 0, got -1.0"),
+    (["--dt-smoothing", "0"], "error: --dt-smoothing must be a finite number > 0, got 0.0"),
+])
+def test_a_bad_average_or_smoothing_is_refused_first_and_named_as_typed(
+        tmp_path: Path, args: list[str], says: str) -> None:
+    # audit2: the fit ran first (a collinearity warning came before the error) and the
+    # error named average_s / dT_smoothing_s
+    src = _write(1, 20.0, tmp_path / "cold.csv")
+    res = runner.invoke(app, ["compensate", str(src), "--units", "deg/h", *args])
+    assert res.exit_code == 2, res.output
+    assert error_output(res.stderr).splitlines() == [says]
+    assert "warning" not in res.stderr  # nothing was fitted

@@ -58,7 +58,7 @@ def test_filter_auto_runs_the_selection(ar_file: Path, tmp_path: Path) -> None:
     (["--method", "wiener"], "'wiener' is not one of 'kalman', 'iir', 'moving-average'"),
     (["--model", "AR(9)"], "model must be one of auto"),
     (["--measurement-noise", "lots"], "--measurement-noise must be 'estimate' or a variance"),
-    (["--measurement-noise", "-1"], "measurement_noise must be a finite number >= 0"),
+    (["--measurement-noise", "-1"], "--measurement-noise must be a finite number >= 0"),
 ])
 def test_filter_bad_options(ar_file: Path, tmp_path: Path, args: list[str], message: str) -> None:
     res = runner.invoke(app, ["filter", str(ar_file), "-o", str(tmp_path / "x.csv"), *args])
@@ -104,6 +104,7 @@ def test_kalman_text_states_the_rate_unit(ar_file: Path, tmp_path: Path) -> None
     (["--method", "iir", "--cutoff", "-1"], "--cutoff must be a finite number > 0, got -1.0"),
     (["--method", "moving-average", "--window", "0"],
      "--window must be a finite number > 0, got 0.0"),
+    (["--measurement-noise", "-1"], "--measurement-noise must be a finite number >= 0, got -1.0"),
 ])
 def test_filter_errors_name_the_option_typed(ar_file: Path, tmp_path: Path, args: list[str],
                                              says: str) -> None:
@@ -113,5 +114,5 @@ def test_filter_errors_name_the_option_typed(ar_file: Path, tmp_path: Path, args
     assert res.exit_code == 2, res.output
     lines = error_output(res.stderr).splitlines()
     assert len(lines) == 1 and lines[0].startswith("error: ") and says in lines[0]
-    assert "cutoff_hz" not in lines[0] and "window_s" not in lines[0]
+    assert not any(k in lines[0] for k in ("cutoff_hz", "window_s", "measurement_noise"))
     assert not out.exists()

@@ -11,9 +11,12 @@ import html
 import re
 from pathlib import Path
 
+import numpy as np
+import pandas as pd
 from typer.testing import CliRunner
 
 from fogts.cli import app
+from tests.conftest import error_output
 from tests.preprocess.test_hygiene import unnamed_gappy_frame
 
 runner = CliRunner()
@@ -40,3 +43,17 @@ def test_report_names_the_options_and_keeps_the_input_text(tmp_path: Path) -> No
     assert "logged with units=deg/s" in text
     assert not re.search(r"\b(gaps|outliers|temperature_column)=", text)
     assert len(re.findall(r"\bunits=", text)) == 1
+
+
+def test_a_bad_davar_window_is_named_as_typed(tmp_path: Path) -> None:
+    # audit2: it said "davar_window_s must be a finite number > 0"
+    src = tmp_path / "r.csv"
+    pd.DataFrame({"time": np.arange(600) / 10.0,
+                  "rate_deg_h": np.random.default_rng(1).normal(size=600)}).to_csv(src,
+                                                                                  index=False)
+    out = tmp_path / "r.html"
+    res = runner.invoke(app, ["report", str(src), "-o", str(out), "--davar-window", "-1"])
+    assert res.exit_code == 2, res.output
+    assert error_output(res.stderr).splitlines() == [
+        "error: --davar-window must be a finite number > 0, got -1.0"]
+    assert not out.exists()

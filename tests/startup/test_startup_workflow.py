@@ -65,3 +65,16 @@ def test_workflow_bad_calibration_runs() -> None:
         startup_compensation(sim.run, model={"T": 1.0})  # type: ignore[arg-type]
     with pytest.raises(DataError, match="run must be a fogts Run"):
         startup_compensation(sim.run.rate)  # type: ignore[arg-type]
+
+
+def test_bad_averaging_and_smoothing_are_refused_before_the_fit() -> None:
+    import warnings
+
+    sim = simulate_startup(duration_s=600, rng=1)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # nothing is fitted, so nothing warns
+        with pytest.raises(DataError, match=r"average_s must be a finite number > 0, got -1"):
+            startup_compensation(sim.run, average_s=-1)
+        with pytest.raises(DataError, match=r"dT_smoothing_s must be a finite number > 0, "
+                                            r"got 0"):
+            startup_compensation(sim.run, dT_smoothing_s=0)
