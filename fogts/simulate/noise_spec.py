@@ -131,9 +131,10 @@ class NoiseSpec:
             if value is None:
                 continue
             values[name] = value
-            upper = raw.get("upper_limit_95") if isinstance(raw, Mapping) else None
+            upper = _term_value(raw.get("upper_limit_95")) if isinstance(raw, Mapping) \
+                else None  # None (JSON null) or NaN (Python): the term was measured
             if value > 0 and upper is not None:
-                _say_not_measured(name, value, float(upper))
+                _say_not_measured(name, value, upper)
         return cls(**values)
 
     # ---- derived quantities

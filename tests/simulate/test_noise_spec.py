@@ -72,6 +72,9 @@ def test_a_term_the_fit_only_bounds_is_taken_with_a_warning() -> None:
     with warnings.catch_warnings():
         warnings.simplefilter("error", DataQualityWarning)  # R is 0: nothing taken
         assert NoiseSpec.from_any({"noise": {"R": doc["noise"]["R"]}}) == NoiseSpec()
+        # a fitted model's to_dict() marks a measured term with NaN, the JSON with null
+        measured = {"terms": {"K": {"value": 0.49, "upper_limit_95": float("nan")}}}
+        assert NoiseSpec.from_any(measured) == NoiseSpec(K=0.49)
 
 
 def test_noise_spec_from_fitted_noise_model() -> None:
