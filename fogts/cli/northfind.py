@@ -58,14 +58,23 @@ def _position_rates(files: list[Path], *, position_column: str, read: ReadSettin
     if len(files) != 4:
         raise DataError(f"give one file with a {position_column!r} column, or four files (0, 90, "
                         f"180, 270 degrees in that order); got {len(files)} files")
+    from fogts.units import convert_rate
+
     rates = {}
     fs_hz, unit = 0.0, "deg/h"
     for p, path in zip(POSITIONS_DEG, files, strict=True):
         run, _ = common.read_input(path, read, glitches=False)
         if thermal is not None:
             run = compensate(run, thermal, axis=0)
-        rates[p] = run.axis(0)
-        fs_hz, unit = run.fs_hz, run.units
+        if p == POSITIONS_DEG[0]:
+            fs_hz, unit = run.fs_hz, run.units
+        elif abs(run.fs_hz - fs_hz) > 1e-6 * fs_hz:
+            raise DataError(f"{path.name} (position {p}) is sampled at {run.fs_hz:g} Hz, "
+                            f"{files[0].name} (position 0) at {fs_hz:g} Hz; the four "
+                            "position files must share one sample rate")
+        # each file in its own unit (a column named rate_deg_s beside plain deg/h files):
+        # the positions are compared in the first file's
+        rates[p] = np.asarray(convert_rate(run.axis(0), run.units, unit), dtype=np.float64)
     return rates, None, fs_hz, unit
 
 

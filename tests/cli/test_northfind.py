@@ -52,6 +52,32 @@ def test_four_files(tmp_path: Path) -> None:
     assert f"azimuth ψ = {PSI:.4f}°" in res.output     # 4 decimals: noise is 1e-6 deg/h
 
 
+def test_four_files_in_different_units_are_compared_in_one(tmp_path: Path) -> None:
+    """audit2: a 90-degree file in deg/s (rate_deg_s) beside three in deg/h was taken as
+    deg/h: its mean printed as -0.0009 °/h, the azimuth came out 9° off and the Earth-rate
+    check still passed."""
+    r = _rates(noise=1e-6)
+    files = []
+    for p in (0, 90, 180, 270):
+        f = tmp_path / f"p{p}.csv"
+        column = "rate_deg_s" if p == 90 else "rate_deg_h"
+        values = r[p] / 3600.0 if p == 90 else r[p]
+        pd.DataFrame({"time": np.arange(60.0), column: values}).to_csv(f, index=False)
+        files.append(str(f))
+    res = runner.invoke(app, ["northfind", *files, "--latitude", str(LAT)])
+    assert res.exit_code == 0, res.output
+    assert f"azimuth ψ = {PSI:.4f}°" in res.output
+    # and a file at another sample rate is refused, naming both
+    slow = tmp_path / "p180_2hz.csv"
+    pd.DataFrame({"time": np.arange(60.0) / 2.0, "rate_deg_h": r[180]}).to_csv(slow, index=False)
+    res = runner.invoke(app, ["northfind", files[0], files[1], str(slow), files[3],
+                              "--latitude", str(LAT)])
+    assert res.exit_code == 2
+    assert error_output(res.stderr).splitlines() == [
+        "error: p180_2hz.csv (position 180) is sampled at 2 Hz, p0.csv (position 0) at 1 Hz; "
+        "the four position files must share one sample rate"]
+
+
 def test_simulation_mode(tmp_path: Path) -> None:
     png = tmp_path / "ns.png"
     res = runner.invoke(app, ["northfind", "--simulate", "20", "--latitude", str(LAT),
