@@ -51,3 +51,29 @@ def test_selection_figure_without_a_fitted_model() -> None:
     fig = plot_selection(failed)
     assert len(fig.axes) == 5
     assert sum(ax.axison for ax in fig.axes) == 2  # only the data ACF and PACF
+
+
+def test_overlay_draws_rates_in_one_unit_and_marks_the_minimum_the_text_reads() -> None:
+    """audit2: a deg/h and a deg/s curve were drawn on one axis labelled "mixed units" (the
+    100x noisier MEMS below the FOG under "lower-left is better"), and the minimum marker
+    sat on the lowest point even where its EDF is 1, not on the read-out's minimum."""
+    from fogts.allan import allan_deviation
+    from fogts.allan.readout import MIN_EDF_FOR_MINIMUM
+    from fogts.report.plots import plot_allan_overlay
+
+    rng = np.random.default_rng(4)
+    fog = allan_deviation(rng.normal(0.0, 1.0, 20_000), fs_hz=10.0, units="deg/h")
+    mems = allan_deviation(rng.normal(0.0, 0.01, 20_000), fs_hz=10.0, units="deg/s")
+    fig = plot_allan_overlay([fog, mems], ["fog", "mems"])
+    ax = fig.axes[0]
+    assert ax.get_ylabel() == "Allan deviation (deg/h)"
+    points = [ln for ln in ax.get_lines() if ln.get_marker() == "o"]
+    np.testing.assert_allclose(points[1].get_ydata(), 3600.0 * np.asarray(mems.dev), rtol=1e-12)
+    markers = [ln for ln in ax.get_lines() if ln.get_marker() == "v"]
+    for res, marker in zip((fog, mems), markers, strict=True):
+        trusted = np.asarray(res.edf) >= MIN_EDF_FOR_MINIMUM
+        expected = np.asarray(res.tau_s)[trusted][np.argmin(np.asarray(res.dev)[trusted])]
+        assert marker.get_xdata()[0] == expected
+    accel = allan_deviation(rng.normal(0.0, 0.001, 20_000), fs_hz=10.0, units="g")
+    assert plot_allan_overlay([fog, accel], ["gyro", "acc"]).axes[0].get_ylabel() == \
+        "Allan deviation (mixed units)"

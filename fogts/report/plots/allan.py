@@ -3,12 +3,16 @@ recordings overlaid, and before/after filtering."""
 
 from __future__ import annotations
 
+from types import SimpleNamespace
 from typing import Any
 
 import numpy as np
 from matplotlib.figure import Figure
 
+from fogts._typing import FloatArray
 from fogts.allan.readoff import fit_check, readoff_supported
+from fogts.allan.readout import MIN_EDF_FOR_MINIMUM
+from fogts.errors import DataError
 from fogts.report.plots._common import mpl_text, num_tex, time_unit, value_pm_tex
 from fogts.report.plots.allan_fit import (
     draw_outside_points,
@@ -17,6 +21,7 @@ from fogts.report.plots.allan_fit import (
     inside_span,
     shade_fit_range,
 )
+from fogts.units import convert_sensor, quantity_of
 
 __all__ = ["plot_allan", "plot_allan_comparison", "plot_allan_overlay"]
 
@@ -376,23 +381,67 @@ def plot_allan_overlay(results: Any, labels: Any, noise: Any = None, *,
     fits = list(noise) if noise is not None else [None] * len(curves)
     fig = Figure(figsize=(width_in, 0.72 * width_in), layout="constrained")
     ax = fig.add_subplot()
-    units = {getattr(r, "units", "") for r in curves}
+    unit = _overlay_unit(curves)
     for i, (res, label, fit) in enumerate(zip(curves, names, fits, strict=True)):
         colour = _OVERLAY_COLOURS[i % len(_OVERLAY_COLOURS)]
-        _allan_curve(ax, res, colour, mpl_text(label))
-        dev = np.asarray(res.dev, dtype=np.float64)
-        ok = np.isfinite(dev) & (dev > 0)
-        if ok.any():
-            j = int(np.argmin(np.where(ok, dev, np.inf)))
-            ax.plot(res.tau_s[j], dev[j], marker="v", color=colour, ms=9, ls="none", zorder=5)
+        scale = _overlay_scale(res, unit)
+        view = SimpleNamespace(
+            tau_s=res.tau_s, dev=scale * np.asarray(res.dev, dtype=np.float64),
+            ci_low=scale * np.asarray(getattr(res, "ci_low", np.full(len(res.dev), np.nan)),
+                                      dtype=np.float64),
+            ci_high=scale * np.asarray(getattr(res, "ci_high", np.full(len(res.dev), np.nan)),
+                                       dtype=np.float64),
+            confidence=getattr(res, "confidence", np.nan))
+        _allan_curve(ax, view, colour, mpl_text(label))
+        j = _minimum_index(view.dev, getattr(res, "edf", None))
+        if j is not None:
+            ax.plot(res.tau_s[j], view.dev[j], marker="v", color=colour, ms=9, ls="none",
+                    zorder=5)
         if fit is not None:
             tau = np.logspace(np.log10(res.tau_s[0]), np.log10(res.tau_s[-1]), 200)
-            ax.plot(tau, fit.curve(tau), "-", color=colour, lw=1.0, alpha=0.7)
+            ax.plot(tau, scale * fit.curve(tau), "-", color=colour, lw=1.0, alpha=0.7)
     _log_axes(ax)
     ax.set_xlabel(r"averaging time $\tau$ (s)")
-    unit = units.pop() if len(units) == 1 else "mixed units"
     ax.set_ylabel(mpl_text(f"Allan deviation ({unit})"))
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize="small", title="▼ minimum; line: IEEE-952 fit", title_fontsize="small")
     ax.set_title("Allan deviation comparison (lower-left is better)", fontsize="medium")
     return fig
+
+
+def _overlay_unit(curves: list[Any]) -> str:
+    """The overlay's unit: the first curve's, when every curve is of its quantity (rates in
+    deg/h, deg/s, ... are drawn in one unit, so that lower is less noise); else "mixed
+    units"."""
+    units = [str(getattr(r, "units", "")) for r in curves]
+    if len(set(units)) == 1:
+        return units[0]
+    try:
+        if len({quantity_of(u) for u in units}) == 1:
+            return units[0]
+    except DataError:
+        pass
+    return "mixed units"
+
+
+def _overlay_scale(res: Any, unit: str) -> float:
+    """Factor that takes ``res`` from its unit to the overlay's (1 for "mixed units")."""
+    own = str(getattr(res, "units", ""))
+    if unit == "mixed units" or own == unit:
+        return 1.0
+    return float(convert_sensor(1.0, own, unit))
+
+
+def _minimum_index(dev: FloatArray, edf: Any) -> int | None:
+    """The point the text's read-out calls the minimum: the lowest with EDF >=
+    :data:`~fogts.allan.readout.MIN_EDF_FOR_MINIMUM` (the lowest of all when no point
+    has that many, or no EDF is known), or None without a finite positive point."""
+    ok = np.isfinite(dev) & (dev > 0)
+    if not ok.any():
+        return None
+    if edf is not None:
+        e = np.asarray(edf, dtype=np.float64)
+        trusted = ok & np.isfinite(e) & (e >= MIN_EDF_FOR_MINIMUM)
+        if trusted.any():
+            ok = trusted
+    return int(np.argmin(np.where(ok, dev, np.inf)))
