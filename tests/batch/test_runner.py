@@ -25,6 +25,13 @@ runner = CliRunner()
 
 
 @pytest.mark.slow
+def _finished(jdir: Path) -> list[Path]:
+    """The per-run JSON files written so far: pathlib's glob also matches the hidden
+    temporary file of a write in progress (``.run.json.XXXX.tmp.json``, renamed onto its
+    name when complete), which a SIGKILL leaves behind half written."""
+    return [p for p in jdir.glob("*.json") if not p.name.startswith(".")]
+
+
 def test_kill_midway_then_resume(files: Path, tmp_path: Path,
                                  pool_run: tuple[Path, Result]) -> None:
     """SIGKILL a batch after a few runs, then --resume: every run once, none lost."""
@@ -37,16 +44,16 @@ def test_kill_midway_then_resume(files: Path, tmp_path: Path,
     try:
         deadline = time.monotonic() + 120
         while time.monotonic() < deadline and proc.poll() is None:
-            if jdir.exists() and len(list(jdir.glob("*.json"))) >= 3:
+            if jdir.exists() and len(_finished(jdir)) >= 3:
                 break
             time.sleep(0.02)
         assert proc.poll() is None, "the batch finished before it could be interrupted"
         os.killpg(proc.pid, signal.SIGKILL)  # the batch and its workers, no clean-up at all
     finally:
         proc.wait(timeout=30)
-    done_before = sorted(p.name for p in jdir.glob("*.json"))
+    done_before = sorted(p.name for p in _finished(jdir))
     assert 3 <= len(done_before) < 20
-    for p in jdir.glob("*.json"):  # whatever exists is complete (atomic writes)
+    for p in _finished(jdir):  # whatever exists is complete (atomic writes)
         assert json.loads(p.read_text())["rows"]
     if out.exists():  # a partial summary is a complete CSV of finished runs
         partial = pd.read_csv(out)
@@ -58,7 +65,7 @@ def test_kill_midway_then_resume(files: Path, tmp_path: Path,
     assert f"{len(done_before)} resumed from JSON" in res.output
     frame = pd.read_csv(out)
     check_summary(frame, files)
-    assert sorted(p.name for p in jdir.glob("*.json")) == sorted(frame["json"])
+    assert sorted(p.name for p in _finished(jdir)) == sorted(frame["json"])
     # resumed and fresh rows agree with an uninterrupted batch, row for row
     reference = pd.read_csv(pool_run[0] / "summary.csv")
     pd.testing.assert_frame_equal(frame.drop(columns="json"),
