@@ -22,7 +22,7 @@ from fogts.batch.records import (
 )
 from fogts.errors import DataError
 from fogts.io.paths import check_outputs
-from fogts.io.writer import write_frame_atomic, write_text_atomic
+from fogts.io.writer import remove_stale_temporaries, write_frame_atomic, write_text_atomic
 from fogts.report.text import json_dumps
 
 __all__ = ["run_batch"]
@@ -141,7 +141,10 @@ class _BatchState:
 
     def resume(self) -> None:
         """Take the outcome of every run that has a usable per-run JSON from that JSON."""
+        remove_stale_temporaries(self.summary)
         for f in self.files:
+            # a batch killed mid-write leaves its hidden temporary file beside the JSON
+            remove_stale_temporaries(self.json_dir / run_key(f))
             got = load_resumed(self.json_dir / run_key(f), f)
             if got is not None:
                 self.outcomes[f] = got

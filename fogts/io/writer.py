@@ -8,13 +8,14 @@ import os
 import tempfile
 from collections.abc import Iterator
 from contextlib import contextmanager
+from glob import escape as glob_escape
 from pathlib import Path
 
 import pandas as pd
 
 from fogts.errors import DataError
 
-__all__ = ["atomic_path", "write_frame_atomic", "write_text_atomic"]
+__all__ = ["atomic_path", "remove_stale_temporaries", "write_frame_atomic", "write_text_atomic"]
 
 
 @contextmanager
@@ -47,6 +48,20 @@ def atomic_path(path: str | os.PathLike[str]) -> Iterator[Path]:
     finally:
         if tmp.exists():
             tmp.unlink()
+
+
+def remove_stale_temporaries(path: str | os.PathLike[str]) -> int:
+    """Delete the temporary files :func:`atomic_path` left beside ``path`` when its process
+    was killed mid-write (``.NAME.XXXXXXXX.tmp.SUFFIX``: hidden, never renamed onto
+    ``path``); returns how many.  Only that pattern is touched; call it where no write to
+    ``path`` can be in progress (a resumed batch, before its workers start)."""
+    target = Path(path)
+    parent = target.parent if str(target.parent) else Path(".")
+    stale = [p for p in parent.glob(f".{glob_escape(target.name)}.*.tmp{glob_escape(target.suffix)}")
+             if p.is_file() and not p.is_symlink()]
+    for p in stale:
+        p.unlink(missing_ok=True)
+    return len(stale)
 
 
 def _default_file_mode() -> int:

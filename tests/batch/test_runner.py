@@ -87,6 +87,28 @@ def test_pluggable_analysis_serial_and_progress(files: Path, tmp_path: Path) -> 
     assert res.to_dict()["ok"] == 17
 
 
+
+def test_resume_removes_the_temporaries_a_killed_batch_left(files: Path, tmp_path: Path) -> None:
+    # a SIGKILL mid-write leaves the writer's hidden temporary beside a run's JSON and the
+    # summary; --resume deletes them (that pattern only) before the workers start
+    from fogts.batch.files import run_key
+
+    jdir = tmp_path / "j"
+    summary = tmp_path / "s.csv"
+    first = run_batch([str(files / "*.csv")], summary_path=summary, json_dir=jdir,
+                      analysis=fake_analysis, workers=1)
+    one = first.files[0]
+    stale = [jdir / f".{run_key(one)}.k3x9q2ab.tmp.json", tmp_path / ".s.csv.a1b2c3d4.tmp.csv"]
+    for p in stale:
+        p.write_text('{"rows": [')           # half written
+    kept = [jdir / ".notes.json", jdir / f".{run_key(one)}.json.bak"]
+    for p in kept:
+        p.write_text("mine")
+    again = run_batch([str(files / "*.csv")], summary_path=summary, json_dir=jdir,
+                      analysis=fake_analysis, workers=1, resume=True, overwrite=True)
+    assert again.n_skipped == 20 and not any(p.exists() for p in stale)
+    assert all(p.read_text() == "mine" for p in kept)
+
 def test_bad_arguments(files: Path, tmp_path: Path) -> None:
     with pytest.raises(DataError, match=r"summary_path must end in \.csv.*got 'out\.xlsx'"):
         run_batch([str(files / "*.csv")], summary_path=tmp_path / "out.xlsx")

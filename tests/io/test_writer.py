@@ -8,7 +8,12 @@ import pandas as pd
 import pytest
 
 from fogts.errors import DataError
-from fogts.io.writer import atomic_path, write_frame_atomic, write_text_atomic
+from fogts.io.writer import (
+    atomic_path,
+    remove_stale_temporaries,
+    write_frame_atomic,
+    write_text_atomic,
+)
 
 
 def test_atomic_write_keeps_old_file_on_failure(tmp_path: Path) -> None:
@@ -47,3 +52,26 @@ def test_write_errors(tmp_path: Path) -> None:
         write_frame_atomic(tmp_path / "a.xlsx", pd.DataFrame({"a": [1]}))
     with pytest.raises(DataError, match="output directory does not exist"):
         write_text_atomic(tmp_path / "missing" / "a.txt", "x")
+
+
+def test_remove_stale_temporaries_only_takes_the_writers_pattern(tmp_path: Path) -> None:
+    target = tmp_path / "run[1].json"        # glob characters in the name are literal
+    stale = [tmp_path / ".run[1].json.abcd1234.tmp.json", tmp_path / ".run[1].json.x_9.tmp.json"]
+    others = [tmp_path / ".run1.json.abcd1234.tmp.json", tmp_path / "run[1].json",
+              tmp_path / ".run[1].json.abcd1234.tmp.csv", tmp_path / "x.run[1].json.a.tmp.json"]
+    for p in stale + others:
+        p.write_text("x")
+    assert remove_stale_temporaries(target) == 2
+    assert not any(p.exists() for p in stale) and all(p.exists() for p in others)
+    assert remove_stale_temporaries(target) == 0
+
+
+def test_a_write_in_progress_is_named_as_remove_stale_temporaries_expects(tmp_path: Path
+                                                                           ) -> None:
+    target = tmp_path / "s.csv"
+    with atomic_path(target) as tmp:
+        name = tmp.name
+        tmp.write_text("half")
+    left = tmp_path / name               # what a kill mid-write would have left
+    left.write_text("half")
+    assert remove_stale_temporaries(target) == 1 and not left.exists() and target.exists()
