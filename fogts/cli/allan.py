@@ -167,7 +167,8 @@ def allan_cmd(
         for analysis in analyses:
             run = analysis.run
             common.say([f"{run.source}: {run.n} samples at {run.fs_hz:.6g} Hz "
-                  f"({run.duration_s:.6g} s), rate in {run.units}"], json_out)
+                        f"({run.duration_s:.6g} s{analysis.quality.grid_note(run.n)}), "
+                        f"rate in {run.units}"], json_out)
             for ax in analysis.axes:
                 if ax.notes:
                     common.say([f"{ax.result.axis}: {common.option_keywords(line)}"

@@ -76,6 +76,14 @@ class DataQuality:
         """Glitch events found on ``axis`` (0 when detection was off)."""
         return next((g.n_events for g in self.glitches if g.axis == axis), 0)
 
+    def grid_note(self, n: int) -> str:
+        """What a count of ``n`` samples includes: ``"; 60,000 of them missing (NaN) in the
+        time stamps' gaps"`` when ``gaps="nan"`` put the record on its regular grid (``n``
+        grid points for the ``n_input`` samples read), else ``""``."""
+        missing = n - self.n_input if self.gap_policy == "nan" else 0
+        return (f"; {missing:,} of them missing (NaN) in the time stamps' gaps"
+                if missing > 0 else "")
+
     def warnings(self) -> list[str]:
         """The lines a command prints (after ``warning: <file>:``) before its output."""
         out: list[str] = []

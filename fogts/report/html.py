@@ -148,7 +148,8 @@ def build_report(
                                    "output_units": output_units, "spec": spec,
                                    "methods": _checked_methods(methods)})
     sections, omitted = _collect_sections(ctx, wanted)
-    return _assemble(ctx.run, title, sections, omitted)
+    return _assemble(ctx.run, title, sections, omitted,
+                     ctx.quality.grid_note(ctx.run.n) if ctx.quality is not None else "")
 
 
 def write_report(path: str | os.PathLike[str], report: HtmlReport) -> Path:
@@ -256,8 +257,9 @@ def _axis_sections(ctx: ReportContext, part: str) -> list[Section]:
 
 
 def _assemble(run: Run, title: str | None, sections: list[Section],
-              omitted: list[tuple[str, str]]) -> HtmlReport:
-    """The report with its title, source line, time stamp and version."""
+              omitted: list[tuple[str, str]], grid_note: str = "") -> HtmlReport:
+    """The report with its title, source line (``grid_note``: the missing samples a
+    ``gaps="nan"`` count includes), time stamp and version."""
     from fogts._version import __version__
 
     name = Path(run.source).name if run.source and not run.source.startswith("<") \
@@ -265,7 +267,7 @@ def _assemble(run: Run, title: str | None, sections: list[Section],
     return HtmlReport(
         title=title if title else f"Gyro report: {name}",
         source=f"{run.source} — {run.n:,} samples at {fmt_num(run.fs_hz, 6)} Hz "
-               f"({duration_text(run.duration_s)}), rate in {run.units}",
+               f"({duration_text(run.duration_s)}{grid_note}), rate in {run.units}",
         generated=_dt.datetime.now(_dt.UTC).strftime("%Y-%m-%d %H:%M UTC"),
         version=__version__, sections=tuple(sections), omitted=tuple(omitted))
 

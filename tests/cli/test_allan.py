@@ -430,6 +430,21 @@ def test_allan_runs_with_the_cycle_collector_paused_and_restores_it(
         gc.enable()
 
 
+
+def test_gaps_nan_header_says_how_many_samples_are_missing(tmp_path: Path) -> None:
+    """--gaps nan analyses the regular grid: the count it prints includes the NaN points,
+    and says how many they are (the JSON's input.n is the grid's, as before)."""
+    t = np.r_[np.arange(3000), np.arange(3050, 6000)] / 10.0
+    path = tmp_path / "gappy.csv"
+    pd.DataFrame({"time": t, "rate_deg_h": np.random.default_rng(3).standard_normal(t.size)}
+                 ).to_csv(path, index=False)
+    code, out, _ = _run([path, "--gaps", "nan", "--taus", "decade"])
+    assert code in (0, 1)
+    assert ("gappy.csv: 6000 samples at 10 Hz (600 s; 50 of them missing (NaN) in the time "
+            "stamps' gaps), rate in deg/h") in out
+    code, out, _ = _run([path, "--taus", "decade"])
+    assert "gappy.csv: 5950 samples at 10 Hz (595 s), rate in deg/h" in out
+
 def test_gaps_nan_refuses_burst_logged_stamps(tmp_path: Path) -> None:
     """The MPU6050 record is stamped in bursts (median step 2 ms, mean 10 ms): on the
     k/fs grid its samples would merge, and the pauses would read as 13,397 gaps."""

@@ -109,3 +109,14 @@ def test_quality_warnings_name_the_keywords() -> None:
     for finding in ("units", "kept"):
         assert any(QUALITY_KEYWORDS[finding] in w for w in lines), finding
     assert not any("--" in w for w in lines)
+
+
+def test_grid_note_counts_the_samples_gaps_nan_adds() -> None:
+    # 1 s missing at 10 Hz: the regular grid has 10 points more than the samples read
+    frame = unnamed_gappy_frame()
+    run, q = assess_run(read_run(frame), gaps="nan")
+    assert run.n == q.n_input + 10 and int(np.isnan(run.axis(0)).sum()) == 10
+    assert q.grid_note(run.n) == "; 10 of them missing (NaN) in the time stamps' gaps"
+    for policy in ("warn", "split"):
+        other, q2 = assess_run(read_run(frame), gaps=policy)  # type: ignore[arg-type]
+        assert q2.grid_note(other.n) == ""

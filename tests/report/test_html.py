@@ -359,3 +359,19 @@ def test_thermal_section_gives_the_summary_reason_for_no_claim(tmp_path: Path) -
     assert thermal.blocks[0].kind == "verdict" and "less than 1 °C" in thermal.blocks[0].text
     assert [b.kind for b in thermal.blocks].count("verdict") == 1
     assert "do not reuse it to compensate another run" not in text
+
+
+def test_source_line_of_a_record_on_its_regular_grid() -> None:
+    # gaps='nan': the count is the grid's, and the line says how many points are missing
+    import pandas as pd
+
+    from fogts.preprocess.hygiene import assess_run
+
+    t = np.r_[np.arange(3000), np.arange(3050, 6000)] / 10.0
+    rate = np.random.default_rng(4).standard_normal(t.size)
+    run, quality = assess_run(read_run(pd.DataFrame({"time": t, "rate": rate}), units="deg/h"),
+                              gaps="nan")
+    rep = build_report(run, quality=quality, parts=("timeseries",))
+    assert "6,000 samples at 10 Hz (" in rep.source
+    assert rep.source.endswith("; 50 of them missing (NaN) in the time stamps' gaps), rate in "
+                               "deg/h")
