@@ -113,9 +113,10 @@ def run_info(run: Run) -> dict[str, Any]:
     """The ``fogts info`` JSON payload (its keys are stable).
 
     Keys: ``source, n, fs_hz, duration_s, columns, units, axes, axis_units, gaps, jitter,
-    stats`` (plus ``span_s``, ``start_time``, ``temperature``, ``fs_source`` and
+    stats`` (plus ``span_s``, ``input``, ``start_time``, ``temperature``, ``fs_source`` and
     ``comments``); ``axis_units`` gives each axis' own unit (an accelerometer axis' is not
-    ``units``).  ``duration_s`` is the samples' time, ``n / fs_hz``; ``span_s`` the time
+    ``units``); ``input`` what the rate columns held (``rate``, ``increment`` or ``angle``:
+    the axes and ``stats`` are the rate formed from them).  ``duration_s`` is the samples' time, ``n / fs_hz``; ``span_s`` the time
     the stamps cover (first to last stamp, plus one step), longer by the gaps.
     """
     sampling = run.sampling
@@ -133,6 +134,7 @@ def run_info(run: Run) -> dict[str, Any]:
         "units": run.units,
         "axes": list(run.axes),
         "axis_units": [run.unit_of(i) for i in range(len(run.axes))],
+        "input": run.input_kind,
         "gaps": {"count": sampling.n_gaps, "max_s": sampling.max_gap_s,
                  "threshold_s": 1.5 / run.fs_hz, "after_rows": list(sampling.gap_rows)},
         "jitter": {"std_s": sampling.jitter_s, "relative": sampling.jitter_rel,
@@ -179,8 +181,17 @@ def axes_rows(info: Mapping[str, Any], accel_source: str = "") -> list[tuple[str
             rows.append(("accel axes", f"{', '.join(names)}  [{unit}] (unit from "
                                        f"{accel_source or 'the file'})"))
         else:
-            rows.append(("rate axes", f"{', '.join(names)}  [{unit}]"))
+            rows.append(("rate axes", f"{', '.join(names)}  [{unit}]"
+                                      f"{_FORMED_FROM.get(info.get('input', 'rate'), '')}"))
     return rows
+
+
+#: What the rate axes of a record read as angle increments or angles are (the statistics
+#: too are the rate's).
+_FORMED_FROM = {
+    "increment": " (the columns hold angle increments: rate = increment x fs)",
+    "angle": " (the columns hold an angle: rate = its difference x fs)",
+}
 
 
 def time_base_verdict(info: Mapping[str, Any]) -> str:

@@ -87,3 +87,26 @@ def test_the_duration_of_a_record_with_gaps_gives_the_span_too() -> None:
     assert "duration    1.67 min (100 s) of samples; the time stamps span" in info_text(info)
     regular = run_info(read_run(rng.normal(size=1000), fs_hz=10.0))
     assert regular["span_s"] == regular["duration_s"] and duration_line(regular) == "1.67 min (100 s)"
+
+
+def test_info_says_what_the_rate_columns_held() -> None:
+    """A column of angle increments (``dtheta_deg``) is read as increments and analysed as
+    the rate increment x fs: ``info`` listed it as a rate axis in deg/s, and its statistics
+    (those of the rate) under the column's name, without a word of the conversion."""
+    rng = np.random.default_rng(5)
+    frame = pd.DataFrame({"time": np.arange(400) / 100.0,
+                          "dtheta_deg": 1e-4 * rng.standard_normal(400)})
+    run = read_run(frame)
+    info = run_info(run)
+    assert info["input"] == "increment" and run.units == "deg/s"
+    assert axes_rows(info) == [("rate axes", "dtheta_deg  [deg/s] (the columns hold angle "
+                                             "increments: rate = increment x fs)")]
+    assert np.isclose(info["stats"]["dtheta_deg"]["std"],
+                      100.0 * frame["dtheta_deg"].std(ddof=1), rtol=1e-12)
+    angle = run_info(read_run(frame.assign(dtheta_deg=frame["dtheta_deg"].cumsum()),
+                              input="angle", units="deg/s"))
+    assert angle["input"] == "angle"
+    assert axes_rows(angle)[0][1].endswith("(the columns hold an angle: rate = its "
+                                           "difference x fs)")
+    plain = run_info(read_run(frame.rename(columns={"dtheta_deg": "rate_deg_s"})))
+    assert plain["input"] == "rate" and axes_rows(plain) == [("rate axes", "rate_deg_s  [deg/s]")]
