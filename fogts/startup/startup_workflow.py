@@ -40,6 +40,7 @@ from fogts.io.run import Run
 from fogts.startup.compensation import (
     BiasStability,
     bias_stability,
+    check_calibration_run,
     compensate,
     require_temperature,
 )
@@ -390,9 +391,9 @@ class _FitInput:
     notes: list[str]
 
 
-def _emd_kalman(x: FloatArray, fs: float, arma_model: str,
-                measurement_noise: Any) -> tuple[TrendSplit, KalmanResult | None, str, FloatArray]:
-    """Steps 1-4 on one series: EMD split, ARMA of the rest, Kalman of the rest."""
+def _emd_kalman(x: FloatArray, fs: float, arma_model: str, measurement_noise: Any, series: str
+                ) -> tuple[TrendSplit, KalmanResult | None, str, FloatArray]:
+    """Steps 1-4 on one series (named ``series`` in warnings): EMD, ARMA and Kalman of the rest."""
     from fogts.startup.emd import separate_trend
     from fogts.startup.kalman import arma_kalman, resolve_arma_model
 
@@ -400,7 +401,7 @@ def _emd_kalman(x: FloatArray, fs: float, arma_model: str,
     rest = np.asarray(split.rest, dtype=float)
     if split.k == 1 or float(np.ptp(rest)) == 0.0:
         return split, None, "", np.asarray(split.trend, dtype=float)
-    fit = resolve_arma_model(rest, arma_model)
+    fit = resolve_arma_model(rest, arma_model, series=f"ARMA model of the {series}'s EMD rest")
     kal = arma_kalman(rest, fit, measurement_noise=measurement_noise)
     name = str(getattr(fit, "name", kal.model))
     return split, kal, name, np.asarray(split.trend, dtype=float) + np.asarray(kal.filtered)
@@ -416,14 +417,15 @@ def _prepare_fit_run(run: Run, axis: int | str, *, emd: bool, arma_model: str,
         return _FitInput(gyro, temp, None, None, None, "", [])
     notes: list[str] = []
     gsplit, kal, arma_name, gyro_used = _emd_kalman(gyro, run.fs_hz, arma_model,
-                                                    measurement_noise)
+                                                    measurement_noise, "gyro rate")
     if kal is not None:
         notes.extend(kal.notes)
     tsplit = None
     temp_used = temp
     if float(np.ptp(temp)) > 0:
         try:
-            tsplit, _, _, temp_used = _emd_kalman(temp, run.fs_hz, arma_model, measurement_noise)
+            tsplit, _, _, temp_used = _emd_kalman(temp, run.fs_hz, arma_model,
+                                                  measurement_noise, "temperature")
         except (InsufficientDataError, ModelFitError) as exc:
             from fogts.startup.emd import separate_trend
 
@@ -458,22 +460,6 @@ def _cross_validate(runs: Sequence[Run], axis: int | str, *, terms: Sequence[str
 # --------------------------------------------------------------------------- step 6
 
 
-def _check_calibration_run(i: int, extra: Any, run: Run) -> None:
-    """A calibration run must be a Run with a temperature, at the run's rate and units."""
-    fs = run.fs_hz
-    if not isinstance(extra, Run):
-        raise DataError(f"calibration[{i}] must be a fogts Run, got "
-                        f"{type(extra).__name__}")
-    if extra.temperature is None:
-        raise DataError(f"calibration run {extra.source!r} has no temperature column")
-    if abs(extra.fs_hz - fs) > 1e-6 * fs:
-        raise DataError(f"calibration run {extra.source!r} is sampled at "
-                        f"{extra.fs_hz:g} Hz, the run at {fs:g} Hz; they must match")
-    if extra.units != run.units:
-        raise DataError(f"calibration run {extra.source!r} is in {extra.units}, the run "
-                        f"in {run.units}; they must match")
-
-
 def _fit_on_runs(run: Run, prep: _FitInput, calibration: Sequence[Run],
                  prepare: Callable[[Run], _FitInput], *, terms: Sequence[str],
                  dT_smoothing_s: float | None, errors: ErrorModel
@@ -484,7 +470,7 @@ def _fit_on_runs(run: Run, prep: _FitInput, calibration: Sequence[Run],
     gyros, temps, rates = [prep.gyro], [prep.temp], [
         temperature_rate(prep.temp, fs_hz=fs, smoothing_s=dT_smoothing_s)]
     for i, extra in enumerate(calibration):
-        _check_calibration_run(i, extra, run)
+        check_calibration_run(i, extra, run)
         more = prepare(extra)
         gyros.append(more.gyro)
         temps.append(more.temp)
