@@ -124,12 +124,22 @@ class StartupCompensation(TableView):
     applied: bool = True
 
     @property
+    def claim_basis(self) -> str:
+        """``"given model"``, ``"out of sample"`` (a held-out gain above 1 on folds covering
+        the fitted T and ΔT ranges: :meth:`ThermalCrossValidation.claim_gap`) or ``"in sample
+        only"`` (a gain a fit absorbing drift also shows): what a claim rests on."""
+        if self.significance is None:
+            return "given model"
+        cv = self.out_of_sample
+        return "out of sample" if cv is not None and not cv.claim_gap() else "in sample only"
+
+    @property
     def claims_improvement(self) -> bool:
-        """Whether the compensation may be called an improvement: the model was tested and
-        found significant, or it was given (a calibrated model applied to a new run), and
-        the bias stability after it is better than before."""
+        """Whether the compensation may be called an improvement: a given model, or a fitted
+        one found significant whose gain holds out of sample (:attr:`claim_basis`), and the
+        bias stability after it is better than before."""
         tested = self.significance is None or self.significance.significant
-        return tested and self.improvement > 1.0
+        return tested and self.improvement > 1.0 and self.claim_basis != "in sample only"
 
     @property
     def improvement(self) -> float:
@@ -159,7 +169,8 @@ class StartupCompensation(TableView):
             "bias_stability": {"average_s": self.before.average_s, "before": self.before.value,
                                "after": self.after.value, "unit": self.before.unit,
                                "improvement": self.improvement,
-                               "improvement_claimed": self.claims_improvement},
+                               "improvement_claimed": self.claims_improvement,
+                               "claim_basis": self.claim_basis},
             "notes": list(self.notes),
             "out_of_sample": (None if self.out_of_sample is None
                               else self.out_of_sample.to_dict()),
@@ -186,7 +197,7 @@ class StartupCompensation(TableView):
              self.improvement, "x" if self.claims_improvement else "x (not claimed)")]
         if self.out_of_sample is not None:
             rows.append(("improvement out of sample", self.out_of_sample.ratio,
-                         f"x, {self.out_of_sample.interval_text() or 'one fold'}"))
+                         f"x, {self.out_of_sample.gain_text().split(', ', 1)[-1]}"))
         rows.append(("thermal model R²", self.model.r2, ""))
         return Table.build(
             f"Start-up compensation of {self.axis or 'axis 0'} "
@@ -233,12 +244,12 @@ class StartupCompensation(TableView):
                      f"before {self.before.value:.4g} {self.before.unit}, after "
                      f"{self.after.value:.4g} {self.after.unit}")
         if not self.claims_improvement:
+            if self.claim_basis == "in sample only" and self.improvement > 1.0:
+                stability += f" ({self.improvement:.2f}x in sample)"
             return f"{stability}; not claimed as an improvement: {self.no_claim_reason()}"
-        if self.significance is None:
+        if self.significance is None or self.out_of_sample is None:
             return (f"{stability} ({self.improvement:.2f}x by the given model: out of sample "
                     "unless it was fitted on this run)")
-        if self.out_of_sample is None:
-            return f"{stability} ({self.improvement:.2f}x in sample)"
         return (f"{stability} ({self.improvement:.2f}x in sample; out of sample "
                 f"{self.out_of_sample.gain_text()})")
 
@@ -260,6 +271,9 @@ class StartupCompensation(TableView):
         if self.significance is not None and not self.significance.testable:
             return ("the thermal model is not testable on this record, so the change is the "
                     "fit absorbing drift")
+        if self.significance is not None and self.significance.significant:
+            return "in sample only: " + (self.out_of_sample.claim_gap() if self.out_of_sample
+                                         else "the out-of-sample gain was not measured")
         return "the model is not significant, so the change is the fit absorbing drift"
 
 
