@@ -239,7 +239,7 @@ def _one(y: FloatArray, name: str, *, fs: float, units: str, window: float, step
     stat = _nonstationarity(avar, edf, m / fs, times, win_n / fs / 2.0, outside, n_indep,
                             level, min_change)
     j = int(np.argmin(np.abs(m / fs - stat.tau_s)))  # the headline tau
-    stat = dataclasses.replace(stat, units=units, transient=_transient(
+    stat = dataclasses.replace(stat, units=units, window_s=win_n / fs, transient=_transient(
         avar[:, j], outside[:, j], starts / fs, win_n / fs, step_n / fs, glitches))
     stat = dataclasses.replace(stat, stationary=stat.stationary and not stat.transient_is_change)
     return DynamicAllanResult(

@@ -3,6 +3,7 @@ axis (:class:`DynamicAllanResult`), one per axis, and the non-stationarity verdi
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any
 
@@ -132,6 +133,10 @@ class Nonstationarity:
         ``min_change`` (its windows are significant on their own, at the Bonferroni level).
     units : str
         Unit of the glitch values named in the text.
+    window_s : float
+        Length of the windows compared (NaN when unknown): the verdict names it, since a
+        change shorter than a window is diluted in it, and the same record can be "NOT
+        stationary" in 200 s windows and "stationary within 10 %" in 1000 s windows.
     """
 
     tau_s: float
@@ -152,6 +157,7 @@ class Nonstationarity:
     min_change: float = 0.0
     transient: Transient | None = None
     units: str = ""
+    window_s: float = math.nan
 
     @property
     def step_is_change(self) -> bool:
@@ -179,12 +185,13 @@ class Nonstationarity:
 
     def _verdict(self) -> tuple[str, str]:
         """The verdict and, for a significant change below ``min_change``, its size."""
+        windows = f" in {self.window_s:g} s windows" if math.isfinite(self.window_s) else ""
         if not self.stationary:
-            return "NOT stationary", ""
+            return f"NOT stationary{windows}", ""
         if self.significant:
-            return (f"stationary within {100 * self.min_change:.3g} %",
+            return (f"stationary within {100 * self.min_change:.3g} %{windows}",
                     f"the change is significant but only {100 * self.effect:.2g} %")
-        return "stationary", ""
+        return f"stationary{windows}", ""
 
     def _changes(self) -> list[str]:
         """Every change at least ``min_change``, the largest first."""
@@ -206,7 +213,7 @@ class Nonstationarity:
         verdict, size = self._verdict()
         if self.stationary:
             return f"noise level: {verdict} (DAVAR: {head}{'; ' + size if size else ''})"
-        return (f"noise level: NOT stationary (DAVAR: {'; '.join(self._changes()) or head}): "
+        return (f"noise level: {verdict} (DAVAR: {'; '.join(self._changes()) or head}): "
                 "the noise terms average over it")
 
     def summary(self) -> str:

@@ -40,6 +40,22 @@ def require_temperature(run: Run, *, hint: str = "") -> None:
                         + hint)
 
 
+def check_calibration_run(i: int, extra: Any, run: Run) -> None:
+    """A calibration run must be a Run with a temperature, at the run's rate and units."""
+    fs = run.fs_hz
+    if not isinstance(extra, Run):
+        raise DataError(f"calibration[{i}] must be a fogts Run, got "
+                        f"{type(extra).__name__}")
+    if extra.temperature is None:
+        raise DataError(f"calibration run {extra.source!r} has no temperature column")
+    if abs(extra.fs_hz - fs) > 1e-6 * fs:
+        raise DataError(f"calibration run {extra.source!r} is sampled at "
+                        f"{extra.fs_hz:g} Hz, the run at {fs:g} Hz; they must match")
+    if extra.units != run.units:
+        raise DataError(f"calibration run {extra.source!r} is in {extra.units}, the run "
+                        f"in {run.units}; they must match")
+
+
 def _rate_on_time_base(run: Run, model: ThermalModel) -> FloatArray | None:
     """ΔT of a run whose time stamps have gaps: the temperature is interpolated onto a
     regular grid at ``run.fs_hz``, differentiated there and read back at the time stamps.

@@ -40,6 +40,7 @@ from fogts.io.run import Run
 from fogts.startup.compensation import (
     BiasStability,
     bias_stability,
+    check_calibration_run,
     compensate,
     require_temperature,
 )
@@ -123,12 +124,22 @@ class StartupCompensation(TableView):
     applied: bool = True
 
     @property
+    def claim_basis(self) -> str:
+        """``"given model"``, ``"out of sample"`` (a held-out gain above 1 on folds covering
+        the fitted T and ΔT ranges: :meth:`ThermalCrossValidation.claim_gap`) or ``"in sample
+        only"`` (a gain a fit absorbing drift also shows): what a claim rests on."""
+        if self.significance is None:
+            return "given model"
+        cv = self.out_of_sample
+        return "out of sample" if cv is not None and not cv.claim_gap() else "in sample only"
+
+    @property
     def claims_improvement(self) -> bool:
-        """Whether the compensation may be called an improvement: the model was tested and
-        found significant, or it was given (a calibrated model applied to a new run), and
-        the bias stability after it is better than before."""
+        """Whether the compensation may be called an improvement: a given model, or a fitted
+        one found significant whose gain holds out of sample (:attr:`claim_basis`), and the
+        bias stability after it is better than before."""
         tested = self.significance is None or self.significance.significant
-        return tested and self.improvement > 1.0
+        return tested and self.improvement > 1.0 and self.claim_basis != "in sample only"
 
     @property
     def improvement(self) -> float:
@@ -158,7 +169,8 @@ class StartupCompensation(TableView):
             "bias_stability": {"average_s": self.before.average_s, "before": self.before.value,
                                "after": self.after.value, "unit": self.before.unit,
                                "improvement": self.improvement,
-                               "improvement_claimed": self.claims_improvement},
+                               "improvement_claimed": self.claims_improvement,
+                               "claim_basis": self.claim_basis},
             "notes": list(self.notes),
             "out_of_sample": (None if self.out_of_sample is None
                               else self.out_of_sample.to_dict()),
@@ -185,7 +197,7 @@ class StartupCompensation(TableView):
              self.improvement, "x" if self.claims_improvement else "x (not claimed)")]
         if self.out_of_sample is not None:
             rows.append(("improvement out of sample", self.out_of_sample.ratio,
-                         f"x, {self.out_of_sample.interval_text() or 'one fold'}"))
+                         f"x, {self.out_of_sample.gain_text().split(', ', 1)[-1]}"))
         rows.append(("thermal model R²", self.model.r2, ""))
         return Table.build(
             f"Start-up compensation of {self.axis or 'axis 0'} "
@@ -232,12 +244,12 @@ class StartupCompensation(TableView):
                      f"before {self.before.value:.4g} {self.before.unit}, after "
                      f"{self.after.value:.4g} {self.after.unit}")
         if not self.claims_improvement:
+            if self.claim_basis == "in sample only" and self.improvement > 1.0:
+                stability += f" ({self.improvement:.2f}x in sample)"
             return f"{stability}; not claimed as an improvement: {self.no_claim_reason()}"
-        if self.significance is None:
+        if self.significance is None or self.out_of_sample is None:
             return (f"{stability} ({self.improvement:.2f}x by the given model: out of sample "
                     "unless it was fitted on this run)")
-        if self.out_of_sample is None:
-            return f"{stability} ({self.improvement:.2f}x in sample)"
         return (f"{stability} ({self.improvement:.2f}x in sample; out of sample "
                 f"{self.out_of_sample.gain_text()})")
 
@@ -259,6 +271,9 @@ class StartupCompensation(TableView):
         if self.significance is not None and not self.significance.testable:
             return ("the thermal model is not testable on this record, so the change is the "
                     "fit absorbing drift")
+        if self.significance is not None and self.significance.significant:
+            return "in sample only: " + (self.out_of_sample.claim_gap() if self.out_of_sample
+                                         else "the out-of-sample gain was not measured")
         return "the model is not significant, so the change is the fit absorbing drift"
 
 
@@ -390,9 +405,9 @@ class _FitInput:
     notes: list[str]
 
 
-def _emd_kalman(x: FloatArray, fs: float, arma_model: str,
-                measurement_noise: Any) -> tuple[TrendSplit, KalmanResult | None, str, FloatArray]:
-    """Steps 1-4 on one series: EMD split, ARMA of the rest, Kalman of the rest."""
+def _emd_kalman(x: FloatArray, fs: float, arma_model: str, measurement_noise: Any, series: str
+                ) -> tuple[TrendSplit, KalmanResult | None, str, FloatArray]:
+    """Steps 1-4 on one series (named ``series`` in warnings): EMD, ARMA and Kalman of the rest."""
     from fogts.startup.emd import separate_trend
     from fogts.startup.kalman import arma_kalman, resolve_arma_model
 
@@ -400,7 +415,7 @@ def _emd_kalman(x: FloatArray, fs: float, arma_model: str,
     rest = np.asarray(split.rest, dtype=float)
     if split.k == 1 or float(np.ptp(rest)) == 0.0:
         return split, None, "", np.asarray(split.trend, dtype=float)
-    fit = resolve_arma_model(rest, arma_model)
+    fit = resolve_arma_model(rest, arma_model, series=f"ARMA model of the {series}'s EMD rest")
     kal = arma_kalman(rest, fit, measurement_noise=measurement_noise)
     name = str(getattr(fit, "name", kal.model))
     return split, kal, name, np.asarray(split.trend, dtype=float) + np.asarray(kal.filtered)
@@ -416,14 +431,15 @@ def _prepare_fit_run(run: Run, axis: int | str, *, emd: bool, arma_model: str,
         return _FitInput(gyro, temp, None, None, None, "", [])
     notes: list[str] = []
     gsplit, kal, arma_name, gyro_used = _emd_kalman(gyro, run.fs_hz, arma_model,
-                                                    measurement_noise)
+                                                    measurement_noise, "gyro rate")
     if kal is not None:
         notes.extend(kal.notes)
     tsplit = None
     temp_used = temp
     if float(np.ptp(temp)) > 0:
         try:
-            tsplit, _, _, temp_used = _emd_kalman(temp, run.fs_hz, arma_model, measurement_noise)
+            tsplit, _, _, temp_used = _emd_kalman(temp, run.fs_hz, arma_model,
+                                                  measurement_noise, "temperature")
         except (InsufficientDataError, ModelFitError) as exc:
             from fogts.startup.emd import separate_trend
 
@@ -458,22 +474,6 @@ def _cross_validate(runs: Sequence[Run], axis: int | str, *, terms: Sequence[str
 # --------------------------------------------------------------------------- step 6
 
 
-def _check_calibration_run(i: int, extra: Any, run: Run) -> None:
-    """A calibration run must be a Run with a temperature, at the run's rate and units."""
-    fs = run.fs_hz
-    if not isinstance(extra, Run):
-        raise DataError(f"calibration[{i}] must be a fogts Run, got "
-                        f"{type(extra).__name__}")
-    if extra.temperature is None:
-        raise DataError(f"calibration run {extra.source!r} has no temperature column")
-    if abs(extra.fs_hz - fs) > 1e-6 * fs:
-        raise DataError(f"calibration run {extra.source!r} is sampled at "
-                        f"{extra.fs_hz:g} Hz, the run at {fs:g} Hz; they must match")
-    if extra.units != run.units:
-        raise DataError(f"calibration run {extra.source!r} is in {extra.units}, the run "
-                        f"in {run.units}; they must match")
-
-
 def _fit_on_runs(run: Run, prep: _FitInput, calibration: Sequence[Run],
                  prepare: Callable[[Run], _FitInput], *, terms: Sequence[str],
                  dT_smoothing_s: float | None, errors: ErrorModel
@@ -484,7 +484,7 @@ def _fit_on_runs(run: Run, prep: _FitInput, calibration: Sequence[Run],
     gyros, temps, rates = [prep.gyro], [prep.temp], [
         temperature_rate(prep.temp, fs_hz=fs, smoothing_s=dT_smoothing_s)]
     for i, extra in enumerate(calibration):
-        _check_calibration_run(i, extra, run)
+        check_calibration_run(i, extra, run)
         more = prepare(extra)
         gyros.append(more.gyro)
         temps.append(more.temp)

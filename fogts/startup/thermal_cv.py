@@ -17,6 +17,27 @@ Statistics Surveys 4, 40-79, 2010, §8.1 on dependent data):
   whose temperatures lie outside those of the training blocks asks the model to
   extrapolate beyond anything it saw: such a fold is reported but not scored.
 
+Blocks of equal time put a warm-up that is short against the record in the first block
+alone, which extrapolates: the scored blocks then see only the plateau and test nothing of
+the temperature model.  Blocks are therefore cut at equal shares of the progress
+``(t / duration + v(t) / v(duration)) / 2``, ``v(t)`` the temperature travel up to ``t``
+(the integral of the smoothed ``|ΔT|``): half the blocks follow the temperature change, so
+the warm-up is split into blocks whose temperatures lie between those of their neighbours
+(interpolation, scored), and a temperature cycling evenly gives blocks of equal time.  Roberts et al.
+("Cross-validation strategies for data with temporal, spatial, hierarchical, or
+phylogenetic structure", Ecography 40, 913-929, 2017, §"Blocking and extrapolation")
+recommend blocks that keep the held-out predictors within the training ones.  Equal time
+blocks are used when the temperature is constant or a block would be shorter than two
+bias-stability windows.
+
+Coverage
+--------
+The gain measures the model only over the temperatures (and ΔT) of the scored folds.  When
+those span less than :data:`MIN_COVERAGE` of the range the model was fitted on, in T or in
+ΔT, the test does not cover the temperature change (:attr:`ThermalCrossValidation.covers_fit`
+is False) and every text says so beside the figure.  Half, not all: the first block of a
+monotone warm-up always extrapolates, so a single run never covers its lowest temperatures.
+
 The folds fit the raw rate with the error model of the main fit: an EMD or Kalman
 pre-filter of a run sees all of it, held-out part included.  Each fold's score is the bias
 stability (:func:`~fogts.startup.compensation.bias_stability`) of the held-out raw rate
@@ -45,20 +66,23 @@ import numpy as np
 import pandas as pd
 import scipy.stats
 
-from fogts._typing import FloatArray
+from fogts._typing import FloatArray, IntArray
 from fogts._validate import check_fraction, check_int, check_positive, finite_or_none
 from fogts.errors import DataError, InsufficientDataError
 from fogts.startup.compensation import bias_stability
 from fogts.startup.thermal_fit import fit_thermal
 from fogts.startup.thermal_model import DEFAULT_DT_SMOOTHING_S, ErrorModel, temperature_rate
 
-__all__ = ["DEFAULT_BLOCKS", "CvFold", "ThermalCrossValidation", "thermal_cross_validation"]
+__all__ = ["DEFAULT_BLOCKS", "MIN_COVERAGE", "CvFold", "ThermalCrossValidation", "thermal_cross_validation"]
 
 #: Contiguous time blocks of a single run.
 DEFAULT_BLOCKS = 5
 #: A held-out block extrapolates when its temperatures leave the training range by more
 #: than this share of the training span.
 EXTRAPOLATION_TOL = 0.05
+#: The scored folds test the temperature model when they span at least this share of the
+#: fitted temperature range and of the fitted ΔT range.
+MIN_COVERAGE = 0.5
 
 
 @dataclass(frozen=True)
@@ -80,6 +104,8 @@ class CvFold:
         Temperature range of the held-out part and of the data the fold was fitted on.
     scored : bool
         False when the held-out block extrapolates (time blocks only).
+    dT_degC_s : tuple of float
+        ΔT range (°C/s) of the held-out part.
     """
 
     label: str
@@ -88,6 +114,7 @@ class CvFold:
     temperature_degC: tuple[float, float]
     train_temperature_degC: tuple[float, float]
     scored: bool = True
+    dT_degC_s: tuple[float, float] = (math.nan, math.nan)
 
     @property
     def ratio(self) -> float:
@@ -98,7 +125,8 @@ class CvFold:
         return {"label": self.label, "before": self.before, "after": self.after,
                 "ratio": self.ratio, "scored": self.scored,
                 "temperature_degC": list(self.temperature_degC),
-                "train_temperature_degC": list(self.train_temperature_degC)}
+                "train_temperature_degC": list(self.train_temperature_degC),
+                "dT_degC_s": list(self.dT_degC_s)}
 
 
 @dataclass(frozen=True)
@@ -124,6 +152,8 @@ class ThermalCrossValidation:
         Averaging time of the bias stability.
     guard_s : float
         Guard band each side of a held-out block (0 for held-out runs).
+    fitted_temperature_degC, fitted_dT_degC_s : tuple of float
+        T and ΔT ranges of all the data (what the model is fitted on).
     """
 
     scheme: str
@@ -134,10 +164,55 @@ class ThermalCrossValidation:
     confidence: float
     average_s: float
     guard_s: float
+    fitted_temperature_degC: tuple[float, float] = (math.nan, math.nan)
+    fitted_dT_degC_s: tuple[float, float] = (math.nan, math.nan)
 
     @property
     def n_scored(self) -> int:
         return sum(f.scored for f in self.folds)
+
+    def scored_range(self, quantity: str) -> tuple[float, float]:
+        """Range of ``"temperature"`` (°C) or ``"dT"`` (°C/s) over the scored folds."""
+        spans = [f.temperature_degC if quantity == "temperature" else f.dT_degC_s
+                 for f in self.folds if f.scored]
+        if not spans:
+            return (math.nan, math.nan)
+        return (min(a for a, _ in spans), max(b for _, b in spans))
+
+    def coverage(self, quantity: str) -> float:
+        """Share of the fitted range of ``quantity`` spanned by the scored folds (1 when the
+        fitted range is empty or unknown, 0 with no scored fold)."""
+        lo, hi = (self.fitted_temperature_degC if quantity == "temperature"
+                  else self.fitted_dT_degC_s)
+        if not hi - lo > 0:
+            return 1.0
+        a, b = self.scored_range(quantity)
+        return float(min(b, hi) - max(a, lo)) / (hi - lo) if b >= a else 0.0
+
+    @property
+    def covers_fit(self) -> bool:
+        """The scored folds span at least :data:`MIN_COVERAGE` of the fitted T and ΔT
+        ranges: the gain tests the temperature model, not only a plateau."""
+        return (self.n_scored > 0 and self.coverage("temperature") >= MIN_COVERAGE
+                and self.coverage("dT") >= MIN_COVERAGE)
+
+    def coverage_text(self) -> str:
+        """``""`` when :attr:`covers_fit`, else why the figure does not test the model:
+        ``"not tested over the warm-up: the scored folds span 45.05-45.83 °C of the
+        20-45.83 °C fitted"``."""
+        if self.covers_fit:
+            return ""
+        if self.n_scored == 0:
+            return "not tested: no fold is scored"
+        if self.coverage("temperature") < MIN_COVERAGE:
+            (a, b), (lo, hi), unit = (self.scored_range("temperature"),
+                                      self.fitted_temperature_degC, "°C")
+        else:
+            (a, b), (lo, hi), unit = self.scored_range("dT"), self.fitted_dT_degC_s, "°C/s"
+        what = "" if unit == "°C" else "ΔT "
+        return (f"not tested over the warm-up: the scored folds span {what}{a:.4g}-{b:.4g} "
+                f"{unit} of the {lo:.4g}-{hi:.4g} {unit} fitted (less than "
+                f"{100 * MIN_COVERAGE:g} %)")
 
     def to_dict(self) -> dict[str, Any]:
         return {"scheme": self.scheme, "improvement": finite_or_none(self.ratio),
@@ -146,12 +221,27 @@ class ThermalCrossValidation:
                 "n_scored": self.n_scored, "average_s": self.average_s,
                 "guard_s": self.guard_s,
                 "interval": "Student t on the log ratios of the scored folds",
+                "fitted_temperature_degC": list(self.fitted_temperature_degC),
+                "scored_temperature_degC": [finite_or_none(v) for v in
+                                            self.scored_range("temperature")],
+                "fitted_dT_degC_s": list(self.fitted_dT_degC_s),
+                "scored_dT_degC_s": [finite_or_none(v) for v in self.scored_range("dT")],
+                "coverage": {"temperature": self.coverage("temperature"),
+                             "dT": self.coverage("dT"), "min": MIN_COVERAGE},
+                "covers_fit": self.covers_fit,
                 "folds": [f.to_dict() for f in self.folds]}
 
     def to_frame(self) -> pd.DataFrame:
         """One row per fold."""
         return pd.DataFrame([{k: v for k, v in f.to_dict().items()
-                              if not k.endswith("_degC")} for f in self.folds])
+                              if "_degC" not in k} for f in self.folds])
+
+    def claim_gap(self) -> str:
+        """``""`` when the gain supports an improvement claim (the scored folds cover the
+        fitted ranges and the gain is above 1), else why not, after "in sample only: "."""
+        if not self.covers_fit:
+            return f"out of sample {self.coverage_text()}"
+        return "" if self.ratio > 1.0 else f"out of sample it is {self.ratio:.3g}x, no better"
 
     def interval_text(self) -> str:
         """``"95 % interval [1.0, 1.4]"``, or ``""`` without an interval."""
@@ -161,10 +251,13 @@ class ThermalCrossValidation:
 
     def gain_text(self) -> str:
         """The gain in a few words: ``"1.2x, 95 % interval [1.0, 1.4]"``,
-        ``"1.2x, one fold"`` or ``"not measured"``."""
+        ``"1.2x, one fold"`` or ``"not measured"``, followed by :meth:`coverage_text`
+        when the scored folds do not cover the fitted range."""
         if self.n_scored == 0:
             return "not measured"
-        return f"{self.ratio:.3g}x, " + (self.interval_text() or "one fold")
+        gap = self.coverage_text()
+        return (f"{self.ratio:.3g}x, " + (self.interval_text() or "one fold")
+                + (f"; {gap}" if gap else ""))
 
     def summary(self) -> str:
         """``"out of sample (5 time blocks ...): 1.2x [1.0, 1.4] (95 %, ...)"``."""
@@ -179,6 +272,9 @@ class ThermalCrossValidation:
                     f"({100 * self.confidence:g} % t interval over {self.n_scored} folds)")
         else:
             text = f"{head}: {self.ratio:.3g}x (one fold scored: no interval)"
+        gap = self.coverage_text()
+        if gap and self.n_scored:
+            text += f"; {gap}"
         text += "; folds " + ", ".join(f"{f.ratio:.3g}x" + ("" if f.scored else "*")
                                        for f in self.folds)
         skipped = [f for f in self.folds if not f.scored]
@@ -274,9 +370,11 @@ def thermal_cross_validation(
                              average_s)
         scheme = "time blocks"
     ratio, low, high = _log_t_interval([f.ratio for f in folds if f.scored], confidence)
-    return ThermalCrossValidation(scheme=scheme, folds=tuple(folds), ratio=ratio, low=low,
-                                  high=high, confidence=confidence, average_s=average_s,
-                                  guard_s=guard)
+    return ThermalCrossValidation(
+        scheme=scheme, folds=tuple(folds), ratio=ratio, low=low, high=high,
+        confidence=confidence, average_s=average_s, guard_s=guard,
+        fitted_temperature_degC=_range(np.concatenate([t for _, t in series])),
+        fitted_dT_degC_s=_range(np.concatenate(rates)))
 
 
 def _pair(i: int, rate: Any, temperature: Any) -> tuple[FloatArray, FloatArray]:
@@ -316,15 +414,16 @@ def _run_fold(series: list[tuple[FloatArray, FloatArray]], rates: list[FloatArra
     units = fit["units"]
     return CvFold(label=label, before=_stability(held_y, fs, units, average_s),
                   after=_stability(held_y - drift, fs, units, average_s),
-                  temperature_degC=_range(held_t), train_temperature_degC=_range(temp))
+                  temperature_degC=_range(held_t), train_temperature_degC=_range(temp),
+                  dT_degC_s=_range(rates[i]))
 
 
 def _block_folds(y: FloatArray, temp: FloatArray, dtemp: FloatArray, k: int, guard: int,
                  fs: float, fit: dict[str, Any], average_s: float) -> list[CvFold]:
-    """Each of ``k`` contiguous blocks compensated by the model fitted on the rest, less
-    ``guard`` samples each side of the block."""
+    """Each of ``k`` contiguous blocks (:func:`_block_edges`) compensated by the model
+    fitted on the rest, less ``guard`` samples each side of the block."""
     n = y.size
-    edges = np.linspace(0, n, k + 1).round().astype(np.int64)
+    edges = _block_edges(dtemp, k, 2 * round(average_s * fs))
     if int(np.min(np.diff(edges))) < 2 * round(average_s * fs):
         raise InsufficientDataError(
             f"{k} time blocks of a {n / fs:g} s record are shorter than two {average_s:g} s "
@@ -342,8 +441,24 @@ def _block_folds(y: FloatArray, temp: FloatArray, dtemp: FloatArray, k: int, gua
             label=f"block {i + 1} ({a / fs:g}-{b / fs:g} s)",
             before=_stability(y[a:b], fs, fit["units"], average_s),
             after=_stability(y[a:b] - drift, fs, fit["units"], average_s),
-            temperature_degC=held, train_temperature_degC=trained, scored=inside))
+            temperature_degC=held, train_temperature_degC=trained, scored=inside,
+            dT_degC_s=_range(dtemp[a:b])))
     return folds
+
+
+def _block_edges(dtemp: FloatArray, k: int, min_len: int) -> IntArray:
+    """Edges of ``k`` blocks at equal shares of ``(t / duration + v(t) / v(duration)) / 2``,
+    ``v`` the temperature travel (cumulative ``|dtemp|``, module docstring); equal time when
+    the temperature is constant or a block would be shorter than ``min_len`` samples."""
+    n = dtemp.size
+    equal = np.linspace(0, n, k + 1).round().astype(np.int64)
+    travel = np.cumsum(np.abs(np.nan_to_num(dtemp)))
+    if not travel[-1] > 0:
+        return equal
+    progress = 0.5 * np.arange(n) / max(n - 1, 1) + 0.5 * travel / travel[-1]
+    edges = np.searchsorted(progress, np.arange(1, k) / k).astype(np.int64)
+    edges = np.concatenate(([0], edges, [n]))
+    return edges if int(np.min(np.diff(edges))) >= min_len else equal
 
 
 def _range(t: FloatArray) -> tuple[float, float]:

@@ -118,3 +118,18 @@ def test_bad_input() -> None:
         arma_kalman(y, {"ar.L1": float("nan"), "sigma2": 1.0})
     with pytest.raises(InsufficientDataError, match="at least 10"):
         arma_kalman(y[:5], PARAMS)
+
+
+def test_auto_model_warnings_name_the_series() -> None:
+    """A seasonal AR at lag 12 (x_t = 0.8 x_{t-12} + e_t): no low-order candidate whitens
+    it, and the selection's NotWhiteWarning says which series it was about."""
+    from fogts.errors import NotWhiteWarning
+    from fogts.startup.kalman import resolve_arma_model
+
+    e = np.random.default_rng(12).normal(size=3000)
+    x = lfilter([1.0], np.r_[1.0, np.zeros(11), -0.8], e)
+    with pytest.warns(NotWhiteWarning, match=r"^the temperature's EMD rest: no candidate "
+                                             r"leaves white residuals"):
+        resolve_arma_model(x, "auto", series="the temperature's EMD rest")
+    with pytest.warns(NotWhiteWarning, match=r"^no candidate leaves white residuals"):
+        resolve_arma_model(x, "auto")

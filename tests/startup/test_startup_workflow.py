@@ -78,3 +78,23 @@ def test_bad_averaging_and_smoothing_are_refused_before_the_fit() -> None:
         with pytest.raises(DataError, match=r"dT_smoothing_s must be a finite number > 0, "
                                             r"got 0"):
             startup_compensation(sim.run, dT_smoothing_s=0)
+
+
+def test_mpu6050_not_white_warnings_name_gyro_and_temperature() -> None:
+    """Audit N6: on the MPU6050 recording neither EMD rest (gyro nor temperature) is
+    whitened by a low-order ARMA model; each warning names its series (the bare warning
+    did not say that one of them was about the temperature)."""
+    import warnings
+
+    import fogts
+    from fogts.errors import NotWhiteWarning
+    from tests.conftest import shared_path
+
+    path = shared_path("imu", "mpu6050_gyro_temp_converted.csv.gz")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        startup_compensation(fogts.read_run(path, units="deg/s"))
+    texts = [str(w.message) for w in caught if issubclass(w.category, NotWhiteWarning)]
+    assert any(t.startswith("ARMA model of the temperature's EMD rest: no candidate")
+               for t in texts), texts
+    assert all(t.startswith("ARMA model of the ") for t in texts), texts

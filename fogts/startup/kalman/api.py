@@ -5,6 +5,7 @@
 
 from __future__ import annotations
 
+import warnings
 from typing import Any, Literal, get_args
 
 import numpy as np
@@ -39,12 +40,14 @@ _ORDERS = {"AR(1)": (1, 0), "AR(2)": (2, 0), "AR(3)": (3, 0), "ARMA(1,1)": (1, 1
            "ARMA(2,1)": (2, 1)}
 
 
-def resolve_arma_model(x: ArrayLike1D, spec: str) -> Any:
+def resolve_arma_model(x: ArrayLike1D, spec: str, *, series: str = "") -> Any:
     """Fit the drift model named by ``spec`` to ``x`` (demeaned first).
 
     ``"auto"`` runs the candidate selection of :func:`fogts.arma.select.select_arma` and
     returns its best candidate; ``"AR(1)"`` .. ``"ARMA(2,1)"`` fit that order with
-    :func:`fogts.arma.fit.fit_arma`.
+    :func:`fogts.arma.fit.fit_arma`.  ``series`` names ``x`` (for example "the
+    temperature's EMD rest") in front of the selection's warnings, so that a caller that
+    models several series says which one has no white candidate.
 
     Raises
     ------
@@ -57,7 +60,14 @@ def resolve_arma_model(x: ArrayLike1D, spec: str) -> Any:
     if spec == "auto":
         from fogts.arma.select import select_arma
 
-        return select_arma(arr).best
+        if not series:
+            return select_arma(arr).best
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            best = select_arma(arr).best
+        for w in caught:
+            warnings.warn(f"{series}: {w.message}", w.category, stacklevel=2)
+        return best
     from fogts.arma.fit import fit_arma
 
     p, q = _ORDERS[spec]
