@@ -237,11 +237,20 @@ class ThermalCrossValidation:
                               if "_degC" not in k} for f in self.folds])
 
     def claim_gap(self) -> str:
-        """``""`` when the gain supports an improvement claim (the scored folds cover the
-        fitted ranges and the gain is above 1), else why not, after "in sample only: "."""
+        """``""`` when the gain supports an improvement claim, else why not, after "in sample
+        only: ".  A claim needs scored folds that cover the fitted ranges and a gain whose
+        interval lies above 1: a point estimate above 1 with an interval reaching below it
+        (1.41x [0.73, 2.76]) is not evidence that the model improves data it was not
+        fitted on, and one scored fold gives no interval."""
         if not self.covers_fit:
             return f"out of sample {self.coverage_text()}"
-        return "" if self.ratio > 1.0 else f"out of sample it is {self.ratio:.3g}x, no better"
+        if not self.ratio > 1.0:
+            return f"out of sample it is {self.ratio:.3g}x, no better"
+        if not math.isfinite(self.low):
+            return f"out of sample {self.ratio:.3g}x from one scored fold, without an interval"
+        if not self.low > 1.0:
+            return f"out of sample {self.ratio:.3g}x, but its {self.interval_text()} reaches 1"
+        return ""
 
     def interval_text(self) -> str:
         """``"95 % interval [1.0, 1.4]"``, or ``""`` without an interval."""

@@ -123,7 +123,8 @@ def test_one_warm_up_model_is_saved_with_its_note_and_warns_when_reused(tmp_path
     assert "do not reuse it on another ambient or warm-up without a calibration run" in warning[0]
     assert f"saved the thermal model to {model} (with its note: not separately identified" \
         in res.stdout
-    assert "x in sample; out of sample " in res.stdout
+    assert "x in sample); not claimed as an improvement: in sample only: out of sample " \
+        in res.stdout
     saved = json.loads(model.read_text())
     assert saved["identification_note"] in warning[0]
     assert saved["collinearity"]["max_vif"] > saved["collinearity"]["vif_threshold"]
