@@ -62,7 +62,8 @@ from fogts.allan.noise_input import FitCurve
 from fogts.choices import FIT_METHODS, FitMethod
 
 __all__ = ["FIT_METHODS", "IRLS_MAX_ITER", "MAX_COVARIANCE_POINTS", "FitMethod", "LsqFit",
-           "LsqProblem", "curve_covariance_basis", "octave_density"]
+           "LsqProblem", "chi2_sentence", "curve_covariance_basis", "model_error_p_value",
+           "octave_density"]
 
 #: Largest grid for which the full model covariance of the estimates is computed.
 MAX_COVARIANCE_POINTS = 200
@@ -93,6 +94,9 @@ class LsqFit:
         Pearson chi-square (residual sum of squares for OLS) and degrees of freedom.
     iterations : int
     converged : bool
+    model_error_lr : float
+        The likelihood-ratio statistic ``2 (l(eps_hat) - l(0))`` of the model-error test
+        that kept or dropped ``model_error`` (:func:`_ml_eps2`; NaN for OLS).
     """
 
     a: FloatArray
@@ -105,6 +109,7 @@ class LsqFit:
     dof: float
     iterations: int
     converged: bool
+    model_error_lr: float = math.nan
 
 
 @dataclass(frozen=True)
@@ -228,17 +233,19 @@ def _irls(step: Callable[[FloatArray, FloatArray], tuple[FloatArray, FloatArray]
     return a, mu, IRLS_MAX_ITER, False
 
 
-def _ml_eps2(nll: Callable[[float], float], crit: float) -> float:
-    """The model-error variance eps2 >= 0 that minimises ``nll`` (profile likelihood).
+def _ml_eps2(nll: Callable[[float], float], crit: float) -> tuple[float, float]:
+    """The model-error variance eps2 >= 0 that minimises ``nll`` (profile likelihood), and
+    the likelihood-ratio statistic ``2 (nll(0) - nll(eps2_hat))`` (>= 0) that decided it.
 
-    eps2 = 0 is kept unless the likelihood-ratio statistic ``2 (nll(0) - nll(eps2))``
-    exceeds ``crit`` (the chi-bar-squared critical value of the boundary test; 0 accepts
-    any improvement, i.e. the unrestricted ML estimate).
+    eps2 = 0 is kept unless that statistic exceeds ``crit`` (the chi-bar-squared critical
+    value of the boundary test; 0 accepts any improvement, i.e. the unrestricted ML
+    estimate).
     """
     base = nll(0.0)
     best = minimize_scalar(lambda t: nll(math.exp(t)), bounds=(math.log(1e-8), math.log(10.0)),
                            method="bounded", options={"xatol": 1e-3})
-    return math.exp(float(best.x)) if 2.0 * (base - float(best.fun)) > crit else 0.0
+    lr = max(2.0 * (base - float(best.fun)), 0.0)
+    return (math.exp(float(best.x)) if lr > crit else 0.0), lr
 
 
 def _nnls_free(a: FloatArray, b: FloatArray, free: npt.NDArray[np.bool_]) -> FloatArray:
@@ -277,7 +284,7 @@ def _fit_wls(design: FloatArray, y: FloatArray, edf: FloatArray, density: FloatA
         ll = k * np.log(k) - k * np.log(mu) + (k - 1) * np.log(y) - k * y / mu - gammaln(k)
         return -float(np.sum(density * ll))
 
-    eps2 = _ml_eps2(nll, crit)
+    eps2, lr = _ml_eps2(nll, crit)
     a, mu, w, _, ok = solve(eps2)
     chi2 = float(np.sum(w * (y - mu) ** 2))
     dof = float(np.sum(density)) - np.count_nonzero(a > 0)
@@ -295,7 +302,8 @@ def _fit_wls(design: FloatArray, y: FloatArray, edf: FloatArray, density: FloatA
         return h_inv @ meat @ h_inv
 
     return LsqFit(a=a, mu=mu, w=w, cov=cov, stderr_method=how, model_error=math.sqrt(eps2),
-                  chi2=chi2, dof=dof, iterations=int(state["iters"]), converged=ok)
+                  chi2=chi2, dof=dof, iterations=int(state["iters"]), converged=ok,
+                  model_error_lr=lr)
 
 
 def _fit_gls(design: FloatArray, y: FloatArray, edf: FloatArray, covm: CovarianceModel,
@@ -326,7 +334,7 @@ def _fit_gls(design: FloatArray, y: FloatArray, edf: FloatArray, covm: Covarianc
         z = _forward_substitution(chol, r[:, None])[:, 0]
         return 0.5 * float(z @ z) + float(np.sum(np.log(np.diag(chol))))
 
-    eps2 = _ml_eps2(nll, crit)
+    eps2, lr = _ml_eps2(nll, crit)
     a, mu, v, _, ok = solve(eps2)
     r = y - mu
     v_inv = np.linalg.inv(v)
@@ -338,7 +346,8 @@ def _fit_gls(design: FloatArray, y: FloatArray, edf: FloatArray, covm: Covarianc
     return LsqFit(a=a, mu=mu, w=1.0 / np.diag(v), cov=cov,
                   stderr_method=f"GLS with {covm.label}", model_error=math.sqrt(eps2),
                   chi2=float(r @ v_inv @ r), dof=float(y.size - np.count_nonzero(a > 0)),
-                  iterations=start.iterations + int(state["iters"]), converged=ok)
+                  iterations=start.iterations + int(state["iters"]), converged=ok,
+                  model_error_lr=lr)
 
 
 def _fit_ols(design: FloatArray, y: FloatArray) -> LsqFit:
@@ -356,3 +365,69 @@ def _fit_ols(design: FloatArray, y: FloatArray) -> LsqFit:
 
     return LsqFit(a=a, mu=mu, w=w, cov=cov, stderr_method="OLS residual variance",
                   model_error=math.nan, chi2=rss, dof=dof, iterations=1, converged=True)
+
+
+def model_error_p_value(lr: float) -> float:
+    """The p-value of the model error's likelihood-ratio statistic ``lr``: eps^2 = 0 lies on
+    the boundary, so the statistic is a 50:50 mixture of chi^2_0 and chi^2_1 under the null
+    (Self & Liang, *J. Am. Stat. Assoc.* 82(398), 1987, case 1): ``0.5 P(chi^2_1 > lr)``
+    for ``lr > 0``, 1 at 0, NaN for NaN.
+
+    Examples
+    --------
+    >>> round(model_error_p_value(2.706), 3)   # z_0.95^2: the 5 % critical value
+    0.05
+    >>> model_error_p_value(0.0)
+    1.0
+    """
+    if not math.isfinite(lr):
+        return math.nan
+    return 0.5 * math.erfc(math.sqrt(lr / 2.0)) if lr > 0 else 1.0
+
+
+def _model_error_test(lr: float, significance: float | None, kept: bool) -> str:
+    """The likelihood-ratio test that kept or dropped the model error: its statistic and
+    p-value, compared with ``significance`` (None: no test level, the unrestricted ML
+    estimate: any rise in the likelihood keeps one)."""
+    if not math.isfinite(lr):
+        return ""
+    p = model_error_p_value(lr)
+    if significance is None:
+        return (f"likelihood-ratio statistic {lr:.3g}, p = {p:.2g} (no test level: any rise "
+                "in the likelihood keeps one)")
+    return (f"likelihood-ratio test {lr:.3g}, p = {p:.2g} {'<' if kept else '>='} "
+            f"{significance:g}" + ("" if kept else " (this test decides, not chi2)"))
+
+
+def chi2_sentence(chi2: float, dof: float, model_error: float, lr: float = math.nan,
+                  significance: float | None = None) -> str:
+    """The least-squares fit's chi-square with what it can and cannot tell: a model error
+    estimated by maximum likelihood (:mod:`fogts.allan.noise_lsq`) is added to the
+    variances in the weights, which brings chi2 near its dof whatever the misfit; the
+    model error itself, and the fit check, measure the misfit then.  Whether a model
+    error is needed is decided by its own likelihood-ratio test (``lr``, at
+    ``significance``; the Pearson chi2 does not decide it): the sentence quotes that
+    statistic and its p-value (:func:`model_error_p_value`) when ``lr`` is given, so that
+    the verdict follows from the numbers shown.
+
+    Examples
+    --------
+    >>> chi2_sentence(14.9, 17, 0.122)
+    'chi2 = 14.9 on 17 dof after adding the fitted model error 0.122 (relative, on sigma^2) to the variances (which brings chi2 near its dof: the model error and the fit check measure the misfit)'
+    >>> chi2_sentence(15.2, 17, 0.0)
+    'chi2 = 15.2 on 17 dof; no model error needed (relative, on sigma^2)'
+    >>> chi2_sentence(22.41, 11, 0.0, 1.2, 0.05)
+    'chi2 = 22.41 on 11 dof; no model error needed (relative, on sigma^2): likelihood-ratio test 1.2, p = 0.14 >= 0.05 (this test decides, not chi2)'
+    >>> chi2_sentence(30.2, 11, 0.21, 9.5, 0.05)[:130]
+    'chi2 = 30.2 on 11 dof after adding the fitted model error 0.21 (relative, on sigma^2; likelihood-ratio test 9.5, p = 0.001 < 0.05)'
+    """
+    head = f"chi2 = {chi2:.4g} on {dof:.4g} dof"
+    if not math.isfinite(model_error):
+        return head + " (unweighted residual sum of squares)"
+    test = _model_error_test(lr, significance, kept=model_error != 0)
+    if model_error == 0:
+        return head + "; no model error needed (relative, on sigma^2)" + (
+            f": {test}" if test else "")
+    return (f"{head} after adding the fitted model error {model_error:.3g} (relative, on "
+            "sigma^2" + (f"; {test}" if test else "") + ") to the variances (which brings "
+            "chi2 near its dof: the model error and the fit check measure the misfit)")

@@ -18,6 +18,7 @@ from fogts.allan.distributions import norm_ppf
 from fogts.allan.gmwm_result import GmwmSummary
 from fogts.allan.markov import ExtraTerm
 from fogts.allan.ml_result import MlSummary
+from fogts.allan.noise_lsq import chi2_sentence, model_error_p_value
 from fogts.allan.readoff import FitBound, SlopeReadoff
 from fogts.allan.terms import TERM_POWER, term_rows
 from fogts.choices import OutputUnits
@@ -164,6 +165,11 @@ class NoiseModel(TableView):
         Relative standard deviation on sigma^2 added to every point because the model
         misfits the curve beyond its sampling noise (maximum likelihood; 0 when the fit
         is consistent with the EDF; NaN for ``ols``).
+    model_error_lr : float
+        The likelihood-ratio statistic of the model-error test that kept or dropped
+        ``model_error`` (the 50:50 chi-bar-squared boundary test, :mod:`fogts.allan.noise_lsq`;
+        its p-value is :attr:`model_error_p`); NaN when no such test was made (``ols``,
+        ``gmwm``, ``ml``, or a model read back).
     stderr_method : str
         How the standard errors were obtained: the sandwich or GLS with the model
         covariance of the adev or oadev estimates, or with totdev's EDF variances and the
@@ -222,6 +228,7 @@ class NoiseModel(TableView):
     quantity: str = "rate"
     gmwm: GmwmSummary | None = None
     ml: MlSummary | None = None
+    model_error_lr: float = math.nan
 
     # -------------------------------------------------------------- access
     def __getitem__(self, name: str) -> NoiseTerm:
@@ -234,6 +241,11 @@ class NoiseModel(TableView):
     @property
     def names(self) -> tuple[str, ...]:
         return tuple(t.name for t in self.terms)
+
+    @property
+    def model_error_p(self) -> float:
+        """The p-value of :attr:`model_error_lr` (:func:`model_error_p_value`)."""
+        return model_error_p_value(self.model_error_lr)
 
     @property
     def dropped(self) -> tuple[str, ...]:
@@ -438,7 +450,9 @@ class NoiseModel(TableView):
         lines = [self.term_table().to_text()]
         lines.append(self.describe_readoff(lambda v: f"{v:.4e}"))
         if self.gmwm is None and self.ml is None:
-            lines.append(f"{chi2_sentence(self.chi2, self.dof, self.model_error)}; "
+            sentence = chi2_sentence(self.chi2, self.dof, self.model_error,
+                                     self.model_error_lr, self.significance)
+            lines.append(f"{sentence}; "
                          f"{self.iterations} iteration(s)"
                          + ("" if self.converged else " (NOT converged)")
                          + f"; edf from {self.edf_source}")
@@ -454,29 +468,6 @@ class NoiseModel(TableView):
         lines += [f"warning: {w}" for w in self.warnings]
         return "\n".join(lines)
 
-
-
-def chi2_sentence(chi2: float, dof: float, model_error: float) -> str:
-    """The least-squares fit's chi-square with what it can and cannot tell: a model error
-    estimated by maximum likelihood (:mod:`fogts.allan.noise_lsq`) is added to the
-    variances in the weights, which brings chi2 near its dof whatever the misfit; the
-    model error itself, and the fit check, measure the misfit then.
-
-    Examples
-    --------
-    >>> chi2_sentence(14.9, 17, 0.122)
-    'chi2 = 14.9 on 17 dof after adding the fitted model error 0.122 (relative, on sigma^2) to the variances (which brings chi2 near its dof: the model error and the fit check measure the misfit)'
-    >>> chi2_sentence(15.2, 17, 0.0)
-    'chi2 = 15.2 on 17 dof; no model error needed (relative, on sigma^2)'
-    """
-    head = f"chi2 = {chi2:.4g} on {dof:.4g} dof"
-    if not math.isfinite(model_error):
-        return head + " (unweighted residual sum of squares)"
-    if model_error == 0:
-        return head + "; no model error needed (relative, on sigma^2)"
-    return (f"{head} after adding the fitted model error {model_error:.3g} (relative, on "
-            "sigma^2) to the variances (which brings chi2 near its dof: the model error and "
-            "the fit check measure the misfit)")
 
 
 def _tau_array(tau_s: Any) -> FloatArray:

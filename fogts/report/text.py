@@ -99,7 +99,9 @@ def fit_sentences(model: Any) -> list[str]:
     else:
         from fogts.allan.noise_model import chi2_sentence
 
-        lines = [f"fit: {chi2_sentence(model.chi2, model.dof, model.model_error)}; "
+        chi2 = chi2_sentence(model.chi2, model.dof, model.model_error, model.model_error_lr,
+                             model.significance)
+        lines = [f"fit: {chi2}; "
                  f"standard errors: {model.stderr_method}"]
     return lines + [e.describe() for e in model.extra_terms]
 

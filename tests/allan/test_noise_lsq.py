@@ -53,3 +53,43 @@ def test_every_tau_grid_fits_without_a_dense_covariance() -> None:
         model = fogts.fit_noise(res)
     assert model.stderr_method.startswith("EDF diagonal")
     assert abs(model["N"].value / 0.01 - 1.0) < 0.02
+
+
+@pytest.mark.parametrize(("bend", "kept"), [(0.0, False), (0.1, False), (0.2, True)])
+def test_the_model_error_verdict_quotes_its_own_test(bend: float, kept: bool) -> None:
+    """Whether a model error is needed is decided by its likelihood-ratio test, not by the
+    Pearson chi2 beside it (audit: "chi2 = 22.41 on 11 dof; no model error needed" with that
+    chi2 at p ~ 0.02): the sentence quotes the test's statistic and p-value, and the verdict
+    follows from them (p below the level <=> a model error is kept)."""
+    import numpy as np
+
+    from fogts.allan.noise_lsq import chi2_sentence, model_error_p_value
+    from tests.allan.noise_cases import avar, make_result
+
+    tau = 2.0 ** np.arange(-4, 12)
+    dev = np.sqrt(avar(tau, N=0.02, B=0.1, K=0.5)) * (1 + bend * np.sin(np.arange(tau.size)))
+    model = quiet_fit(make_result(tau, dev, edf=200.0), significance=0.05)
+    lr, p = model.model_error_lr, model.model_error_p
+    assert np.isfinite(lr) and lr >= 0 and p == pytest.approx(model_error_p_value(lr))
+    assert (model.model_error > 0) == (p < 0.05) == kept
+    text = chi2_sentence(model.chi2, model.dof, model.model_error, lr, 0.05)
+    assert f"likelihood-ratio test {lr:.3g}, p = {p:.2g} " \
+           f"{'<' if model.model_error > 0 else '>='} 0.05" in text
+    assert text in model.summary()
+
+
+def test_model_error_p_value_is_the_boundary_mixture() -> None:
+    """0.5 P(chi2_1 > lr): the 5 % critical value z_0.95^2 = 2.706 gives p = 0.05; 0 gives 1;
+    a sentence without a test (a model read back, OLS) keeps its old wording."""
+    from scipy.stats import chi2
+
+    from fogts.allan.noise_lsq import chi2_sentence, model_error_p_value
+
+    assert model_error_p_value(2.705543) == pytest.approx(0.05, rel=1e-5)
+    assert model_error_p_value(7.3) == pytest.approx(0.5 * chi2.sf(7.3, 1), rel=1e-9)
+    assert model_error_p_value(0.0) == 1.0
+    assert chi2_sentence(15.2, 17, 0.0) == \
+        "chi2 = 15.2 on 17 dof; no model error needed (relative, on sigma^2)"
+    assert chi2_sentence(15.2, 17, 0.0, 0.0, None).endswith(
+        "likelihood-ratio statistic 0, p = 1 (no test level: any rise in the likelihood "
+        "keeps one)")

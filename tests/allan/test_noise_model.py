@@ -71,7 +71,8 @@ def test_the_chi2_line_says_the_model_error_is_in_it() -> None:
     bent = np.sqrt(avar(tau, N=0.02, B=0.1, K=0.5)) * (1 + 0.1 * np.sin(np.arange(tau.size)))
     model = quiet_fit(make_result(tau, bent), significance=None)
     assert model.model_error > 0
-    text = chi2_sentence(model.chi2, model.dof, model.model_error)
+    text = chi2_sentence(model.chi2, model.dof, model.model_error, model.model_error_lr,
+                         model.significance)
     assert f"after adding the fitted model error {model.model_error:.3g}" in text
     assert "brings chi2 near its dof" in text and text in model.summary()
     assert chi2_sentence(3.0, 4.0, float("nan")).endswith("(unweighted residual sum of squares)")
