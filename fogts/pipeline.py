@@ -327,6 +327,8 @@ def analyse_allan_axis(run: Run, axis: int, settings: AllanSettings | None = Non
                        ) -> AxisAllan:
     """Prepare (if asked), compute the deviations, fit the noise terms, read the curve and
     check the terms' plausibility for axis ``axis`` of ``run``."""
+    from fogts.allan.noise import curve_named
+    from fogts.allan.peer import allantools_check
     from fogts.preprocess.prepare import prepare
 
     s = settings or AllanSettings()
@@ -339,15 +341,12 @@ def analyse_allan_axis(run: Run, axis: int, settings: AllanSettings | None = Non
     else:
         res = _allan(run, s, axis, run.unit_of(axis))
         series, fs_hz = run.axis(axis), run.fs_hz
-    done = analyse_curve(res, s, series=series, fs_hz=fs_hz, units=run.units)
-    check = None
-    if s.check_allantools:
-        from fogts.allan.peer import allantools_check
-
-        check = allantools_check(prepared.x if prepared is not None else run.axis(axis), res)
-    effect = None
-    if prepared is not None and prepared.outliers is not None:
-        effect = _outlier_effect(run, axis, prepared, done.model, s)
+    with curve_named(f"the Allan curve of axis {run.axes[axis]!r} of {run.source}"):
+        done = analyse_curve(res, s, series=series, fs_hz=fs_hz, units=run.units)
+    check = (allantools_check(prepared.x if prepared is not None else run.axis(axis), res)
+             if s.check_allantools else None)
+    effect = (_outlier_effect(run, axis, prepared, done.model, s)
+              if prepared is not None and prepared.outliers is not None else None)
     return replace(done, prepared=prepared, check=check, outliers_effect=effect)
 
 

@@ -45,8 +45,10 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import re
 import warnings
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
+from contextlib import contextmanager
 from typing import Any
 
 import numpy as np
@@ -257,6 +259,21 @@ def fit_noise(
         _warn(issued, UnidentifiableTermWarning, message, curve.axis)
     return _read_off_whole(dataclasses.replace(model, terms=identified, warnings=tuple(issued)),
                            shown)
+
+
+@contextmanager
+def curve_named(name: str) -> Iterator[None]:
+    """Inside the block, an error of :func:`fit_noise` that opens with its argument
+    ``allan_result`` names the curve ``name`` instead: for a caller that computed the
+    curve itself from a record, where no ``allan_result`` was given
+    (:func:`fogts.pipeline.analyse_allan_axis`: "the Allan curve of axis 'x' of FILE")."""
+    try:
+        yield
+    except DataError as exc:
+        text, n = re.subn(r"^allan_result(?: \(the Allan curve\))?", name, str(exc))
+        if not n:
+            raise
+        raise type(exc)(text) from exc
 
 
 def _read_off_whole(model: NoiseModel, shown: Any) -> NoiseModel:

@@ -98,7 +98,8 @@ MIN_SELECT_SAMPLES = 50
 class _Input:
     """The series to model: ``x`` minus ``offset`` (``offset`` non-zero for a long series
     whose demeaned copy is not formed: ``x`` is then the input, ``data`` its
-    :class:`~fogts.preprocess.demeaned.Demeaned` stand-in), and what describes it."""
+    :class:`~fogts.preprocess.demeaned.Demeaned` stand-in), and what describes it; ``name``
+    is how its errors name it (an axis of a file, else the argument ``x``)."""
 
     x: FloatArray
     index: pd.Index | None
@@ -110,6 +111,7 @@ class _Input:
     raw: FloatArray | None = None
     offset: float = 0.0
     data: FloatArray | Demeaned | None = None
+    name: str = "x"
 
 
 def _selection_input(x: ArrayLike1D | Run | Prepared, fs_hz: float | None) -> _Input:
@@ -150,25 +152,30 @@ def _prepared_input(p: Prepared) -> _Input:
     if run is not None and p.axis in run.axes and p.decimate == 1:
         raw = run.axis(p.axis)
     held = p.lazy_x
+    name = f"axis {p.axis!r} of {run.source}" if run is not None else "x"
     if isinstance(held, Demeaned):
         # the input and its mean: the fits and checks subtract it block by block
         return _Input(held.raw, p.index, p.lazy_time, p.fs_hz, p.units, info, p.to_dict(),
-                      raw, held.mean, held)
-    return _Input(p.x, p.index, p.lazy_time, p.fs_hz, p.units, info, p.to_dict(), raw)
+                      raw, held.mean, held, name)
+    return _Input(p.x, p.index, p.lazy_time, p.fs_hz, p.units, info, p.to_dict(), raw,
+                  name=name)
 
 
-def _check_data(x: FloatArray, orders: Sequence[tuple[int, int]], lags: tuple[int, ...]) -> None:
+def _check_data(x: FloatArray, orders: Sequence[tuple[int, int]], lags: tuple[int, ...],
+                name: str) -> None:
+    """The series is long enough, finite and not constant; the errors name it ``name``
+    (:attr:`_Input.name`: an axis of a file read by fogts, else the argument ``x``)."""
     n = x.shape[0]
     need = max([MIN_SELECT_SAMPLES, 2 * max(lags)] + [min_nobs(p, q) for p, q in orders])
     if n < need:
         raise InsufficientDataError(
-            f"x is too short for ARMA selection: {n} samples, need at least {need} (at least "
-            f"{MIN_SELECT_SAMPLES}, twice the largest Ljung-Box lag {max(lags)}, and "
+            f"{name} is too short for ARMA selection: {n} samples, need at least {need} (at "
+            f"least {MIN_SELECT_SAMPLES}, twice the largest Ljung-Box lag {max(lags)}, and "
             f"10 x (p + q + 1) for the largest candidate)")
     if not np.all(np.isfinite(x)):
-        raise DataError("x contains non-finite values")
+        raise DataError(f"{name} contains non-finite values")
     if float(np.ptp(x)) == 0.0:
-        raise InsufficientDataError("x is constant; there is no drift to model")
+        raise InsufficientDataError(f"{name} is constant; there is no drift to model")
 
 
 def _check_lags(lags: Any) -> tuple[int, ...]:
@@ -327,7 +334,7 @@ def select_arma(
     orders = parse_candidates(candidates)
     lag_t = _check_lags(lags)
     inp = _selection_input(x, fs_hz)
-    _check_data(inp.x, orders, lag_t)
+    _check_data(inp.x, orders, lag_t, inp.name)
     corr = correlogram(inp.x)
     tick = progress.ticker(f"ARMA: {len(orders)} candidates", len(orders))
     evaluated = []

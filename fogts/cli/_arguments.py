@@ -14,7 +14,7 @@ import re
 from collections.abc import Callable, Mapping
 from typing import Any
 
-__all__ = ["ARGUMENT_OPTIONS", "MESSAGE_KEYS", "cli_payload", "option_keywords", "option_names"]
+__all__ = ["ARGUMENT_OPTIONS", "BARE_ARGUMENTS", "MESSAGE_KEYS", "cli_payload", "option_keywords", "option_names"]
 
 #: The library keywords whose option is the same in every command (the shared input
 #: options, and those a library error suggests): the library's messages name the keyword
@@ -28,6 +28,12 @@ ARGUMENT_OPTIONS: dict[str, str] = {
     "terms": "--terms", "channel": "--channel", "units": "--units", "kind": "--kind",
     "outliers": "--outliers",
 }
+
+#: The keywords of :data:`ARGUMENT_OPTIONS` that :func:`option_names` also replaces where
+#: they stand alone, as a check names its argument (``fs_hz must be a finite number > 0``):
+#: the identifiers (``fs_hz``, ``n_samples``, ...), which are no English word; ``units``,
+#: ``input`` or ``kind`` stand alone in many a sentence and are only replaced as ``name=``.
+BARE_ARGUMENTS: dict[str, str] = {k: v for k, v in ARGUMENT_OPTIONS.items() if "_" in k}
 
 #: The JSON keys whose strings are messages (a warning, a note, a message, a line of text)
 #: that may suggest a library keyword: :func:`cli_payload` names the option there instead.
@@ -95,8 +101,9 @@ def option_names(message: str, options: Mapping[str, str]) -> str:
     or a word: ``fs_hz=``, ``nan='drop'``, ``n_samples=N``), becomes the option with that
     value (``--fs``, ``--nan drop``, ``--n-samples N``), for the names of
     :data:`ARGUMENT_OPTIONS` and of ``options``; the names of ``options`` (the command's
-    own, e.g. ``{"latitude_deg": "--latitude"}``) are also replaced where they stand as
-    whole words.
+    own, e.g. ``{"latitude_deg": "--latitude"}``) and of :data:`BARE_ARGUMENTS` (the
+    shared identifiers, ``fs_hz``; not inside quotes, where a column may be named so)
+    are also replaced where they stand as whole words.
 
     Examples
     --------
@@ -108,8 +115,12 @@ def option_names(message: str, options: Mapping[str, str]) -> str:
     '--latitude = 95 is not a latitude'
     >>> option_names("give n_samples=N.", {})
     'give --n-samples N.'
+    >>> option_names("fs_hz must be a finite number > 0, got -5.0", {})
+    '--fs must be a finite number > 0, got -5.0'
     """
     message = option_keywords(message, options)
     for name, option in options.items():
         message = re.sub(rf"(?<![\w-]){re.escape(name)}(?!\w)", option, message)
+    for name, option in BARE_ARGUMENTS.items():
+        message = re.sub(rf"(?<![\w'.-]){re.escape(name)}(?![\w'])", option, message)
     return message

@@ -85,7 +85,8 @@ def compensate_cmd(
     compensation per axis]}."""
     from fogts.startup.startup_workflow import startup_compensation
 
-    with common.guard({"average_s": "--average", "dT_smoothing_s": "--dt-smoothing"},
+    with common.guard({"average_s": "--average", "dT_smoothing_s": "--dt-smoothing",
+                       "arma_model": "--arma-model"},
                       overwrite=overwrite, outputs={"--output": output, "--save-model": save_model, "--json": json_out,
                          "--plot": plot},
                 inputs={"FILE": [file], "--model": [model] if model else [],

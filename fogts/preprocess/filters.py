@@ -161,7 +161,7 @@ def lowpass(
     nyquist = fs / 2.0
     if fc >= nyquist:
         raise DataError(f"cutoff_hz must be below the Nyquist frequency {nyquist:g} Hz "
-                        f"(fs_hz/2), got {cutoff_hz!r}")
+                        f"(half the sample rate), got {cutoff_hz!r}")
     n = check_int("order", order, minimum=1, maximum=20)
     kind = check_choice("design", design, FILTER_DESIGNS)
     ripple = check_positive("ripple_db", ripple_db)

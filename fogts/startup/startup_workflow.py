@@ -28,14 +28,9 @@ import numpy as np
 import pandas as pd
 
 from fogts._typing import FloatArray
-from fogts._validate import check_positive
+from fogts._validate import check_choice, check_positive
 from fogts.choices import APPLY_RULES, ApplyRule
-from fogts.errors import (
-    DataError,
-    InsufficientDataError,
-    ModelFitError,
-    UnidentifiableTermWarning,
-)
+from fogts.errors import DataError, InsufficientDataError, ModelFitError, UnidentifiableTermWarning
 from fogts.io.run import Run
 from fogts.startup.compensation import (
     BiasStability,
@@ -334,6 +329,9 @@ def startup_compensation(
         raise DataError(f"apply must be one of {', '.join(map(repr, APPLY_RULES))}, "
                         f"got {apply!r}")
     # checked before the fit, which takes seconds and may warn before a late error
+    from fogts.startup.kalman.api import MODEL_CHOICES
+
+    check_choice("arma_model", arma_model, MODEL_CHOICES)
     average_s = check_positive("average_s", average_s)
     if dT_smoothing_s is not None:
         dT_smoothing_s = check_positive("dT_smoothing_s", dT_smoothing_s)

@@ -83,7 +83,7 @@ def test_info_is_deterministic(tmp_path: Path) -> None:
     ("", [], "is empty"),
     ("time,rate\n0,1\n0.1,x\n0.2,3\n", [], "non-numeric value 'x'"),
     ("rate\n1\n2\n3\n", [], "no time column found"),
-    ("rate\n1\n2\n3\n", ["--fs", "-10"], "fs_hz must be a finite number > 0, got -10.0"),
+    ("rate\n1\n2\n3\n", ["--fs", "-10"], "error: --fs must be a finite number > 0, got -10.0"),
     ("time,fog\n0,1\n0.1,2\n0.2,3\n", ["--rate-column", "rate"],
      "rate column 'rate' not found; columns are: time, fog"),
     ("time,rate\n0,1\n0.1,2\n0.2,3\n", ["--units", "mph"], "units must be one of"),

@@ -120,8 +120,8 @@ def test_select_bad_data_exit_2(tmp_path: Path) -> None:
     assert res.exit_code == 2 and "error: " in res.stderr and "constant" in res.stderr
     short = _write(tmp_path / "short.csv", _arma([0.5], [], 30, 3))
     res = runner.invoke(app, ["select", str(short)])
-    assert res.exit_code == 2 and "error: x is too short for ARMA selection: 30 samples" \
-        in res.stderr
+    assert res.exit_code == 2 and f"error: axis 'rate_deg_s' of {short} is too short for " \
+        "ARMA selection: 30 samples" in res.stderr
     res = runner.invoke(app, ["select", str(tmp_path / "missing.csv")])
     assert res.exit_code == 2 and res.stderr.startswith("error: ")
     assert "Traceback" not in res.output

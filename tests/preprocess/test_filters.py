@@ -79,7 +79,8 @@ def test_moving_average_matches_pandas_rolling_in_interior() -> None:
 
 
 @pytest.mark.parametrize(("kwargs", "match"), [
-    ({"cutoff_hz": 50.0}, r"cutoff_hz must be below the Nyquist frequency 50 Hz \(fs_hz/2\), got 50.0"),
+    ({"cutoff_hz": 50.0}, r"cutoff_hz must be below the Nyquist frequency 50 Hz "
+                          r"\(half the sample rate\), got 50.0"),
     ({"cutoff_hz": 80.0}, "cutoff_hz must be below the Nyquist frequency 50 Hz"),
     ({"cutoff_hz": 0.0}, "cutoff_hz must be a finite number > 0, got 0.0"),
     ({"cutoff_hz": 5.0, "order": 0}, "order must be >= 1, got 0"),
