@@ -9,7 +9,8 @@ of term names to upper limits, in one unit system::
     B: 10
     K: 5
 
-``units`` is optional (default ``deg``); at least one of N, B, K (:data:`SPEC_TERMS`) is
+``units`` is optional (default ``deg``, with a warning naming the units assumed, as for a
+rate column without a unit); at least one of N, B, K (:data:`SPEC_TERMS`) is
 required, and every limit must be a finite number > 0.
 
 The decision takes the estimate's uncertainty into account, as the conformity rules of
@@ -32,13 +33,14 @@ standard error is judged by its value alone.
 from __future__ import annotations
 
 import math
+import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 from fogts.allan.distributions import norm_ppf
 from fogts.choices import OUTPUT_UNITS
-from fogts.errors import DataError
+from fogts.errors import DataError, DataQualityWarning
 from fogts.units import TERM_SI_FACTOR, term_unit
 
 if TYPE_CHECKING:
@@ -76,6 +78,8 @@ class NoiseSpec:
     def from_mapping(cls, data: Any, source: str = "spec") -> NoiseSpec:
         """Check a parsed specification (a mapping of term names to limits, and an optional
         ``units``) and build the spec; :class:`~fogts.errors.DataError` names what is wrong.
+        Without ``units`` the limits are read in degree units, with a
+        :class:`~fogts.errors.DataQualityWarning` that names them and how to set the units.
 
         Examples
         --------
@@ -99,6 +103,13 @@ class NoiseSpec:
         if not limits:
             raise DataError(f"{source} gives no limit: give at least one of "
                             f"{', '.join(SPEC_TERMS)} (for example 'N: 0.15')")
+        if "units" not in data:
+            names = [name for name, _ in limits]
+            warnings.warn(f"{source}: no units in the spec; assuming deg ("
+                          + ", ".join(f"{n} in {term_unit(n, 'deg')}" for n in names)
+                          + "); give 'units: deg' or 'units: si' ("
+                          + ", ".join(f"{n} in {term_unit(n, 'si')}" for n in names) + ")",
+                          DataQualityWarning, stacklevel=2)
         return cls(limits=limits, units=str(units), source=source)
 
     @property

@@ -454,13 +454,16 @@ def load_thermal_model(path: Path) -> ThermalModel:
 
 
 def load_spec(path: Path | None) -> NoiseSpec | None:
-    """``--spec SPEC.yaml``: the datasheet limits (:class:`fogts.allan.datasheet.NoiseSpec`)."""
+    """``--spec SPEC.yaml``: the datasheet limits (:class:`fogts.allan.datasheet.NoiseSpec`);
+    its warning (no ``units:``, degree units assumed) is printed at once, before any
+    analysis output, as an input's assumed rate unit is."""
     if path is None:
         return None
     from fogts.allan.datasheet import NoiseSpec
     from fogts.io.reader import read_yaml
 
-    return NoiseSpec.from_mapping(read_yaml(path, "--spec file"), source=path.name)
+    with named_warnings(path.name):
+        return NoiseSpec.from_mapping(read_yaml(path, "--spec file"), source=path.name)
 
 
 def axis_index(run: Run, axis: str) -> int:

@@ -99,3 +99,21 @@ def test_a_term_not_fitted_has_no_verdict() -> None:
 def test_bad_specifications_are_named(data: Any, message: str) -> None:
     with pytest.raises(DataError, match=message):
         NoiseSpec.from_mapping(data)
+
+
+def test_a_spec_without_units_says_which_units_it_assumes() -> None:
+    """audit: 'N: 1e-5' without 'units:' was read silently as 1e-5 deg/sqrt(h) (meant, by
+    its size, in rad/s/sqrt(Hz)): the spec warns, as a rate column without a unit does,
+    naming the units assumed for each term and how to set them; with units, no warning."""
+    from fogts.errors import DataQualityWarning
+
+    with pytest.warns(DataQualityWarning) as caught:
+        spec = NoiseSpec.from_mapping({"N": 1e-5, "K": 0.5}, source="k.yaml")
+    assert spec.units == "deg" and spec.limit_deg("N") == pytest.approx(1e-5, rel=1e-15)
+    assert [str(w.message) for w in caught] == [
+        "k.yaml: no units in the spec; assuming deg (N in deg/sqrt(h), K in deg/h^1.5); give "
+        "'units: deg' or 'units: si' (N in rad/s/sqrt(Hz), K in rad/s^2/sqrt(Hz))"]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        NoiseSpec.from_mapping({"N": 1e-5, "units": "si"})
+        NoiseSpec.from_mapping({"N": 0.15, "units": "deg"})

@@ -292,6 +292,22 @@ def test_several_files_open_with_the_summary_and_the_spec(gyro_npy: Path,
     assert "N (rad/s/sqrt(Hz))" in out and rows and not any("FAIL" in ln for ln in rows)
 
 
+def test_a_spec_without_units_warns_first(gyro_npy: Path, tmp_path: Path) -> None:
+    """A --spec without 'units:' is read in degree units: one warning line, at once (before
+    the summary), naming the file, the units assumed and how to set them."""
+    spec = tmp_path / "datasheet.yaml"
+    spec.write_text("N: 1e-5\n")
+    code, out, err = _run([gyro_npy, "--fs", FS, "--spec", spec])
+    assert code == 1, err
+    warned = [ln for ln in err.splitlines() if "datasheet.yaml" in ln]
+    assert warned == ["warning: datasheet.yaml: no units in the spec; assuming deg (N in "
+                      "deg/sqrt(h)); give 'units: deg' or 'units: si' (N in rad/s/sqrt(Hz))"]
+    assert err.splitlines()[0] == warned[0] and "N ≤ 1e-05 deg/sqrt(h)" in " ".join(out.split())
+    spec.write_text("units: si\nN: 1e-5\n")
+    _, _, err = _run([gyro_npy, "--fs", FS, "--spec", spec])
+    assert "no units" not in err
+
+
 @pytest.mark.parametrize(("text", "message"), [
     ("- 0.15\n- 10\n", "error: datasheet.yaml must be a mapping of noise terms to limits"),
     ("N: [0.1\n", "error: --spec file '.*datasheet.yaml' is not valid YAML: "),
