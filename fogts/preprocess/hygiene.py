@@ -11,7 +11,9 @@ answer wrong is printed before the answer, and recorded in the JSON:
   missing, for the gap-robust ADEV :func:`fogts.allan.gradev.gradev`) or ``ignore`` (no
   warning; still recorded);
 * glitches: samples far outside the noise that arrive by a jump
-  (:func:`~fogts.preprocess.glitches.detect_glitches`).
+  (:func:`~fogts.preprocess.glitches.detect_glitches`);
+* a position column (``position_deg``, as a north-seeking record has): the record is not
+  static, it turns between positions (:func:`position_column`).
 
 Nothing here changes the data except ``gaps="split"`` and ``gaps="nan"``, which are
 recorded.
@@ -21,6 +23,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from typing import Any
+
+import re
 
 import pandas as pd
 
@@ -32,8 +36,9 @@ from fogts.preprocess.gaps import Gap, GapReport, fill_gaps_nan, find_gaps, segm
 from fogts.preprocess.glitches import GLITCH_SIGMAS, Glitch, GlitchReport, detect_glitches
 from fogts.units import quantity_of
 
-__all__ = ["GAP_POLICIES", "GLITCH_SIGMAS", "DataQuality", "Gap", "GapReport", "Glitch",
-           "GlitchReport", "assess_run", "detect_glitches", "find_gaps"]
+__all__ = ["GAP_POLICIES", "GLITCH_SIGMAS", "POSITION_NAMES", "DataQuality", "Gap", "GapReport",
+           "Glitch", "GlitchReport", "assess_run", "detect_glitches", "find_gaps",
+           "position_column"]
 
 
 
@@ -57,6 +62,10 @@ class DataQuality:
     outliers : float or None
         The ``outliers`` (K) of the analysis that follows (samples beyond K robust sigmas
         replaced): the glitch lines then say so; None: the glitches stay in the analysis.
+    position_column : str or None
+        A column of turn-table positions beside the rate (:func:`position_column`): the
+        record turns between positions and is not the static record an Allan or ARMA
+        analysis assumes.
     """
 
     source: str
@@ -71,6 +80,7 @@ class DataQuality:
     fs_hz: float
     glitches: tuple[GlitchReport, ...] = ()
     outliers: float | None = None
+    position_column: str | None = None
 
     def glitch_count(self, axis: str) -> int:
         """Glitch events found on ``axis`` (0 when detection was off)."""
@@ -91,6 +101,12 @@ class DataQuality:
             cols = ", ".join(repr(a) for a in self.axes)
             out.append(f"no unit in the rate column(s) {cols}; assuming {self.units}; pass "
                        "units= (deg/h, deg/s, rad/s, arcsec/s)")
+        if self.position_column is not None:
+            out.append(f"column {self.position_column!r} holds turn-table positions: the "
+                       "record is not static (it turns between positions), so its Allan "
+                       "curve and noise terms (K above all) measure the steps between the "
+                       "positions' rates; for north-finding use fogts northfind, or analyse "
+                       "one position's rows")
         if self.missing is not None:
             out.append(self.missing.summary())
         out += self._gap_lines()
@@ -153,6 +169,28 @@ def glitches_replaced(outliers: float) -> str:
     """
     return (f"outliers={outliers:g}: samples beyond {outliers:g} robust sigmas are replaced "
             "before the analysis (counted below)")
+
+
+#: Column names of turn-table positions (``position_deg``, the default of ``fogts
+#: northfind --position-column`` and of ``fogts simulate northfind``'s files).
+POSITION_NAMES = re.compile(r"position(_?deg(rees)?)?", re.IGNORECASE)
+
+
+def position_column(run: Run) -> str | None:
+    """The first column of ``run`` named as turn-table positions (:data:`POSITION_NAMES`)
+    that is not one of its rate axes (one read as an axis was asked for), else None.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from fogts.io.run import Run
+    >>> run = Run(rate=np.zeros(4), time=np.arange(4.0), fs_hz=1.0, units="deg/h",
+    ...           axes=("rate",), columns=("time", "position_deg", "rate"))
+    >>> position_column(run)
+    'position_deg'
+    """
+    return next((c for c in run.columns
+                 if POSITION_NAMES.fullmatch(c) and c not in run.axes), None)
 
 
 def assess_run(run: Run, *, gaps: GapPolicy = "warn", glitches: bool = True,
@@ -219,5 +257,6 @@ def assess_run(run: Run, *, gaps: GapPolicy = "warn", glitches: bool = True,
     # the unit warning names the rate axes only: accelerometer axes have their own unit
     rate_axes = tuple(a for i, a in enumerate(run.axes) if quantity_of(run.unit_of(i)) == "rate")
     quality = DataQuality(run.source, run.units, run.units_source, rate_axes, run.missing,
-                          gaps, report, segment, n_input, run.fs_hz, found)
+                          gaps, report, segment, n_input, run.fs_hz, found,
+                          position_column=position_column(run))
     return run, quality

@@ -292,6 +292,26 @@ def test_several_files_open_with_the_summary_and_the_spec(gyro_npy: Path,
     assert "N (rad/s/sqrt(Hz))" in out and rows and not any("FAIL" in ln for ln in rows)
 
 
+def test_a_north_seeking_record_is_not_taken_as_static(tmp_path: Path) -> None:
+    """audit: a four-position file with a position_deg column ran as a static record and
+    reported K as measured; allan warns first, naming the column and fogts northfind,
+    which reads the same file without that warning."""
+    rng = np.random.default_rng(8)
+    pos = np.repeat([0, 90, 180, 270], 300)
+    path = tmp_path / "cs.csv"
+    pd.DataFrame({"time": np.arange(pos.size, dtype=float), "position_deg": pos,
+                  "rate_deg_h": 10 * np.cos(np.radians(pos + 30)) +
+                  rng.standard_normal(pos.size)}).to_csv(path, index=False)
+    code, _, err = _run([path])
+    assert code == 0, err
+    assert err.splitlines()[0].startswith("warning: cs.csv: column 'position_deg' holds "
+                                          "turn-table positions: the record is not static")
+    assert "use fogts northfind" in err.splitlines()[0]
+    res = runner.invoke(app, ["northfind", str(path), "--latitude", "45", "--rate-column",
+                              "rate_deg_h"])
+    assert "turn-table" not in res.stderr, res.stderr
+
+
 def test_a_spec_without_units_warns_first(gyro_npy: Path, tmp_path: Path) -> None:
     """A --spec without 'units:' is read in degree units: one warning line, at once (before
     the summary), naming the file, the units assumed and how to set them."""

@@ -120,3 +120,28 @@ def test_grid_note_counts_the_samples_gaps_nan_adds() -> None:
     for policy in ("warn", "split"):
         other, q2 = assess_run(read_run(frame), gaps=policy)  # type: ignore[arg-type]
         assert q2.grid_note(other.n) == ""
+
+
+@pytest.mark.parametrize("name", ["position_deg", "Position", "position_degrees"])
+def test_a_position_column_says_the_record_is_not_static(name: str) -> None:
+    """A four-position north-seeking record (a position column beside the rate) was analysed
+    as a static record and its K reported as measured: the record turns between positions,
+    and the warning names the column and points to fogts northfind.  Read as an axis (as
+    northfind reads it), no warning; a record without one, none."""
+    rng = np.random.default_rng(5)
+    pos = np.repeat([0, 90, 180, 270], 50)
+    frame = pd.DataFrame({"time": np.arange(pos.size, dtype=float), name: pos,
+                          "rate_deg_h": 10 * np.cos(np.radians(pos + 30)) +
+                          rng.standard_normal(pos.size)})
+    _, q = assess_run(read_run(frame))
+    assert q.position_column == name
+    said = [w for w in q.warnings() if "turn-table" in w]
+    assert said == [f"column {name!r} holds turn-table positions: the record is not static "
+                    "(it turns between positions), so its Allan curve and noise terms (K "
+                    "above all) measure the steps between the positions' rates; for "
+                    "north-finding use fogts northfind, or analyse one position's rows"]
+    assert said[0] in q.to_dict()["warnings"]
+    _, q = assess_run(read_run(frame, rate_column=["rate_deg_h", name]))
+    assert q.position_column is None
+    _, q = assess_run(read_run(frame.drop(columns=name)))
+    assert q.position_column is None and not any("turn-table" in w for w in q.warnings())
