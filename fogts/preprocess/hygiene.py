@@ -21,10 +21,9 @@ recorded.
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
 from typing import Any
-
-import re
 
 import pandas as pd
 
