@@ -68,11 +68,12 @@ def option_keywords(message: str, options: Mapping[str, str] | None = None) -> s
     return message
 
 
-def cli_payload(payload: Any) -> Any:
+def cli_payload(payload: Any, options: Mapping[str, str] | None = None) -> Any:
     """``payload`` (a command's JSON) with :func:`option_keywords` applied to the strings
     under :data:`MESSAGE_KEYS` (``data_quality.warnings``, ``notes``,
-    ``plausibility.message``, ``outliers_effect.text``, at any depth); every other value,
-    a file or column name included, as it was.
+    ``plausibility.message``, ``outliers_effect.text``, at any depth), with the command's
+    own ``options`` besides the shared ones; every other value, a file or column name
+    included, as it was.
 
     Examples
     --------
@@ -81,16 +82,16 @@ def cli_payload(payload: Any) -> Any:
     """
     def messages(value: Any) -> Any:
         if isinstance(value, str):
-            return option_keywords(value)
+            return option_keywords(value, options)
         if isinstance(value, list | tuple):
             return [messages(v) for v in value]
-        return cli_payload(value)
+        return cli_payload(value, options)
 
     if isinstance(payload, dict):
-        return {k: messages(v) if k in MESSAGE_KEYS else cli_payload(v)
+        return {k: messages(v) if k in MESSAGE_KEYS else cli_payload(v, options)
                 for k, v in payload.items()}
     if isinstance(payload, list | tuple):
-        return [cli_payload(v) for v in payload]
+        return [cli_payload(v, options) for v in payload]
     return payload
 
 

@@ -341,16 +341,17 @@ def read_input(path: Path, read: ReadSettings, *, glitches: bool = True,
     return run, quality
 
 
-def emit_json(payload: dict[str, Any], target: str | None) -> None:
+def emit_json(payload: dict[str, Any], target: str | None,
+              options: Mapping[str, str] | None = None) -> None:
     """Write ``payload`` as JSON to ``target`` ('-' = stdout); files are written atomically.
     The warnings and notes in it name the options, not the library's keywords
-    (:func:`fogts.cli._arguments.cli_payload`)."""
+    (:func:`fogts.cli._arguments.cli_payload`; ``options``: the command's own)."""
     if target is None:
         return
     from fogts.io.writer import write_text_atomic
     from fogts.report.text import json_dumps
 
-    text = json_dumps(cli_payload(payload))
+    text = json_dumps(cli_payload(payload, options))
     if target == "-":
         sys.stdout.write(text + "\n")
     else:

@@ -47,6 +47,21 @@ def _saved_line(path: Path, result: StartupCompensation) -> str:
     return f"saved the thermal model to {path}" + (f" (with its note: {brief})" if brief else "")
 
 
+def _without_smoothing_advice(value: Any) -> Any:
+    """``value`` (the JSON, the lines printed) without the Kalman note's advice to give a
+    measurement noise (:data:`fogts.startup.kalman.api.SMOOTH_ADVICE`): compensate has no
+    ``--measurement-noise`` (it estimates it); the finding itself stays."""
+    from fogts.startup.kalman.api import SMOOTH_ADVICE
+
+    if isinstance(value, str):
+        return value.replace(SMOOTH_ADVICE, "")
+    if isinstance(value, list | tuple):
+        return [_without_smoothing_advice(v) for v in value]
+    if isinstance(value, dict):
+        return {k: _without_smoothing_advice(v) for k, v in value.items()}
+    return value
+
+
 def _check_model_paths(save_model: Path | None, run: Run, picks: list[int], file: Path, *,
                        overwrite: bool) -> None:
     """With several axes, ``--save-model`` writes one file per axis: each is an output
@@ -125,7 +140,7 @@ def compensate_cmd(
         payload: dict[str, Any] = ({"input": str(file), **blocks[0]} if not many
                                    else {"input": str(file), "axes": blocks})
         payload["data_quality"] = quality.to_dict()
-        common.emit_json(payload, json_out)
+        common.emit_json(_without_smoothing_advice(payload), json_out)
         if plot is not None:
             from fogts.report.plots import plot_compensation
 
@@ -137,4 +152,4 @@ def compensate_cmd(
         if output is not None:
             lines.append(f"wrote {output} ({run.n * len(results)} rows)")
         lines += [_saved_line(path, r) for path, r in zip(saved, results, strict=False)]
-        common.say(lines, json_out)
+        common.say(_without_smoothing_advice(lines), json_out)

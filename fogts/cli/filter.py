@@ -75,7 +75,8 @@ def filter_cmd(
         head = {"input": str(file), "method": method, "units": run.units}
         blocks = [{"axis": run.axes[i], **d.payload} for i, d in zip(picks, done, strict=True)]
         common.emit_json({**head, **blocks[0], "output": str(output)} if not many else
-                         {**head, "axes": blocks, "output": str(output)}, json_out)
+                         {**head, "axes": blocks, "output": str(output)}, json_out,
+                         _FILTER_OPTIONS)
         if plot is not None:
             for i, d in zip(picks, done, strict=True):
                 if d.figure is not None:
@@ -84,7 +85,7 @@ def filter_cmd(
         for i, d in zip(picks, done, strict=True):
             lines += ([f"{run.axes[i]}:"] if many else []) + d.lines
         lines.append(f"wrote {output} ({run.n * len(done)} rows)")
-        common.say(lines, json_out)
+        common.say([common.option_keywords(ln, _FILTER_OPTIONS) for ln in lines], json_out)
 
 
 @dataclass(frozen=True)

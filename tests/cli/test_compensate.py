@@ -188,3 +188,20 @@ def test_a_bad_average_or_smoothing_is_refused_first_and_named_as_typed(
     assert res.exit_code == 2, res.output
     assert error_output(res.stderr).splitlines() == [says]
     assert "warning" not in res.stderr  # nothing was fitted
+
+
+def test_the_kalman_note_gives_no_advice_compensate_cannot_follow(tmp_path: Path) -> None:
+    """compensate has no --measurement-noise: the Kalman note on a negligible estimated
+    measurement noise keeps its finding and leaves out the advice to give one (it said
+    'give measurement_noise to smooth'), printed and in the JSON."""
+    root = Path(__file__).resolve().parents[2] / "data"
+    js = tmp_path / "c.json"
+    res = runner.invoke(app, ["compensate", str(root / "startup_cold_1hz.csv"),
+                              "--json", str(js)])
+    assert res.exit_code == 0, res.output
+    note = [ln for ln in res.stdout.splitlines() if "is negligible (H = " in ln]
+    assert len(note) == 1 and note[0].endswith("so the filter follows the data")
+    doc = json.loads(js.read_text())
+    assert doc["kalman"]["notes"] == doc["notes"][:1] and \
+        doc["notes"][0].endswith("so the filter follows the data")
+    assert "measurement_noise" not in res.stdout and "--measurement-noise" not in res.stdout

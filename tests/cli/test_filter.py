@@ -116,3 +116,20 @@ def test_filter_errors_name_the_option_typed(ar_file: Path, tmp_path: Path, args
     assert len(lines) == 1 and lines[0].startswith("error: ") and says in lines[0]
     assert not any(k in lines[0] for k in ("cutoff_hz", "window_s", "measurement_noise"))
     assert not out.exists()
+
+
+def test_the_negligible_noise_note_names_the_option(tmp_path: Path) -> None:
+    """The Kalman note on a negligible estimated measurement noise advises giving one: in
+    filter as its option --measurement-noise (printed and in the JSON), never as the
+    library's keyword (it said 'give measurement_noise to smooth')."""
+    data = Path(__file__).resolve().parents[2] / "data" / "startup_cold_1hz.csv"
+    js = tmp_path / "f.json"
+    res = runner.invoke(app, ["filter", str(data), "-o", str(tmp_path / "f.csv"),
+                              "--json", str(js)])
+    assert res.exit_code == 0, res.output
+    advice = "; give --measurement-noise (a variance in (rate unit)^2) to smooth"
+    note = [ln for ln in res.stdout.splitlines() if "is negligible (H = " in ln]
+    assert len(note) == 1 and note[0].endswith("so the filter follows the data" + advice)
+    notes = json.loads(js.read_text())["kalman"]["notes"]
+    assert len(notes) == 1 and notes[0].endswith(advice)
+    assert "measurement_noise" not in res.stdout

@@ -24,7 +24,7 @@ from fogts.startup.kalman.runs import (
 )
 from fogts.startup.kalman.state_space import ArmaStateSpace, arma_state_space
 
-__all__ = ["KALMAN_METHODS", "MODEL_CHOICES", "arma_kalman", "resolve_arma_model"]
+__all__ = ["KALMAN_METHODS", "MODEL_CHOICES", "SMOOTH_ADVICE", "arma_kalman", "resolve_arma_model"]
 
 KalmanMethod = Literal["auto", "exact", "steady-state"]
 KALMAN_METHODS: tuple[str, ...] = get_args(KalmanMethod)
@@ -34,6 +34,10 @@ STEADY_STATE_MIN_N = 5000
 MIN_KALMAN_SAMPLES = 10
 #: An estimated H below this fraction of sigma2 is reported as negligible.
 NEGLIGIBLE_H_RATIO = 1e-3
+#: The advice of the note on a negligible estimated measurement noise (``name=`` form: the
+#: command line names its option, ``fogts filter --measurement-noise``, and leaves it out
+#: where it has none, ``fogts compensate``).
+SMOOTH_ADVICE = "; give measurement_noise= (a variance in (rate unit)^2) to smooth"
 #: Model names accepted by :func:`resolve_arma_model` (and ``fogts filter --model``).
 MODEL_CHOICES: tuple[str, ...] = ("auto", "AR(1)", "AR(2)", "AR(3)", "ARMA(1,1)", "ARMA(2,1)")
 _ORDERS = {"AR(1)": (1, 0), "AR(2)": (2, 0), "AR(3)": (3, 0), "ARMA(1,1)": (1, 1),
@@ -166,8 +170,7 @@ def _measurement_noise(measurement_noise: Any, y: FloatArray, ss: ArmaStateSpace
     if at_lower or h < NEGLIGIBLE_H_RATIO * ss.sigma2:
         notes.append(f"the ML estimate of the measurement noise is negligible (H = {h:.3g}): "
                      "the ARMA model already explains the observations (was it fitted to "
-                     "them?), so the filter follows the data; give measurement_noise to "
-                     "smooth")
+                     "them?), so the filter follows the data" + SMOOTH_ADVICE)
     return h, "estimated"
 
 
