@@ -65,8 +65,8 @@ from fogts.preprocess.glitches import Glitch
 from fogts.preprocess.inputs import ensure_axes
 from fogts.preprocess.prepare import Prepared
 
-__all__ = ["DynamicAllanResult", "DynamicAllanResultSet", "Nonstationarity", "Transient",
-           "dynamic_allan"]
+__all__ = ["MIN_WINDOWS", "MIN_WINDOW_SAMPLES", "DynamicAllanResult", "DynamicAllanResultSet",
+           "Nonstationarity", "Transient", "dynamic_allan"]
 
 #: Family-wise significance level of the stationarity verdict and of the window flags.
 DEFAULT_ALPHA = 0.01
@@ -74,6 +74,10 @@ DEFAULT_ALPHA = 0.01
 DEFAULT_MIN_CHANGE = 0.10
 #: Fewest windows a dynamic Allan analysis needs.
 MIN_WINDOWS = 2
+#: Fewest samples in one window: below it a window holds a handful of octave taus with
+#: EDFs of a few, too few for a deviation curve to follow (the HTML report's DAVar section
+#: asks the same, :data:`fogts.report.html.DAVAR_MIN_WINDOW_SAMPLES`).
+MIN_WINDOW_SAMPLES = 256
 #: The power-law noise type of each tau is identified on this many windows' worth of
 #: samples from the middle of the record (as allan_deviation would on one window).
 ID_WINDOWS = 1
@@ -196,9 +200,10 @@ def _one(y: FloatArray, name: str, *, fs: float, units: str, window: float, step
     n = y.size
     win_n = round(window * fs)
     step_n = max(1, round(step * fs))
-    if win_n < 4:
+    if win_n < MIN_WINDOW_SAMPLES:
         raise DataError(f"window_s={window:g} s is {win_n} sample(s) at {fs:g} Hz; a window "
-                        "needs at least 4 samples")
+                        f"needs at least {MIN_WINDOW_SAMPLES} samples "
+                        f"({MIN_WINDOW_SAMPLES / fs:g} s at {fs:g} Hz)")
     if win_n > n:
         raise InsufficientDataError(f"window_s={window:g} s ({win_n} samples) is longer than "
                                     f"the record ({n} samples, {n / fs:g} s)")

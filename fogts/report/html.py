@@ -40,6 +40,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from fogts import progress
+from fogts.allan.dynamic import MIN_WINDOW_SAMPLES
 from fogts.errors import DataError
 from fogts.io.run import Run
 from fogts.report.analyses import ReportContext, analyse_run
@@ -70,8 +71,9 @@ PARTS: tuple[str, ...] = ("summary", "input", "timeseries", "allan", "arma", "pr
 
 #: DAVar needs at least this many windows...
 DAVAR_MIN_WINDOWS = 10
-#: ... of at least this many samples each.
-DAVAR_MIN_WINDOW_SAMPLES = 256
+#: ... of at least this many samples each: the minimum of
+#: :func:`~fogts.allan.dynamic.dynamic_allan` itself (``fogts davar --window``).
+DAVAR_MIN_WINDOW_SAMPLES = MIN_WINDOW_SAMPLES
 
 
 def build_report(

@@ -94,10 +94,10 @@ def test_stationary_white_noise_is_flat_within_cis() -> None:
 
 
 def test_a_step_longer_than_the_window_counts_only_the_windows_computed() -> None:
-    # 3600 s at 10 Hz, windows of 10 s every 100 s: 36 windows, not the 360 the record
+    # 3600 s at 10 Hz, windows of 30 s every 100 s: 36 windows, not the 120 the record
     # would hold side by side; the score test and the flags count the 36 (audit2: davar
     # --window 0.05 printed "500 windows ... 200000 independent windows")
-    res = dynamic_allan(_white(36_000, 11), fs_hz=FS, window_s=10, step_s=100)
+    res = dynamic_allan(_white(36_000, 11), fs_hz=FS, window_s=30, step_s=100)
     assert res.dev.shape[0] == 36
     assert res.nonstationarity.n_independent == 36
     assert "36 independent windows" in res.nonstationarity.summary()
@@ -179,7 +179,9 @@ def test_dropped_taus_are_reported() -> None:
     ({"kind": "adev", "method": "cumsum"}, DataError, "method='cumsum' serves kinds"),
     ({"window_s": -5}, DataError, "window_s must be a finite number > 0"),
     ({"step_s": 0}, DataError, "step_s must be a finite number > 0"),
-    ({"window_s": 0.2}, DataError, "a window needs at least 4 samples"),
+    ({"window_s": 0.2}, DataError, r"window_s=0.2 s is 2 sample\(s\) at 10 Hz; a window needs "
+                                   r"at least 256 samples \(25.6 s at 10 Hz\)"),
+    ({"window_s": 25.5}, DataError, r"is 255 sample\(s\) at 10 Hz; a window needs at least 256"),
     ({"window_s": 1000}, InsufficientDataError, "longer than the record"),
     ({"window_s": 550, "step_s": 100}, InsufficientDataError, "only 1 window"),
     ({"confidence": 1.5}, DataError, "confidence must be in"),
