@@ -204,11 +204,11 @@ def check_spec(model: NoiseModel, spec: NoiseSpec) -> dict[str, SpecCheck]:
     >>> model = fogts.fit_noise(fogts.allan_deviation(white, fs_hz=10.0), terms="N")
     >>> round(model["N"].value, 4)   # sqrt(1/10) / 60 = 0.0053 deg/sqrt(h)
     0.0052
-    >>> check_spec(model, NoiseSpec.from_mapping({"N": 0.006}))["N"].verdict
+    >>> check_spec(model, NoiseSpec.from_mapping({"N": 0.006, "units": "deg"}))["N"].verdict
     'PASS'
-    >>> check_spec(model, NoiseSpec.from_mapping({"N": 0.0052}))["N"].verdict
+    >>> check_spec(model, NoiseSpec.from_mapping({"N": 0.0052, "units": "deg"}))["N"].verdict
     'INCONCLUSIVE'
-    >>> check_spec(model, NoiseSpec.from_mapping({"N": 0.005}))["N"].verdict
+    >>> check_spec(model, NoiseSpec.from_mapping({"N": 0.005, "units": "deg"}))["N"].verdict
     'FAIL'
     """
     out = {}
