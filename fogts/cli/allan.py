@@ -109,7 +109,8 @@ def allan_cmd(
 
     export_path = export[1] if export is not None else None
     with common.guard({"tau_min": "--fit-tau-min", "tau_max": "--fit-tau-max",
-                       "fit_tau_min": "--fit-tau-min", "fit_tau_max": "--fit-tau-max"},
+                       "fit_tau_min": "--fit-tau-min", "fit_tau_max": "--fit-tau-max",
+                       "method": "--method"},
                       overwrite=overwrite, outputs={"--json": json_out, "--csv": csv_out, "--plot": plot,
                                "--export": export_path},
                       inputs={"FILES": files, "--spec": [spec] if spec else []}):

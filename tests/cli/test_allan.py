@@ -513,3 +513,13 @@ def test_burst_logged_stamps_count_no_missing_time_and_refuse_split(tmp_path: Pa
         "--gaps split needs regular stretches between gaps, and these "
         "time stamps are logged in bursts: the longest stretch is 18 of 65,067 samples; use "
         "--gaps warn (the record at its mean rate)")
+
+
+def test_a_method_error_names_the_option(tmp_path: Path) -> None:
+    """Too few taus for GMWM's parameters: the error names --method, not method=."""
+    path = tmp_path / "short.csv"
+    pd.DataFrame({"rate_deg_s": np.random.default_rng(6).standard_normal(20)}).to_csv(
+        path, index=False)
+    code, _, err = _run([path, "--fs", "100", "--method", "gmwm"])
+    assert code == 2 and "Traceback" not in err
+    assert "--method gmwm needs at least" in err and "method=" not in err
