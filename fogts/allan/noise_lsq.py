@@ -62,7 +62,7 @@ from fogts.allan.noise_input import FitCurve
 from fogts.choices import FIT_METHODS, FitMethod
 
 __all__ = ["FIT_METHODS", "IRLS_MAX_ITER", "MAX_COVARIANCE_POINTS", "FitMethod", "LsqFit",
-           "LsqProblem", "curve_covariance_basis", "octave_density"]
+           "LsqProblem", "chi2_sentence", "curve_covariance_basis", "octave_density"]
 
 #: Largest grid for which the full model covariance of the estimates is computed.
 MAX_COVARIANCE_POINTS = 200
@@ -356,3 +356,26 @@ def _fit_ols(design: FloatArray, y: FloatArray) -> LsqFit:
 
     return LsqFit(a=a, mu=mu, w=w, cov=cov, stderr_method="OLS residual variance",
                   model_error=math.nan, chi2=rss, dof=dof, iterations=1, converged=True)
+
+
+def chi2_sentence(chi2: float, dof: float, model_error: float) -> str:
+    """The least-squares fit's chi-square with what it can and cannot tell: a model error
+    estimated by maximum likelihood (:mod:`fogts.allan.noise_lsq`) is added to the
+    variances in the weights, which brings chi2 near its dof whatever the misfit; the
+    model error itself, and the fit check, measure the misfit then.
+
+    Examples
+    --------
+    >>> chi2_sentence(14.9, 17, 0.122)
+    'chi2 = 14.9 on 17 dof after adding the fitted model error 0.122 (relative, on sigma^2) to the variances (which brings chi2 near its dof: the model error and the fit check measure the misfit)'
+    >>> chi2_sentence(15.2, 17, 0.0)
+    'chi2 = 15.2 on 17 dof; no model error needed (relative, on sigma^2)'
+    """
+    head = f"chi2 = {chi2:.4g} on {dof:.4g} dof"
+    if not math.isfinite(model_error):
+        return head + " (unweighted residual sum of squares)"
+    if model_error == 0:
+        return head + "; no model error needed (relative, on sigma^2)"
+    return (f"{head} after adding the fitted model error {model_error:.3g} (relative, on "
+            "sigma^2) to the variances (which brings chi2 near its dof: the model error and "
+            "the fit check measure the misfit)")

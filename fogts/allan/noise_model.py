@@ -18,7 +18,9 @@ from fogts.allan.distributions import norm_ppf
 from fogts.allan.gmwm_result import GmwmSummary
 from fogts.allan.markov import ExtraTerm
 from fogts.allan.ml_result import MlSummary
+from fogts.allan.noise_lsq import chi2_sentence
 from fogts.allan.readoff import FitBound, SlopeReadoff
+from fogts.allan.readout import MIN_EDF_FOR_MINIMUM
 from fogts.allan.terms import TERM_POWER, term_rows
 from fogts.choices import OutputUnits
 from fogts.errors import DataError
@@ -76,6 +78,11 @@ class NoiseTerm:
     z_score : float
         Wald statistic ``a / se(a)`` of ``a = C_n^2``: in the final fit for a fitted term,
         when it was dropped for a dropped one, 0 at the bound.
+    low_edf_taus : tuple of float
+        The data taus where the term dominates the fitted sigma^2 (its line the largest, as
+        in the curve read-out's ranges) when all of them have EDF below
+        :data:`~fogts.allan.readout.MIN_EDF_FOR_MINIMUM`: the term is then only an upper
+        limit (:func:`~fogts.allan.noise_selection.identify_terms`); empty otherwise.
     """
 
     name: str
@@ -94,12 +101,28 @@ class NoiseTerm:
     region_tau_s: tuple[float, float]
     status: str = "fitted"
     z_score: float = math.nan
+    low_edf_taus: tuple[float, ...] = ()
 
     @property
     def is_limit(self) -> bool:
-        """Whether the value is only an upper limit: fitted to zero, dropped, or fitted with
-        z below :data:`Z_MEASURED`."""
-        return self.at_bound or not self.z_score >= Z_MEASURED
+        """Whether the value is only an upper limit: fitted to zero, dropped, fitted with
+        z below :data:`Z_MEASURED`, or dominant only at points with too few EDF
+        (``low_edf_taus``)."""
+        return self.at_bound or not self.z_score >= Z_MEASURED or bool(self.low_edf_taus)
+
+    @property
+    def limit_reason(self) -> str:
+        """Why the value is only an upper limit ("" when it is measured)."""
+        why = ([f"dropped, z(C²) = {self.z_score:.2f}"] if self.status == "dropped"
+               else ["fit at zero"] if self.at_bound
+               else [] if self.z_score >= Z_MEASURED
+               else [f"z(C²) = {self.z_score:.2f} < {Z_MEASURED:g}"])
+        if self.low_edf_taus:
+            t = self.low_edf_taus
+            where = f"{t[0]:.4g} s" if len(t) == 1 else f"{t[0]:.4g} .. {t[-1]:.4g} s"
+            why.append(f"{self.name} dominates only at tau {where}, where the points have "
+                       f"EDF < {MIN_EDF_FOR_MINIMUM:g}")
+        return "; ".join(why)
 
     @property
     def note(self) -> str:
@@ -123,7 +146,8 @@ class NoiseTerm:
                 "identifiable": self.identifiable, "at_bound": self.at_bound,
                 "slope": self.slope, "n_covered": self.n_covered,
                 "region_tau": list(self.region_tau_s), "status": self.status,
-                "z": self.z_score}
+                "z": self.z_score, "measured": not self.is_limit,
+                "limit_reason": self.limit_reason or None}
 
 
 @dataclass(frozen=True, repr=False)
@@ -369,11 +393,8 @@ class NoiseModel(TableView):
     def _table_note(self, term: NoiseTerm, units: OutputUnits = "deg") -> str:
         if not term.is_limit:
             return term.note
-        why = (f"dropped, z(C²) = {term.z_score:.2f}" if term.status == "dropped"
-               else "fit at zero" if term.at_bound
-               else f"z(C²) = {term.z_score:.2f} < {Z_MEASURED:g}")
         limit = self.in_units(term.name, units)["upper_limit_95"]
-        note = f"< {limit:.3g} (95 % upper limit; {why})"
+        note = f"< {limit:.3g} (95 % upper limit; {term.limit_reason})"
         return note + ("; not identifiable" if not term.identifiable else "")
 
     def term_table(self, units: OutputUnits = "deg") -> Table:
@@ -411,15 +432,19 @@ class NoiseModel(TableView):
 
     def _limit_in_interval(self, pct: str) -> str:
         """Why a term whose interval excludes 0 is still only a limit (its interval is at
-        the model's confidence, the measured/limit rule at z(C²) = 2); "" if none is."""
-        names = [t.name for t in self.terms if t.is_limit and not t.at_bound and t.ci_low > 0]
-        if not names:
-            return ""
-        verb = "excludes" if len(names) == 1 else "exclude"
+        the model's confidence, the measured/limit rule at z(C²) = 2; or it dominates only
+        at low-EDF points); "" if none is."""
+        weak = [t.name for t in self.terms if not t.at_bound and t.ci_low > 0
+                and not t.z_score >= Z_MEASURED]
+        low = [t.name for t in self.terms if t.low_edf_taus and t.z_score >= Z_MEASURED]
+        verb = "excludes" if len(weak) == 1 else "exclude"
         weaker = (f", a stricter test than a {pct} interval" if self.confidence < 0.95
                   else "")
-        return (f" {', '.join(names)}: the {pct} interval {verb} 0, yet only a limit: the "
-                f"rule asks for z(C²) ≥ {Z_MEASURED:g}{weaker}.")
+        return ((f" {', '.join(weak)}: the {pct} interval {verb} 0, yet only a limit: the "
+                 f"rule asks for z(C²) ≥ {Z_MEASURED:g}{weaker}." if weak else "")
+                + (f" {', '.join(low)}: only a limit whatever its z, because it dominates the "
+                   f"fitted sigma^2 only at points with EDF < {MIN_EDF_FOR_MINIMUM:g}, whose "
+                   "deviations are too uncertain to measure it." if low else ""))
 
     # -------------------------------------------------------------- notebook view
     def _view_table(self) -> Table:
@@ -454,29 +479,6 @@ class NoiseModel(TableView):
         lines += [f"warning: {w}" for w in self.warnings]
         return "\n".join(lines)
 
-
-
-def chi2_sentence(chi2: float, dof: float, model_error: float) -> str:
-    """The least-squares fit's chi-square with what it can and cannot tell: a model error
-    estimated by maximum likelihood (:mod:`fogts.allan.noise_lsq`) is added to the
-    variances in the weights, which brings chi2 near its dof whatever the misfit; the
-    model error itself, and the fit check, measure the misfit then.
-
-    Examples
-    --------
-    >>> chi2_sentence(14.9, 17, 0.122)
-    'chi2 = 14.9 on 17 dof after adding the fitted model error 0.122 (relative, on sigma^2) to the variances (which brings chi2 near its dof: the model error and the fit check measure the misfit)'
-    >>> chi2_sentence(15.2, 17, 0.0)
-    'chi2 = 15.2 on 17 dof; no model error needed (relative, on sigma^2)'
-    """
-    head = f"chi2 = {chi2:.4g} on {dof:.4g} dof"
-    if not math.isfinite(model_error):
-        return head + " (unweighted residual sum of squares)"
-    if model_error == 0:
-        return head + "; no model error needed (relative, on sigma^2)"
-    return (f"{head} after adding the fitted model error {model_error:.3g} (relative, on "
-            "sigma^2) to the variances (which brings chi2 near its dof: the model error and "
-            "the fit check measure the misfit)")
 
 
 def _tau_array(tau_s: Any) -> FloatArray:
