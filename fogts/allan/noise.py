@@ -174,7 +174,8 @@ def fit_noise(
     -----
     UnidentifiableTermWarning
         A term's region (where it makes up >= 25 % of sigma^2) holds fewer than two
-        data taus.
+        data taus; or a term dominates the fitted sigma^2 only at points with fewer than
+        10 EDF (it is then an upper limit, :attr:`NoiseTerm.low_edf_taus`).
     ConvergenceWarning
         The reweighting did not settle.
     DataQualityWarning

@@ -20,6 +20,7 @@ from fogts.allan.markov import ExtraTerm
 from fogts.allan.ml_result import MlSummary
 from fogts.allan.noise_lsq import chi2_sentence, model_error_p_value
 from fogts.allan.readoff import FitBound, SlopeReadoff
+from fogts.allan.readout import MIN_EDF_FOR_MINIMUM
 from fogts.allan.terms import TERM_POWER, term_rows
 from fogts.choices import OutputUnits
 from fogts.errors import DataError
@@ -77,6 +78,11 @@ class NoiseTerm:
     z_score : float
         Wald statistic ``a / se(a)`` of ``a = C_n^2``: in the final fit for a fitted term,
         when it was dropped for a dropped one, 0 at the bound.
+    low_edf_taus : tuple of float
+        The data taus where the term dominates the fitted sigma^2 (its line the largest, as
+        in the curve read-out's ranges) when all of them have EDF below
+        :data:`~fogts.allan.readout.MIN_EDF_FOR_MINIMUM`: the term is then only an upper
+        limit (:func:`~fogts.allan.noise_selection.identify_terms`); empty otherwise.
     """
 
     name: str
@@ -95,12 +101,28 @@ class NoiseTerm:
     region_tau_s: tuple[float, float]
     status: str = "fitted"
     z_score: float = math.nan
+    low_edf_taus: tuple[float, ...] = ()
 
     @property
     def is_limit(self) -> bool:
-        """Whether the value is only an upper limit: fitted to zero, dropped, or fitted with
-        z below :data:`Z_MEASURED`."""
-        return self.at_bound or not self.z_score >= Z_MEASURED
+        """Whether the value is only an upper limit: fitted to zero, dropped, fitted with
+        z below :data:`Z_MEASURED`, or dominant only at points with too few EDF
+        (``low_edf_taus``)."""
+        return self.at_bound or not self.z_score >= Z_MEASURED or bool(self.low_edf_taus)
+
+    @property
+    def limit_reason(self) -> str:
+        """Why the value is only an upper limit ("" when it is measured)."""
+        why = ([f"dropped, z(C²) = {self.z_score:.2f}"] if self.status == "dropped"
+               else ["fit at zero"] if self.at_bound
+               else [] if self.z_score >= Z_MEASURED
+               else [f"z(C²) = {self.z_score:.2f} < {Z_MEASURED:g}"])
+        if self.low_edf_taus:
+            t = self.low_edf_taus
+            where = f"{t[0]:.4g} s" if len(t) == 1 else f"{t[0]:.4g} .. {t[-1]:.4g} s"
+            why.append(f"{self.name} dominates only at tau {where}, where the points have "
+                       f"EDF < {MIN_EDF_FOR_MINIMUM:g}")
+        return "; ".join(why)
 
     @property
     def note(self) -> str:
@@ -124,7 +146,8 @@ class NoiseTerm:
                 "identifiable": self.identifiable, "at_bound": self.at_bound,
                 "slope": self.slope, "n_covered": self.n_covered,
                 "region_tau": list(self.region_tau_s), "status": self.status,
-                "z": self.z_score}
+                "z": self.z_score, "measured": not self.is_limit,
+                "limit_reason": self.limit_reason or None}
 
 
 @dataclass(frozen=True, repr=False)
@@ -381,11 +404,8 @@ class NoiseModel(TableView):
     def _table_note(self, term: NoiseTerm, units: OutputUnits = "deg") -> str:
         if not term.is_limit:
             return term.note
-        why = (f"dropped, z(C²) = {term.z_score:.2f}" if term.status == "dropped"
-               else "fit at zero" if term.at_bound
-               else f"z(C²) = {term.z_score:.2f} < {Z_MEASURED:g}")
         limit = self.in_units(term.name, units)["upper_limit_95"]
-        note = f"< {limit:.3g} (95 % upper limit; {why})"
+        note = f"< {limit:.3g} (95 % upper limit; {term.limit_reason})"
         return note + ("; not identifiable" if not term.identifiable else "")
 
     def term_table(self, units: OutputUnits = "deg") -> Table:
@@ -422,16 +442,19 @@ class NoiseModel(TableView):
                     "fitted sigma^2 at too few taus of this grid to be measured.")
 
     def _limit_in_interval(self, pct: str) -> str:
-        """Why a term whose interval excludes 0 is still only a limit (its interval is at
-        the model's confidence, the measured/limit rule at z(C²) = 2); "" if none is."""
-        names = [t.name for t in self.terms if t.is_limit and not t.at_bound and t.ci_low > 0]
-        if not names:
-            return ""
-        verb = "excludes" if len(names) == 1 else "exclude"
+        """Why a term whose interval excludes 0 is still only a limit (the rule asks for
+        z(C²) >= 2, or it dominates only at low-EDF points); "" if none is."""
+        weak = [t.name for t in self.terms if not t.at_bound and t.ci_low > 0
+                and not t.z_score >= Z_MEASURED]
+        low = [t.name for t in self.terms if t.low_edf_taus and t.z_score >= Z_MEASURED]
+        verb = "excludes" if len(weak) == 1 else "exclude"
         weaker = (f", a stricter test than a {pct} interval" if self.confidence < 0.95
                   else "")
-        return (f" {', '.join(names)}: the {pct} interval {verb} 0, yet only a limit: the "
-                f"rule asks for z(C²) ≥ {Z_MEASURED:g}{weaker}.")
+        return ((f" {', '.join(weak)}: the {pct} interval {verb} 0, yet only a limit: the "
+                 f"rule asks for z(C²) ≥ {Z_MEASURED:g}{weaker}." if weak else "")
+                + (f" {', '.join(low)}: only a limit whatever its z, because it dominates the "
+                   f"fitted sigma^2 only at points with EDF < {MIN_EDF_FOR_MINIMUM:g}, whose "
+                   "deviations are too uncertain to measure it." if low else ""))
 
     # -------------------------------------------------------------- notebook view
     def _view_table(self) -> Table:

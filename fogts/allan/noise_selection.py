@@ -37,6 +37,26 @@ Identifiability (:func:`identify_terms`)
     :math:`\\sigma^2`.  The term is *identifiable* when the data have at least
     :data:`MIN_COVERED_POINTS` taus in its region, or one tau and an interval that excludes
     zero; otherwise its value is at best an upper limit.
+
+Terms seen only at low-EDF points (:func:`identify_terms`)
+    A fitted term that *dominates* the fitted :math:`\\sigma^2` (its line the largest, as
+    in the curve read-out's "dominates" ranges, :func:`fogts.allan.readout.read_curve`)
+    only at taus whose points have fewer than
+    :data:`~fogts.allan.readout.MIN_EDF_FOR_MINIMUM` equivalent degrees of freedom is an
+    upper limit whatever its z (:attr:`~fogts.allan.noise_model.NoiseTerm.low_edf_taus`).
+    The threshold is the read-outs' own (the minimum, and the N and K slope read-offs, of
+    :mod:`fogts.allan.readout` and :mod:`fogts.allan.readoff` do not rest on such points),
+    so the fit does not call measured what the curve read-out beside it declines to read.
+    The reason is the same too: a point with :math:`\\nu < 10` EDF is an average over
+    fewer than about ten independent spans of that tau, its variance is distributed as
+    :math:`\\sigma^2\\chi^2_\\nu/\\nu` (NIST SP1065 sec. 5.3), strongly skewed, with a 68 %
+    interval wider than about +-25 % on the deviation; the Wald z and its sandwich standard
+    error are first-order, normal approximations, least reliable exactly when all of a
+    term's evidence comes from such points (and a term seen only at the last one or two
+    octaves of a record is confounded with any slow departure the five terms do not model).
+    The z rule still decides for every other term.  The audit's case: a 655 s MPU6050
+    record "measured" R = 265 +- 35 deg/h^2 (z = 3.8) from its 82 s and 165 s points, EDF
+    7.5 and 3.0, while the read-out beside it found a floor from 41 s with no rise.
 """
 
 from __future__ import annotations
@@ -51,6 +71,7 @@ from fogts._typing import FloatArray
 from fogts.allan.distributions import norm_ppf
 from fogts.allan.noise_lsq import LsqFit, LsqProblem
 from fogts.allan.noise_model import NoiseModel, NoiseTerm
+from fogts.allan.readout import MIN_EDF_FOR_MINIMUM
 from fogts.allan.terms import TERM_POWER, term_rows
 
 __all__ = ["COVERAGE_SHARE", "MIN_COVERED_POINTS", "TermSelection", "backward_elimination",
@@ -169,9 +190,12 @@ def term_estimates(names: tuple[str, ...], selection: TermSelection, confidence:
 
 def identify_terms(model: NoiseModel, tau: FloatArray) -> tuple[tuple[NoiseTerm, ...],
                                                                  list[str]]:
-    """The model's terms with their region and identifiability, and a message for each
-    term that is not identifiable (module docstring)."""
+    """The model's terms with their region, identifiability and the low-EDF taus where they
+    alone dominate, and a message for each term that is not identifiable or is a limit for
+    dominating only at low-EDF points (module docstring).  ``tau``: the fitted taus, those
+    of ``model.edf``."""
     share = np.vstack(list(model.lines(tau).values())) ** 2 / model.curve(tau) ** 2
+    low_edf = _low_edf_dominance(model, tau, share)
     wide = np.logspace(math.log10(tau[0]) - 3, math.log10(tau[-1]) + 3, 601)
     wide_share = np.vstack(list(model.lines(wide).values())) ** 2 / model.curve(wide) ** 2
     out: list[NoiseTerm] = []
@@ -184,9 +208,39 @@ def identify_terms(model: NoiseModel, tau: FloatArray) -> tuple[tuple[NoiseTerm,
         ok = n_cov >= MIN_COVERED_POINTS or (n_cov == 1 and term.ci_low > 0)
         if not ok:
             messages.append(_unidentifiable_message(model, term, tau, n_cov, region))
+        if low_edf[j]:
+            messages.append(_low_edf_message(model, term, tau, low_edf[j]))
         out.append(dataclasses.replace(term, identifiable=ok, n_covered=n_cov,
-                                       region_tau_s=region))
+                                       region_tau_s=region, low_edf_taus=low_edf[j]))
     return tuple(out), messages
+
+
+def _low_edf_dominance(model: NoiseModel, tau: FloatArray, share: FloatArray
+                       ) -> list[tuple[float, ...]]:
+    """Per term: the taus where it dominates, if all have EDF < MIN_EDF_FOR_MINIMUM (a NaN
+    EDF counts as too few), else () (module docstring)."""
+    edf = np.asarray(model.edf, dtype=np.float64)
+    if edf.shape != tau.shape:
+        return [()] * len(model.terms)
+    trusted = np.isfinite(edf) & (edf >= MIN_EDF_FOR_MINIMUM)
+    winner = np.argmax(share, axis=0)
+    out: list[tuple[float, ...]] = []
+    for j in range(len(model.terms)):
+        dominates = (winner == j) & (share[j] > 0)
+        out.append(tuple(float(t) for t in tau[dominates])
+                   if dominates.any() and not trusted[dominates].any() else ())
+    return out
+
+
+def _low_edf_message(model: NoiseModel, term: NoiseTerm, tau: FloatArray,
+                     taus: tuple[float, ...]) -> str:
+    edf = [float(e) for t, e in zip(tau, model.edf, strict=True) if t in taus]
+    description = term_rows(model.quantity)[term.name].description
+    return (f"noise term {term.name} ({description}, slope {term.slope:+g}) dominates the "
+            f"fitted sigma^2 only at tau {', '.join(f'{t:.4g}' for t in taus)} s, where the "
+            f"points have EDF < {MIN_EDF_FOR_MINIMUM:g} "
+            f"({', '.join(f'{e:.3g}' for e in edf)}): too few degrees of freedom to measure "
+            "it; treat its value as an upper limit")
 
 
 def _drop_reason(term: NoiseTerm, significance: float | None) -> str:

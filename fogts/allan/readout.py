@@ -260,9 +260,16 @@ def read_curve(tau_s: Any, dev: Any, ci_low: Any = None, ci_high: Any = None, *,
     -----
     Region C, the floor, holds the contiguous points around the minimum whose deviation lies
     inside the minimum's interval (a point below it is not floor).  The curve has no floor
-    when it is still falling at its last trusted tau: every point after the minimum lies
-    below the minimum's interval, or the minimum is the last point and the point before it
-    lies above its interval.
+    when it is still falling at its last trusted tau: it ends below the minimum's interval
+    without having risen above it (its last point lies below the interval and no point after
+    the minimum above it; so when every point after the minimum lies below), or the minimum
+    is the last point and the point before it lies above its interval.  The minimum is then
+    where the trusted points end, not where the curve levels out, and ``minimum / plateau``
+    would overstate B (IEEE 952 Annex C reads B on the flat bottom of the curve).  The
+    ending decides, not any low point on the way: a low low-EDF point followed by one back
+    inside the interval is scatter on the floor.  And a curve that rose above the interval
+    after the minimum (region D) has turned up there, so a last low point at a few EDF
+    after the rise is scatter too, not a continued fall.
 
     Examples
     --------
@@ -335,15 +342,23 @@ def _regions(t: FloatArray, d: FloatArray, lo: FloatArray, hi: FloatArray, i_min
     while b < t.size - 1 and flat[b + 1]:
         b += 1
     after = d[i_min + 1:]
-    falling = (bool(after.size) and bool(np.all(after < lo[i_min]))) or (
+    # the curve ends below the floor without rising first (Notes), or its minimum is its
+    # last point, reached falling
+    falling = (bool(after.size) and bool(after[-1] < lo[i_min])
+               and not bool(np.any(after > hi[i_min]))) or (
         not after.size and a == i_min and i_min > 0)
     first = (float(t[0]), float(t[0]))
     if falling:
         note = (f"no floor: the curve is still falling at its last trusted tau "
                 f"({t[i_min]:.4g} s)")
-        if after.size:
+        below = t[i_min + 1:][after < lo[i_min]]
+        if below.size == after.size and after.size:
             note += (f"; the points beyond it ({t[i_min + 1]:.4g} .. {t[-1]:.4g} s) lie below "
                      "the minimum's interval")
+        elif after.size:
+            note += (f"; the curve ends below the minimum's interval (point"
+                     f"{'s' if below.size > 1 else ''} at "
+                     f"{', '.join(f'{v:.4g}' for v in below)} s)")
         return {"A": first, "B": (float(t[0]), float(t[-1])), "C": None, "D": None}, note
     rises = b < t.size - 1 and d[b + 1] > hi[i_min]
     return {

@@ -90,14 +90,14 @@ def warning_texts(caught: Iterable[warnings.WarningMessage]) -> list[str]:
 def fit_sentences(model: Any) -> list[str]:
     """The noise fit's own account under its term table, as ``fogts allan`` prints it and
     the report shows it: the ML or GMWM description, else the least-squares
-    ``fit: chi2 ...`` line (:func:`fogts.allan.noise_model.chi2_sentence`) with the
+    ``fit: chi2 ...`` line (:func:`fogts.allan.noise_lsq.chi2_sentence`) with the
     standard errors' method; then one sentence per extra term (Markov, sinusoid)."""
     if model.ml is not None:
         lines = [model.ml.describe()]
     elif model.gmwm is not None:
         lines = [model.gmwm.describe()]
     else:
-        from fogts.allan.noise_model import chi2_sentence
+        from fogts.allan.noise_lsq import chi2_sentence
 
         chi2 = chi2_sentence(model.chi2, model.dof, model.model_error, model.model_error_lr,
                              model.significance)

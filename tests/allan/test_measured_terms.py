@@ -1,14 +1,20 @@
 """Which terms are *measured* does not depend on the tau grid: a fitted term with z < 2 is
-reported as an upper limit (NoiseTerm.is_limit), never as a value or a drawn line."""
+reported as an upper limit (NoiseTerm.is_limit), never as a value or a drawn line; so is a
+term that dominates the fitted sigma^2 only at points with EDF < 10 (NoiseTerm.low_edf_taus),
+whatever its z, while a term that is present and dominates at trusted points stays measured."""
 
 from __future__ import annotations
 
 import math
 
+import numpy as np
 import pytest
 
 import fogts
 from fogts.allan.noise_model import Z_MEASURED
+from fogts.allan.readout import MIN_EDF_FOR_MINIMUM
+from fogts.errors import UnidentifiableTermWarning
+from tests.allan.noise_cases import avar, make_result, quiet_fit
 from tests.conftest import shared_path
 
 GRIDS = ("octave", "decade", "dense")
@@ -42,3 +48,67 @@ def test_a_weak_term_is_a_limit_with_a_one_sided_bound() -> None:
     expected = math.sqrt(r.value**2 + 2 * 1.6448536269514722 * r.value * r.stderr)
     assert model.upper_limit("R") == pytest.approx(expected, rel=1e-9)
     assert f"z(C²) = {r.z_score:.2f} < 2" in model.term_table().to_text()
+
+
+# --------------------------------------------------------------- terms seen only at low EDF
+
+#: An MPU6050-like curve (N = 0.55 deg/sqrt(h), R = 265 deg/h^2) on 15 octave taus from
+#: 0.01 s: R's line is the largest only at the last two taus, 82 and 164 s.
+TAU = 0.01 * 2.0 ** np.arange(15)
+EXACT = np.sqrt(avar(TAU, N=0.55, R=265.0))
+LOW_EDF = np.r_[50_000.0 / 2.0 ** np.arange(13), 7.5, 3.0]  # ..., 24.4, 12.2, 7.5, 3.0
+
+
+def test_a_term_dominant_only_at_low_edf_points_is_an_upper_limit() -> None:
+    """Exact curve, so R's z is large; it is still a limit, said in the note and the JSON."""
+    with pytest.warns(UnidentifiableTermWarning, match=r"noise term R \(rate ramp, slope \+1\) "
+                      r"dominates the fitted sigma\^2 only at tau 81.92, 163.8 s, where the "
+                      r"points have EDF < 10 \(7.5, 3\): too few degrees of freedom to measure it; "
+                      r"treat its value as an upper limit"):
+        model = fogts.fit_noise(make_result(TAU, EXACT, edf=LOW_EDF))
+    r = model["R"]
+    assert r.status == "fitted" and r.z_score >= Z_MEASURED and r.is_limit
+    assert r.low_edf_taus == pytest.approx((81.92, 163.84))
+    assert r.value == pytest.approx(265.0, rel=1e-3)
+    assert r.limit_reason == ("R dominates only at tau 81.92 .. 163.8 s, where the points have "
+                              "EDF < 10")
+    limit = model.upper_limit("R")
+    assert limit == pytest.approx(math.sqrt(r.value**2 + 2 * 1.6448536269514722 * r.value
+                                            * r.stderr), rel=1e-9)
+    text = model.term_table().to_text()
+    assert f"< {limit:.3g} (95 % upper limit; R dominates only at tau" in " ".join(text.split())
+    assert "R: only a limit whatever its z" in " ".join(text.split())
+    d = model.to_dict()["terms"]["R"]
+    assert d["measured"] is False and d["status"] == "fitted"
+    assert d["limit_reason"] == r.limit_reason and d["upper_limit_95"] == pytest.approx(limit)
+    assert model.to_dict()["terms"]["N"]["measured"] is True
+    assert model.to_dict()["terms"]["N"]["limit_reason"] is None
+    assert "R < " in model._view_headline()
+    readout = make_result(TAU, EXACT, edf=LOW_EDF).readout(model)
+    assert [(d.term, d.measured) for d in readout.dominant] == [("N", True), ("R", False)]
+
+
+def test_the_same_term_at_trusted_points_is_measured() -> None:
+    """The same curve with EDF >= 10 at the taus where R dominates: R is measured."""
+    edf = np.maximum(LOW_EDF, MIN_EDF_FOR_MINIMUM)
+    model = quiet_fit(make_result(TAU, EXACT, edf=edf))
+    r = model["R"]
+    assert not r.is_limit and r.low_edf_taus == () and r.limit_reason == ""
+    assert r.value == pytest.approx(265.0, rel=1e-3)
+    assert model.to_dict()["terms"]["R"]["measured"] is True
+
+
+def test_a_simulated_rrw_that_is_present_and_well_measured_stays_measured() -> None:
+    """Known truth (N = 0.01 deg/sqrt(h), K = 1 deg/h^1.5, 3 h at 10 Hz, seed 7): K dominates
+    from about a minute on, at trusted points and at the low-EDF points of the longest taus;
+    it stays measured, near its true value."""
+    sim = fogts.simulate_gyro({"N": 0.01, "K": 1.0}, fs_hz=10, duration_s=3 * 3600, rng=7)
+    res = fogts.allan_deviation(sim)
+    model = quiet_fit(res)
+    k = model["K"]
+    assert not k.is_limit and k.low_edf_taus == () and k.status == "fitted"
+    assert abs(k.value - 1.0) < 3 * k.stderr and abs(k.value - 1.0) < 0.3
+    dominant = [d for d in res.readout(model).dominant if d.term == "K"]
+    assert len(dominant) == 1 and dominant[0].measured
+    taus = (res.tau_s >= dominant[0].tau_from_s) & (res.tau_s <= dominant[0].tau_to_s)
+    assert np.any(res.edf[taus] >= MIN_EDF_FOR_MINIMUM) and np.any(res.edf[taus] < 10)

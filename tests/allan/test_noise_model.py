@@ -60,7 +60,7 @@ def test_the_chi2_line_says_the_model_error_is_in_it() -> None:
     """With a model error fitted into the weights, chi2 lands near its dof whatever the
     misfit (ADIS16405 run 1 X: "chi2 = 14.91 on 17 dof" printed beside "misses"); the
     sentence says so, and says when no model error was needed (an exact curve)."""
-    from fogts.allan.noise_model import chi2_sentence
+    from fogts.allan.noise_lsq import chi2_sentence
 
     tau = 2.0 ** np.arange(-4, 12)
     # every term kept (significance=None): the exact curve comes back, no model error

@@ -262,6 +262,39 @@ def test_low_points_that_come_back_leave_the_floor() -> None:
     assert [p[0] for p in r.lower_points] == [64.0, 128.0]
 
 
+def test_a_curve_that_ends_below_the_minimums_interval_has_no_floor() -> None:
+    """The audit's 5 s ADIS16405 record (N1): the point after the minimum lies inside its
+    interval, the last one below it: the curve is still falling, so no region C and no
+    floor/0.664 (it read 'floor (region C) 0.32 .. 0.64 s' and B = 476 deg/h)."""
+    tau = 0.01 * 2.0 ** np.arange(8)
+    dev = np.array([0.32855, 0.26475, 0.18949, 0.14681, 0.11823, 0.087803, 0.084663, 0.061789])
+    lo = np.array([0.31739, 0.25405, 0.1795, 0.13657, 0.10721, 0.076813, 0.070503, 0.047982])
+    hi = np.array([0.34097, 0.27693, 0.20136, 0.15976, 0.13354, 0.10543, 0.11326, 0.10501])
+    edf = np.array([390.7, 269.8, 152.3, 82.07, 42.18, 20.63, 9.563, 3.885])
+    r = read_curve(tau, dev, lo, hi, edf=edf)
+    assert r.tau_min_s == pytest.approx(0.32) and not r.floor_found
+    assert r.regions["C"] is None and r.regions["D"] is None
+    assert r.regions["B"] == (pytest.approx(0.01), pytest.approx(1.28))
+    assert np.isnan(r.bias_instability_floor)
+    assert r.floor_note == ("no floor: the curve is still falling at its last trusted tau "
+                            "(0.32 s); the curve ends below the minimum's interval (point at "
+                            "1.28 s)")
+    assert not readoff_supported(slope_readoff(tau, dev, 1.0, edf, ci=(lo, hi)), "B")
+
+
+def test_a_curve_that_rose_past_its_minimum_keeps_its_floor_despite_a_low_last_point() -> None:
+    """The bundled FOG example's shape: the curve rises above the minimum's interval (region
+    D) before its last point (EDF 1.6) dips below it: that point is scatter after a rise, not
+    a continued fall, so the floor stays."""
+    tau = np.array([102.4, 204.8, 409.6, 819.2, 1638.4, 3276.8])
+    dev = np.array([0.014593, 0.012678, 0.013612, 0.014521, 0.014263, 0.011170])
+    edf = np.array([122.0, 47.3, 29.1, 10.7, 4.6, 1.63])
+    r = read_curve(tau, dev, dev * 0.91, dev * 1.12, edf=edf)
+    assert r.tau_min_s == pytest.approx(204.8) and r.floor_found
+    assert r.regions["C"] == (pytest.approx(204.8), pytest.approx(409.6))
+    assert r.regions["D"] == (pytest.approx(409.6), pytest.approx(3276.8))
+
+
 def test_no_trusted_point_is_said() -> None:
     r = read_curve([1.0, 2.0, 4.0], [1.0, 0.5, 0.7], edf=[2.0, 2.0, 2.0])
     assert r.minimum_note == "no point has EDF >= 10: the minimum is the lowest of all points"

@@ -139,9 +139,16 @@ def test_the_report_prints_the_same_readout_words(tmp_path: Path) -> None:
 def test_the_b_readoff_and_the_curve_readout_share_the_floor() -> None:
     """iMAR's SMAC curve carries 95.4 % bounds: the B read-off judges the floor with those
     intervals, as the curve read-out does (with 68.3 % intervals from the EDF, the Z axis had
-    a floor in the table but 'B not read' in the read-off sentence)."""
+    a floor in the table but 'B not read' in the read-off sentence).  Z has no floor either
+    way now: past its minimum (655.4 s, 95.4 % interval 9.8e-7 .. 1.86e-6 rad/s) the curve
+    ends two octaves lower, 5.6e-7 at 2621 and 5243 s, below that interval (it read a floor
+    while only one of the later points had to lie below)."""
     doc, _ = _json(["curve", shared_path("allan_curves", "smac_avar", "imar_av.csv"),
                     "--units", "rad/s"])
     found = [(a["curve"]["minimum"]["floor_found"], a["noise_fit"]["readoff"]["B"]["supported"])
              for a in doc["axes"]]
-    assert found == [(False, False), (False, False), (True, True)]
+    assert found == [(False, False), (False, False), (False, False)]
+    z = doc["axes"][2]["curve"]["minimum"]
+    assert z["tau"] == pytest.approx(655.36) and z["confidence"] == pytest.approx(0.954)
+    assert z["floor"].endswith("the curve ends below the minimum's interval (points at "
+                               "2621, 5243 s)")
