@@ -108,7 +108,7 @@ def test_a_bad_method_is_one_error_line(gyro_npy: Path, tmp_path: Path, value: s
 def test_ml_beside_a_fit_range_is_refused(gyro_npy: Path) -> None:
     code, _, err = _run([gyro_npy, *COMMON, "--method", "wls,ml", "--fit-tau-min", "1"])
     assert code == 2
-    assert "--fit-tau-min/--fit-tau-max do not apply to method 'ml'" in err
+    assert "--fit-tau-min/--fit-tau-max do not apply to --method 'ml'" in err
 
 
 def test_the_report_shows_the_methods_side_by_side(gyro_npy: Path) -> None:

@@ -192,7 +192,7 @@ CASES: dict[str, tuple[Callable[[Path], Path], list[str], str, Callable[[Path], 
                    _arma_model, "arma_model must be one of auto, AR(1), AR(2), AR(3), "
                    "ARMA(1,1), ARMA(2,1); got 'AR(9)'"),
     "fit range and ml": (_RECORD, ["allan", "--method", "ml", "--fit-tau-min", "1"],
-                         "--fit-tau-min/--fit-tau-max do not apply to method 'ml'",
+                         "--fit-tau-min/--fit-tau-max do not apply to --method 'ml'",
                          _ml_over_a_range,
                          "fit_tau_min/fit_tau_max do not apply to method 'ml'"),
 }
