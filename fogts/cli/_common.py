@@ -93,6 +93,9 @@ console = Console(highlight=False, width=_WIDTH)
 err_console = Console(stderr=True, highlight=False, width=_WIDTH)
 
 _STATE: dict[str, bool] = {"debug": False}
+#: The data-quality lines :func:`read_input` printed in the running command: a warning
+#: from the read that says the same (burst-logged stamps) is not printed again.
+_QUALITY_PRINTED: list[str] = []
 
 # ---------------------------------------------------------------- shared input options
 FileArg = Annotated[Path, typer.Argument(help="Input recording (CSV/TSV/text, .gz, Parquet, .npy/.npz).")]
@@ -197,6 +200,7 @@ def guard(options: Mapping[str, str] | None = None, *,
     command shares, ``fs_hz=`` to ``--fs``).  ``outputs`` (option -> path) and ``inputs`` (argument -> paths) are checked by
     :func:`fogts.io.paths.check_outputs` before the body runs: no output replaces an input,
     nor, without ``overwrite`` (``--overwrite``), an existing data file."""
+    _QUALITY_PRINTED.clear()
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("default")
         try:
@@ -219,7 +223,8 @@ def guard(options: Mapping[str, str] | None = None, *,
             from fogts.report.text import warning_texts
 
             for text in warning_texts(caught):
-                warn(text)
+                if not any(text.endswith(f": {line}") for line in _QUALITY_PRINTED):
+                    warn(text)
 
 
 def warn(text: str | None) -> None:
@@ -338,6 +343,7 @@ def read_input(path: Path, read: ReadSettings, *, glitches: bool = True,
         quality = dataclasses.replace(quality, outliers=outliers)
     for line in quality.warnings():
         warn(f"{Path(run.source).name}: {line}")
+        _QUALITY_PRINTED.append(line)
     return run, quality
 
 

@@ -22,7 +22,7 @@ from fogts.io.table import NUMBER, Table, finite_and_bounded, numeric_column, wh
 from fogts.io.timesteps import LEAF, StepSummary, step_deviation, summarise_steps
 
 __all__ = ["GAP_FACTOR", "GIVEN_RATE_TOLERANCE", "JITTERED_STAMPS", "REGULAR_JITTER", "Steps",
-           "check_given_rate", "is_numeric_time", "median_step", "sample_rate",
+           "burst_logging_text", "check_given_rate", "is_numeric_time", "median_step", "sample_rate",
            "sampling_report", "step_stats", "time_base"]
 
 #: Gap threshold: a time step longer than this multiple of the nominal step is a gap.
@@ -30,6 +30,25 @@ GAP_FACTOR = 1.5
 #: A time base without gaps is regular when the std of its steps is below this share of
 #: the nominal step.
 REGULAR_JITTER = 0.01
+#: Burst-logged time stamps said once: the read's warning, the data-quality line of
+#: :class:`~fogts.preprocess.hygiene.DataQuality` and ``fogts info`` all use this wording.
+BURST_LOGGED = ("the time stamps are logged in bursts: the sample rate is the mean step's{rate}, "
+                "and the steps over 1.5 x the mean step are the bursts' pattern, not gaps, so "
+                "no time is counted as missing")
+
+
+def burst_logging_text(fs_hz: float | None = None) -> str:
+    """The one sentence for burst-logged time stamps (:data:`BURST_LOGGED`), with the mean
+    rate ``fs_hz`` when given.
+
+    Examples
+    --------
+    >>> burst_logging_text(99.3171)[:72]
+    "the time stamps are logged in bursts: the sample rate is the mean step's"
+    """
+    return BURST_LOGGED.format(rate="" if fs_hz is None else f" ({fs_hz:.6g} Hz)")
+
+
 #: Fewest steps for which :func:`median_step` counts instead of sorting.
 _COUNTED_MEDIAN_MIN = 1 << 16
 
@@ -375,11 +394,11 @@ def sample_rate(dt: FloatArray | None, given: float | None, from_file: float | N
                 (np.sum(dt) - np.sum(long)) / (dt.size - gaps.size))
             return _rate_of_regular_steps(median, regular_mean)
         # stacklevel (4 from _table_to_run): the warning names the caller of read_run
-        warnings.warn(f"{source}: median time step {median:.6g} s differs from the mean step "
-                      f"{mean:.6g} s by more than 10 % (burst-logged time stamps); using the "
-                      f"mean rate {1.0 / mean:.6g} Hz", DataQualityWarning,
+        # (the median step is over 10 % off the mean step: burst-logged time stamps)
+        rate = _round_rate(1.0 / mean)
+        warnings.warn(f"{source}: {burst_logging_text(rate)}", DataQualityWarning,
                       stacklevel=stacklevel)
-        return _round_rate(1.0 / mean), "mean step"
+        return rate, "mean step"
     if from_file is not None:
         return from_file, "file"
     raise DataError("no sample rate")

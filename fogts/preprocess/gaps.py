@@ -16,7 +16,7 @@ from fogts._typing import IntArray
 from fogts._validate import check_positive
 from fogts.errors import DataError
 from fogts.io.run import Run, SamplingReport
-from fogts.io.timebase import GAP_FACTOR, sampling_report
+from fogts.io.timebase import GAP_FACTOR, burst_logging_text, sampling_report
 
 __all__ = ["Gap", "GapReport", "fill_gaps_nan", "find_gaps", "segment_run"]
 
@@ -98,9 +98,7 @@ class GapReport:
         where = (f"first at t = {first.time_s:.6g} s, longest {longest.length_s:.4g} s at "
                  f"t = {longest.time_s:.6g} s")
         if self.burst_logged:
-            return (f"the time stamps are logged in bursts (the sample rate is the mean "
-                    f"step's): their {self.n_gaps} step(s) over 1.5 x the mean step cannot be told "
-                    f"from the bursts' pattern, so no time is counted as missing ({where})")
+            return f"{burst_logging_text()} ({self.n_gaps} such step(s); {where})"
         return f"{self.n_gaps} gap(s) in the time base ({self.missing_s:.4g} s missing; {where})"
 
 

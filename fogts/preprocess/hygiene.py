@@ -31,6 +31,7 @@ from fogts._validate import check_choice
 from fogts.choices import GAP_POLICIES, GapPolicy
 from fogts.errors import DataError
 from fogts.io.run import MissingReport, Run, held_time
+from fogts.io.timebase import burst_logging_text
 from fogts.preprocess.gaps import Gap, GapReport, fill_gaps_nan, find_gaps, segment_run
 from fogts.preprocess.glitches import GLITCH_SIGMAS, Glitch, GlitchReport, detect_glitches
 from fogts.units import quantity_of
@@ -129,8 +130,8 @@ class DataQuality:
             return [f"{g.summary()}; gaps='split': analysing the longest regular segment, "
                     f"rows {a}..{b - 1} ({b - a:,} of {self.n_input:,} samples, "
                     f"{(b - a) / self.fs_hz:.6g} s) of {len(g.segments)}"]
-        if g.burst_logged:
-            return [f"{g.summary()}; analysed at the mean rate"]
+        if g.burst_logged:  # word for word the read's warning (the CLI prints it once)
+            return [burst_logging_text(self.fs_hz)]
         return [f"{g.summary()}; analysed as if the samples were regular (gaps='split' "
                 "analyses the longest regular segment, gaps='error' refuses the file)"]
 

@@ -23,6 +23,7 @@ from fogts.report.text import (
     duration_line,
     error_message,
     fit_sentences,
+    gaps_phrase,
     run_info,
     time_base_verdict,
     warning_texts,
@@ -106,7 +107,7 @@ def _axis_label(ctx: ReportContext, i: int) -> str:
 
 def _input_rows(ctx: ReportContext, info: dict[str, Any]) -> list[tuple[str, str]]:
     """The "What was read" table: source, sampling, columns, units, time base."""
-    gaps, jitter = info["gaps"], info["jitter"]
+    jitter = info["jitter"]
     rows: list[tuple[str, str]] = [
         ("source", str(info["source"])),
         ("samples", f"{info['n']:,}"),
@@ -121,10 +122,8 @@ def _input_rows(ctx: ReportContext, info: dict[str, Any]) -> list[tuple[str, str
     if info["start_time"]:
         rows.append(("start time", str(info["start_time"])))
     if info["time_from_column"]:
-        rows.append(("time base", f"{time_base_verdict(info)}: "
-                                  f"{gaps['count']} gap(s) longer than "
-                                  f"{fmt_num(gaps['threshold_s'])} s (longest "
-                                  f"{fmt_num(gaps['max_s'])} s); jitter {fmt_num(jitter['std_s'])} s"))
+        rows.append(("time base", f"{time_base_verdict(info)}: {gaps_phrase(info, fmt_num)}; "
+                                  f"jitter {fmt_num(jitter['std_s'])} s"))
     else:
         rows.append(("time base", "none in the file: built from the sample rate"))
     return rows

@@ -11,7 +11,7 @@ import dataclasses
 import json
 import math
 import warnings
-from collections.abc import Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping
 from typing import Any
 
 import numpy as np
@@ -21,7 +21,7 @@ from fogts.io.timebase import REGULAR_JITTER
 from fogts.units import quantity_of
 
 __all__ = ["axes_rows", "duration_line", "duration_text", "error_message", "fit_sentences",
-           "info_text", "json_dumps", "run_info", "time_base_verdict", "time_span_s",
+           "gaps_phrase", "info_text", "json_dumps", "run_info", "time_base_verdict", "time_span_s",
            "to_jsonable", "warning_texts"]
 
 
@@ -120,6 +120,9 @@ def run_info(run: Run) -> dict[str, Any]:
     ``units``); ``input`` what the rate columns held (``rate``, ``increment`` or ``angle``:
     the axes and ``stats`` are the rate formed from them).  ``duration_s`` is the samples' time, ``n / fs_hz``; ``span_s`` the time
     the stamps cover (first to last stamp, plus one step), longer by the gaps.
+    ``gaps.burst_logged``: the stamps are logged in bursts (the rate is the mean step's),
+    so the ``gaps.count`` long steps are the bursts' pattern, not gaps
+    (:func:`fogts.io.timebase.burst_logging_text`).
     """
     sampling = run.sampling
     assert sampling is not None
@@ -138,7 +141,8 @@ def run_info(run: Run) -> dict[str, Any]:
         "axis_units": [run.unit_of(i) for i in range(len(run.axes))],
         "input": run.input_kind,
         "gaps": {"count": sampling.n_gaps, "max_s": sampling.max_gap_s,
-                 "threshold_s": 1.5 / run.fs_hz, "after_rows": list(sampling.gap_rows)},
+                 "threshold_s": 1.5 / run.fs_hz, "after_rows": list(sampling.gap_rows),
+                 "burst_logged": sampling.fs_source == "mean step"},
         "jitter": {"std_s": sampling.jitter_s, "relative": sampling.jitter_rel,
                    "median_dt_s": sampling.median_dt_s, "mean_dt_s": sampling.mean_dt_s,
                    "regular": sampling.regular},
@@ -202,11 +206,26 @@ def time_base_verdict(info: Mapping[str, Any]) -> str:
     if info["jitter"]["regular"]:
         return "regular"
     why = []
-    if info["gaps"]["count"]:
+    if info["gaps"].get("burst_logged"):
+        why.append("time stamps logged in bursts")
+    elif info["gaps"]["count"]:
         why.append("gaps")
     if info["jitter"]["relative"] >= REGULAR_JITTER:
         why.append(f"jitter >= {100 * REGULAR_JITTER:g} % of the step")
     return "IRREGULAR" + (f" ({', '.join(why)})" if why else "")
+
+
+def gaps_phrase(info: Mapping[str, Any], fmt: Callable[[float], str]) -> str:
+    """The long steps of :func:`run_info`'s payload: "3 gap(s) longer than 0.015 s
+    (longest 0.5 s)", or for burst-logged stamps that they are the bursts' pattern, not
+    gaps, as the data-quality warning says (:func:`fogts.io.timebase.burst_logging_text`).
+    ``fmt`` formats a number (the terminal's or the report's)."""
+    gaps = info["gaps"]
+    longest = f"longest {fmt(gaps['max_s'])} s"
+    if gaps.get("burst_logged"):
+        return (f"{gaps['count']} step(s) longer than {fmt(gaps['threshold_s'])} s ({longest}), "
+                "the bursts' pattern, not gaps: no time is counted as missing")
+    return f"{gaps['count']} gap(s) longer than {fmt(gaps['threshold_s'])} s ({longest})"
 
 
 def duration_line(info: Mapping[str, Any]) -> str:
@@ -223,7 +242,7 @@ def duration_line(info: Mapping[str, Any]) -> str:
 def info_text(info: Mapping[str, Any], accel_source: str = "") -> str:
     """Plain-text rendering of :func:`run_info` for the terminal (``accel_source``: see
     :func:`axes_rows`)."""
-    gaps, jitter = info["gaps"], info["jitter"]
+    jitter = info["jitter"]
     shown = axes_rows(info, accel_source)
     lines = [
         f"source      {info['source']}",
@@ -237,8 +256,8 @@ def info_text(info: Mapping[str, Any], accel_source: str = "") -> str:
         lines.append(f"start time  {info['start_time']}")
     if info["time_from_column"]:
         regular = time_base_verdict(info)
-        lines.append(f"time base   {regular}: {gaps['count']} gap(s) > {gaps['threshold_s']:.4g} s"
-                     f" (longest {gaps['max_s']:.4g} s), jitter {jitter['std_s']:.3g} s "
+        lines.append(f"time base   {regular}: {gaps_phrase(info, lambda v: f'{v:.4g}')}; "
+                     f"jitter {jitter['std_s']:.3g} s "
                      f"({100 * jitter['relative']:.2g} % of the step); median step "
                      f"{jitter['median_dt_s']:.6g} s, mean step {jitter['mean_dt_s']:.6g} s")
     else:

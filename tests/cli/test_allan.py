@@ -495,17 +495,24 @@ def test_gaps_nan_refuses_burst_logged_stamps(tmp_path: Path) -> None:
 
 def test_burst_logged_stamps_count_no_missing_time_and_refuse_split(tmp_path: Path) -> None:
     """The MPU6050 stamps come in bursts: its 13,397 long steps are not read as 399 s of
-    missing time, the longest step is the record's (0.4969 s at t = 649.78 s, the same as
-    ``fogts info``), and --gaps split, whose longest 'regular' stretch is 18 samples, is
-    refused instead of analysing 0.18 s."""
+    missing time, and the read's warning and the data-quality line, one wording
+    (:func:`fogts.io.timebase.burst_logging_text`), are printed once; the JSON keeps the
+    count and the longest step (0.4969 s, as ``fogts info``); --gaps split, whose longest
+    'regular' stretch is 18 samples, is refused instead of analysing 0.18 s."""
+    from fogts.io.timebase import burst_logging_text
+
     path = shared_path("imu", "mpu6050_gyro_temp_converted.csv.gz")
-    code, _, err = _run([path, "--axis", "0"])
+    out = tmp_path / "b.json"
+    code, _, err = _run([path, "--axis", "0", "--json", out])
     assert code == 0, err
-    line = next(ln for ln in err.splitlines() if "logged in bursts (the sample rate" in ln)
-    assert "13397 step(s) over 1.5 x the mean step cannot be told from the bursts' pattern, " \
-           "so no time is counted as missing" in line
-    assert re.search(r"longest 0\.4969 s at t = 649\.7\d* s\); analysed at the mean rate$", line)
-    assert "missing;" not in line and "--gaps split" not in line
+    lines = [ln for ln in err.splitlines() if "bursts" in ln]
+    assert lines == [f"warning: mpu6050_gyro_temp_converted.csv.gz: "
+                     f"{burst_logging_text(99.31713767)}"]
+    assert "not gaps, so no time is counted as missing" in lines[0]
+    assert "missing;" not in lines[0] and "--gaps split" not in lines[0]
+    gaps = json.loads(out.read_text())["data_quality"]["gaps"]
+    assert gaps["burst_logged"] and gaps["n_gaps"] == 13397
+    assert gaps["largest_s"] == pytest.approx(0.4969, abs=1e-4)
     out = tmp_path / "a.json"
     code, _, err = _run([path, "--axis", "0", "--gaps", "split", "--json", out])
     assert code == 2 and not out.exists()

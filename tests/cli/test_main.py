@@ -66,8 +66,26 @@ def test_info_mpu6050_reports_irregular_sampling() -> None:
                                                       "mpu6050_gyro_temp_converted.csv.gz"))])
     assert res.exit_code == 0
     assert "IRREGULAR" in res.stdout
-    assert "warning: " in res.stderr and "burst-logged" in res.stderr
-    assert "[deg/s]" in res.stdout
+    assert "warning: " in res.stderr and "[deg/s]" in res.stdout
+
+
+def test_info_says_burst_logged_steps_are_not_gaps(tmp_path: Path) -> None:
+    """The MPU6050's 13,397 long steps are the bursts' pattern: info says so (text and
+    JSON, ``gaps.burst_logged``), in the data-quality warning's words, and counts no gaps
+    (as allan counts no missing time); its warning is that of ``allan``."""
+    from fogts.io.timebase import burst_logging_text
+
+    path = shared_path("imu", "mpu6050_gyro_temp_converted.csv.gz")
+    out = tmp_path / "i.json"
+    res = runner.invoke(app, ["info", str(path), "--json", str(out)])
+    assert res.exit_code == 0, res.stderr
+    line = next(ln for ln in res.stdout.splitlines() if ln.startswith("time base"))
+    assert line.startswith("time base   IRREGULAR (time stamps logged in bursts, jitter")
+    assert "13397 step(s) longer than 0.0151 s (longest 0.4969 s), the bursts' pattern, " \
+           "not gaps: no time is counted as missing;" in line and "gap(s)" not in line
+    assert res.stderr.strip() == f"warning: {path}: {burst_logging_text(99.31713767)}"
+    gaps = json.loads(out.read_text())["gaps"]
+    assert gaps["burst_logged"] is True and gaps["count"] == 13397
 
 
 def test_info_is_deterministic(tmp_path: Path) -> None:

@@ -30,7 +30,7 @@ def test_fog_0917_with_leading_and_trailing_comment() -> None:
 
 
 def test_mpu6050_irregular_time_is_reported() -> None:
-    with pytest.warns(DataQualityWarning, match="burst-logged"):
+    with pytest.warns(DataQualityWarning, match="the time stamps are logged in bursts: "):
         run = read_run(shared_path("imu", "mpu6050_gyro_temp_converted.csv.gz"))
     assert run.n_axes == 3
     assert run.units == "deg/s"  # from the column names gyro_x_deg_s ...

@@ -145,3 +145,26 @@ def test_a_position_column_says_the_record_is_not_static(name: str) -> None:
     assert q.position_column is None
     _, q = assess_run(read_run(frame.drop(columns=name)))
     assert q.position_column is None and not any("turn-table" in w for w in q.warnings())
+
+
+def test_burst_logged_quality_line_is_the_read_warning() -> None:
+    """One wording for burst-logged stamps: the data-quality line is the read's warning
+    (:func:`fogts.io.timebase.burst_logging_text`), and gaps='error' says it too."""
+    import warnings as _warnings
+
+    from fogts.errors import DataQualityWarning
+    from fogts.io.reader import read_run
+    from fogts.io.timebase import burst_logging_text
+    from fogts.preprocess.hygiene import assess_run
+    from tests.conftest import shared_path
+
+    with _warnings.catch_warnings(record=True) as caught:
+        _warnings.simplefilter("always", DataQualityWarning)
+        run = read_run(shared_path("imu", "mpu6050_gyro_temp_converted.csv.gz"))
+    said = [str(w.message) for w in caught if "bursts" in str(w.message)]
+    _, quality = assess_run(run, gaps="warn", glitches=False)
+    line = burst_logging_text(run.fs_hz)
+    assert said == [f"{run.source}: {line}"] and line in quality.warnings()
+    with pytest.raises(DataError, match="the time stamps are logged in bursts: the sample "
+                                        r"rate is the mean step's, .*13397 such step\(s\)"):
+        assess_run(run, gaps="error", glitches=False)

@@ -110,3 +110,20 @@ def test_info_says_what_the_rate_columns_held() -> None:
                                            "difference x fs)")
     plain = run_info(read_run(frame.rename(columns={"dtheta_deg": "rate_deg_s"})))
     assert plain["input"] == "rate" and axes_rows(plain) == [("rate axes", "rate_deg_s  [deg/s]")]
+
+
+def test_gaps_phrase_says_burst_logged_steps_are_not_gaps() -> None:
+    """Burst-logged stamps: the long steps are the bursts' pattern, not gaps (the
+    data-quality warning's words); the verdict names the bursts, not gaps."""
+    from fogts.report.text import gaps_phrase, time_base_verdict
+
+    info = {"gaps": {"count": 3, "max_s": 0.5, "threshold_s": 0.015, "burst_logged": True},
+            "jitter": {"regular": False, "relative": 0.2}}
+    text = gaps_phrase(info, lambda v: f"{v:.4g}")
+    assert text == ("3 step(s) longer than 0.015 s (longest 0.5 s), the bursts' pattern, not "
+                    "gaps: no time is counted as missing")
+    assert time_base_verdict(info) == ("IRREGULAR (time stamps logged in bursts, jitter >= "
+                                       "1 % of the step)")
+    info["gaps"]["burst_logged"] = False
+    assert gaps_phrase(info, str) == "3 gap(s) longer than 0.015 s (longest 0.5 s)"
+    assert time_base_verdict(info).startswith("IRREGULAR (gaps, ")
