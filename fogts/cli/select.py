@@ -123,15 +123,12 @@ def _write_prediction(analyses: list[AxisSelection], target: Path) -> bool:
     return True
 
 
-def duration_text(seconds: float) -> str:
-    return (f"{seconds / 3600:.3g} h" if seconds >= 3600 else
-            f"{seconds / 60:.3g} min" if seconds >= 60 else f"{seconds:.3g} s")
-
-
 def _print_selection(analysis: AxisSelection, json_out: str | None) -> None:
     """What was read and prepared, the candidate table, the selected model and the verdict
     (to stderr when the JSON goes to stdout)."""
     from rich.text import Text
+
+    from fogts.report.text import duration_text
 
     out = common.err_console if json_out == "-" else common.console
     run, prepared, sel = analysis.run, analysis.prepared, analysis.selection

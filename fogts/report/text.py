@@ -165,6 +165,14 @@ def time_span_s(run: Run) -> float:
 
 
 def duration_text(seconds: float) -> str:
+    """A record's length as every text and figure says it: hours from 1 h, minutes from
+    1 min, with the seconds after them.
+
+    Examples
+    --------
+    >>> duration_text(10000.0), duration_text(595.0), duration_text(5.0)
+    ('2.78 h (10000 s)', '9.92 min (595 s)', '5 s')
+    """
     if seconds >= 3600:
         return f"{seconds / 3600:.3g} h ({seconds:.6g} s)"
     if seconds >= 60:

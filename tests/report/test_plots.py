@@ -77,3 +77,17 @@ def test_overlay_draws_rates_in_one_unit_and_marks_the_minimum_the_text_reads() 
     accel = allan_deviation(rng.normal(0.0, 0.001, 20_000), fs_hz=10.0, units="g")
     assert plot_allan_overlay([fog, accel], ["gyro", "acc"]).axes[0].get_ylabel() == \
         "Allan deviation (mixed units)"
+
+
+def test_allan_title_says_the_length_as_the_text_does() -> None:
+    """audit2 N18: a 10000 s record's title said "167 min" where the text says "2.78 h":
+    the title now uses the text's :func:`fogts.report.text.duration_text`."""
+    from fogts.allan import allan_deviation
+    from fogts.report.plots import plot_allan
+    from fogts.report.text import duration_text
+
+    res = allan_deviation(np.random.default_rng(5).normal(0.0, 1.0, 100_000), fs_hz=10.0,
+                          units="deg/h", taus="decade")
+    title = plot_allan(res, residuals=False).axes[0].get_title(loc="left")
+    assert title.endswith("100000 samples at 10 Hz (2.78 h (10000 s))")
+    assert duration_text(10_000.0) in title and "min" not in title

@@ -13,7 +13,7 @@ from fogts._typing import FloatArray
 from fogts.allan.readoff import fit_check, readoff_supported
 from fogts.allan.readout import MIN_EDF_FOR_MINIMUM
 from fogts.errors import DataError
-from fogts.report.plots._common import mpl_text, num_tex, time_unit, value_pm_tex
+from fogts.report.plots._common import mpl_text, num_tex, value_pm_tex
 from fogts.report.plots.allan_fit import (
     draw_outside_points,
     draw_residuals,
@@ -21,6 +21,7 @@ from fogts.report.plots.allan_fit import (
     inside_span,
     shade_fit_range,
 )
+from fogts.report.text import duration_text
 from fogts.units import convert_sensor, quantity_of
 
 __all__ = ["plot_allan", "plot_allan_comparison", "plot_allan_overlay"]
@@ -214,11 +215,10 @@ def _decorate(ax: Any, curves: list[Any], xlim: tuple[float, float],
     ax.grid(True, which="minor", alpha=0.15)
     res = curves[0]
     if getattr(res, "fs_hz", 0) and getattr(res, "n_samples", 0):
-        span = res.n_samples / res.fs_hz
-        scale, unit = time_unit(span)
         who = res.axis if len(curves) == 1 else f"{len(curves)} axes"
         ax.set_title(mpl_text(f"{who}: {res.n_samples} samples at {res.fs_hz:g} Hz "
-                               f"({span / scale:.3g} {unit})"), loc="left", fontsize="medium")
+                               f"({duration_text(res.n_samples / res.fs_hz)})"),
+                     loc="left", fontsize="medium")
     ax.legend(loc="best", fontsize="small", framealpha=0.85)
 
 
