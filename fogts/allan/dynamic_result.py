@@ -368,8 +368,10 @@ class DynamicAllanResult(TableView):
     def summary(self, max_rows: int = 12) -> str:
         """Text: the set-up, the verdict, and the deviation at a few taus over time."""
         nw, nt = self.shape
+        # the lengths in samples too: at 99.3171 Hz a 60 s window is 5959 samples, 59.9997 s
         lines = [f"Dynamic {self.kind} of axis {self.axis!r}: {nw} windows of "
-                 f"{self.window_s:g} s every {self.step_s:g} s over {self.n_samples} samples "
+                 f"{self.window_s:g} s ({self.window_n} samples) every {self.step_s:g} s "
+                 f"({self.step_n} samples) over {self.n_samples} samples "
                  f"at {self.fs_hz:g} Hz; {nt} taus {self.tau_s[0]:g}..{self.tau_s[-1]:g} s; "
                  f"unit {self.units}",
                  self.nonstationarity.summary()]
