@@ -11,10 +11,11 @@ options every command shares, one mapping per command for its own.
 from __future__ import annotations
 
 import re
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
-__all__ = ["ARGUMENT_OPTIONS", "BARE_ARGUMENTS", "MESSAGE_KEYS", "cli_payload", "option_keywords", "option_names"]
+__all__ = ["ARGUMENT_OPTIONS", "BARE_ARGUMENTS", "MESSAGE_KEYS", "cli_payload", "option_keywords",
+           "option_names", "stray_arguments"]
 
 #: The library keywords whose option is the same in every command (the shared input
 #: options, and those a library error suggests): the library's messages name the keyword
@@ -125,3 +126,28 @@ def option_names(message: str, options: Mapping[str, str]) -> str:
     for name, option in BARE_ARGUMENTS.items():
         message = re.sub(rf"(?<![\w'.-]){re.escape(name)}(?![\w'])", option, message)
     return message
+
+
+def stray_arguments(ctx: Any, argv: Sequence[str], message: str) -> str:
+    """``message`` (click's missing option or argument of ``ctx``'s command) led by the
+    positional tokens of ``argv`` that the command's arguments do not take: click reports
+    the missing option first, so that ``fogts simulate noise out.csv`` said only that
+    ``--output`` is missing, never that ``out.csv`` is no argument of it.  ``message``
+    unchanged when there are none, or the command line cannot be followed to the command.
+    """
+    start = 0
+    for name in ctx.command_path.split()[1:]:
+        if name not in argv[start:]:
+            return message
+        start = list(argv).index(name, start) + 1
+    try:  # the parser gives each Argument its tokens and returns those left over
+        _, rest, _ = ctx.command.make_parser(ctx).parse_args(args=list(argv[start:]))
+    except Exception:  # the original usage error is the one to show
+        return message
+    if not rest:
+        return message
+    takes = [(p.metavar or p.name or "").upper() for p in ctx.command.params
+             if p.param_type_name == "argument"]
+    allowed = f"only {', '.join(takes)}" if takes else "no positional argument"
+    return (f"unexpected argument(s) {' '.join(map(repr, rest))}: {ctx.command_path} takes "
+            f"{allowed}; {message[:1].lower()}{message[1:]}")

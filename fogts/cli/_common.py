@@ -33,7 +33,7 @@ from typer.core import TyperGroup
 
 from fogts import choices
 from fogts._version import __version__
-from fogts.cli._arguments import cli_payload, option_keywords, option_names
+from fogts.cli._arguments import cli_payload, option_keywords, option_names, stray_arguments
 from fogts.cli._rich_table import rich_table as rich_table  # the commands' common.rich_table
 from fogts.pipeline import ReadSettings
 
@@ -64,6 +64,8 @@ class _OneLineErrors(TyperGroup):
                 " (see 'fogts --help')"
             # typer's choice check prefixes its reason with "Value error, ": drop it
             message = exc.format_message().replace(": Value error, ", ": ")
+            if isinstance(exc, _click_exc.MissingParameter) and ctx is not None:
+                message = stray_arguments(ctx, sys.argv[1:] if args is None else args, message)
             err_console.print(f"error: {message}{hint}", markup=False, soft_wrap=True)
             rv = ExitCode.ERROR
         except typer.Abort:

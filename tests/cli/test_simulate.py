@@ -229,3 +229,21 @@ def test_from_json_warns_of_a_term_the_fit_only_bounds_unless_it_is_given(
     assert res.exit_code == 0, res.output
     assert "did not measure" not in res.stderr
     assert json.loads((tmp_path / "b.csv.json").read_text())["noise"]["K"]["value"] == 0.3
+
+
+def test_a_stray_argument_to_simulate_noise_is_named(tmp_path: Path) -> None:
+    """audit2 N14: ``simulate noise out.csv`` said only that --output is missing; the error
+    names the stray argument and what the command takes, and writes nothing."""
+    from tests.conftest import error_output
+
+    out = tmp_path / "out.csv"
+    res = runner.invoke(app, ["simulate", "noise", str(out), "--N", "0.1"])
+    assert res.exit_code == 2 and not out.exists()
+    assert error_output(res.stderr) == (
+        f"error: unexpected argument(s) '{out}': fogts simulate noise takes no positional "
+        "argument; missing option '--output' / '-o'. (see 'fogts simulate noise --help')")
+    res = runner.invoke(app, ["simulate", "noise", "-o", str(out), "stray"])
+    assert res.exit_code == 2 and "(stray)" in res.stderr and not out.exists()
+    res = runner.invoke(app, ["filter", "x.csv", "y.csv"])
+    assert res.exit_code == 2 and "unexpected argument(s) 'y.csv': fogts filter takes only " \
+        "FILE; missing option" in res.stderr
