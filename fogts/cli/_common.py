@@ -192,7 +192,7 @@ def _main_options(
 def guard(options: Mapping[str, str] | None = None, *,
            outputs: Mapping[str, Path | str | None] | None = None,
            inputs: Mapping[str, Iterable[Path]] | None = None,
-           overwrite: bool = False) -> Iterator[None]:
+           overwrite: bool = False, first: Iterable[Callable[[], object]] = ()) -> Iterator[None]:
     """Run a command body: warnings become ``warning: ...`` lines on stderr (each once),
     and any exception becomes one line ``error: ...`` on stderr with exit code 2.
 
@@ -201,11 +201,14 @@ def guard(options: Mapping[str, str] | None = None, *,
     typed (:func:`fogts.cli._arguments.option_names`, which also maps the keywords every
     command shares, ``fs_hz=`` to ``--fs``).  ``outputs`` (option -> path) and ``inputs`` (argument -> paths) are checked by
     :func:`fogts.io.paths.check_outputs` before the body runs: no output replaces an input,
-    nor, without ``overwrite`` (``--overwrite``), an existing data file."""
+    nor, without ``overwrite`` (``--overwrite``), an existing data file; after the checks
+    in ``first`` (an option's value, so that ``--export foo k.yaml`` is told the format)."""
     _QUALITY_PRINTED.clear()
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("default")
         try:
+            for check in first:
+                check()
             if outputs:
                 from fogts.io.paths import check_outputs
 

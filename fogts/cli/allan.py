@@ -113,7 +113,8 @@ def allan_cmd(
                        "method": "--method"},
                       overwrite=overwrite, outputs={"--json": json_out, "--csv": csv_out, "--plot": plot,
                                "--export": export_path},
-                      inputs={"FILES": files, "--spec": [spec] if spec else []}):
+                      inputs={"FILES": files, "--spec": [spec] if spec else []},
+                      first=[lambda: _export_format(export, files)]):
         export_format = _export_format(export, files)
         tau_spec = common.tau_option(taus)
         five, extras = split_terms(terms)

@@ -58,7 +58,7 @@ def curve_cmd(
     with common.guard({"tau_min": "--fit-tau-min", "tau_max": "--fit-tau-max",
                        "fs_hz": "--fs", "n_samples": "--n-samples"},
                       overwrite=overwrite, outputs={"--json": json_out, "--plot": plot, "--export": export_path},
-                      inputs={"FILE": [file]}):
+                      inputs={"FILE": [file]}, first=[lambda: common.export_format(export)]):
         export_format = common.export_format(export)
         common.check_output_names(plot=plot)
         methods = method.split(",")

@@ -530,3 +530,20 @@ def test_a_method_error_names_the_option(tmp_path: Path) -> None:
     code, _, err = _run([path, "--fs", "100", "--method", "gmwm"])
     assert code == 2 and "Traceback" not in err
     assert "--method gmwm needs at least" in err and "method=" not in err
+
+
+def test_export_format_is_checked_before_the_existing_file(gyro_npy: Path,
+                                                           tmp_path: Path) -> None:
+    """audit2 N15: ``--export foo k.yaml`` with k.yaml present said k.yaml exists before
+    that foo is no export format; the format comes first, the file is left alone, and a
+    good format still meets the existing-file check."""
+    target = tmp_path / "k.yaml"
+    target.write_text("mine\n")
+    code, _, err = _run([gyro_npy, "--fs", FS, "--export", "foo", target])
+    assert code == 2
+    assert error_output(err) == ("error: --export FORMAT must be one of kalibr, imu_utils, "
+                                 "json; got 'foo'")
+    code, _, err = _run([gyro_npy, "--fs", FS, "--export", "json", target])
+    assert code == 2 and error_output(err).startswith(f"error: --export '{target}' already "
+                                                      "exists")
+    assert target.read_text() == "mine\n"

@@ -257,3 +257,13 @@ def test_inference_notes_name_the_options(tmp_path: Path) -> None:
             assert note == line[len("note: "):]
     texts = [*doc["notes"], *doc["input"]["notes"], err, printed]
     assert not any(re.search(r"\b(units|kind|fs_hz|n_samples|channel)=", t) for t in texts)
+
+
+def test_export_format_is_checked_before_the_existing_file(tmp_path: Path) -> None:
+    """audit2 N15: the --export format is checked before the output's existence."""
+    out = tmp_path / "imu.yaml"
+    out.write_text("mine\n")
+    code, _, err = _run([_smac("imar"), "--units", "rad/s", "--export", "yaml", out])
+    assert code == 2 and out.read_text() == "mine\n"
+    assert error_output(err) == "error: --export FORMAT must be one of kalibr, imu_utils, " \
+                                "json; got 'yaml'"
