@@ -137,7 +137,7 @@ def _print_selection(analysis: AxisSelection, json_out: str | None) -> None:
         out.print(Text(text, style), soft_wrap=True)
 
     say(f"read      {analysis.file}: {run.n:,} samples of {prepared.axis!r} at "
-        f"{run.fs_hz:g} Hz ({duration_text(run.duration_s)}), rate in {run.units}")
+        f"{run.fs_hz:g} Hz, {duration_text(run.duration_s)}, rate in {run.units}")
     for i, step in enumerate(prepared.steps):
         say(f"{'prepared' if i == 0 else '':<10}{step}")
     say(f"{'modelled':<10}{sel.n:,} samples at {prepared.fs_hz:g} Hz")

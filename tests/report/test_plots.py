@@ -89,5 +89,5 @@ def test_allan_title_says_the_length_as_the_text_does() -> None:
     res = allan_deviation(np.random.default_rng(5).normal(0.0, 1.0, 100_000), fs_hz=10.0,
                           units="deg/h", taus="decade")
     title = plot_allan(res, residuals=False).axes[0].get_title(loc="left")
-    assert title.endswith("100000 samples at 10 Hz (2.78 h (10000 s))")
+    assert title.endswith("100000 samples at 10 Hz, 2.78 h (10000 s)")
     assert duration_text(10_000.0) in title and "min" not in title

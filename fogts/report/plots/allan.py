@@ -216,8 +216,8 @@ def _decorate(ax: Any, curves: list[Any], xlim: tuple[float, float],
     res = curves[0]
     if getattr(res, "fs_hz", 0) and getattr(res, "n_samples", 0):
         who = res.axis if len(curves) == 1 else f"{len(curves)} axes"
-        ax.set_title(mpl_text(f"{who}: {res.n_samples} samples at {res.fs_hz:g} Hz "
-                               f"({duration_text(res.n_samples / res.fs_hz)})"),
+        ax.set_title(mpl_text(f"{who}: {res.n_samples} samples at {res.fs_hz:g} Hz, "
+                               f"{duration_text(res.n_samples / res.fs_hz)}"),
                      loc="left", fontsize="medium")
     ax.legend(loc="best", fontsize="small", framealpha=0.85)
 
