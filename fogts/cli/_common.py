@@ -95,9 +95,6 @@ console = Console(highlight=False, width=_WIDTH)
 err_console = Console(stderr=True, highlight=False, width=_WIDTH)
 
 _STATE: dict[str, bool] = {"debug": False}
-#: The data-quality lines :func:`read_input` printed in the running command: a warning
-#: from the read that says the same (burst-logged stamps) is not printed again.
-_QUALITY_PRINTED: list[str] = []
 
 # ---------------------------------------------------------------- shared input options
 FileArg = Annotated[Path, typer.Argument(help="Input recording (CSV/TSV/text, .gz, Parquet, .npy/.npz).")]
@@ -203,7 +200,6 @@ def guard(options: Mapping[str, str] | None = None, *,
     :func:`fogts.io.paths.check_outputs` before the body runs: no output replaces an input,
     nor, without ``overwrite`` (``--overwrite``), an existing data file; after the checks
     in ``first`` (an option's value, so that ``--export foo k.yaml`` is told the format)."""
-    _QUALITY_PRINTED.clear()
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("default")
         try:
@@ -228,8 +224,7 @@ def guard(options: Mapping[str, str] | None = None, *,
             from fogts.report.text import warning_texts
 
             for text in warning_texts(caught):
-                if not any(text.endswith(f": {line}") for line in _QUALITY_PRINTED):
-                    warn(text)
+                warn(text)
 
 
 def warn(text: str | None) -> None:
@@ -343,12 +338,17 @@ def read_input(path: Path, read: ReadSettings, *, glitches: bool = True,
     from fogts import progress
     from fogts.pipeline import load
     progress.ticker(f"reading {path.name}", None)
-    run, quality = load(path, dataclasses.replace(read, glitches=glitches))
+    with warnings.catch_warnings(record=True) as read_warnings:
+        warnings.simplefilter("always")
+        run, quality = load(path, dataclasses.replace(read, glitches=glitches))
     if outliers is not None:
         quality = dataclasses.replace(quality, outliers=outliers)
-    for line in quality.warnings():
+    lines = quality.warnings()
+    for line in lines:
         warn(f"{Path(run.source).name}: {line}")
-        _QUALITY_PRINTED.append(line)
+    for w in read_warnings:  # the read's own, less those the quality lines just said
+        if not any(str(w.message).endswith(f": {line}") for line in lines):
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
     return run, quality
 
 
