@@ -201,11 +201,11 @@ class NoiseModel(TableView):
     iterations : int
     converged : bool
     readoff : SlopeReadoff
-    excluded_tau_s : tuple of float
-        Taus dropped before the fit (non-finite or non-positive deviation).
     significance : float or None
         Level of the term-selection and model-error tests (None: every requested term was
         kept and the model error is the unrestricted ML estimate; always None for ols).
+    excluded_tau_s : tuple of float
+        Taus dropped before the fit (non-finite or non-positive deviation).
     warnings : tuple of str
         Every warning emitted by the fit.
     extra_terms : tuple of ExtraTerm
@@ -243,9 +243,9 @@ class NoiseModel(TableView):
     iterations: int
     converged: bool
     readoff: SlopeReadoff
+    significance: float | None = None
     excluded_tau_s: tuple[float, ...] = ()
     warnings: tuple[str, ...] = ()
-    significance: float | None = None
     _a: tuple[float, ...] = field(default=(), repr=False)
     extra_terms: tuple[ExtraTerm, ...] = ()
     quantity: str = "rate"

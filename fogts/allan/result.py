@@ -78,6 +78,9 @@ class AllanResult(TableView):
         Power-law noise exponent used for each point's EDF: identified there, or taken
         from the nearest identified tau where ``alpha_method`` is ``"none"``.  Reported
         as missing (``None``/``<NA>``) where no interval was computed.
+    bias_corrected : bool
+        True for a ``totdev`` curve divided by its noise-type bias
+        (:func:`fogts.allan.confidence.totdev_bias`), as Stable32 reports it.
     dropped : tuple of DroppedTau
         Requested taus that could not be computed.
     alpha_method : tuple of str
@@ -85,9 +88,6 @@ class AllanResult(TableView):
     notes : tuple of str
         Anything else done to the request or the data (tau rounding, preparation steps,
         why no confidence intervals are given).
-    bias_corrected : bool
-        True for a ``totdev`` curve divided by its noise-type bias
-        (:func:`fogts.allan.confidence.totdev_bias`), as Stable32 reports it.
     """
 
     kind: str
@@ -104,10 +104,10 @@ class AllanResult(TableView):
     ci_high: FloatArray
     edf: FloatArray
     alpha: IntArray
+    bias_corrected: bool = False
     dropped: tuple[DroppedTau, ...] = ()
     alpha_method: tuple[str, ...] = ()
     notes: tuple[str, ...] = ()
-    bias_corrected: bool = False
 
     def __post_init__(self) -> None:
         for name in _FLOAT_FIELDS:

@@ -67,6 +67,7 @@ class ArmaFit(TableView):
     name: str
     params: dict[str, float]
     bse: dict[str, float]
+    resid: FloatArray = field(repr=False)
     llf: float
     aic: float
     bic: float
@@ -74,7 +75,6 @@ class ArmaFit(TableView):
     aicc: float
     nobs: int
     sigma2: float
-    resid: FloatArray = field(repr=False)
     converged: bool
     warnings: tuple[str, ...]
     scale: float

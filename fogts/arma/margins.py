@@ -42,7 +42,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass
 from typing import Any
 
 from fogts.arma.candidate import Candidate
@@ -74,7 +74,7 @@ class MarginCheck:
     simpler: float
 
     def to_dict(self) -> dict[str, Any]:
-        return {"check": self.check, "selected": self.selected, "simpler": self.simpler}
+        return asdict(self)
 
 
 @dataclass(frozen=True)
@@ -83,9 +83,8 @@ class EquivalentSimpler:
 
     Attributes
     ----------
-    model : str
-        The simpler candidate.
-    criterion : str
+    model, criterion : str
+        The simpler candidate, and the criterion that ranks the candidates.
     delta : float
         Its criterion minus the selected model's (< ``CLOSE_CALL``).
     checks : tuple of MarginCheck

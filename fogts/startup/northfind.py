@@ -81,12 +81,6 @@ class NorthFinding(TableView):
     latitude_deg : float
     earth_rate_h_deg_h : float
         Ω cos L, the horizontal Earth rate, in °/h.
-    mean_rates : dict
-        Mean rate at each position (°/h), keyed by position in degrees.
-    std_rates : dict
-        Sample standard deviation at each position (°/h).
-    n_samples : dict
-        Samples at each position.
     bias_deg_h : float
         Residual bias estimate b (mean of the four means), °/h.
     amplitude_deg_h : float
@@ -97,6 +91,12 @@ class NorthFinding(TableView):
         Signed azimuth error that drift predicts (first order).
     sigma_mean_deg_h : float
         Standard error of one position mean used in the budget (°/h).
+    mean_rates : dict
+        Mean rate at each position (°/h), keyed by position in degrees.
+    std_rates : dict
+        Sample standard deviation at each position (°/h).
+    n_samples : dict
+        Samples at each position.
     position_time_s : dict
         Centre time of each position (s from the start of the first).
     amplitude_stderr_deg_h : float
@@ -115,14 +115,14 @@ class NorthFinding(TableView):
     budget_deg: dict[str, float]
     latitude_deg: float
     earth_rate_h_deg_h: float
-    mean_rates: dict[int, float]
-    std_rates: dict[int, float]
-    n_samples: dict[int, int]
     bias_deg_h: float
     amplitude_deg_h: float
     drift_rate_deg_h_per_s: float
     drift_error_deg: float
     sigma_mean_deg_h: float
+    mean_rates: dict[int, float]
+    std_rates: dict[int, float]
+    n_samples: dict[int, int]
     position_time_s: dict[int, float] = field(default_factory=dict)
     amplitude_stderr_deg_h: float = math.nan
     units: str = "deg/h"

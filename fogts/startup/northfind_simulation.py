@@ -125,11 +125,11 @@ def simulate_startup_positions(
     *,
     latitude_deg: float,
     azimuth_deg: float,
+    rng: RngLike = None,
     position_s: float = 60.0,
     turn_s: float = 10.0,
     start_delay_s: float = 0.0,
     fs_hz: float = 1.0,
-    rng: RngLike = None,
     **startup: Any,
 ) -> StartupPositions:
     """Simulate four-position north seeking during a cold start.
@@ -145,8 +145,8 @@ def simulate_startup_positions(
         |L| <= 89°.
     azimuth_deg : float
         True ψ in degrees.
-    position_s, turn_s, start_delay_s, fs_hz : float
     rng : Generator, int or None
+    position_s, turn_s, start_delay_s, fs_hz : float
     **startup
         ``ambient_degC``, ``coefficients``, ``ar``, ``white_sigma_deg_h``, ... of
         :func:`~fogts.startup.simulator.simulate_startup`.
