@@ -1,7 +1,9 @@
 """The ``fogts`` command line.  ``fogts = "fogts.cli:main"`` is the console script.
 
-The typer app, the shared options and the error guard are in :mod:`fogts.cli._common`;
-each command is a thin module of its own (parse options, call the library, print).
+The typer app, the shared options and the error guard are in :mod:`fogts.cli._common`
+(``--json`` and ``--overwrite`` in :mod:`fogts.cli._outputs`, ``--axis`` in
+:mod:`fogts.cli._axes`); each command is a thin module of its own (parse options, call the
+library, print).
 """
 
 from __future__ import annotations

@@ -1,5 +1,7 @@
-"""``--axis`` of the one-axis commands (``select``, ``compensate``, ``filter``): a name, an
-index or ``all``, the line that says which axis was used, and the per-axis names of the
+"""``--axis``, declared once: :data:`AxisOpt` for the one-axis commands (``select``,
+``compensate``, ``filter``: a name, an index or ``all``, default the first axis) and
+:data:`EveryAxisOpt` for those that analyse every axis by default (``allan``, ``davar``); for
+the one-axis commands, the line that says which axis was used, and the per-axis names of the
 figures and models written when several axes are analysed.
 
 Tables (``--output``, ``--predict``) stay one file: with several axes they gain an ``axis``
@@ -10,7 +12,9 @@ from __future__ import annotations
 
 import re
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Annotated
+
+import typer
 
 from fogts.cli import _common as common
 
@@ -23,6 +27,8 @@ if TYPE_CHECKING:
 AXIS_HELP = ("Axis to analyse: a name, an index (negative from the end) or 'all' (each axis "
              "in turn; figures and saved models get the axis name in their file names, "
              "tables an 'axis' column). Default: the first axis, named in the output.")
+AxisOpt = Annotated[str | None, typer.Option("--axis", help=AXIS_HELP)]
+EveryAxisOpt = Annotated[str | None, typer.Option("--axis", help="Analyse one axis (name or index) (default: every axis).")]
 
 
 def axis_picks(run: Run, axis: str | None) -> list[int]:

@@ -34,6 +34,9 @@ from typer.core import TyperGroup
 from fogts import choices
 from fogts._version import __version__
 from fogts.cli._arguments import cli_payload, option_keywords, option_names, stray_arguments
+from fogts.cli._outputs import NO_OUTPUTS as NO_OUTPUTS
+from fogts.cli._outputs import Outputs as Outputs
+from fogts.cli._outputs import writes_outputs as writes_outputs
 from fogts.cli._rich_table import rich_table as rich_table  # the commands' common.rich_table
 from fogts.pipeline import ReadSettings
 
@@ -106,8 +109,6 @@ UnitsOpt = Annotated[str | None, typer.Option("--units", rich_help_panel="Input"
 TopicOpt = Annotated[str | None, typer.Option("--topic", rich_help_panel="Input", help="ROS bags: the sensor_msgs/Imu topic (needed when the bag has several).")]
 InputOpt = Annotated[choices.InputKind | None, typer.Option("--input", rich_help_panel="Input", help="What the rate columns hold: rate, increment (angle per sample, e.g. dtheta) or angle (integrated angle); angle and increments feed the Allan estimators as phase, without differencing. Default: from the names (dtheta, delta_angle, angle_deg, theta), else rate.")]
 AccelUnitsOpt = Annotated[str | None, typer.Option("--accel-units", rich_help_panel="Input", help="Unit of the accelerometer columns (acc*, ax.., linear_acceleration_*): m/s^2, g, mg, ug (default: from the names such as acc_x_mps2, else from the gravity magnitude, else m/s^2).")]
-JsonOpt = Annotated[str | None, typer.Option("--json", help="Write JSON to PATH, or '-' for stdout.")]
-OverwriteOpt = Annotated[bool, typer.Option("--overwrite", help="Replace output files that already exist (a figure or an HTML report is replaced anyway; any other existing file is refused without it, so that a mistyped name never turns another recording into an output).")]
 ExportOpt = Annotated[tuple[str, Path] | None, typer.Option("--export", metavar="FORMAT PATH", help="Write the filter-ready noise parameters (N and K in SI; a term not measured as its 95 % upper limit, marked): kalibr (imu.yaml), imu_utils (OpenCV YAML) or json.")]
 SpecOpt = Annotated[Path | None, typer.Option("--spec", help="Datasheet limits (YAML: 'units: deg' or 'si', then any of N, B, K, e.g. 'N: 0.15'): PASS when a term's one-sided 95 % upper bound is within the limit, FAIL when its 95 % lower bound is above it, else INCONCLUSIVE (a term the data only bound never FAILs).")]
 OutputUnitsOpt = Annotated[choices.OutputUnits, typer.Option("--output-units", help="Units of the printed tables: deg (IEEE 952: deg/sqrt(h), deg/h, deg/h^1.5; the deviations in the input unit) or si (rad/s/sqrt(Hz), rad/s, rad/s^2/sqrt(Hz); deviations in rad/s). Accelerometer axes: m/s/sqrt(h), ug, m/s/h^1.5, or in si m/s^2/sqrt(Hz), m/s^2, m/s^3/sqrt(Hz). The JSON has both (noise, noise_si).")]

@@ -10,6 +10,7 @@ import typer
 
 from fogts import choices
 from fogts.cli import _common as common
+from fogts.cli._axes import EveryAxisOpt
 from fogts.cli.progress import shows_progress
 from fogts.pipeline import ReadSettings
 
@@ -58,6 +59,7 @@ def allan_tables(res: AllanResult, model: NoiseModel | None, check: dict[str, An
 # Over 80 lines by its 24 option declarations and docstring; the analysis is fogts.pipeline's.
 @common.app.command("allan")
 @shows_progress()
+@common.writes_outputs()
 @common.reads_input()
 @common.pauses_cycle_collection
 def allan_cmd(
@@ -70,11 +72,10 @@ def allan_cmd(
     fit_tau_min: Annotated[float | None, typer.Option("--fit-tau-min", help="Fit the noise terms only from this tau (s) on, e.g. to leave out a sampling filter's effect at the shortest taus.")] = None,
     fit_tau_max: Annotated[float | None, typer.Option("--fit-tau-max", help="Fit the noise terms only up to this tau (s).")] = None,
     keep_all_terms: Annotated[bool, typer.Option("--keep-all-terms", help="Keep every --terms term in the fit even when the data do not support it (default: drop terms that are not significant at 5 % and visible at fewer than two taus).")] = False,
-    axis: Annotated[str | None, typer.Option("--axis", help="Analyse one axis (name or index) (default: every axis).")] = None,
+    axis: EveryAxisOpt = None,
     outliers: Annotated[float | None, typer.Option("--outliers", help="Replace samples beyond this many robust sigmas first (default: raw data).")] = None,
     detrend: Annotated[int | None, typer.Option("--detrend", help="Remove a polynomial trend of this order first (default: raw data).")] = None,
     decimate: Annotated[int | None, typer.Option("--decimate", help="Block-average K samples first (default: raw data).")] = None,
-    json_out: common.JsonOpt = None,
     csv_out: Annotated[Path | None, typer.Option("--csv", help="Write the points (and the fitted curve) to PATH (.csv, .tsv, .parquet).")] = None,
     plot: Annotated[Path | None, typer.Option("--plot", help="Log-log figure with CIs, the fit, its term lines, the fit range shaded and the residuals (data - fit)/CI half-width underneath (several inputs: an overlay): .png, .svg or .pdf.")] = None,
     check_allantools: Annotated[bool, typer.Option("--check-allantools", help="Recompute with allantools on the same data and taus; print the largest relative difference.")] = False,
@@ -82,7 +83,7 @@ def allan_cmd(
     spec: common.SpecOpt = None,
     export: common.ExportOpt = None,
     bias_correction: Annotated[bool, typer.Option("--bias-correction", help="--kind totdev: divide TOTVAR by its bias at flicker- and random-walk-FM taus (Howe 1999), as Stable32 does.")] = False,
-    overwrite: common.OverwriteOpt = False,
+    out: common.Outputs = common.NO_OUTPUTS,
     read: ReadSettings = common.DEFAULT_READ,
 ) -> None:
     """Allan deviation with confidence intervals, the IEEE-952 noise terms (Q, N, B, K, R)
@@ -111,7 +112,7 @@ def allan_cmd(
     with common.guard({"tau_min": "--fit-tau-min", "tau_max": "--fit-tau-max",
                        "fit_tau_min": "--fit-tau-min", "fit_tau_max": "--fit-tau-max",
                        "method": "--method"},
-                      overwrite=overwrite, outputs={"--json": json_out, "--csv": csv_out, "--plot": plot,
+                      overwrite=out.overwrite, outputs={"--json": out.json, "--csv": csv_out, "--plot": plot,
                                "--export": export_path},
                       inputs={"FILES": files, "--spec": [spec] if spec else []},
                       first=[lambda: _export_format(export, files)]):
@@ -156,7 +157,7 @@ def allan_cmd(
         payload["summary"] = rows
         if limits is not None:
             payload["spec"] = limits.to_dict()
-        common.emit_json(payload, json_out)
+        common.emit_json(payload, out.json)
         if csv_out is not None:
             _allan_csv(analyses, csv_out)
         if plot is not None:
@@ -165,23 +166,23 @@ def allan_cmd(
             from fogts.io.writer import write_text_atomic
 
             write_text_atomic(export_path, export_text)
-        common.print_out(common.rich_table(summary_table(rows, limits)), quiet_json=json_out)
+        common.print_out(common.rich_table(summary_table(rows, limits)), quiet_json=out.json)
         for analysis in analyses:
             run = analysis.run
             common.say([f"{run.source}: {run.n} samples at {run.fs_hz:.6g} Hz "
                         f"({run.duration_s:.6g} s{analysis.quality.grid_note(run.n)}), "
-                        f"rate in {run.units}"], json_out)
+                        f"rate in {run.units}"], out.json)
             for ax in analysis.axes:
                 if ax.notes:
                     common.say([f"{ax.result.axis}: {common.option_keywords(line)}"
-                                for line in ax.notes], json_out)
-                allan_tables(ax.result, ax.model, ax.check, json_out, output_units)
+                                for line in ax.notes], out.json)
+                allan_tables(ax.result, ax.model, ax.check, out.json, output_units)
                 if ax.comparison is not None:
                     common.print_out(common.rich_table(ax.comparison.table(output_units)),
-                                     quiet_json=json_out)
-                curve_table(ax.result, ax.readout, json_out, output_units)
+                                     quiet_json=out.json)
+                curve_table(ax.result, ax.readout, out.json, output_units)
                 if ax.fit_check is not None:
-                    common.say([f"fit check: {ax.fit_check.verdict}"], json_out)
+                    common.say([f"fit check: {ax.fit_check.verdict}"], out.json)
     if any(r[f"{t}_spec"] == "FAIL" for r in rows for t in SUMMARY_TERMS):
         raise typer.Exit(common.ExitCode.NEGATIVE)
 

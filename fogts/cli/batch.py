@@ -22,6 +22,7 @@ if TYPE_CHECKING:
 
 @common.app.command("batch")
 @shows_progress(library=False)
+@common.writes_outputs(json=False)
 @common.reads_input()
 def batch_cmd(
     patterns: Annotated[list[str], typer.Argument(help="Input files or glob patterns (quote them to let fogts expand '**').")],
@@ -38,7 +39,7 @@ def batch_cmd(
     no_select: Annotated[bool, typer.Option("--no-select", help="Skip the ARMA selection (info and Allan only).")] = False,
     output_units: Annotated[choices.OutputUnits, typer.Option("--output-units", help="Units of the noise terms in the summary: deg (deg/sqrt(h), deg/h, deg/h^1.5) or si (rad/s/sqrt(Hz), rad/s, rad/s^2/sqrt(Hz)); the columns N_unit, B_unit, K_unit name them.")] = "deg",
     spec: common.SpecOpt = None,
-    overwrite: common.OverwriteOpt = False,
+    out: common.Outputs = common.NO_OUTPUTS,
     read: ReadSettings = common.DEFAULT_READ,
 ) -> None:
     """Run info, allan and select on many files; write one summary row per run and axis.
@@ -75,7 +76,7 @@ def batch_cmd(
         with bar:
             result = run_batch(patterns, summary_path=output, json_dir=json_dir,
                                workers=workers, scheduler=scheduler, resume=resume,
-                               overwrite=overwrite,
+                               overwrite=out.overwrite,
                                options=options, progress=on_progress)
         common.console.print(result.summary(), markup=False, soft_wrap=True)
         for line in _batch_quality_lines(result.rows):

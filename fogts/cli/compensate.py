@@ -9,7 +9,7 @@ import typer
 
 from fogts import choices
 from fogts.cli import _common as common
-from fogts.cli._axes import AXIS_HELP, axis_lines, axis_path, axis_picks, with_axis_column
+from fogts.cli._axes import AxisOpt, axis_lines, axis_path, axis_picks, with_axis_column
 from fogts.pipeline import ReadSettings
 
 if TYPE_CHECKING:
@@ -75,6 +75,7 @@ def _check_model_paths(save_model: Path | None, run: Run, picks: list[int], file
 
 
 @common.app.command("compensate")
+@common.writes_outputs()
 @common.reads_input(gaps=False)
 def compensate_cmd(
     file: common.FileArg,
@@ -87,10 +88,9 @@ def compensate_cmd(
     average: Annotated[float, typer.Option("--average", help="Averaging time of the bias stability in seconds (GJB/IEEE: 10 s).")] = 10.0,
     dt_smoothing: Annotated[float, typer.Option("--dt-smoothing", help="Window in seconds of the temperature-rate (dT/dt) estimate.")] = 60.0,
     apply: Annotated[choices.ApplyRule, typer.Option("--apply", help="Subtract the fitted model only when the likelihood-ratio test finds a significant temperature dependence (significant), or in any case (always). A --model is always applied.")] = "significant",
-    axis: Annotated[str | None, typer.Option("--axis", help=AXIS_HELP)] = None,
-    json_out: common.JsonOpt = None,
+    axis: AxisOpt = None,
     plot: Annotated[Path | None, typer.Option("--plot", help="Raw rate, trend, compensated rate and temperature: .png, .svg or .pdf.")] = None,
-    overwrite: common.OverwriteOpt = False,
+    out: common.Outputs = common.NO_OUTPUTS,
     read: ReadSettings = common.DEFAULT_READ,
 ) -> None:
     """Fit the start-up temperature-drift model D = aT·dT + bT² + cT + d·dT² + e·dT + f and
@@ -102,7 +102,7 @@ def compensate_cmd(
 
     with common.guard({"average_s": "--average", "dT_smoothing_s": "--dt-smoothing",
                        "arma_model": "--arma-model"},
-                      overwrite=overwrite, outputs={"--output": output, "--save-model": save_model, "--json": json_out,
+                      overwrite=out.overwrite, outputs={"--output": output, "--save-model": save_model, "--json": out.json,
                          "--plot": plot},
                 inputs={"FILE": [file], "--model": [model] if model else [],
                         "--calibration": calibration or []}):
@@ -110,7 +110,7 @@ def compensate_cmd(
         run, quality = common.read_input(file, read)
         picks = axis_picks(run, axis)
         many = len(picks) > 1
-        _check_model_paths(save_model, run, picks, file, overwrite=overwrite)
+        _check_model_paths(save_model, run, picks, file, overwrite=out.overwrite)
         given = common.load_thermal_model(model) if model is not None else None
         extra = [common.read_input(c, read)[0]
                  for c in (calibration or [])]
@@ -140,7 +140,7 @@ def compensate_cmd(
         payload: dict[str, Any] = ({"input": str(file), **blocks[0]} if not many
                                    else {"input": str(file), "axes": blocks})
         payload["data_quality"] = quality.to_dict()
-        common.emit_json(_without_smoothing_advice(payload), json_out)
+        common.emit_json(_without_smoothing_advice(payload), out.json)
         if plot is not None:
             from fogts.report.plots import plot_compensation
 
@@ -152,4 +152,4 @@ def compensate_cmd(
         if output is not None:
             lines.append(f"wrote {output} ({run.n * len(results)} rows)")
         lines += [_saved_line(path, r) for path, r in zip(saved, results, strict=False)]
-        common.say(_without_smoothing_advice(lines), json_out)
+        common.say(_without_smoothing_advice(lines), out.json)

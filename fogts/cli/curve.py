@@ -16,6 +16,7 @@ OptionalKindOpt = Annotated[choices.Kind | None, typer.Option("--kind", help="Th
 
 
 @common.app.command("curve")
+@common.writes_outputs()
 def curve_cmd(
     file: Annotated[Path, typer.Argument(help="Allan curve: CSV/TSV/whitespace text with a tau column and a deviation (adev, oadev, dev, sigma, ...) or variance (avar, ...) column; SMAC-Group/avar *_av.csv; Stable32 text output.")],
     units: Annotated[str | None, typer.Option("--units", help="Unit of the deviation: deg/h, deg/s, rad/s, arcsec/s (or an accelerometer unit). Default: from the column name (adev_deg_h), else deg/h with a warning.")] = None,
@@ -29,10 +30,9 @@ def curve_cmd(
     fit_tau_max: Annotated[float | None, typer.Option("--fit-tau-max", help="Fit only up to this tau (s).")] = None,
     keep_all_terms: Annotated[bool, typer.Option("--keep-all-terms", help="Keep every --terms term even when the data do not support it.")] = False,
     output_units: common.OutputUnitsOpt = "deg",
-    json_out: common.JsonOpt = None,
     plot: Annotated[Path | None, typer.Option("--plot", help="Log-log figure of the curve with the fit and its term lines: .png, .svg or .pdf.")] = None,
     export: common.ExportOpt = None,
-    overwrite: common.OverwriteOpt = False,
+    out: common.Outputs = common.NO_OUTPUTS,
 ) -> None:
     """Fit the IEEE-952 noise terms (Q, N, B, K, R) to a published Allan-deviation curve,
     with standard errors, and read the curve (minimum, regions, slopes).
@@ -57,7 +57,7 @@ def curve_cmd(
     export_path = export[1] if export is not None else None
     with common.guard({"tau_min": "--fit-tau-min", "tau_max": "--fit-tau-max",
                        "fs_hz": "--fs", "n_samples": "--n-samples"},
-                      overwrite=overwrite, outputs={"--json": json_out, "--plot": plot, "--export": export_path},
+                      overwrite=out.overwrite, outputs={"--json": out.json, "--plot": plot, "--export": export_path},
                       inputs={"FILE": [file]}, first=[lambda: common.export_format(export)]):
         export_format = common.export_format(export)
         common.check_output_names(plot=plot)
@@ -86,14 +86,14 @@ def curve_cmd(
         payload: dict[str, Any] = {"input": read.provenance.to_dict(), "axes": blocks}
         if len(blocks) == 1:
             payload = {**blocks[0], **payload}
-        common.emit_json(payload, json_out)
+        common.emit_json(payload, out.json)
         if plot is not None:
             common.save_figure(axes_figure(axes), plot)
         if export_text is not None and export_path is not None:
             from fogts.io.writer import write_text_atomic
 
             write_text_atomic(export_path, export_text)
-        _print(read.provenance.describe(), axes, json_out, output_units)
+        _print(read.provenance.describe(), axes, out.json, output_units)
 
 
 def _print(read_lines: list[str], axes: list[Any], json_out: str | None,

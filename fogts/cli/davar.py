@@ -9,12 +9,14 @@ import typer
 
 from fogts import choices
 from fogts.cli import _common as common
+from fogts.cli._axes import EveryAxisOpt
 from fogts.cli.progress import shows_progress
 from fogts.pipeline import ReadSettings
 
 
 @common.app.command("davar")
 @shows_progress()
+@common.writes_outputs()
 @common.reads_input()
 def davar_cmd(
     file: common.FileArg,
@@ -22,12 +24,11 @@ def davar_cmd(
     step: Annotated[str, typer.Option("--step", help="Step between windows: 20s, 1min, ...")] = "20s",
     kind: Annotated[choices.Kind, typer.Option("--kind", help="Estimator per window (oadev, mdev and ohdev are the fast ones).")] = "oadev",
     taus: Annotated[str, typer.Option("--taus", help="Tau grid within the window: octave, decade, dense, all, or taus in s separated by commas.")] = "octave",
-    axis: Annotated[str | None, typer.Option("--axis", help="Analyse one axis (name or index) (default: every axis).")] = None,
+    axis: EveryAxisOpt = None,
     confidence: Annotated[float, typer.Option("--confidence", help="Confidence level of each window's interval.")] = 0.683,
     min_change: Annotated[float, typer.Option("--min-change", help="Smallest relative change of the deviation called non-stationary (0.1 = 10 %); a significant smaller change is reported as stationary within it.")] = 0.10,
-    json_out: common.JsonOpt = None,
     plot: Annotated[Path | None, typer.Option("--plot", help="Heat map of log deviation over (time, tau): .png, .svg or .pdf.")] = None,
-    overwrite: common.OverwriteOpt = False,
+    out: common.Outputs = common.NO_OUTPUTS,
     read: ReadSettings = common.DEFAULT_READ,
 ) -> None:
     """Dynamic Allan deviation (DAVAR, Galleani & Tavella 2009): the deviation in a
@@ -35,7 +36,7 @@ def davar_cmd(
     from fogts.allan.dynamic import dynamic_allan
     from fogts.units import parse_duration
 
-    with common.guard({"min_change": "--min-change", "window_s": "--window", "step_s": "--step"}, overwrite=overwrite, outputs={"--json": json_out, "--plot": plot},
+    with common.guard({"min_change": "--min-change", "window_s": "--window", "step_s": "--step"}, overwrite=out.overwrite, outputs={"--json": out.json, "--plot": plot},
                       inputs={"FILE": [file]}):
         common.check_output_names(plot=plot)  # before any output is written
         window_s = parse_duration(window, "--window")
@@ -47,10 +48,10 @@ def davar_cmd(
                                min_change=min_change, glitches=quality,
                                taus=tau_spec, confidence=confidence, axis=pick)
         payload = {"input": str(file), **result.to_dict(), "data_quality": quality.to_dict()}
-        common.emit_json(payload, json_out)
+        common.emit_json(payload, out.json)
         if plot is not None:
             from fogts.report.plots import plot_dynamic_allan
 
             common.save_figure(plot_dynamic_allan(result), plot)
-        target = common.err_console if json_out == "-" else common.console
+        target = common.err_console if out.json == "-" else common.console
         target.print(result.summary(), markup=False, soft_wrap=True)

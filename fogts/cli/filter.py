@@ -11,7 +11,7 @@ import typer
 
 from fogts import choices
 from fogts.cli import _common as common
-from fogts.cli._axes import AXIS_HELP, axis_lines, axis_path, axis_picks, with_axis_column
+from fogts.cli._axes import AxisOpt, axis_lines, axis_path, axis_picks, with_axis_column
 from fogts.pipeline import ReadSettings
 
 if TYPE_CHECKING:
@@ -24,6 +24,7 @@ if TYPE_CHECKING:
 
 
 @common.app.command("filter")
+@common.writes_outputs()
 @common.reads_input()
 def filter_cmd(
     file: common.FileArg,
@@ -36,10 +37,9 @@ def filter_cmd(
     design: Annotated[choices.FilterDesign, typer.Option("--design", help="--method iir: the IIR design.")] = "butter",
     window: Annotated[float | None, typer.Option("--window", help="--method moving-average: window in seconds.")] = None,
     compare_allan: Annotated[bool, typer.Option("--compare-allan", help="Allan deviation and noise terms before and after filtering, side by side (with --plot: the overlay figure).")] = False,
-    axis: Annotated[str | None, typer.Option("--axis", help=AXIS_HELP)] = None,
-    json_out: common.JsonOpt = None,
+    axis: AxisOpt = None,
     plot: Annotated[Path | None, typer.Option("--plot", help="Figure (.png, .svg, .pdf): observed/filtered/smoothed for kalman; the before/after Allan overlay with --compare-allan.")] = None,
-    overwrite: common.OverwriteOpt = False,
+    out: common.Outputs = common.NO_OUTPUTS,
     read: ReadSettings = common.DEFAULT_READ,
 ) -> None:
     """Filter a gyro record: Kalman filter with an ARMA drift model, or a
@@ -49,7 +49,7 @@ def filter_cmd(
     each figure the axis name in its file name, and the JSON is {"input", "method", "units",
     "axes": [one block per axis], "output"}.
     """
-    with common.guard(_FILTER_OPTIONS, overwrite=overwrite, outputs={"--output": output, "--json": json_out, "--plot": plot},
+    with common.guard(_FILTER_OPTIONS, overwrite=out.overwrite, outputs={"--output": output, "--json": out.json, "--plot": plot},
                 inputs={"FILE": [file]}):
         common.check_output_names(plot=plot, output=output)  # before any output is written
         _check_method_options(method, {
@@ -75,7 +75,7 @@ def filter_cmd(
         head = {"input": str(file), "method": method, "units": run.units}
         blocks = [{"axis": run.axes[i], **d.payload} for i, d in zip(picks, done, strict=True)]
         common.emit_json({**head, **blocks[0], "output": str(output)} if not many else
-                         {**head, "axes": blocks, "output": str(output)}, json_out,
+                         {**head, "axes": blocks, "output": str(output)}, out.json,
                          _FILTER_OPTIONS)
         if plot is not None:
             for i, d in zip(picks, done, strict=True):
@@ -85,7 +85,7 @@ def filter_cmd(
         for i, d in zip(picks, done, strict=True):
             lines += ([f"{run.axes[i]}:"] if many else []) + d.lines
         lines.append(f"wrote {output} ({run.n * len(done)} rows)")
-        common.say([common.option_keywords(ln, _FILTER_OPTIONS) for ln in lines], json_out)
+        common.say([common.option_keywords(ln, _FILTER_OPTIONS) for ln in lines], out.json)
 
 
 @dataclass(frozen=True)

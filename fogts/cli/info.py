@@ -20,20 +20,20 @@ def _info_payload(run: Run) -> dict[str, Any]:
 
 
 @common.app.command("info")
+@common.writes_outputs()
 @common.reads_input(gaps=False)
 def info_cmd(
     file: common.FileArg,
-    json_out: common.JsonOpt = None,
-    overwrite: common.OverwriteOpt = False,
+    out: common.Outputs = common.NO_OUTPUTS,
     read: ReadSettings = common.DEFAULT_READ,
 ) -> None:
     """Show what was read: columns, sample rate, duration, gaps, jitter, glitches and
     statistics."""
-    with common.guard(overwrite=overwrite, outputs={"--json": json_out}, inputs={"FILE": [file]}):
+    with common.guard(overwrite=out.overwrite, outputs={"--json": out.json}, inputs={"FILE": [file]}):
         run, quality = common.read_input(file, dataclasses.replace(read, gaps="ignore"))
         payload = {**_info_payload(run), "data_quality": quality.to_dict()}
-        common.emit_json(payload, json_out)
-        if json_out != "-":
+        common.emit_json(payload, out.json)
+        if out.json != "-":
             from fogts.report.text import info_text
 
             common.console.print(info_text(payload, run.accel_units_source), markup=False,

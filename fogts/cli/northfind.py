@@ -93,6 +93,7 @@ def _check_mode_options(simulating: bool, *, plot: bool, given: dict[str, bool])
 
 
 @common.app.command("northfind")
+@common.writes_outputs()
 @common.reads_input(nan=False, gaps=False)
 def northfind_cmd(
     files: Annotated[list[Path] | None, typer.Argument(help="One CSV with position_deg and rate columns, or four files for 0/90/180/270 degrees (omit with --simulate).")] = None,
@@ -103,9 +104,8 @@ def northfind_cmd(
     bias_sigma: Annotated[float, typer.Option("--bias-sigma", help="1-sigma position-to-position bias variation in deg/h for the error budget.")] = 0.0,
     simulate: Annotated[int | None, typer.Option("--simulate", help="Simulation mode: repeat cold-start north seeking N times, with and without thermal compensation.")] = None,
     seed: Annotated[int, typer.Option("--seed", help="Random seed of the simulation mode.")] = 4,
-    json_out: common.JsonOpt = None,
     plot: Annotated[Path | None, typer.Option("--plot", help="Simulation mode: azimuth error per trial (.png, .svg, .pdf).")] = None,
-    overwrite: common.OverwriteOpt = False,
+    out: common.Outputs = common.NO_OUTPUTS,
     read: ReadSettings = common.DEFAULT_READ,
 ) -> None:
     """Four-position north seeking: azimuth of the input axis at position 0,
@@ -118,7 +118,7 @@ def northfind_cmd(
     from fogts.errors import DataError
     from fogts.startup import four_position, simulate_north_seeking
 
-    with common.guard(_NORTHFIND_OPTIONS, overwrite=overwrite, outputs={"--json": json_out, "--plot": plot},
+    with common.guard(_NORTHFIND_OPTIONS, overwrite=out.overwrite, outputs={"--json": out.json, "--plot": plot},
                 inputs={"FILES": files or [],
                         "--thermal-model": [thermal_model] if thermal_model else []}):
         common.check_output_names(plot=plot)  # before any output is written
@@ -143,12 +143,12 @@ def northfind_cmd(
             study = simulate_north_seeking(simulate, latitude_deg=latitude, model=thermal,
                                            rng=seed)
             payload = {"mode": "simulate", "seed": seed, **study.to_dict(), "notes": notes}
-            common.emit_json(payload, json_out)
+            common.emit_json(payload, out.json)
             if plot is not None:
                 from fogts.report.plots import plot_north_seeking
 
                 common.save_figure(plot_north_seeking(study), plot)
-            common.say([study.summary(), *notes], json_out)
+            common.say([study.summary(), *notes], out.json)
             return
         if not files:
             raise DataError("give one positions file or four files, or --simulate N")
@@ -161,8 +161,8 @@ def northfind_cmd(
         payload = {"input": [str(f) for f in files],
                    "thermal_model": None if thermal_model is None else str(thermal_model),
                    **result.to_dict()}
-        common.emit_json(payload, json_out)
-        common.say([result.summary()], json_out)
+        common.emit_json(payload, out.json)
+        common.say([result.summary()], out.json)
         if result.scale_warning is not None:
             common.warn(common.option_names(result.scale_warning, _CHECK_OPTIONS))
     if result.exit_code:  # the Earth-rate check failed or the azimuth is not determined

@@ -17,6 +17,7 @@ if TYPE_CHECKING:
 
 @common.app.command("report")
 @shows_progress()
+@common.writes_outputs(json=False)
 @common.reads_input()
 def report_cmd(
     file: common.FileArg,
@@ -32,7 +33,7 @@ def report_cmd(
     output_units: common.OutputUnitsOpt = "deg",
     spec: common.SpecOpt = None,
     method: common.MethodOpt = "wls",
-    overwrite: common.OverwriteOpt = False,
+    out: common.Outputs = common.NO_OUTPUTS,
     read: ReadSettings = common.DEFAULT_READ,
 ) -> None:
     """Write one self-contained HTML report of a recording.
@@ -43,7 +44,7 @@ def report_cmd(
     """
     from fogts.report.html import build_report, write_report
 
-    with common.guard({"davar_window_s": "--davar-window"}, overwrite=overwrite, outputs={"--output": output},
+    with common.guard({"davar_window_s": "--davar-window"}, overwrite=out.overwrite, outputs={"--output": output},
                       inputs={"FILE": [file], "--spec": [spec] if spec else []}):
         if not output.name.lower().endswith((".html", ".htm")):
             from fogts.errors import DataError

@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING, Annotated, Any
 import typer
 
 from fogts.cli import _common as common
-from fogts.cli._axes import AXIS_HELP, axis_lines, axis_path, axis_picks, with_axis_column
+from fogts.cli._axes import AxisOpt, axis_lines, axis_path, axis_picks, with_axis_column
 from fogts.cli.progress import shows_progress
 from fogts.pipeline import ReadSettings
 
@@ -42,19 +42,19 @@ def _select_params(c: Candidate, units: str | None) -> list[str]:
 
 @common.app.command("select")
 @shows_progress()
+@common.writes_outputs()
 @common.reads_input()
 def select_cmd(
     file: common.FileArg,
-    axis: Annotated[str | None, typer.Option("--axis", help=AXIS_HELP)] = None,
+    axis: AxisOpt = None,
     outliers: Annotated[float | None, typer.Option("--outliers", help="Replace samples beyond this many robust sigmas first.")] = None,
     detrend: Annotated[int | None, typer.Option("--detrend", help="Remove a polynomial trend of this order; 0 removes the mean only (default: remove the mean).")] = None,
     decimate: Annotated[int | None, typer.Option("--decimate", help="Block-average K samples first (e.g. 100 Hz -> 1 Hz with K=100).")] = None,
     candidates: Annotated[str | None, typer.Option("--candidates", help="Models to compare, e.g. 'AR(1),AR(2),ARMA(1,1)' (default: AR(1),AR(2),AR(3),ARMA(1,1),ARMA(2,1)).")] = None,
     criterion: common.CriterionOpt = "aic",
-    json_out: common.JsonOpt = None,
     plot: Annotated[Path | None, typer.Option("--plot", help="Diagnostics figure (data ACF/PACF, residual ACF, Q-Q, prediction): .png, .svg or .pdf.")] = None,
     predict: Annotated[Path | None, typer.Option("--predict", help="Write the one-step prediction as CSV (time, observed, predicted, residual); .csv, .csv.gz, .tsv or .parquet.")] = None,
-    overwrite: common.OverwriteOpt = False,
+    out: common.Outputs = common.NO_OUTPUTS,
     read: ReadSettings = common.DEFAULT_READ,
 ) -> None:
     """Select the ARMA model of the drift: fit AR(1), AR(2), AR(3), ARMA(1,1) and ARMA(2,1), check that their residuals are white, rank them and predict one step ahead.
@@ -67,7 +67,7 @@ def select_cmd(
     from fogts.arma.select import parse_candidates
     from fogts.pipeline import SelectSettings, analyse_selection
 
-    with common.guard(overwrite=overwrite, outputs={"--json": json_out, "--plot": plot, "--predict": predict},
+    with common.guard(overwrite=out.overwrite, outputs={"--json": out.json, "--plot": plot, "--predict": predict},
                 inputs={"FILE": [file]}):
         orders = parse_candidates(candidates)
         common.check_output_names(plot=plot, predict=predict)
@@ -81,8 +81,8 @@ def select_cmd(
                 analyses.append(analyse_selection(run, quality, i, settings, file=str(file)))
         many = len(analyses) > 1
         common.emit_json(analyses[0].to_dict() if not many
-                         else {"axes": [a.to_dict() for a in analyses]}, json_out)
-        written = [path for path in (json_out,) if path not in (None, "-")]
+                         else {"axes": [a.to_dict() for a in analyses]}, out.json)
+        written = [path for path in (out.json,) if path not in (None, "-")]
         if plot is not None:
             from fogts.report.plots import plot_selection
 
@@ -91,13 +91,13 @@ def select_cmd(
                 common.save_figure(plot_selection(a.selection), written[-1])
         fitted = _write_prediction(analyses, predict) if predict is not None else False
         if run.n_axes > 1:
-            common.say(axis_lines(run, picks, axis), json_out)
+            common.say(axis_lines(run, picks, axis), out.json)
         for a in analyses:
-            _print_selection(a, json_out)
+            _print_selection(a, out.json)
         common.say([f"wrote     {path}" for path in written]
              + ([f"wrote     {predict}"] if fitted else [])
              + ([f"not written {predict}: no candidate could be fitted"]
-                if predict is not None and not fitted else []), json_out)
+                if predict is not None and not fitted else []), out.json)
     raise typer.Exit(max(a.selection.exit_code for a in analyses))
 
 

@@ -73,6 +73,7 @@ simulate_app = typer.Typer(
 common.app.add_typer(simulate_app, name="simulate")
 
 OutputOpt = Annotated[Path, typer.Option("--output", "-o", help="Output file: .csv, .csv.gz, .tsv, .txt or .parquet. The true parameters go to OUTPUT.json beside it. Existing files are replaced only with --overwrite.")]
+SampleRateOpt = Annotated[float, typer.Option("--fs", help="Sample rate in Hz.")]
 DurationOpt = Annotated[str | None, typer.Option("--duration", help="Record length: 3h, 90min, 600s, 1d, 1h30min or seconds (default 1h).")]
 BiasOpt = Annotated[float, typer.Option("--bias", help="Constant rate offset in deg/h.")]
 ThermalOpt = Annotated[str | None, typer.Option("--thermal", help="Temperature-driven drift D = a T dT + b T^2 + c T + d dT^2 + e dT + f, as `T*dT=a,T2=b,T=c,dT2=d,dT=e,1=f` (deg/h; dT in degC/s); with 'noise' it needs --temperature-profile; 'startup' default: `T*dT=0.4,T2=0.0015,T=-0.12,dT2=120,dT=25,1=2`.")]
@@ -83,9 +84,10 @@ DecimalsOpt = Annotated[int | None, typer.Option("--decimals", help="Round the r
 
 # Over 80 lines by its 20 option declarations and the sidecar record written beside the output.
 @simulate_app.command("noise")
+@common.writes_outputs(json=False)
 def simulate_noise_cmd(
     output: OutputOpt,
-    fs: Annotated[float, typer.Option("--fs", help="Sample rate in Hz.")] = 100.0,
+    fs: SampleRateOpt = 100.0,
     duration: DurationOpt = None,
     q_term: Annotated[float, typer.Option("--Q", help="Angle quantization Q in arcsec.")] = 0.0,
     n_term: Annotated[float, typer.Option("--N", help="Angle random walk N in deg/sqrt(h).")] = 0.0,
@@ -104,7 +106,7 @@ def simulate_noise_cmd(
     seed: SeedOpt = None,
     units: OutUnitsOpt = "deg/h",
     decimals: DecimalsOpt = None,
-    overwrite: common.OverwriteOpt = False,
+    out: common.Outputs = common.NO_OUTPUTS,
 ) -> None:
     """Simulate a static gyro record from IEEE-952 noise coefficients (IEEE Std 952-1997,
     Annex C, Table C.1).
@@ -123,7 +125,7 @@ def simulate_noise_cmd(
     from fogts.units import parse_duration
 
     sidecar_path = Path(f"{output}.json")  # never raises, whatever the user typed
-    with common.guard(_SIMULATE_OPTIONS, overwrite=overwrite, outputs={"--output": output,
+    with common.guard(_SIMULATE_OPTIONS, overwrite=out.overwrite, outputs={"--output": output,
                                             "--output's sidecar": sidecar_path},
                 inputs={"--from-json": [noise_json] if noise_json else []}):
         _check_simulation_output(output)
@@ -232,10 +234,11 @@ def _duration_or_zero(text: str | None, option: str, default: float) -> float:
 
 
 @simulate_app.command("startup")
+@common.writes_outputs(json=False)
 def simulate_startup_cmd(
     output: OutputOpt,
-    fs: Annotated[float, typer.Option("--fs", help="Sample rate in Hz.")] = 1.0,
     duration: DurationOpt = None,
+    fs: SampleRateOpt = 1.0,
     bias: BiasOpt = 0.0,
     arma: Annotated[str | None, typer.Option("--arma", help="ARMA drift of the rate (statsmodels signs; deg/h) (default 'ar=0.9;sigma2=0.0025').")] = None,
     thermal: ThermalOpt = None,
@@ -253,7 +256,7 @@ def simulate_startup_cmd(
     azimuth: Annotated[float | None, typer.Option("--azimuth", help="True azimuth of the input axis at position 0 in degrees, clockwise from north, for --positions.", rich_help_panel="Four-position north seeking")] = None,
     position_time: Annotated[str | None, typer.Option("--position-time", help="Time measured at each position (default 60s).", rich_help_panel="Four-position north seeking")] = None,
     turn_time: Annotated[str | None, typer.Option("--turn-time", help="Time spent turning between positions, left out of the file (default 10s).", rich_help_panel="Four-position north seeking")] = None,
-    overwrite: common.OverwriteOpt = False,
+    out: common.Outputs = common.NO_OUTPUTS,
 ) -> None:
     """Simulate a cold start: warm-up temperature, thermal drift
     (--thermal), ARMA drift and white noise; writes time, rate, temperature for
@@ -263,7 +266,7 @@ def simulate_startup_cmd(
     parameters.
     """
     sidecar_path = Path(f"{output}.json")  # never raises, whatever the user typed
-    with common.guard(_SIMULATE_OPTIONS, overwrite=overwrite, outputs={"--output": output,
+    with common.guard(_SIMULATE_OPTIONS, overwrite=out.overwrite, outputs={"--output": output,
                                             "--output's sidecar": sidecar_path}):
         _check_simulation_output(output)
         cold = {"--ambient-c": ambient_c, "--peak-heating-c-s": peak_heating_c_s,

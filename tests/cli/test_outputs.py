@@ -7,14 +7,18 @@ the output option and the file, and leaves the file byte-identical (by hash)."""
 from __future__ import annotations
 
 import hashlib
+import inspect
 import os
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
+import typer.main
 from typer.testing import CliRunner
 
 from fogts.cli import _hoist_global_flags, app, main
+from fogts.cli._outputs import NO_OUTPUTS, Outputs, writes_outputs
 from fogts.errors import DataError
 from fogts.io.paths import check_outputs
 from tests.conftest import error_output
@@ -285,3 +289,35 @@ def test_a_bad_plot_name_is_refused_before_any_output(tmp_path: Path, args: list
     assert res.exit_code == 2
     assert error_output(res.stderr) == "error: --plot must end in .png, .svg or .pdf; got 'fig.txt'"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["rec.csv"]
+
+
+def test_writes_outputs_hands_the_command_one_outputs_argument() -> None:
+    """``writes_outputs`` shows typer ``json_out`` and ``overwrite`` in place of ``out`` and
+    calls the command with their values as one :class:`Outputs`."""
+    seen: list[Outputs] = []
+
+    def command(file: str, out: Outputs = NO_OUTPUTS, last: int = 0) -> None:
+        seen.append(out)
+
+    wrapped = writes_outputs()(command)
+    assert list(inspect.signature(wrapped).parameters) == ["file", "json_out", "overwrite", "last"]
+    wrapped("x", json_out="-", overwrite=True, last=1)
+    assert seen == [Outputs(json="-", overwrite=True)]
+    no_json = writes_outputs(json=False)(command)
+    assert list(inspect.signature(no_json).parameters) == ["file", "overwrite", "last"]
+    no_json("x", overwrite=False)
+    assert seen[-1] == Outputs(json=None, overwrite=False)
+
+
+def test_every_command_takes_overwrite_and_the_json_writers_json() -> None:
+    """The shared output options reach every command's command line."""
+    group: Any = typer.main.get_command(app)
+    names: dict[str, set[str]] = {}
+    for name, cmd in group.commands.items():
+        subs = cmd.commands.items() if hasattr(cmd, "commands") else [(None, cmd)]
+        for sub, leaf in subs:
+            names[f"{name} {sub}" if sub else name] = {o for p in leaf.params for o in p.opts}
+    assert all("--overwrite" in opts for opts in names.values()), names
+    with_json = {n for n, opts in names.items() if "--json" in opts}
+    assert with_json == {"allan", "compensate", "curve", "davar", "filter", "info",
+                         "northfind", "select"}
