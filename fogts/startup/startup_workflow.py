@@ -302,7 +302,9 @@ def startup_compensation(
     temperatures) to the fit: one warm-up determines only the combinations of the six
     coefficients along its own (T, ΔT) path, and several ambients make the model hold
     between them.  A fitted model is subtracted only when the likelihood-ratio test finds
-    it significant, unless ``apply="always"``; a given one always is.
+    it significant, unless ``apply="always"``; a given one always is.  ``measurement_noise``
+    is the Kalman H of the gyro rate's EMD rest, in (rate unit)^2, or ``"estimate"``; the
+    temperature's is always estimated.
 
     Raises
     ------
@@ -436,8 +438,8 @@ def _prepare_fit_run(run: Run, axis: int | str, *, emd: bool, arma_model: str,
     temp_used = temp
     if float(np.ptp(temp)) > 0:
         try:
-            tsplit, _, _, temp_used = _emd_kalman(temp, run.fs_hz, arma_model,
-                                                  measurement_noise, "temperature")
+            tsplit, _, _, temp_used = _emd_kalman(  # a given variance is in (rate unit)^2
+                temp, run.fs_hz, arma_model, "estimate", "temperature")
         except (InsufficientDataError, ModelFitError) as exc:
             from fogts.startup.emd import separate_trend
 

@@ -98,3 +98,22 @@ def test_mpu6050_not_white_warnings_name_gyro_and_temperature() -> None:
     assert any(t.startswith("ARMA model of the temperature's EMD rest: no candidate")
                for t in texts), texts
     assert all(t.startswith("ARMA model of the ") for t in texts), texts
+
+
+def test_a_given_measurement_noise_is_the_gyros_only() -> None:
+    """``measurement_noise`` is a variance in (rate unit)^2: it sets the gyro rate's Kalman H;
+    the temperature's H is estimated whatever it is (a rate variance is meaningless in °C^2)."""
+    import dataclasses
+
+    from fogts.startup.startup_workflow import _prepare_fit_run
+
+    sim = simulate_startup(duration_s=1800, rng=4).run
+    noisy = np.asarray(sim.temperature) + np.random.default_rng(1).normal(0.0, 0.05, sim.n)
+    run = dataclasses.replace(sim, temperature=noisy)  # a temperature rest the Kalman filters
+    prep = {h: _prepare_fit_run(run, 0, emd=True, arma_model="AR(1)", measurement_noise=h)
+            for h in ("estimate", 10.0)}
+    assert prep[10.0].temp_split is not None and prep[10.0].temp_split.k > 1
+    np.testing.assert_array_equal(prep[10.0].temp, prep["estimate"].temp)
+    assert prep[10.0].kalman is not None and prep[10.0].kalman.measurement_noise == 10.0
+    assert prep[10.0].kalman.measurement_noise_source == "given"
+    assert not np.array_equal(prep[10.0].gyro, prep["estimate"].gyro)
