@@ -28,11 +28,15 @@ __all__ = ["array_table", "frame_table", "named_arrays_frame", "npy_table", "npz
 
 
 def frame_table(frame: pd.DataFrame, source: str) -> Table:
-    """A DataFrame as a Table; a DatetimeIndex or TimedeltaIndex becomes the time base."""
+    """A DataFrame as a Table; a DatetimeIndex or TimedeltaIndex becomes the time base, and
+    any other named index (``df.set_index("time")``) a column of that name."""
     if frame.shape[1] == 0:
         raise DataError(f"{source} has no columns")
     index = frame.index if isinstance(frame.index, pd.DatetimeIndex | pd.TimedeltaIndex) else None
-    out = frame.reset_index(drop=True)
+    names = [n for n in frame.index.names if n is not None]
+    named = (index is None and len(names) == frame.index.nlevels
+             and not set(map(str, names)) & set(map(str, frame.columns)))
+    out = frame.reset_index(drop=not named)
     out.columns = [str(c) for c in out.columns]
     return Table(out, source, None, (), None, index, header=True)
 

@@ -35,6 +35,23 @@ def test_dataframe_with_datetime_index() -> None:
     assert run.time[-1] == pytest.approx(3.9)
 
 
+def test_a_named_index_is_a_column(tmp_path: Path) -> None:
+    """``df.set_index("time")``, in memory or saved to Parquet, keeps its time base (the
+    index was dropped: "no time column found"); an unnamed index is still dropped, and a
+    name that a column already has does not replace the column."""
+    x = np.random.default_rng(1).normal(size=200)
+    df = pd.DataFrame({"time": np.arange(200) / 20.0, "gyro": x})
+    df.set_index("time").to_parquet(tmp_path / "indexed.parquet")
+    for source in (df.set_index("time"), tmp_path / "indexed.parquet"):
+        run = read_run(source)
+        assert run.axes == ("gyro",) and run.fs_hz == pytest.approx(20.0)
+        np.testing.assert_array_equal(run.rate, x)
+    unnamed = df.set_index(pd.Index(np.arange(200) * 3))
+    assert read_run(unnamed).fs_hz == pytest.approx(20.0)
+    clash = df.set_index(pd.Index(np.arange(200) / 5.0, name="time"))
+    assert read_run(clash).fs_hz == pytest.approx(20.0)
+
+
 def test_series_with_timedelta_index() -> None:
     s = pd.Series(np.arange(30.0) % 5, index=pd.timedelta_range(0, periods=30, freq="20ms"),
                   name="omega")
