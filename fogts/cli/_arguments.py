@@ -12,10 +12,10 @@ from __future__ import annotations
 
 import re
 from collections.abc import Callable, Mapping, Sequence
-from typing import Any
+from typing import Any, Literal
 
-__all__ = ["ARGUMENT_OPTIONS", "BARE_ARGUMENTS", "MESSAGE_KEYS", "cli_payload", "option_keywords",
-           "option_names", "stray_arguments"]
+__all__ = ["ARGUMENT_OPTIONS", "BARE_ARGUMENTS", "MESSAGE_KEYS", "cli_payload",
+           "measurement_noise_value", "option_keywords", "option_names", "stray_arguments"]
 
 #: The library keywords whose option is the same in every command (the shared input
 #: options, and those a library error suggests): the library's messages name the keyword
@@ -151,3 +151,19 @@ def stray_arguments(ctx: Any, argv: Sequence[str], message: str) -> str:
     allowed = f"only {', '.join(takes)}" if takes else "no positional argument"
     return (f"unexpected argument(s) {' '.join(map(repr, rest))}: {ctx.command_path} takes "
             f"{allowed}; {message[:1].lower()}{message[1:]}")
+
+
+def measurement_noise_value(text: str) -> Literal["estimate"] | float:
+    """The value of ``--measurement-noise`` (``filter``, ``compensate``): ``"estimate"`` or
+    a variance in (rate unit)^2 (finite, >= 0), checked before any input is read."""
+    from fogts._validate import check_positive
+    from fogts.errors import DataError
+
+    if text == "estimate":
+        return "estimate"
+    try:
+        value = float(text)
+    except ValueError:
+        raise DataError("--measurement-noise must be 'estimate' or a variance in "
+                        f"(rate unit)^2; got {text!r}") from None
+    return check_positive("--measurement-noise", value, allow_zero=True)

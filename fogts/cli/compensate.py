@@ -3,12 +3,13 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated, Any
+from typing import TYPE_CHECKING, Annotated, Any, Literal
 
 import typer
 
 from fogts import choices
 from fogts.cli import _common as common
+from fogts.cli._arguments import measurement_noise_value
 from fogts.cli._axes import AxisOpt, axis_lines, axis_path, axis_picks, with_axis_column
 from fogts.pipeline import ReadSettings
 
@@ -47,21 +48,6 @@ def _saved_line(path: Path, result: StartupCompensation) -> str:
     return f"saved the thermal model to {path}" + (f" (with its note: {brief})" if brief else "")
 
 
-def _without_smoothing_advice(value: Any) -> Any:
-    """``value`` (the JSON, the lines printed) without the Kalman note's advice to give a
-    measurement noise (:data:`fogts.startup.kalman.api.SMOOTH_ADVICE`): compensate has no
-    ``--measurement-noise`` (it estimates it); the finding itself stays."""
-    from fogts.startup.kalman.api import SMOOTH_ADVICE
-
-    if isinstance(value, str):
-        return value.replace(SMOOTH_ADVICE, "")
-    if isinstance(value, list | tuple):
-        return [_without_smoothing_advice(v) for v in value]
-    if isinstance(value, dict):
-        return {k: _without_smoothing_advice(v) for k, v in value.items()}
-    return value
-
-
 def _check_model_paths(save_model: Path | None, run: Run, picks: list[int], file: Path, *,
                        overwrite: bool) -> None:
     """With several axes, ``--save-model`` writes one file per axis: each is an output
@@ -72,6 +58,23 @@ def _check_model_paths(save_model: Path | None, run: Run, picks: list[int], file
 
     check_outputs({f"--save-model ({run.axes[i]})": axis_path(save_model, run, i, True)
                    for i in picks}, {"FILE": [file]}, overwrite=overwrite)
+
+
+def _kalman_noise(text: str, *, emd: bool, model: Path | None) -> Literal["estimate"] | float:
+    """``--measurement-noise``, refused where no Kalman filter runs (``--no-emd``, ``--model``)."""
+    from fogts.errors import DataError
+
+    noise = measurement_noise_value(text)
+    if noise != "estimate" and (not emd or model is not None):
+        raise DataError("--measurement-noise sets the Kalman filter of the EMD rest, which runs "
+                        "only when a model is fitted with --emd; drop it with "
+                        + ("--no-emd" if not emd else "--model"))
+    return noise
+
+
+#: compensate's own library keywords and their options (errors and notes name the options).
+_COMPENSATE_OPTIONS = {"average_s": "--average", "dT_smoothing_s": "--dt-smoothing",
+                       "arma_model": "--arma-model", "measurement_noise": "--measurement-noise"}
 
 
 @common.app.command("compensate")
@@ -86,6 +89,7 @@ def compensate_cmd(
     calibration: Annotated[list[Path] | None, typer.Option("--calibration", help="Further calibration run(s) fitted together with FILE (repeat the option), e.g. cold starts at other ambient temperatures.")] = None,
     arma_model: Annotated[str, typer.Option("--arma-model", help="ARMA model of the EMD rest: auto, AR(1), AR(2), AR(3), ARMA(1,1), ARMA(2,1).")] = "auto",
     average: Annotated[float, typer.Option("--average", help="Averaging time of the bias stability in seconds (GJB/IEEE: 10 s).")] = 10.0,
+    measurement_noise: Annotated[str, typer.Option("--measurement-noise", help="--emd: Kalman measurement-noise variance of the gyro rate's EMD rest in (rate unit)^2, or 'estimate' (ML with the ARMA parameters fixed; the temperature's is always estimated).")] = "estimate",
     dt_smoothing: Annotated[float, typer.Option("--dt-smoothing", help="Window in seconds of the temperature-rate (dT/dt) estimate.")] = 60.0,
     apply: Annotated[choices.ApplyRule, typer.Option("--apply", help="Subtract the fitted model only when the likelihood-ratio test finds a significant temperature dependence (significant), or in any case (always). A --model is always applied.")] = "significant",
     axis: AxisOpt = None,
@@ -100,13 +104,13 @@ def compensate_cmd(
     compensation per axis]}."""
     from fogts.startup.startup_workflow import startup_compensation
 
-    with common.guard({"average_s": "--average", "dT_smoothing_s": "--dt-smoothing",
-                       "arma_model": "--arma-model"},
+    with common.guard(_COMPENSATE_OPTIONS,
                       overwrite=out.overwrite, outputs={"--output": output, "--save-model": save_model, "--json": out.json,
                          "--plot": plot},
                 inputs={"FILE": [file], "--model": [model] if model else [],
                         "--calibration": calibration or []}):
         common.check_output_names(plot=plot, output=output)  # before any output is written
+        noise = _kalman_noise(measurement_noise, emd=emd, model=model)
         run, quality = common.read_input(file, read)
         picks = axis_picks(run, axis)
         many = len(picks) > 1
@@ -126,8 +130,8 @@ def compensate_cmd(
             with common.named_warnings(Path(run.source).name, run.axes[i]):
                 results.append(startup_compensation(
                     run, axis=i, emd=emd, model=given, arma_model=arma_model,
-                    dT_smoothing_s=dt_smoothing, average_s=average, calibration=extra,
-                    apply=apply))
+                    measurement_noise=noise, dT_smoothing_s=dt_smoothing, average_s=average,
+                    calibration=extra, apply=apply))
         if output is not None:
             from fogts.io.writer import write_frame_atomic
 
@@ -140,7 +144,7 @@ def compensate_cmd(
         payload: dict[str, Any] = ({"input": str(file), **blocks[0]} if not many
                                    else {"input": str(file), "axes": blocks})
         payload["data_quality"] = quality.to_dict()
-        common.emit_json(_without_smoothing_advice(payload), out.json)
+        common.emit_json(payload, out.json, _COMPENSATE_OPTIONS)
         if plot is not None:
             from fogts.report.plots import plot_compensation
 
@@ -152,4 +156,4 @@ def compensate_cmd(
         if output is not None:
             lines.append(f"wrote {output} ({run.n * len(results)} rows)")
         lines += [_saved_line(path, r) for path, r in zip(saved, results, strict=False)]
-        common.say(_without_smoothing_advice(lines), out.json)
+        common.say([common.option_keywords(ln, _COMPENSATE_OPTIONS) for ln in lines], out.json)

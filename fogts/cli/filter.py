@@ -11,6 +11,7 @@ import typer
 
 from fogts import choices
 from fogts.cli import _common as common
+from fogts.cli._arguments import measurement_noise_value
 from fogts.cli._axes import AxisOpt, axis_lines, axis_path, axis_picks, with_axis_column
 from fogts.pipeline import ReadSettings
 
@@ -57,7 +58,7 @@ def filter_cmd(
             "--cutoff": cutoff is not None, "--order": order != 4,
             "--design": design != "butter", "--window": window is not None,
             "--compare-allan": compare_allan})
-        noise = _parse_measurement_noise(measurement_noise) if method == "kalman" else None
+        noise = measurement_noise_value(measurement_noise) if method == "kalman" else None
         run, _ = common.read_input(file, read)
         picks = axis_picks(run, axis)
         many = len(picks) > 1
@@ -122,18 +123,6 @@ def _check_method_options(method: str, given: dict[str, bool]) -> None:
         which = "; ".join(f"{o} applies to --method {' or '.join(owners[o])}" for o in stray)
         raise DataError(f"--method {method} does not use {', '.join(stray)} ({which}); "
                         "drop it or change --method")
-
-
-def _parse_measurement_noise(text: str) -> Literal["estimate"] | float:
-    from fogts.errors import DataError
-
-    if text == "estimate":
-        return "estimate"
-    try:
-        return float(text)
-    except ValueError:
-        raise DataError("--measurement-noise must be 'estimate' or a variance in "
-                        f"(rate unit)^2; got {text!r}") from None
 
 
 def _kalman_filter(run: Run, x: FloatArray, model: str,

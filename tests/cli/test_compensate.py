@@ -190,18 +190,40 @@ def test_a_bad_average_or_smoothing_is_refused_first_and_named_as_typed(
     assert "warning" not in res.stderr  # nothing was fitted
 
 
-def test_the_kalman_note_gives_no_advice_compensate_cannot_follow(tmp_path: Path) -> None:
-    """compensate has no --measurement-noise: the Kalman note on a negligible estimated
-    measurement noise keeps its finding and leaves out the advice to give one (it said
-    'give measurement_noise to smooth'), printed and in the JSON."""
+def test_the_kalman_note_advises_measurement_noise_and_compensate_takes_it(
+        tmp_path: Path) -> None:
+    """The Kalman note on a negligible estimated measurement noise names the option
+    (printed and in the JSON); given, the variance is the gyro's H and the note is gone."""
     root = Path(__file__).resolve().parents[2] / "data"
     js = tmp_path / "c.json"
     res = runner.invoke(app, ["compensate", str(root / "startup_cold_1hz.csv"),
                               "--json", str(js)])
     assert res.exit_code == 0, res.output
+    advice = "; give --measurement-noise (a variance in (rate unit)^2) to smooth"
     note = [ln for ln in res.stdout.splitlines() if "is negligible (H = " in ln]
-    assert len(note) == 1 and note[0].endswith("so the filter follows the data")
+    assert len(note) == 1 and note[0].endswith("so the filter follows the data" + advice)
     doc = json.loads(js.read_text())
-    assert doc["kalman"]["notes"] == doc["notes"][:1] and \
-        doc["notes"][0].endswith("so the filter follows the data")
-    assert "measurement_noise" not in res.stdout and "--measurement-noise" not in res.stdout
+    assert doc["kalman"]["notes"] == doc["notes"][:1] and doc["notes"][0].endswith(advice)
+    assert "measurement_noise" not in res.stdout
+    res = runner.invoke(app, ["compensate", str(root / "startup_cold_1hz.csv"),
+                              "--measurement-noise", "0.01", "--json", str(js), "--overwrite"])
+    assert res.exit_code == 0, res.output
+    doc = json.loads(js.read_text())
+    assert doc["kalman"]["measurement_noise"] == 0.01
+    assert doc["kalman"]["measurement_noise_source"] == "given"
+    assert "is negligible (H = " not in res.stdout
+
+
+@pytest.mark.parametrize("args, says", [
+    (["--measurement-noise", "x"], "error: --measurement-noise must be 'estimate' or a "
+                                   "variance in (rate unit)^2; got 'x'"),
+    (["--measurement-noise", "-1"], "error: --measurement-noise must be a finite number >= 0, got -1.0"),
+    (["--measurement-noise", "0.01", "--no-emd"],
+     "error: --measurement-noise sets the Kalman filter of the EMD rest, which runs only when "
+     "a model is fitted with --emd; drop it with --no-emd"),
+])
+def test_bad_measurement_noise_is_refused(tmp_path: Path, args: list[str], says: str) -> None:
+    src = _write(1, 20.0, tmp_path / "cold.csv")
+    res = runner.invoke(app, ["compensate", str(src), "--units", "deg/h", *args])
+    assert res.exit_code == 2, res.output
+    assert error_output(res.stderr).splitlines() == [says]
