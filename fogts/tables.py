@@ -33,7 +33,8 @@ class Column:
     ``wrap`` marks free text (a note, a read-out's explanation): the terminal may wrap it
     between words.  Every other column (numbers, intervals, p values, model names, units,
     file names) is kept whole on one line, however narrow the terminal
-    (:func:`fogts.cli._rich_table.rich_table`)."""
+    (:func:`fogts.cli._rich_table.rich_table`).  ``pvalue`` shows a p value of exactly 0
+    (a tail probability below float64's range, e.g. ``chi2.sf`` far out) as ``<1e-300``."""
 
     title: str
     numeric: bool = True
@@ -41,6 +42,7 @@ class Column:
     fixed: bool = False
     signed: bool = False
     wrap: bool = False
+    pvalue: bool = False
 
 
 def fields_dict(result: Any, **keys: str) -> dict[str, Any]:
@@ -68,6 +70,8 @@ def format_cell(value: Any, column: Column) -> str:
     v = float(value)
     if not math.isfinite(v):
         return MISSING
+    if column.pvalue and v == 0.0:
+        return "<1e-300"
     sign = "+" if column.signed else ""
     return f"{v:{sign}.{column.digits}f}" if column.fixed else f"{v:{sign}.{column.digits}g}"
 

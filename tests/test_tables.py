@@ -145,3 +145,15 @@ def test_the_views_show_the_results_own_numbers(results: dict[str, object]) -> N
     adev = results["AllanResult"]
     assert isinstance(adev, fogts.AllanResult)
     assert f"{adev.dev[0]:.5g}" in adev._repr_html_()
+
+
+def test_a_p_value_that_underflowed_is_shown_as_a_bound() -> None:
+    """``chi2.sf`` far in the tail returns 0 (below float64): a p-value column shows
+    ``<1e-300`` there, not ``0``; other columns and other p values are unchanged."""
+    from scipy.stats import chi2
+
+    p = float(chi2.sf(5000.0, 20))
+    assert p == 0.0
+    assert format_cell(p, Column("LB p(20)", digits=3, pvalue=True)) == "<1e-300"
+    assert format_cell(8.6e-20, Column("LB p(20)", digits=3, pvalue=True)) == "8.6e-20"
+    assert format_cell(0.0, Column("x", digits=3)) == "0"

@@ -164,7 +164,7 @@ class Selection(TableView):
                    Column(f"Δ{crit}", digits=2, fixed=True, signed=True),
                    Column("σ_a²", digits=3), Column("ρ_a,2", fixed=True, signed=True),
                    Column("ρ_ax,3", fixed=True, signed=True),
-                   *[Column(f"LB p({lag})", digits=3) for lag in self.lags],
+                   *[Column(f"LB p({lag})", digits=3, pvalue=True) for lag in self.lags],
                    Column("white", numeric=False), Column("notes", numeric=False, wrap=True))
         rows: list[tuple[Any, ...]] = []
         failed: list[tuple[int, int]] = []
