@@ -66,9 +66,9 @@ def _kalman_noise(text: str, *, emd: bool, model: Path | None) -> Literal["estim
 
     noise = measurement_noise_value(text)
     if noise != "estimate" and (not emd or model is not None):
-        raise DataError("--measurement-noise sets the Kalman filter of the EMD rest, which runs "
-                        "only when a model is fitted with --emd; drop it with "
-                        + ("--no-emd" if not emd else "--model"))
+        skipped = "--no-emd skips" if not emd else "--model skips (nothing is fitted)"
+        raise DataError(f"--measurement-noise sets the Kalman filter of the EMD rest, which "
+                        f"{skipped}: give one or the other")
     return noise
 
 

@@ -219,11 +219,17 @@ def test_the_kalman_note_advises_measurement_noise_and_compensate_takes_it(
                                    "variance in (rate unit)^2; got 'x'"),
     (["--measurement-noise", "-1"], "error: --measurement-noise must be a finite number >= 0, got -1.0"),
     (["--measurement-noise", "0.01", "--no-emd"],
-     "error: --measurement-noise sets the Kalman filter of the EMD rest, which runs only when "
-     "a model is fitted with --emd; drop it with --no-emd"),
+     "error: --measurement-noise sets the Kalman filter of the EMD rest, which --no-emd "
+     "skips: give one or the other"),
+    (["--measurement-noise", "0.01", "--model", "MODEL"],
+     "error: --measurement-noise sets the Kalman filter of the EMD rest, which --model skips "
+     "(nothing is fitted): give one or the other"),
 ])
 def test_bad_measurement_noise_is_refused(tmp_path: Path, args: list[str], says: str) -> None:
     src = _write(1, 20.0, tmp_path / "cold.csv")
+    model = tmp_path / "model.json"
+    model.write_text("{}")
+    args = [str(model) if a == "MODEL" else a for a in args]
     res = runner.invoke(app, ["compensate", str(src), "--units", "deg/h", *args])
     assert res.exit_code == 2, res.output
     assert error_output(res.stderr).splitlines() == [says]
