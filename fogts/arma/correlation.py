@@ -2,7 +2,8 @@
 
 The lag products behind every autocorrelation are computed block-wise in cache
 (:func:`lag_products`) with ``np.einsum``, never with threaded BLAS (a multithreaded ``ddot``
-stalls on a loaded host).
+stalls on a loaded host); on a long series half of each block's lags are summed on the
+:class:`~fogts.arma.worker.Worker` thread.
 """
 
 from __future__ import annotations
@@ -15,7 +16,8 @@ from fogts._typing import FloatArray
 from fogts._validate import check_int, to_float_array
 from fogts.errors import InsufficientDataError
 
-__all__ = ["autocorrelation", "dot", "lag_products", "partial_autocorrelation"]
+__all__ = ["autocorrelation", "dot", "fused_squares", "lag_products", "partial_autocorrelation",
+           "sum_squares"]
 
 #: Block length of the cache-friendly lag-product kernel.
 _BLOCK = 65536
@@ -24,6 +26,27 @@ _BLOCK = 65536
 def dot(u: FloatArray, v: FloatArray) -> float:
     """Plain dot product without BLAS threading (multithreaded ddot stalls on loaded hosts)."""
     return float(np.einsum("i,i->", u, v))
+
+
+#: np.einsum's buffer (numpy's default): its dot of a long pair adds the dots of 8192-long
+#: pieces, in order, to a running sum.
+EINSUM_BLOCK = 8192
+
+
+def fused_squares() -> bool:
+    """Whether :func:`sum_squares` reproduces :func:`dot` (numpy's buffer is the default)."""
+    return np.getbufsize() == EINSUM_BLOCK
+
+
+def sum_squares(total: float, y: FloatArray) -> float:
+    """``total`` plus sum y^2, adding the dots of 8192-long pieces one by one as
+    :func:`dot` (np.einsum) accumulates a longer array's: continued from 0.0 over
+    consecutive blocks whose lengths are multiples of 8192 (but the last), it is
+    ``dot(a, a)`` of their concatenation a, bit for bit, without reading a again."""
+    for b0 in range(0, y.shape[0], EINSUM_BLOCK):
+        piece = y[b0:b0 + EINSUM_BLOCK]
+        total += dot(piece, piece)
+    return total
 
 
 def lag_products(x: FloatArray, max_lag: int, y: FloatArray | None = None, *,
@@ -52,20 +75,34 @@ def lag_products(x: FloatArray, max_lag: int, y: FloatArray | None = None, *,
     >>> lag_products(np.array([1.0, 2.0, 3.0]), 2)
     array([14.,  8.,  3.])
     """
+    from fogts.arma.worker import Worker
+
     n = x.shape[0]
     same = y is None
     out = np.zeros(max_lag + 1)
-    for s in range(0, n, _BLOCK):
-        e = min(n, s + _BLOCK)
-        xs = x[s:min(n, e + max_lag)]
-        ys = xs[:e - s] if same else (y if y is not None else x)[s:e]
-        if center:
-            xs = xs - center
-            ys = xs[:e - s] if same else ys - center
-        for k in range(max_lag + 1):
-            m = min(e - s, xs.shape[0] - k)
+
+    def lags(lo: int, hi: int, xs: FloatArray, ys: FloatArray, size: int) -> None:
+        for k in range(lo, hi):
+            m = min(size, xs.shape[0] - k)
             if m > 0:
                 out[k] += dot(ys[:m], xs[k:k + m])
+
+    # a long series: the worker thread sums the first lags of each block, in block order,
+    # while this thread sums the others (each lag's sum the same, bit for bit)
+    split = (max_lag + 1) // 2
+    with Worker(n if split else 0) as worker:
+        for s in range(0, n, _BLOCK):
+            e = min(n, s + _BLOCK)
+            xs = x[s:min(n, e + max_lag)]
+            ys = xs[:e - s] if same else (y if y is not None else x)[s:e]
+            if center:
+                xs = xs - center
+                ys = xs[:e - s] if same else ys - center
+            if worker.threaded:
+                worker.submit(lags, 0, split, xs, ys, e - s)
+                lags(split, max_lag + 1, xs, ys, e - s)
+            else:
+                lags(0, max_lag + 1, xs, ys, e - s)
     return out
 
 

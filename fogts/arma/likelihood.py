@@ -52,6 +52,7 @@ from fogts._typing import FloatArray
 from fogts.arma.correlation import dot
 from fogts.arma.region import admissible, spectral_radius
 from fogts.arma.startup_block import banded_innovations
+from fogts.arma.worker import Worker
 from fogts.arma.workspace import Workspace
 from fogts.errors import ModelFitError
 
@@ -233,6 +234,7 @@ class ExactLikelihood:
         (Tunnicliffe Wilson 1989, *J. R. Statist. Soc. B* 51, 15-27).
         """
         from fogts.arma import startup_stream
+        from fogts.arma.likelihood_passes import tail_pass
 
         grown = self._grow(phi, theta, lambda k: self.series(0, k), self.mean,
                            startup_stream.CAP)
@@ -243,14 +245,13 @@ class ExactLikelihood:
         ev = Evaluation(phi=phi, theta=theta, s=s, F=F, head=head)
         e = self.work.take()
         e[:s] = ev.head[:, 0] if self.mean else ev.head
-        for c0, c1, y in self._tail_chunks(ev):
-            e[c0:c1] = y
+        ssq = tail_pass(self, ev, e)
         if self.mean:
             self._remove_gls_mean(ev, e)
         S = float(np.dot(e[:s], e[:s] / F))
         if s < n:
             tail = e[s:]
-            S += dot(tail, tail)
+            S += dot(tail, tail) if ssq is None else ssq
         D = float(np.sum(np.log(F))) + (math.log(ev.s11 / n) if self.mean else 0.0)
         return self.finish(ev, S, D)
 
@@ -311,7 +312,8 @@ class ExactLikelihood:
         if first:
             yield 0, s, y
 
-    def _tail_chunks(self, ev: Evaluation) -> Iterator[tuple[int, int, FloatArray]]:
+    def _tail_chunks(self, ev: Evaluation, worker: Worker | None = None
+                     ) -> Iterator[tuple[int, int, FloatArray]]:
         """The steady-state innovations of the series (before the GLS mean's removal) from s
         on, block by block: the ARMA inversion a_t = x_t - sum phi_i x_{t-i} - sum theta_j
         a_{t-j}, one lfilter started from the block's last innovations (np.convolve for a
@@ -333,9 +335,15 @@ class ExactLikelihood:
             e_head = ev.head[:, 0] if self.mean else ev.head
             ev.zi = _steady_zi(b, a, self.series(s - L, s), e_head[s - L:s])
         zi = ev.zi
+        # a worker thread forms the next block's series while this block is filtered
+        worker = Worker(0) if worker is None else worker
+        ahead = worker.submit(self.series, s, min(n, s + CHUNK))
         for c0 in range(s, n, CHUNK):
             c1 = min(n, c0 + CHUNK)
-            y, zi = lfilter(b, a, self.series(c0, c1), zi=zi)
+            xs = ahead()
+            if c1 < n:
+                ahead = worker.submit(self.series, c1, min(n, c1 + CHUNK))
+            y, zi = lfilter(b, a, xs, zi=zi)
             yield c0, c1, y
 
     def _correct(self, ev: Evaluation, y: FloatArray, c0: int) -> None:

@@ -21,18 +21,58 @@ P. J. Brockwell and R. A. Davis, *Time Series: Theory and Methods*, 2nd ed., 199
 
 from __future__ import annotations
 
+from collections import deque
+from collections.abc import Callable
 from itertools import pairwise
 from typing import TYPE_CHECKING
 
 import numpy as np
 
 from fogts._typing import FloatArray
-from fogts.arma.correlation import dot
+from fogts.arma.correlation import EINSUM_BLOCK, dot, fused_squares, sum_squares
 
 if TYPE_CHECKING:
     from fogts.arma.likelihood import Evaluation, ExactLikelihood
 
-__all__ = ["derivatives"]
+__all__ = ["block_bounds", "derivatives", "tail_pass"]
+
+_U_AHEAD = 2      # blocks of u the worker may be ahead of the Hessian pass
+
+
+def tail_pass(model: ExactLikelihood, ev: Evaluation, e: FloatArray) -> float | None:
+    """The steady part of :meth:`~fogts.arma.likelihood.ExactLikelihood.evaluate`: the
+    innovations from s on into the workspace ``e``; returns their sum of squares (without
+    a mean, else None), summed in cache in dot's own order (``sum_squares``).
+
+    The worker thread forms the series ahead of the filter and stores its output.
+    """
+    from fogts.arma.likelihood import CHUNK
+    from fogts.arma.worker import Worker
+
+    # the blocks from s are CHUNK long: whole numbers of einsum's pieces
+    ssq = [0.0] if not model.mean and fused_squares() and CHUNK % EINSUM_BLOCK == 0 else None
+
+    def store(c0: int, c1: int, y: FloatArray) -> None:
+        e[c0:c1] = y
+        if ssq is not None:
+            ssq[0] = sum_squares(ssq[0], y)
+
+    with Worker(model.n) as worker:
+        for c0, c1, y in model._tail_chunks(ev, worker):
+            worker.submit(store, c0, c1, y)
+    return None if ssq is None else ssq[0]
+
+
+def block_bounds(model: ExactLikelihood, ev: Evaluation) -> list[tuple[int, int]]:
+    """The blocks (c0, c1) :meth:`~fogts.arma.likelihood.ExactLikelihood.innovation_blocks`
+    yields for a start-up block held whole (not streamed)."""
+    from fogts.arma.likelihood import CHUNK
+
+    s, n = ev.s, model.n
+    if s >= n:
+        return [(0, s)]
+    return [(0, min(n, s + CHUNK))] + [(c0, min(n, c0 + CHUNK))
+                                       for c0 in range(s + CHUNK, n, CHUNK)]
 
 
 def _startup_part(model: ExactLikelihood, ev: Evaluation
@@ -75,11 +115,14 @@ def _adjoint_pass(model: ExactLikelihood, ev: Evaluation, e: FloatArray
     """Backward over the workspace e (the innovations): g = theta(B^-1)^-1 e in place.
 
     Returns sum_{t>=s} g_t x_{t-i} (i = 1..p), sum_{t>=s} g_t e_{t-j} (j = 1..q),
-    sum_{t>=s} g_t, and g_s..g_{s+q-1}.  For a pure AR g = e, left in place.
+    sum_{t>=s} g_t, and g_s..g_{s+q-1}.  For a pure AR g = e, left in place.  A block's
+    sums and its write-back run on the :class:`~fogts.arma.worker.Worker` thread (in block
+    order, as in one thread) while this one filters the block before it.
     """
     from scipy.signal import lfilter
 
     from fogts.arma.likelihood import CHUNK
+    from fogts.arma.worker import Worker
 
     p, q, s = model.p, model.q, ev.s
     a_poly = np.r_[1.0, ev.theta]
@@ -87,73 +130,144 @@ def _adjoint_pass(model: ExactLikelihood, ev: Evaluation, e: FloatArray
     # series, and a block's copy and reversed filter output are three of its length
     bounds = sorted({*range(0, s, CHUNK), *model.bounds(s)})
     gx, ge = np.zeros(p), np.zeros(q)
-    g_sum = 0.0
-    g_first = np.zeros(0)
-    zr = np.zeros(q)
-    for c0, c1 in reversed(list(pairwise(bounds))):
-        lo = max(0, c0 - q)
-        ext = e[lo:c1].copy()            # the block's innovations and the q before it
-        off = c0 - lo
+    g_sum = [0.0]                  # sum_{t>=s} g_t
+    g_first = [np.zeros(0)]        # g_s..g_{s+q-1}
+
+    def block_sums(c0: int, c1: int, g: FloatArray, ext: FloatArray, off: int) -> None:
         if q:
-            gr, zr = lfilter([1.0], a_poly, ext[off:][::-1], zi=zr)
-            g = np.ascontiguousarray(gr[::-1])
-        else:
-            g = ext[off:]
+            g = np.ascontiguousarray(g[::-1])      # g was filtered reversed
         if c0 >= s and c0 < c1:
             m = c1 - c0
-            g_sum += float(np.sum(g))
+            g_sum[0] += float(np.sum(g))
             xs = model.series(c0 - p, c1)
             for i in range(1, p + 1):
                 gx[i - 1] += dot(g, xs[p - i:p - i + m])
             for j in range(1, q + 1):
                 ge[j - 1] += dot(g, ext[off - j:off - j + m])
             if c0 == s:
-                g_first = g[:q].copy()
+                g_first[0] = g[:q].copy()
         if q:
             e[c0:c1] = g
-    return gx, ge, g_sum, g_first
+
+    zr = np.zeros(q)
+    with Worker(model.n) as worker:
+        for c0, c1 in reversed(list(pairwise(bounds))):
+            lo = max(0, c0 - q)
+            ext = e[lo:c1].copy()            # the block's innovations and the q before it
+            off = c0 - lo
+            if q:
+                gr, zr = lfilter([1.0], a_poly, ext[off:][::-1], zi=zr)
+            else:
+                gr = ext[off:]
+            worker.submit(block_sums, c0, c1, gr, ext, off)
+    return gx, ge, g_sum[0], g_first[0]
 
 
 def _hessian_pass(model: ExactLikelihood, ev: Evaluation, g_buf: FloatArray | None
                   ) -> FloatArray:
     """Forward: the Hessian of S from u = x/theta(B), v = a/theta(B) and g (``g_buf``;
-    None for a pure AR, where g = a), sums over t >= max(p + q, 2q)."""
+    None for a pure AR, where g = a), sums over t >= max(p + q, 2q).
+
+    u does not depend on the innovations: its filter and its sums that need no v run on
+    the :class:`~fogts.arma.worker.Worker` thread, ahead, while this one rebuilds a and
+    filters v (the same operations and sums either way)."""
     from scipy.signal import lfilter
+
+    from fogts.arma.worker import Worker
 
     p, q = model.p, model.q
     k = p + q
     t0 = max(p + q, 2 * q)      # the largest lag used below
     K = max(t0, 1)
     a_poly = np.r_[1.0, ev.theta]
-    jac = [(0, i) for i in range(1, p + 1)] + [(1, j) for j in range(1, q + 1)]
+    lag = [i for i in range(1, p + 1)] + [j for j in range(1, q + 1)]
     HS = np.zeros((k, k))
-    zu, zv = np.zeros(q), np.zeros(q)
-    prev = [np.zeros(K), np.zeros(K)]
-    for c0, c1, e in model.innovation_blocks(ev):
-        if c1 <= c0:
-            continue
+    zv = np.zeros(q)
+    prev_v = np.zeros(K)
+    # the blocks of innovation_blocks, known ahead (a streamed start-up block's are its
+    # own; a pure AR's g is a, rebuilt here: one thread)
+    bounds = None if ev.streamed or g_buf is None else block_bounds(model, ev)
+    u_state = [np.zeros(q), np.zeros(K)]     # u's filter state and last K values
+
+    def u_block(c0: int, c1: int, g: FloatArray) -> tuple[FloatArray, FloatArray]:
+        """u of a block with the K before it (filtered on from the block before), and the
+        block's (phi_i, phi_j) sums and (phi_i, theta_j) g-terms."""
         xs = model.series(c0, c1)
         if q:
-            uc, zu = lfilter([1.0], a_poly, xs, zi=zu)
-            vc, zv = lfilter([1.0], a_poly, e, zi=zv)
+            uc, u_state[0] = lfilter([1.0], a_poly, xs, zi=u_state[0])
         else:
-            uc, vc = xs, e
-        ext = [np.concatenate((prev[0], uc)), np.concatenate((prev[1], vc))]
-        g = e if g_buf is None else g_buf[c0:c1]
-        ta = max(c0, t0)
-        if ta < c1:
-            a0, a1 = K + ta - c0, K + c1 - c0      # positions of t = ta, c1 in ext
-            for i in range(k):
-                for j in range(i, k):
-                    (si, li), (sj, lj) = jac[i], jac[j]
-                    val = dot(ext[si][a0 - li:a1 - li], ext[sj][a0 - lj:a1 - lj])
-                    if i < p <= j:          # phi_i, theta_j
-                        val += dot(g[ta - c0:], ext[0][a0 - li - lj:a1 - li - lj])
-                    elif i >= p:            # theta_i, theta_j
-                        val += 2.0 * dot(g[ta - c0:], ext[1][a0 - li - lj:a1 - li - lj])
-                    HS[i, j] += 2.0 * val
-        prev = [ext[0][-K:].copy(), ext[1][-K:].copy()]
+            uc = xs
+        ext_u = np.concatenate((u_state[1], uc))
+        u_state[1] = ext_u[-K:].copy()
+        return ext_u, _pair_sums(True, ext_u, None, g, None, c0, c1, p, K, t0, lag)
+
+    with Worker(0 if bounds is None else model.n) as worker:
+        # the worker's u of the next blocks is under way while this thread works on one
+        ahead: deque[tuple[int, int, Callable[[], tuple[FloatArray, FloatArray]]]] = deque()
+        todo = iter([] if bounds is None else [(c0, c1) for c0, c1 in bounds if c1 > c0])
+
+        def queue_next() -> None:
+            for c0, c1 in todo:
+                assert g_buf is not None
+                ahead.append((c0, c1, worker.submit(u_block, c0, c1, g_buf[c0:c1])))
+                return
+
+        for _ in range(_U_AHEAD):
+            queue_next()
+        for c0, c1, e in model.innovation_blocks(ev):
+            if c1 <= c0:
+                continue
+            g = e if g_buf is None else g_buf[c0:c1]
+            if bounds is not None:
+                cu0, cu1, u_part = ahead.popleft()
+                assert (cu0, cu1) == (c0, c1)
+                queue_next()
+            else:
+                u_part = worker.submit(u_block, c0, c1, g)     # inline
+            if q:
+                vc, zv = lfilter([1.0], a_poly, e, zi=zv)
+            else:
+                vc = e
+            ext_v = np.concatenate((prev_v, vc))
+            ext_u, W = u_part()
+            HS += _pair_sums(False, ext_u, ext_v, g, W, c0, c1, p, K, t0, lag)
+            prev_v = ext_v[-K:].copy()
     return np.triu(HS) + np.triu(HS, 1).T
+
+
+def _pair_sums(u_only: bool, ext_u: FloatArray, ext_v: FloatArray | None, g: FloatArray,
+               W: FloatArray | None, c0: int, c1: int, p: int, K: int, t0: int,
+               lag: list[int]) -> FloatArray:
+    """A block's Hessian sums (``ext_u``, ``ext_v``: its u and v with the K before them).
+
+    ``u_only``: those that need u and g only (the worker's share), (phi_i, phi_j)
+    sum u_{t-i} u_{t-j} and (phi_i, theta_j) sum g_t u_{t-i-j}.  Otherwise the block's
+    terms 2 val of the Hessian of S, the u-only sums ``W`` (the worker's) included."""
+    k = len(lag)
+    out = np.zeros((k, k))
+    ta = max(c0, t0)
+    if ta >= c1:
+        return out
+    a0, a1 = K + ta - c0, K + c1 - c0      # positions of t = ta, c1 in ext_u, ext_v
+    for i in range(p if u_only else k):
+        li = lag[i]
+        for j in range(i, k):
+            lj = lag[j]
+            if u_only:
+                out[i, j] = (dot(ext_u[a0 - li:a1 - li], ext_u[a0 - lj:a1 - lj]) if j < p
+                             else dot(g[ta - c0:], ext_u[a0 - li - lj:a1 - li - lj]))
+                continue
+            assert W is not None and ext_v is not None
+            if j < p:                          # phi_i, phi_j
+                val = W[i, j]
+            elif i < p:                        # phi_i, theta_j
+                val = dot(ext_u[a0 - li:a1 - li], ext_v[a0 - lj:a1 - lj])
+                val += W[i, j]
+            else:                              # theta_i, theta_j
+                val = dot(ext_v[a0 - li:a1 - li], ext_v[a0 - lj:a1 - lj])
+                val += 2.0 * dot(g[ta - c0:], ext_v[a0 - li - lj:a1 - li - lj])
+            out[i, j] = 2.0 * val
+    return out
 
 
 def derivatives(model: ExactLikelihood, ev: Evaluation, *, hessian: bool

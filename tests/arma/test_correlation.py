@@ -36,3 +36,16 @@ def test_lag_products_equal_direct_sums() -> None:
 def test_constant_series_has_no_autocorrelation() -> None:
     with pytest.raises(InsufficientDataError, match="x is constant"):
         autocorrelation(np.ones(50), nlags=3)
+
+
+def test_sum_squares_block_by_block_is_dot_bit_for_bit() -> None:
+    """Continued over blocks of whole 8192-long pieces (the last one shorter), the running
+    sum is dot's of the whole array, which the likelihood's evaluation relies on."""
+    from fogts.arma.correlation import EINSUM_BLOCK, dot, fused_squares, sum_squares
+
+    assert fused_squares()
+    a = np.random.default_rng(3).standard_normal(5 * 65536 + 777)[3:]   # unaligned start
+    total = 0.0
+    for c0 in range(0, a.shape[0], 8 * EINSUM_BLOCK):
+        total = sum_squares(total, a[c0:c0 + 8 * EINSUM_BLOCK])
+    assert total == dot(a, a)
