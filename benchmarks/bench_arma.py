@@ -183,11 +183,16 @@ class _Run:
     selection: Any
     fits: list[Any]
     statsmodels: list[Any]
+    n: int
 
     @property
     def timing(self) -> dict[str, Any]:
-        """The :func:`speed_metric` keywords every figure of this run shares."""
-        return {"other_load": self.other_load, "noise": {"rounds": 1}}
+        """The :func:`speed_metric` keywords every figure of this run shares: parallel
+        where the fits' long passes may use the worker thread (:mod:`fogts.arma.worker`)."""
+        from fogts.arma.worker import THREAD_MIN
+
+        return {"other_load": self.other_load, "noise": {"rounds": 1},
+                "parallel": self.n >= THREAD_MIN}
 
 
 def _run_against_statsmodels(x: np.ndarray, lab: str) -> _Run:
@@ -205,7 +210,7 @@ def _run_against_statsmodels(x: np.ndarray, lab: str) -> _Run:
     return _Run(select_s=min(t_sel1, t_sel2), select_cpu_s=min(c_sel1, c_sel2),
                 fits_s=min(t_fit1, t_fit2), fits_cpu_s=min(c_fit1, c_fit2),
                 statsmodels_s=t_sm, statsmodels_cpu_s=c_sm, other_load=probe.other_load(),
-                selection=sel, fits=fits, statsmodels=sm)
+                selection=sel, fits=fits, statsmodels=sm, n=int(x.size))
 
 
 def _speed_vs_statsmodels(run: _Run, lab: str, key: str) -> list[Metric]:
