@@ -13,10 +13,8 @@ in the same order, so the results equal those of one thread exactly.  The jobs r
 copy of the caller's context, so ``np.errstate`` (a context variable) applies to them as
 to the caller.  Short series (below :data:`THREAD_MIN` samples) run the same jobs inline:
 a thread's start and hand-overs would cost more than they save.  So do all passes on a
-machine busy with other work (:func:`idle_core`).  Measured on this project's 2-core
-machine beside one other busy process: the thread took 25-30 % off the derivative passes
-at n = 1e7 and 12 % off ``fogts select`` at n = 1e8 (73-83 s -> 64-76 s); with the process
-confined to one core it added up to 25 % (the two threads taking turns).
+machine busy with other work (:func:`idle_core`), where the two threads would take turns
+on one core.  The measured gain and cost are in ``benchmarks/README.md``.
 
 On a loaded machine the worker may not get a core when its job is due: the caller then
 takes the jobs the worker has not started and runs them itself, still in order, instead
