@@ -53,7 +53,7 @@ def select_cmd(
     candidates: Annotated[str | None, typer.Option("--candidates", help="Models to compare, e.g. 'AR(1),AR(2),ARMA(1,1)' (default: AR(1),AR(2),AR(3),ARMA(1,1),ARMA(2,1)).")] = None,
     criterion: common.CriterionOpt = "aic",
     plot: Annotated[Path | None, typer.Option("--plot", help="Diagnostics figure (data ACF/PACF, residual ACF, Q-Q, prediction): .png, .svg or .pdf.")] = None,
-    predict: Annotated[Path | None, typer.Option("--predict", help="Write the one-step prediction as CSV (time, observed, predicted, residual); .csv, .csv.gz, .tsv or .parquet.")] = None,
+    predict: Annotated[Path | None, typer.Option("--predict", help="Write the one-step prediction as CSV (time, observed, predicted, residual; observed and predicted in the input's units, the removed mean or trend added back); .csv, .csv.gz, .tsv or .parquet.")] = None,
     out: common.Outputs = common.NO_OUTPUTS,
     read: ReadSettings = common.DEFAULT_READ,
 ) -> None:
@@ -104,7 +104,12 @@ def select_cmd(
 def _write_prediction(analyses: list[AxisSelection], target: Path) -> bool:
     """Write the selected models' one-step predictions (time, observed, predicted,
     residual; with several axes an ``axis`` column first); False when no candidate could be
-    fitted on any axis."""
+    fitted on any axis.
+
+    ``observed`` and ``predicted`` are on the input's scale: the mean or trend that the
+    preparation removed (:meth:`~fogts.preprocess.prepare.Prepared.removed_level`) is added
+    back, so that ``observed`` is the rate as read (block means after ``--decimate``,
+    outliers replaced after ``--outliers``), as ``fogts filter -o`` writes it."""
     from fogts.io.writer import write_frame_atomic
 
     frames, names = [], []
@@ -113,6 +118,9 @@ def _write_prediction(analyses: list[AxisSelection], target: Path) -> bool:
         if best is None:
             continue
         frame = best.predict().to_frame().reset_index(drop=True)
+        level = analysis.prepared.removed_level()
+        frame["observed"] += level
+        frame["predicted"] += level
         if "time" not in frame:
             frame.insert(0, "time", analysis.prepared.time)
         frames.append(frame[["time", "observed", "predicted", "residual"]])

@@ -163,6 +163,8 @@ class Prepared:
         Polynomial order removed (0 = mean only), or None.
     trend_coefficients : tuple of float
         Coefficients of the removed polynomial in powers of time in seconds (lowest first).
+    removed_mean : float or None
+        The mean removed when only the mean was (``demean``); None otherwise.
     decimate : int
         Block-averaging factor (1 = none).
     dropped_tail : int
@@ -183,6 +185,7 @@ class Prepared:
     outliers: OutlierReport | None = None
     trend_order: int | None = None
     trend_coefficients: tuple[float, ...] = ()
+    removed_mean: float | None = None
     decimate: int = 1
     dropped_tail: int = 0
     stationarity: StationarityReport | None = None
@@ -203,6 +206,22 @@ class Prepared:
     @property
     def n(self) -> int:
         return int(self.lazy_x.size)
+
+    def removed_level(self) -> FloatArray | float:
+        """What the preparation subtracted from each sample: the removed polynomial at
+        :attr:`time`, the removed mean, or 0.0.  Added to the prepared series (or to a
+        prediction of it) it gives values on the input's scale.
+
+        Examples
+        --------
+        >>> p = prepare(np.array([1.0, 2.0, 6.0, 3.0] * 25), fs_hz=1.0, stationarity=False)
+        >>> p.removed_level(), float(p.x[2] + p.removed_level())
+        (3.0, 6.0)
+        """
+        if self.trend_order is not None:
+            return np.asarray(np.polynomial.Polynomial(self.trend_coefficients)(self.time),
+                              dtype=np.float64)
+        return 0.0 if self.removed_mean is None else self.removed_mean
 
     def series(self) -> pd.Series:
         """The prepared data as a Series (with the input's index if it had one)."""
@@ -329,6 +348,7 @@ def prepare(
 
     order: int | None = None
     coefs: tuple[float, ...] = ()
+    mean: float | None = None
     out: FloatArray | Demeaned = x
     if detrend is not None:
         order = check_int("detrend", detrend, minimum=0, maximum=10)
@@ -350,7 +370,7 @@ def prepare(
                     else np.ascontiguousarray(out), fs_hz=fs, units=units, axis=name,
                     time=time,  # type: ignore[arg-type]  # formed by _TimeField on access
                     index=index, steps=tuple(steps), n_input=n_input, outliers=report,
-                    trend_order=order, trend_coefficients=coefs,
+                    trend_order=order, trend_coefficients=coefs, removed_mean=mean,
                     decimate=k, dropped_tail=dropped_tail, stationarity=stat, run=run)
 
 

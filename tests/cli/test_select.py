@@ -58,8 +58,32 @@ def test_select_ok_writes_json_predict_and_plot(ar1_file: Path, tmp_path: Path) 
     pred = pd.read_csv(out_csv)
     assert list(pred.columns) == ["time", "observed", "predicted", "residual"]
     assert len(pred) == 3000 and pred["time"].iloc[1] == pytest.approx(0.1)
-    assert np.allclose(pred["observed"] - pred["predicted"], pred["residual"], atol=1e-15)
+    # on the input's scale: the removed line added back to the data and to the prediction
+    rate = pd.read_csv(ar1_file)["rate_deg_s"].to_numpy()
+    assert np.allclose(pred["observed"], rate, rtol=0.0, atol=1e-15)
+    assert np.allclose(pred["observed"] - pred["predicted"], pred["residual"], rtol=0.0,
+                       atol=1e-15)
     assert out_png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+@pytest.mark.parametrize("args", [[], ["--decimate", "3"]])
+def test_select_predict_is_on_the_input_scale(ar1_file: Path, tmp_path: Path,
+                                              args: list[str]) -> None:
+    """The mean removed before the fit is added back to ``observed`` and ``predicted`` (the
+    rates as read, block means with --decimate), as ``fogts filter -o`` writes them."""
+    out_csv = tmp_path / "pred.csv"
+    res = runner.invoke(app, ["select", str(ar1_file), "--candidates", "AR(1)",
+                              "--predict", str(out_csv), *args])
+    assert res.exit_code in (0, 1), res.output   # 1: the file's slow ramp is left in
+    pred = pd.read_csv(out_csv)
+    rate = pd.read_csv(ar1_file)["rate_deg_s"].to_numpy()
+    k = int(args[1]) if args else 1
+    expected = rate[: rate.size // k * k].reshape(-1, k).mean(axis=1)
+    # |rate| < 0.03: the mean subtracted and added back moves a value by a few ulp of 0.03
+    assert np.allclose(pred["observed"], expected, rtol=0.0, atol=1e-15)
+    assert abs(pred["predicted"].mean() - expected.mean()) < 0.1 * expected.std()
+    assert np.allclose(pred["observed"] - pred["predicted"], pred["residual"], rtol=0.0,
+                       atol=1e-15)
 
 
 def test_select_json_to_stdout_is_pure_and_deterministic(ar1_file: Path) -> None:
