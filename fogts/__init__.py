@@ -44,7 +44,8 @@ _MODULE_NAMES: dict[str, str] = {
     "fogts.allan.bias": "totdev_bias",
     "fogts.allan.noise": "fit_noise",
     "fogts.allan.ml": "fit_noise_ml",
-    "fogts.allan.noise_model": "NoiseModel NoiseTerm",
+    "fogts.allan.noise_model": "NoiseModel",
+    "fogts.allan.noise_term": "NoiseTerm",
     "fogts.allan.readout": "read_curve CurveReadout",
     "fogts.allan.curve_input": "read_curve_file",
     "fogts.allan.compare": "compare_allan AllanComparison",
@@ -119,7 +120,8 @@ if TYPE_CHECKING:  # the names of _MODULE_NAMES, static for type checkers and ID
     from fogts.allan.dynamic_result import DynamicAllanResult
     from fogts.allan.ml import fit_noise_ml
     from fogts.allan.noise import fit_noise
-    from fogts.allan.noise_model import NoiseModel, NoiseTerm
+    from fogts.allan.noise_model import NoiseModel
+    from fogts.allan.noise_term import NoiseTerm
     from fogts.allan.plausibility import PlausibilityReport, check_plausibility
     from fogts.allan.readout import CurveReadout, read_curve
     from fogts.allan.result import AllanResult, AllanResultSet

@@ -81,7 +81,7 @@ from fogts.allan.ml_model import (
 from fogts.allan.ml_result import MlSummary
 from fogts.allan.noise_input import FitCurve, read_fit_curve
 from fogts.allan.noise_model import NoiseModel, NoiseTerm
-from fogts.allan.noise_selection import identify_terms
+from fogts.allan.noise_selection import floorless_flicker, identify_terms
 from fogts.allan.readoff import readoff_of
 from fogts.allan.terms import parse_terms
 from fogts.errors import ConvergenceWarning, DataError, UnidentifiableTermWarning
@@ -476,7 +476,8 @@ def _noise_model(curve: FitCurve, names: tuple[str, ...], st: Structure, theta: 
         quantity=quantity, ml=summary)
     issued = []
     identified, messages = identify_terms(model, curve.tau)
-    for message in messages:
+    identified, floor_message = floorless_flicker(dataclasses.replace(model, terms=identified))
+    for message in [*messages, floor_message] if floor_message else messages:
         issued.append(message)
         warnings.warn(message, UnidentifiableTermWarning, stacklevel=3)
     if not converged:

@@ -75,6 +75,7 @@ from fogts.allan.noise_selection import (
     MIN_COVERED_POINTS,
     TermSelection,
     backward_elimination,
+    floorless_flicker,
     identify_terms,
     term_estimates,
 )
@@ -211,9 +212,10 @@ def fit_noise(
     if method == "gmwm":
         from fogts.allan.gmwm import fit_gmwm  # gmwm builds on this module's pieces
 
-        return _read_off_whole(fit_gmwm(
+        gmwm = _read_off_whole(fit_gmwm(
             allan_result, terms=terms, confidence=confidence,
             significance=significance if significance is not None else 0.05), shown)
+        return _floor_rule(gmwm, list(gmwm.warnings))
     curve = read_fit_curve(allan_result)
     n_params = len(names) + 2 * len(extras)  # M and S: an amplitude and a parameter each
     if curve.tau.size < n_params:
@@ -258,8 +260,8 @@ def fit_noise(
     identified, messages = identify_terms(model, curve.tau)
     for message in messages:
         _warn(issued, UnidentifiableTermWarning, message, curve.axis)
-    return _read_off_whole(dataclasses.replace(model, terms=identified, warnings=tuple(issued)),
-                           shown)
+    return _floor_rule(_read_off_whole(dataclasses.replace(model, terms=identified), shown),
+                       issued)
 
 
 @contextmanager
@@ -288,6 +290,16 @@ def _read_off_whole(model: NoiseModel, shown: Any) -> NoiseModel:
     readoff = readoff_of(read_fit_curve(shown), model.deg_per_hour_factor, model.quantity,
                          fit_tau_s=fit_taus)
     return dataclasses.replace(model, readoff=readoff)
+
+
+def _floor_rule(model: NoiseModel, issued: list[str]) -> NoiseModel:
+    """``model`` with B an upper limit where its read-off found no floor
+    (:func:`~fogts.allan.noise_selection.floorless_flicker`), warned of, and ``issued`` as
+    its warnings."""
+    terms, message = floorless_flicker(model)
+    if message:
+        _warn(issued, UnidentifiableTermWarning, message, model.axis, stacklevel=4)
+    return dataclasses.replace(model, terms=terms, warnings=tuple(issued))
 
 
 def _check_significance(significance: float | None) -> float | None:
@@ -351,11 +363,13 @@ def _noise_model(curve: FitCurve, names: tuple[str, ...], problem: LsqProblem,
         quantity=quantity)
 
 
-def _warn(issued: list[str], category: type[Warning], message: str, axis: str = "") -> None:
-    """Emit a warning (prefixed with the axis name, if any) at fit_noise's caller; record it."""
+def _warn(issued: list[str], category: type[Warning], message: str, axis: str = "",
+          stacklevel: int = 3) -> None:
+    """Emit a warning (prefixed with the axis name, if any) at fit_noise's caller (from a
+    function fit_noise calls: ``stacklevel=4``); record it."""
     message = f"axis {axis!r}: {message}" if axis else message
     issued.append(message)
-    warnings.warn(message, category, stacklevel=3)
+    warnings.warn(message, category, stacklevel=stacklevel)
 
 
 def _within(res: Any, tau_range: tuple[float | None, float | None], n_terms: int) -> Any:

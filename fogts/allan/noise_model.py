@@ -1,4 +1,5 @@
-"""The result of a noise fit: :class:`NoiseTerm` (one IEEE-952 term) and :class:`NoiseModel`.
+"""The result of a noise fit: :class:`NoiseModel`, the fitted terms (:class:`NoiseTerm`,
+:mod:`fogts.allan.noise_term`) with the fit's curve, statistics and read-offs.
 
 Produced by :func:`fogts.allan.noise.fit_noise`; the term table (names, powers, units) is
 :mod:`fogts.allan.terms`.
@@ -19,6 +20,7 @@ from fogts.allan.gmwm_result import GmwmSummary
 from fogts.allan.markov import ExtraTerm
 from fogts.allan.ml_result import MlSummary
 from fogts.allan.noise_lsq import chi2_sentence, model_error_p_value
+from fogts.allan.noise_term import Z_MEASURED, NoiseTerm
 from fogts.allan.readoff import FitBound, SlopeReadoff
 from fogts.allan.readout import MIN_EDF_FOR_MINIMUM
 from fogts.allan.terms import TERM_POWER, term_rows
@@ -28,126 +30,6 @@ from fogts.tables import Column, Table, TableView
 from fogts.units import term_in_units, term_unit
 
 __all__ = ["NoiseModel", "NoiseTerm"]
-
-
-#: A fitted term whose Wald z (value over its standard error, on sigma^2) is below this is
-#: reported as an upper limit, not as a measured value: which terms are *measured* then
-#: depends on the information in the data, not on how many taus the grid puts in a region.
-Z_MEASURED = 2.0
-
-
-@dataclass(frozen=True)
-class NoiseTerm:
-    """One fitted IEEE-952 term.
-
-    Attributes
-    ----------
-    name : str
-        ``"Q"``, ``"N"``, ``"B"``, ``"K"`` or ``"R"``.
-    value, stderr, ci_low, ci_high : float
-        The coefficient in ``unit`` (deg/h based, :data:`fogts.allan.terms.TERM_UNIT`), its
-        standard error and its confidence interval at the model's ``confidence``.
-        ``stderr`` is NaN at the zero bound (see ``at_bound``).  For Q and N the
-        interval also covers the fit with band-limited bias instability
-        (:mod:`fogts.allan.noise_band`), so it can reach further than ``z * stderr`` on
-        one side.
-    unit : str
-    c_coeff, c_stderr : float
-        ``C_n`` (rate in deg/h, tau in s; :mod:`fogts.allan.terms`) and its standard error.
-    c_unit : str
-    power : int
-        ``n`` in ``C_n^2 tau^n``; the slope of the term's Allan-deviation line is ``n/2``.
-    at_bound : bool
-        True when the fit put the term at zero (the interval is then an upper limit).
-    identifiable : bool
-        False when fewer than
-        :data:`~fogts.allan.noise_selection.MIN_COVERED_POINTS` data taus lie in the
-        term's region (one suffices if its interval excludes 0).
-    n_covered : int
-        Number of data taus in the term's region (where it makes up at least
-        :data:`~fogts.allan.noise_selection.COVERAGE_SHARE` of the fitted sigma^2).
-    region_tau_s : tuple of float
-        Tau range (s) of the term's region (share of sigma^2 >= COVERAGE_SHARE),
-        searched over 1000x beyond the data on each side; ``(nan, nan)`` if nowhere.
-    status : str
-        ``"fitted"`` (non-zero in the final fit), ``"at_bound"`` (the non-negative fit put
-        it at zero) or ``"dropped"`` (it was positive but neither significant at the
-        model's ``significance`` nor visible at two taus, or visible at no tau, so backward
-        elimination removed it and refitted); the last two have value 0 and ``at_bound``
-        True.
-    z_score : float
-        Wald statistic ``a / se(a)`` of ``a = C_n^2``: in the final fit for a fitted term,
-        when it was dropped for a dropped one, 0 at the bound.
-    low_edf_taus : tuple of float
-        The data taus where the term dominates the fitted sigma^2 (its line the largest, as
-        in the curve read-out's ranges) when all of them have EDF below
-        :data:`~fogts.allan.readout.MIN_EDF_FOR_MINIMUM`: the term is then only an upper
-        limit (:func:`~fogts.allan.noise_selection.identify_terms`); empty otherwise.
-    """
-
-    name: str
-    value: float
-    stderr: float
-    ci_low: float
-    ci_high: float
-    unit: str
-    c_coeff: float
-    c_stderr: float
-    c_unit: str
-    power: int
-    at_bound: bool
-    identifiable: bool
-    n_covered: int
-    region_tau_s: tuple[float, float]
-    status: str = "fitted"
-    z_score: float = math.nan
-    low_edf_taus: tuple[float, ...] = ()
-
-    @property
-    def is_limit(self) -> bool:
-        """Whether the value is only an upper limit: fitted to zero, dropped, fitted with
-        z below :data:`Z_MEASURED`, or dominant only at points with too few EDF
-        (``low_edf_taus``)."""
-        return self.at_bound or not self.z_score >= Z_MEASURED or bool(self.low_edf_taus)
-
-    @property
-    def limit_reason(self) -> str:
-        """Why the value is only an upper limit ("" when it is measured)."""
-        why = ([f"dropped, z(C²) = {self.z_score:.2f}"] if self.status == "dropped"
-               else ["fit at zero"] if self.at_bound
-               else [] if self.z_score >= Z_MEASURED
-               else [f"z(C²) = {self.z_score:.2f} < {Z_MEASURED:g}"])
-        if self.low_edf_taus:
-            t = self.low_edf_taus
-            where = f"{t[0]:.4g} s" if len(t) == 1 else f"{t[0]:.4g} .. {t[-1]:.4g} s"
-            why.append(f"{self.name} dominates only at tau {where}, where the points have "
-                       f"EDF < {MIN_EDF_FOR_MINIMUM:g}")
-        return "; ".join(why)
-
-    @property
-    def note(self) -> str:
-        """Why the value is only an upper limit, or not identifiable; "" otherwise."""
-        note = ("upper limit (fit at zero)" if self.status == "at_bound" else
-                f"upper limit (dropped, z(C²) = {self.z_score:.2f})" if self.status == "dropped"
-                else "")
-        if not self.identifiable:
-            note = (note + "; " if note else "") + "not identifiable"
-        return note
-
-    @property
-    def slope(self) -> float:
-        """Log-log slope of this term's Allan-deviation line (-1, -1/2, 0, 1/2, 1)."""
-        return self.power / 2.0
-
-    def to_dict(self) -> dict[str, Any]:
-        return {"value": self.value, "stderr": self.stderr, "ci_low": self.ci_low,
-                "ci_high": self.ci_high, "unit": self.unit, "c_coeff": self.c_coeff,
-                "c_stderr": self.c_stderr, "c_unit": self.c_unit,
-                "identifiable": self.identifiable, "at_bound": self.at_bound,
-                "slope": self.slope, "n_covered": self.n_covered,
-                "region_tau": list(self.region_tau_s), "status": self.status,
-                "z": self.z_score, "measured": not self.is_limit,
-                "limit_reason": self.limit_reason or None}
 
 
 @dataclass(frozen=True, repr=False)
@@ -447,6 +329,8 @@ class NoiseModel(TableView):
         weak = [t.name for t in self.terms if not t.at_bound and t.ci_low > 0
                 and not t.z_score >= Z_MEASURED]
         low = [t.name for t in self.terms if t.low_edf_taus and t.z_score >= Z_MEASURED]
+        floorless = [t.name for t in self.terms if t.no_floor and t.z_score >= Z_MEASURED
+                     and not t.low_edf_taus]
         verb = "excludes" if len(weak) == 1 else "exclude"
         weaker = (f", a stricter test than a {pct} interval" if self.confidence < 0.95
                   else "")
@@ -454,7 +338,10 @@ class NoiseModel(TableView):
                  f"rule asks for z(C²) ≥ {Z_MEASURED:g}{weaker}." if weak else "")
                 + (f" {', '.join(low)}: only a limit whatever its z, because it dominates the "
                    f"fitted sigma^2 only at points with EDF < {MIN_EDF_FOR_MINIMUM:g}, whose "
-                   "deviations are too uncertain to measure it." if low else ""))
+                   "deviations are too uncertain to measure it." if low else "")
+                + (" B: only a limit whatever its z, because the curve has no floor where "
+                   "its trusted points end (B is read on the flat bottom)." if floorless
+                   else ""))
 
     # -------------------------------------------------------------- notebook view
     def _view_table(self) -> Table:

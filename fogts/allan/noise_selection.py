@@ -57,6 +57,25 @@ Terms seen only at low-EDF points (:func:`identify_terms`)
     The z rule still decides for every other term.  The audit's case: a 655 s MPU6050
     record "measured" R = 265 +- 35 deg/h^2 (z = 3.8) from its 82 s and 165 s points, EDF
     7.5 and 3.0, while the read-out beside it found a floor from 41 s with no rise.
+
+B on a curve without a floor (:func:`floorless_flicker`)
+    B is the flat bottom of the curve (IEEE Std 952-1997, Annex C: the flicker floor, read
+    at the minimum).  When the curve read-out finds no floor, the curve still falling at its
+    last trusted tau (:func:`fogts.allan.readout.read_curve`), and B dominates the fitted
+    :math:`\\sigma^2` at fewer than two trusted points (EDF at least
+    :data:`~fogts.allan.readout.MIN_EDF_FOR_MINIMUM`), the fitted B rests on the bend of
+    one point where the data end: the data have not reached the bottom, and only
+    ``sigma >= 0.664 B`` at every tau is known, an upper limit.  B is then marked so
+    whatever its z (:attr:`~fogts.allan.noise_model.NoiseTerm.no_floor`), as the read-off
+    beside it declines to read B there.  Either sign alone leaves B measured: a B that
+    dominates at several trusted points is measured by the curve's bend even where the
+    read-out's minimum is where the trusted points end (ADIS16405 run 3, X and Y axes:
+    B = 36 and 41 deg/h, as the other runs' 27-45, dominant at five trusted points, the
+    curve ending lower at EDF below 10), and a B seen at one trusted point on a curve that
+    levels out is the floor itself.  The audit's case: the first 5 s of ADIS16405 run 1
+    "measured" B = 424 +- 88 deg/h (z = 2.4; dominant at 0.32 s, EDF 21, and at 0.64 and
+    1.28 s, EDF 9.6 and 3.9, the curve falling through them), where the whole 2.8 h record
+    gives 33.7 +- 2.8 deg/h.
 """
 
 from __future__ import annotations
@@ -75,7 +94,7 @@ from fogts.allan.readout import MIN_EDF_FOR_MINIMUM
 from fogts.allan.terms import TERM_POWER, term_rows
 
 __all__ = ["COVERAGE_SHARE", "MIN_COVERED_POINTS", "TermSelection", "backward_elimination",
-           "identify_terms", "term_estimates"]
+           "floorless_flicker", "identify_terms", "term_estimates"]
 
 #: A term's region: where it makes up at least this share of the fitted sigma^2.
 COVERAGE_SHARE = 0.25
@@ -213,6 +232,42 @@ def identify_terms(model: NoiseModel, tau: FloatArray) -> tuple[tuple[NoiseTerm,
         out.append(dataclasses.replace(term, identifiable=ok, n_covered=n_cov,
                                        region_tau_s=region, low_edf_taus=low_edf[j]))
     return tuple(out), messages
+
+
+def floorless_flicker(model: NoiseModel) -> tuple[tuple[NoiseTerm, ...], str]:
+    """The model's terms with B marked an upper limit when its slope read-off found no floor
+    and it dominates at fewer than two trusted points
+    (:attr:`~fogts.allan.noise_model.NoiseTerm.no_floor`, module docstring), and the
+    message to warn with when that makes a measured B a limit ("" otherwise)."""
+    notes = [note for name, note in model.readoff.notes
+             if name == "B" and "no floor" in note]
+    if not notes or "B" not in model.names or model["B"].at_bound:
+        return model.terms, ""
+    trusted = _trusted_dominance(model, model.tau_s)[model.names.index("B")]
+    if trusted >= 2:
+        return model.terms, ""
+    reason = notes[0].split(";")[0]
+    term = model["B"]
+    message = "" if term.is_limit else (
+        f"noise term B (bias instability) is fitted with z(C²) = {term.z_score:.2f}, but it "
+        f"dominates the fitted sigma^2 at {trusted} point{'' if trusted == 1 else 's'} with "
+        f"EDF >= {MIN_EDF_FOR_MINIMUM:g} and {reason.removeprefix('no floor: ')}: the data "
+        "do not reach the flat bottom that B is read on (IEEE 952 Annex C); treat its value "
+        "as an upper limit")
+    marked = dataclasses.replace(term, no_floor=reason)
+    return tuple(marked if t.name == "B" else t for t in model.terms), message
+
+
+def _trusted_dominance(model: NoiseModel, tau: FloatArray) -> list[int]:
+    """Per term: the number of taus where it dominates the fitted sigma^2 (its line the
+    largest) and the point has EDF >= MIN_EDF_FOR_MINIMUM."""
+    share = np.vstack(list(model.lines(tau).values())) ** 2
+    edf = np.asarray(model.edf, dtype=np.float64)
+    trusted = (np.isfinite(edf) & (edf >= MIN_EDF_FOR_MINIMUM) if edf.shape == tau.shape
+               else np.zeros(tau.shape, dtype=bool))
+    winner = np.argmax(share, axis=0)
+    return [int(np.count_nonzero((winner == j) & (share[j] > 0) & trusted))
+            for j in range(share.shape[0])]
 
 
 def _low_edf_dominance(model: NoiseModel, tau: FloatArray, share: FloatArray
