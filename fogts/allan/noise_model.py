@@ -287,8 +287,10 @@ class NoiseModel(TableView):
         if not term.is_limit:
             return term.note
         limit = self.in_units(term.name, units)["upper_limit_95"]
-        note = f"< {limit:.3g} (95 % upper limit; {term.limit_reason})"
-        return note + ("; not identifiable" if not term.identifiable else "")
+        reason = term.limit_reason
+        note = f"< {limit:.3g} (95 % upper limit; {reason})"
+        return note + ("; not identifiable" if not term.identifiable
+                       and "not identifiable" not in reason else "")
 
     def term_table(self, units: OutputUnits = "deg") -> Table:
         """The terms with their standard errors, intervals, units (``"deg"`` or ``"si"``),

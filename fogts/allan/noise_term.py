@@ -99,10 +99,12 @@ class NoiseTerm:
     @property
     def is_limit(self) -> bool:
         """Whether the value is only an upper limit: fitted to zero, dropped, fitted with
-        z below :data:`Z_MEASURED`, dominant only at points with too few EDF
-        (``low_edf_taus``), or B on a curve without a floor (``no_floor``)."""
-        return (self.at_bound or not self.z_score >= Z_MEASURED or bool(self.low_edf_taus)
-                or bool(self.no_floor))
+        z below :data:`Z_MEASURED`, not identifiable (its unidentifiable-term warning says
+        "treat its value as an upper limit", and the table's caption "too few taus ... to
+        be measured"), dominant only at points with too few EDF (``low_edf_taus``), or B on
+        a curve without a floor (``no_floor``)."""
+        return (self.at_bound or not self.z_score >= Z_MEASURED or not self.identifiable
+                or bool(self.low_edf_taus) or bool(self.no_floor))
 
     @property
     def limit_reason(self) -> str:
@@ -111,6 +113,8 @@ class NoiseTerm:
                else ["fit at zero"] if self.at_bound
                else [] if self.z_score >= Z_MEASURED
                else [f"z(C²) = {self.z_score:.2f} < {Z_MEASURED:g}"])
+        if not self.identifiable and not why:
+            why.append(f"z(C²) = {self.z_score:.2f}, but not identifiable")
         if self.low_edf_taus:
             t = self.low_edf_taus
             where = f"{t[0]:.4g} s" if len(t) == 1 else f"{t[0]:.4g} .. {t[-1]:.4g} s"

@@ -112,3 +112,24 @@ def test_a_simulated_rrw_that_is_present_and_well_measured_stays_measured() -> N
     assert len(dominant) == 1 and dominant[0].measured
     taus = (res.tau_s >= dominant[0].tau_from_s) & (res.tau_s <= dominant[0].tau_to_s)
     assert np.any(res.edf[taus] >= MIN_EDF_FOR_MINIMUM) and np.any(res.edf[taus] < 10)
+
+
+# --------------------------------------------------------------- terms not identifiable
+
+def test_a_fitted_term_that_is_not_identifiable_is_a_limit() -> None:
+    """audit3: GMWM on the first 60 s of ADIS run 1 (X) fits R = 3.61 +- 0.71 deg/h^2
+    (z = 2.5) where R reaches 25 % of sigma^2 at no data tau; the warning said 'not
+    identifiable ... treat its value as an upper limit' while the table printed the value
+    and the JSON said measured: true."""
+    run = fogts.read_run(shared_path("imu", "adis_16405_imu1_gyro.npz"), units="deg/s")
+    x = run.rate[:6000, 0]
+    res = fogts.allan_deviation(np.asarray(x), fs_hz=100.0)
+    with pytest.warns(UnidentifiableTermWarning, match="R .* not identifiable.*upper limit"):
+        model = fogts.fit_noise(res, method="gmwm")
+    r = model["R"]
+    assert r.status == "fitted" and r.z_score >= Z_MEASURED and not r.identifiable
+    assert r.is_limit and "not identifiable" in r.limit_reason
+    assert model.noise_dict()["R"]["measured"] is False
+    assert model.upper_limit("R") > r.value
+    row = next(line for line in model.term_table().to_text().splitlines() if "rate ramp" in line)
+    assert "< " in row
