@@ -111,8 +111,12 @@ class AllanComparison:
         w = max(22, len(a) + 2, len(b) + 2)  # a long label must not run into the next
         lines = [f"{'term':<5}{'unit':<12}{a:>{w}}{b:>{w}}{'change':>10}  verdict"]
         for c in self.changes:
-            lines.append(f"{c.term:<5}{c.unit:<12}{_pm(c.before, c.before_stderr):>{w}}"
-                         f"{_pm(c.after, c.after_stderr):>{w}}{c.change_pct:>+9.1f}%  "
+            before = _cell(self.noise_before, c.term, c.before, c.before_stderr)
+            after = _cell(self.noise_after, c.term, c.after, c.after_stderr)
+            measured = (_measured(self.noise_before, c.term)
+                        or _measured(self.noise_after, c.term))
+            change = f"{c.change_pct:>+9.1f}%" if measured else f"{'–':>10}"
+            lines.append(f"{c.term:<5}{c.unit:<12}{before:>{w}}{after:>{w}}{change}  "
                          f"{self._verdict(c)}")
         if self.fit_min_tau_s > 0:
             lines.append(f"both fits use tau >= {self.fit_min_tau_s:.3g} s only")
@@ -137,6 +141,15 @@ def _measured(model: NoiseModel, term: str) -> bool:
         return not model[term].is_limit
     except KeyError:
         return False
+
+
+def _cell(model: NoiseModel, term: str, value: float, stderr: float) -> str:
+    """A term's value as the allan summary writes it: ``value ± stderr`` when ``model``
+    measures it, ``< x`` (its one-sided 95 % upper limit) when it is only a limit, so a
+    bound is not printed as a measurement beside the verdict "not measured"."""
+    if term in model.names and model[term].is_limit:
+        return f"< {model.upper_limit(term):.3g}"
+    return _pm(value, stderr)
 
 
 def _pm(value: float, stderr: float) -> str:

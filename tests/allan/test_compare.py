@@ -11,11 +11,12 @@ import pandas as pd
 import pytest
 from typer.testing import CliRunner
 
+import fogts
 from fogts.allan.compare import compare_allan
 from fogts.cli import app
 from fogts.errors import DataError
 from fogts.preprocess.filters import lowpass
-from tests.conftest import error_output
+from tests.conftest import error_output, shared_path
 
 FS = 100.0
 runner = CliRunner()
@@ -142,3 +143,23 @@ def test_summary_columns_and_verdicts_follow_the_numbers(comparison) -> None:  #
     # white noise plus a random walk: N is measured on both sides, Q (absent) on neither
     assert rows["N"].endswith("unchanged (within 2 sigma)")
     assert rows["Q"].endswith("not measured (an upper limit before and after)")
+
+
+def test_a_limit_is_printed_as_a_bound_not_as_a_value() -> None:
+    """audit3: `fogts filter` on the first 10 min of ADIS run 1 (X, deg/s) with --method iir
+    --cutoff 1 --compare-allan printed `B deg/h 35.03 ± 10  35.42 ± 10  +1.1%  not
+    measured (an upper limit before and after)`: a value and a change for a term its own
+    verdict calls a bound.  The cells now give the 95 % upper limits, the change '–'."""
+    run = fogts.read_run(shared_path("imu", "adis_16405_imu1_gyro.npz"), units="deg/s")
+    x = np.asarray(run.rate[:60_000, 0])
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        cmp = compare_allan(x, lowpass(x, fs_hz=FS, cutoff_hz=1.0).filtered, fs_hz=FS,
+                            units="deg/s", cutoff_hz=1.0)
+    b = cmp.noise_before["B"]
+    assert b.value > 0 and b.is_limit and cmp.noise_after["B"].is_limit
+    rows = {line.split()[0]: line for line in cmp.summary().splitlines()[1:6]}
+    limit = f"< {cmp.noise_before.upper_limit('B'):.3g}"
+    assert limit in rows["B"] and "±" not in rows["B"] and "%" not in rows["B"]
+    assert rows["B"].endswith("not measured (an upper limit before and after)")
+    assert "±" in rows["N"] and "%" in rows["N"]  # N is measured: value and change stay
