@@ -171,6 +171,7 @@ def fit_thermal(
         params, bse, error_params = _fit_ols_hac(y, X, hac_maxlags)
     else:
         params, bse, error_params = _fit_ols(y, X)
+    _warn_missing_stderr(kept, bse, temp)
     resid = y - X @ params
     r2, r2_adj = _r_squared(y, resid, kept)
     tail = max(1, n // 20)
@@ -271,6 +272,17 @@ def _identifiable_terms(temp: FloatArray, dtemp: FloatArray, terms: Sequence[str
     return kept, dropped
 
 
+def _warn_missing_stderr(kept: Sequence[str], bse: FloatArray, temp: FloatArray) -> None:
+    """Warn, naming them, about the kept terms that got no standard error (NaN: their
+    columns nearly collinear over the record), attributed to the caller of fit_thermal."""
+    missing = [t for t, se in zip(kept, bse, strict=True) if not np.isfinite(se)]
+    if missing:
+        warnings.warn(f"thermal model: no standard error for {', '.join(missing)}: their "
+                      "columns are nearly collinear over the recorded temperature (span "
+                      f"{float(np.ptp(temp)):.3g} °C), so the data do not determine their "
+                      "values", UnidentifiableTermWarning, stacklevel=3)
+
+
 # --------------------------------------------------------------------------- error models
 
 
@@ -350,7 +362,10 @@ def _gls_sandwich_stderr(resid: FloatArray, X: FloatArray, rho: FloatArray,
     z = lfilter([1.0], np.concatenate([[1.0], -phi]), g[::-1], axis=0)[::-1]
     bread = np.linalg.inv(xw.T @ xw)
     cov = sigma2 * bread @ (z.T @ z) @ bread
-    return np.sqrt(np.diag(cov))
+    var = np.diag(cov)
+    # a nearly collinear design can round a variance below 0: no standard error (NaN),
+    # which fit_thermal reports by name instead of numpy's "invalid value in sqrt"
+    return np.sqrt(np.where(var >= 0, var, np.nan))
 
 
 def _r_squared(y: FloatArray, resid: FloatArray, kept: Sequence[str]) -> tuple[float, float]:

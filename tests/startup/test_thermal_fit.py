@@ -127,3 +127,27 @@ def test_noise_free_drift_has_zero_standard_errors() -> None:
     assert set(m.stderr) == {"T", "1"}
     assert all(0.0 <= se <= 1e-12 * max(1.0, abs(m.coefficients[k]))
                for k, se in m.stderr.items())
+
+
+def test_a_missing_standard_error_is_named_not_a_numpy_warning() -> None:
+    """audit3: `fogts compensate fog/fog_0917.txt` printed `warning: fog_0917.txt: fog:
+    invalid value encountered in sqrt` (numpy's, from a sandwich variance rounded below 0)
+    and wrote stderr null for T2, T and 1 in the JSON without saying why."""
+    import warnings
+
+    import fogts
+    from fogts.errors import UnidentifiableTermWarning
+    from fogts.startup.startup_workflow import startup_compensation
+    from tests.conftest import shared_path
+
+    run = fogts.read_run(shared_path("fog", "fog_0917.txt"))
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        result = startup_compensation(run)
+    assert not [w for w in caught if issubclass(w.category, RuntimeWarning)]
+    missing = [t for t, se in result.model.stderr.items() if not np.isfinite(se)]
+    assert missing
+    named = [str(w.message) for w in caught
+             if issubclass(w.category, UnidentifiableTermWarning)
+             and "no standard error for" in str(w.message)]
+    assert len(named) == 1 and all(t in named[0] for t in missing)
