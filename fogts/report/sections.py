@@ -298,6 +298,8 @@ def _arma_blocks(ctx: ReportContext, i: int, notes: list[str]) -> list[Block]:
 
 def _residual_blocks(best: Any) -> list[Block]:
     """The selected model's residual statistics against their bands, and the verdict."""
+    from fogts.arma.whiteness import LB_ALPHA
+
     d = best.diagnostics
     if d is None:
         return []
@@ -310,7 +312,7 @@ def _residual_blocks(best: Any) -> list[Block]:
         pt = fmt_pval(lb.pvalue)
         rows.append([f"Ljung–Box Q at lag {lb.lag} ({lb.df} df)",
                      f"{fmt_num(lb.q)} (p {pt if pt.startswith('<') else '= ' + pt})",
-                     "p > 0.05",
+                     f"p ≥ {LB_ALPHA:g}",
                      yes_no(lb.passed)])
     rows.append(["residual mean", d.mean, "", ""])
     return [html_table(f"Residual diagnostics of {best.model} (n = {d.n})",
