@@ -360,12 +360,26 @@ def _gls_sandwich_stderr(resid: FloatArray, X: FloatArray, rho: FloatArray,
         phi = np.zeros(noise_order)
     sigma2 = float(acov[0] - phi @ acov[1:])
     z = lfilter([1.0], np.concatenate([[1.0], -phi]), g[::-1], axis=0)[::-1]
-    bread = np.linalg.inv(xw.T @ xw)
-    cov = sigma2 * bread @ (z.T @ z) @ bread
-    var = np.diag(cov)
-    # a nearly collinear design can round a variance below 0: no standard error (NaN),
-    # which fit_thermal reports by name instead of numpy's "invalid value in sqrt"
-    return np.sqrt(np.where(var >= 0, var, np.nan))
+    return np.sqrt(sigma2 * _sandwich_diagonal(xw, z))
+
+
+def _sandwich_diagonal(xw: FloatArray, z: FloatArray) -> FloatArray:
+    """``diag(B Z'Z B)`` with ``B = (Xw'Xw)^-1``, as column sums of squares of ``M = Z B``.
+
+    The columns are scaled to unit norm and ``B`` taken from the QR factor of the scaled
+    ``Xw`` by two triangular solves (Golub & Van Loan, *Matrix Computations*, 4th ed.,
+    sec. 5.3: least squares by QR), never by inverting ``Xw'Xw``: the terms in T², T and 1
+    over a record whose temperature spans 0.5 °C near 36 °C make ``Xw'Xw`` so ill-conditioned
+    that its explicit inverse gave negative variances (NaN standard errors) on one CPU's
+    kernel and finite ones on another.  A sum of squares is never negative."""
+    from scipy.linalg import solve_triangular
+
+    scale = np.linalg.norm(xw, axis=0)
+    scale[scale == 0.0] = 1.0
+    r = np.linalg.qr(xw / scale, mode="r")
+    w_t = solve_triangular(r, (z / scale).T, trans="T")   # (Z S^-1 R^-1)'
+    m_t = solve_triangular(r, w_t)                         # (Z S^-1 R^-1 R^-T)'
+    return np.asarray(np.sum(m_t**2, axis=1) / scale**2, dtype=np.float64)
 
 
 def _r_squared(y: FloatArray, resid: FloatArray, kept: Sequence[str]) -> tuple[float, float]:
