@@ -181,3 +181,17 @@ def test_the_sandwich_diagonal_stays_positive_at_the_end_of_double_precision() -
     bread = np.linalg.inv(xw.T @ xw)
     assert np.all(got > 0)
     assert got == pytest.approx(np.diag(bread @ (z.T @ z) @ bread), rel=1e-3)
+
+
+def test_a_term_left_without_a_standard_error_is_named() -> None:
+    """The guard for an error model that returns NaN (the GLS sandwich no longer can)."""
+    from fogts.startup.thermal_fit import _warn_missing_stderr
+
+    with pytest.warns(UnidentifiableTermWarning, match=r"thermal model: no standard error for "
+                      r"T2, 1: their columns are nearly collinear over the recorded "
+                      r"temperature \(span 0\.5 °C\)"):
+        _warn_missing_stderr(["T2", "T", "1"], np.array([np.nan, 2.0, np.nan]),
+                             np.array([36.0, 36.5]))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        _warn_missing_stderr(["T"], np.array([2.0]), np.array([36.0, 36.5]))
