@@ -48,6 +48,28 @@ Bias instability as a Gauss-Markov sum
     taus, the sum only over the band of its correlation times; the two agree where the sum
     dominates the curve.  The components themselves are in ``NoiseModel.gmwm``.
 
+Which components count toward B
+    Those with :math:`T_c \\ge 4\\,\\Delta t` (:data:`~fogts.allan.gmwm_result.GM_MIN_TC_SAMPLES`
+    sample periods).  The Allan variance of a GM process of variance :math:`\\sigma^2` is
+    :math:`(2\\sigma^2T_c/\\tau)\\,[1 - \\tfrac{T_c}{2\\tau}(3 - 4e^{-\\tau/T_c} + e^{-2\\tau/T_c})]`
+    (IEEE 952-1997 Annex C; :mod:`fogts.allan.markov`): flicker-like (deviation log slope
+    within +-1/4 of B's 0) only for :math:`0.77\\,T_c \\le \\tau \\le 4.1\\,T_c` (peak at
+    :math:`1.89\\,T_c`), and beyond that white noise, :math:`2\\sigma^2T_c/\\tau` (within
+    15 % from :math:`10\\,T_c`), which N already draws.  With :math:`T_c` below the sample
+    period the component is white at every tau an Allan curve sampled at 1/fs has; with
+    :math:`T_c < 4\\,\\Delta t` its flicker-like part ends before about :math:`16\\,\\Delta t`,
+    within the first four octave taus, where the sensor's anti-alias and decimation filters
+    shape the curve (a one-pole filter of corner :math:`f_c` makes white noise a GM of
+    :math:`T_c = 1/(2\\pi f_c)`, below :math:`4\\,\\Delta t` for any corner above
+    :math:`f_s/(8\\pi)`).  Such a component draws that short-tau roll-off, not bias
+    instability (the ADIS16405 runs at 100 Hz: a GM at the lower bound :math:`T_c = \\Delta t`
+    in 12 of 18 axes, which made B 3x the slope read-off).  It stays in the fit, in
+    ``NoiseModel.gmwm`` (``in_b`` False) and the fitted curve, but not in B.  If no
+    component is left, this fit does not measure B: it is reported at zero (status
+    ``"at_bound"``) with the upper limit of a dropped term (below), and
+    :attr:`~fogts.allan.noise_term.NoiseTerm.short_gm` (in ``limit_reason`` and the
+    warning) says why.
+
 Honesty rules (as for the least-squares fits)
     A term the model choice leaves out is reported at zero with status ``"dropped"`` and an
     upper limit (its one-parameter GLS estimate at the chosen fit plus ``z`` standard
@@ -60,6 +82,7 @@ Honesty rules (as for the least-squares fits)
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import warnings
 from collections.abc import Sequence
@@ -84,7 +107,7 @@ from fogts.allan.gmwm_core import (
     theta_covariance,
     whitener,
 )
-from fogts.allan.gmwm_result import GaussMarkovTerm, GmwmSummary
+from fogts.allan.gmwm_result import GM_MIN_TC_SAMPLES, GaussMarkovTerm, GmwmSummary
 from fogts.allan.markov import split_terms
 from fogts.allan.noise_input import FitCurve, read_fit_curve
 from fogts.allan.noise_lsq import MAX_COVARIANCE_POINTS, LsqProblem, octave_density
@@ -102,7 +125,8 @@ from fogts.errors import (
 )
 from fogts.units import base_unit_factor, quantity_of
 
-__all__ = ["GMWM_KINDS", "MAX_GM", "fit_gmwm", "fitted_term", "log_b_equivalent"]
+__all__ = ["GMWM_KINDS", "MAX_GM", "counted_in_b", "fit_gmwm", "fitted_term",
+           "log_b_equivalent"]
 
 #: Allan kinds whose estimates have a model covariance (fogts.allan.covariance).
 GMWM_KINDS: tuple[str, ...] = ("oadev", "adev")
@@ -274,24 +298,48 @@ def _bootstrap_cov(sol: GmwmSolution, data: WvData, v_fit: np.ndarray, n_boot: i
     return np.atleast_2d(np.cov(np.array(draws), rowvar=False))
 
 
-def log_b_equivalent(theta: np.ndarray, model: Composite, data: WvData) -> float:
+def log_b_equivalent(theta: np.ndarray, model: Composite, data: WvData,
+                     counted: Sequence[bool] | None = None) -> float:
     """log of the flicker-equivalent ``a_0 = (2 ln 2/pi) B^2`` (scaled units) of the
     Gauss-Markov sum: the share-weighted mean log of its Allan variance (module
-    docstring)."""
+    docstring); ``counted``: which components enter the sum (default all; at least one)."""
     parts = model_parts(theta, model, data)
     k = len(model.powers)
-    gm = np.sum(parts[k:], axis=0)
+    use = [True] * model.n_gm if counted is None else list(counted)
+    gm = np.sum([p for p, u in zip(parts[k:], use, strict=True) if u], axis=0)
     share = gm / np.sum(parts, axis=0)
     return float(np.sum(share * np.log(2.0 * gm)) / np.sum(share))
 
 
-def _b_gradient(theta: np.ndarray, model: Composite, data: WvData) -> np.ndarray:
+def counted_in_b(theta: np.ndarray, model: Composite, dt: float) -> tuple[bool, ...]:
+    """Per Gauss-Markov component: whether its correlation time is at least
+    :data:`~fogts.allan.gmwm_result.GM_MIN_TC_SAMPLES` sample periods ``dt``, so that it
+    counts toward B (module docstring)."""
+    k = len(model.powers)
+    return tuple(math.exp(float(theta[k + 2 * j + 1])) >= GM_MIN_TC_SAMPLES * dt * (1 - 1e-9)
+                 for j in range(model.n_gm))
+
+
+def _short_gm_reason(theta: np.ndarray, model: Composite, dt: float) -> str:
+    """Why B is only a limit when no component counts toward it."""
+    k = len(model.powers)
+    t_c = [math.exp(float(theta[k + 2 * j + 1])) for j in range(model.n_gm)]
+    which = ", ".join(f"{t:.3g} s = {t / dt:.3g}x the sample period" for t in t_c)
+    return (f"not measured by this fit: its Gauss-Markov term{'s' if len(t_c) > 1 else ''}"
+            f" (T_c = {which}) {'are' if len(t_c) > 1 else 'is'} below "
+            f"{GM_MIN_TC_SAMPLES} sample periods ({GM_MIN_TC_SAMPLES * dt:.3g} s), white noise "
+            "at the data taus, not bias instability; upper limit from a flicker term added "
+            "to the fit")
+
+
+def _b_gradient(theta: np.ndarray, model: Composite, data: WvData,
+                counted: Sequence[bool]) -> np.ndarray:
     grad = np.zeros(theta.size)
     for i in range(theta.size):
         step = np.zeros(theta.size)
         step[i] = _GRAD_STEP
-        grad[i] = (log_b_equivalent(theta + step, model, data)
-                   - log_b_equivalent(theta - step, model, data)) / (2 * _GRAD_STEP)
+        grad[i] = (log_b_equivalent(theta + step, model, data, counted)
+                   - log_b_equivalent(theta - step, model, data, counted)) / (2 * _GRAD_STEP)
     return grad
 
 
@@ -309,7 +357,11 @@ def _noise_model(curve: FitCurve, names: tuple[str, ...], data: WvData, best: Gm
             terms.append(fitted_term(name, log_a, se_log, data.scale, factor, z, quantity))
             a_out.append(math.exp(log_a) * data.scale)
         else:
-            terms.append(_dropped_term(name, best, data, factor, z, quantity))
+            term = _dropped_term(name, best, data, factor, z, quantity)
+            if name == "B" and best.model.n_gm:  # GM terms, none counted (module docstring)
+                term = dataclasses.replace(term, status="at_bound", short_gm=_short_gm_reason(
+                    best.theta, best.model, data.dt))
+            terms.append(term)
             a_out.append(0.0)
     dof = float(data.tau.size - best.model.n_params)
     p_value = float(chi2.sf(best.j_stat, dof)) if dof > 0 else math.nan
@@ -343,9 +395,9 @@ def _term_logs(names: tuple[str, ...], best: GmwmSolution, cov: np.ndarray, data
         if p in best.model.powers:
             i = best.model.powers.index(p)
             out[name] = (float(best.theta[i]), math.sqrt(max(float(cov[i, i]), 0.0)))
-        elif name == "B" and best.model.n_gm:
-            log_b = log_b_equivalent(best.theta, best.model, data)
-            g = _b_gradient(best.theta, best.model, data)
+        elif name == "B" and any(counted := counted_in_b(best.theta, best.model, data.dt)):
+            log_b = log_b_equivalent(best.theta, best.model, data, counted)
+            g = _b_gradient(best.theta, best.model, data, counted)
             out[name] = (log_b, math.sqrt(max(float(g @ cov @ g), 0.0)))
     return out
 
@@ -385,6 +437,7 @@ def _dropped_term(name: str, best: GmwmSolution, data: WvData, factor: float, z:
 def _gm_terms(best: GmwmSolution, cov: np.ndarray, data: WvData, factor: float
               ) -> tuple[GaussMarkovTerm, ...]:
     k = len(best.model.powers)
+    in_b = counted_in_b(best.theta, best.model, data.dt)
     out = []
     for j in range(best.model.n_gm):
         i = k + 2 * j
@@ -392,14 +445,12 @@ def _gm_terms(best: GmwmSolution, cov: np.ndarray, data: WvData, factor: float
         t_c = math.exp(best.theta[i + 1])
         se_s = math.sqrt(max(float(cov[i, i]), 0.0)) / 2
         se_t = math.sqrt(max(float(cov[i + 1, i + 1]), 0.0))
-        out.append(GaussMarkovTerm(sigma, sigma * se_s, t_c, t_c * se_t))
+        out.append(GaussMarkovTerm(sigma, sigma * se_s, t_c, t_c * se_t, in_b[j]))
     return tuple(out)
 
 
 def _with_warnings(model: NoiseModel, curve: FitCurve, best: GmwmSolution,
                    summary: GmwmSummary) -> NoiseModel:
-    import dataclasses
-
     issued: list[str] = []
     identified, messages = identify_terms(model, curve.tau)
     for message in messages:

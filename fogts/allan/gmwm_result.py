@@ -9,7 +9,12 @@ from typing import Any
 
 from fogts.tables import fields_dict
 
-__all__ = ["GaussMarkovTerm", "GmwmSummary"]
+__all__ = ["GM_MIN_TC_SAMPLES", "GaussMarkovTerm", "GmwmSummary"]
+
+#: A Gauss-Markov component counts toward the flicker-equivalent B only if its correlation
+#: time is at least this many sample periods (:mod:`fogts.allan.gmwm`, "Which components
+#: count"): a shorter one is white noise at the taus beyond the first four octaves.
+GM_MIN_TC_SAMPLES = 4
 
 
 @dataclass(frozen=True)
@@ -23,12 +28,17 @@ class GaussMarkovTerm:
         standard error (delta method on the log parameters).
     t_c, t_c_stderr : float
         Correlation time (s) and its standard error.
+    in_b : bool
+        Whether it counts toward the flicker-equivalent B: False when ``t_c`` is below
+        :data:`GM_MIN_TC_SAMPLES` sample periods (white noise at the data taus; it stays in
+        the fitted curve).
     """
 
     sigma: float
     sigma_stderr: float
     t_c: float
     t_c_stderr: float
+    in_b: bool = True
 
     def to_dict(self) -> dict[str, Any]:
         return fields_dict(self, t_c="t_c_s")
@@ -87,7 +97,9 @@ class GmwmSummary:
         lines = [f"GMWM model: {self.model} (chosen by {self.criterion} among "
                  f"{len(self.candidates)} fits); {self.stderr}", self.verdict]
         lines += [f"GM {i + 1}: sigma = {g.sigma:.4g} ± {g.sigma_stderr:.2g}, T_c = "
-                  f"{g.t_c:.4g} ± {g.t_c_stderr:.2g} s" for i, g in enumerate(self.gauss_markov)]
+                  f"{g.t_c:.4g} ± {g.t_c_stderr:.2g} s" + ("" if g.in_b else (
+                      f" (below {GM_MIN_TC_SAMPLES} sample periods: white noise at these "
+                      "taus, not counted in B)")) for i, g in enumerate(self.gauss_markov)]
         return "\n".join(lines)
 
     def to_dict(self) -> dict[str, Any]:

@@ -313,7 +313,9 @@ def _drop_reason(term: NoiseTerm, significance: float | None) -> str:
 def _unidentifiable_message(model: NoiseModel, term: NoiseTerm, tau: FloatArray, n_cov: int,
                             region: tuple[float, float]) -> str:
     pct = f"{100 * COVERAGE_SHARE:g} %"
-    if term.status == "dropped":
+    if term.short_gm:
+        why = term.short_gm
+    elif term.status == "dropped":
         why = _drop_reason(term, model.significance)
     elif term.at_bound:
         why = "it was fitted to zero"

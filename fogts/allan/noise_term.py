@@ -58,7 +58,7 @@ class NoiseTerm:
         searched over 1000x beyond the data on each side; ``(nan, nan)`` if nowhere.
     status : str
         ``"fitted"`` (non-zero in the final fit), ``"at_bound"`` (the non-negative fit put
-        it at zero) or ``"dropped"`` (it was positive but neither significant at the
+        it at zero, or a GMWM fit has no component for it: ``short_gm``) or ``"dropped"`` (it was positive but neither significant at the
         model's ``significance`` nor visible at two taus, or visible at no tau, so backward
         elimination removed it and refitted); the last two have value 0 and ``at_bound``
         True.
@@ -95,21 +95,24 @@ class NoiseTerm:
     z_score: float = math.nan
     low_edf_taus: tuple[float, ...] = ()
     no_floor: str = ""
+    short_gm: str = ""
 
     @property
     def is_limit(self) -> bool:
         """Whether the value is only an upper limit: fitted to zero, dropped, fitted with
         z below :data:`Z_MEASURED`, not identifiable (its unidentifiable-term warning says
         "treat its value as an upper limit", and the table's caption "too few taus ... to
-        be measured"), dominant only at points with too few EDF (``low_edf_taus``), or B on
-        a curve without a floor (``no_floor``)."""
+        be measured"), dominant only at points with too few EDF (``low_edf_taus``), B on
+        a curve without a floor (``no_floor``), or B of a GMWM fit whose Gauss-Markov
+        components are all white noise at the data taus (``short_gm``)."""
         return (self.at_bound or not self.z_score >= Z_MEASURED or not self.identifiable
-                or bool(self.low_edf_taus) or bool(self.no_floor))
+                or bool(self.low_edf_taus) or bool(self.no_floor) or bool(self.short_gm))
 
     @property
     def limit_reason(self) -> str:
         """Why the value is only an upper limit ("" when it is measured)."""
         why = ([f"dropped, z(C²) = {self.z_score:.2f}"] if self.status == "dropped"
+               else [self.short_gm] if self.short_gm
                else ["fit at zero"] if self.at_bound
                else [] if self.z_score >= Z_MEASURED
                else [f"z(C²) = {self.z_score:.2f} < {Z_MEASURED:g}"])

@@ -29,6 +29,8 @@ __all__ = ["SUMMARY_TERMS", "axis_row", "summary_rows", "summary_table",
 
 #: The terms of the summary: those a datasheet specification may limit.
 SUMMARY_TERMS: tuple[str, ...] = SPEC_TERMS
+#: The fit cell of a GMWM fit whose J test rejects the model (:func:`axis_row`).
+J_REJECTS = "J rejects"
 
 
 def term_fields(model: NoiseModel | None, units: OutputUnits = "deg",
@@ -62,12 +64,17 @@ def term_fields(model: NoiseModel | None, units: OutputUnits = "deg",
 def axis_row(file: str, axis: AxisAllan, units: OutputUnits = "deg",
              spec: NoiseSpec | None = None) -> dict[str, Any]:
     """The summary row of one axis: ``file``, ``axis``, :func:`term_fields` and ``fit``
-    (``"ok"``, ``"misses"`` when the model misses the curve, None when not checked)."""
+    (``"ok"``, ``"misses"`` when the model misses the curve, None when not checked; for a
+    GMWM fit whose J test rejects the model, its own verdict on the fit, ``"J rejects"``,
+    or ``"misses, J rejects"``)."""
     check = axis.fit_check
     quantity = quantity_of(axis.result.units)
+    fit = None if check is None else ("ok" if check.ok else "misses")
+    gmwm = axis.model.gmwm if axis.model is not None else None
+    if gmwm is not None and not gmwm.consistent:
+        fit = J_REJECTS if fit in (None, "ok") else f"{fit}, {J_REJECTS}"
     return {"file": file, "axis": axis.result.axis,
-            **term_fields(axis.model, units, spec, quantity),
-            "fit": None if check is None else ("ok" if check.ok else "misses")}
+            **term_fields(axis.model, units, spec, quantity), "fit": fit}
 
 
 def summary_rows(analyses: Sequence[AllanAnalysis], units: OutputUnits = "deg",
@@ -89,17 +96,20 @@ def summary_table(rows: Sequence[dict[str, Any]], spec: NoiseSpec | None = None)
     columns.append(Column("fit", numeric=False))
     columns += [Column(f"{t} spec", numeric=False) for t in spec_terms]
     table_rows, failed = [], []
+    fit_col = 2 + len(SUMMARY_TERMS)
     for i, r in enumerate(rows):
         cells = [r["file"], r["axis"]]
         cells += [_term_cell(r, t, with_unit=len(units_of[t]) != 1) for t in SUMMARY_TERMS]
         cells.append(r["fit"] or "not checked")
         cells += [r[f"{t}_spec"] for t in spec_terms]
-        failed += [(i, j) for j, v in enumerate(cells) if v in ("FAIL", "misses")]
+        failed += [(i, j) for j, v in enumerate(cells) if v == "FAIL" or (
+            j == fit_col and r["fit"] not in (None, "ok"))]
         table_rows.append(cells)
     accel = any(r["N_unit"] in (term_unit("N", u, "accel") for u in ("deg", "si"))
                 for r in rows)
+    j_test = any(J_REJECTS in (r["fit"] or "") for r in rows)
     return Table.build("Summary: noise terms per file and axis", columns, table_rows,
-                       caption=_caption(spec, accel), failed=failed)
+                       caption=_caption(spec, accel, j_test), failed=failed)
 
 
 def _term_cell(row: dict[str, Any], name: str, *, with_unit: bool) -> str:
@@ -118,14 +128,17 @@ def _short(v: float, digits: int) -> str:
     return f"{v:.{digits - 1}e}" if v != 0 and abs(v) < 0.01 else f"{v:.{digits}g}"
 
 
-def _caption(spec: NoiseSpec | None, accel: bool = False) -> str:
+def _caption(spec: NoiseSpec | None, accel: bool = False, j_test: bool = False) -> str:
     names = ("N angle random walk, B bias instability, K rate random walk" + (
         " (accelerometer axes: N velocity random walk, B bias instability, K acceleration "
         "random walk)" if accel else ""))
     text = (f"{names}: value ± standard "
             "error; '< x': the data do not measure the term and x is its one-sided 95 % "
             "upper limit. fit: 'ok' when the fitted model lies within the points' intervals, "
-            "'misses' when it does not (see each axis' fit check).")
+            "'misses' when it does not (see each axis' fit check)." + (
+                f" '{J_REJECTS}': a GMWM fit whose J test rejects the model at its level (the "
+                "fit's own verdict, whether or not the model lies within the intervals; see "
+                "each axis' GMWM J test)." if j_test else ""))
     if spec is None:
         return text
     limits = ", ".join(f"{n} ≤ {spec.limit(n):g} {term_unit(n, spec.units)}"

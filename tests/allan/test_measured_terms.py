@@ -5,6 +5,7 @@ whatever its z, while a term that is present and dominates at trusted points sta
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -12,6 +13,7 @@ import pytest
 
 import fogts
 from fogts.allan.noise_model import Z_MEASURED
+from fogts.allan.noise_term import NoiseTerm
 from fogts.allan.readout import MIN_EDF_FOR_MINIMUM
 from fogts.errors import UnidentifiableTermWarning
 from tests.allan.noise_cases import avar, make_result, quiet_fit
@@ -120,15 +122,25 @@ def test_a_fitted_term_that_is_not_identifiable_is_a_limit() -> None:
     """audit3: GMWM on the first 60 s of ADIS run 1 (X) fits R = 3.61 +- 0.71 deg/h^2
     (z = 2.5) where R reaches 25 % of sigma^2 at no data tau; the warning said 'not
     identifiable ... treat its value as an upper limit' while the table printed the value
-    and the JSON said measured: true."""
+    and the JSON said measured: true.  Since B no longer counts the Gauss-Markov term at
+    T_c = 0.01 s (one sample period, white noise: fogts.allan.gmwm), B no longer hides R's
+    share: R dominates at 20.48 s, a point with EDF 2.5, and is a limit by that rule; the
+    not-identifiable rule is pinned on a constructed term."""
+    weak = dataclasses.replace(NoiseTerm(
+        name="R", value=3.6, stderr=0.7, ci_low=2.9, ci_high=4.4, unit="deg/h^2",
+        c_coeff=1e-3, c_stderr=2e-4, c_unit="deg/h^2", power=2, at_bound=False,
+        identifiable=True, n_covered=0, region_tau_s=(math.nan, math.nan), z_score=2.5),
+        identifiable=False)
+    assert weak.is_limit and "not identifiable" in weak.limit_reason
     run = fogts.read_run(shared_path("imu", "adis_16405_imu1_gyro.npz"), units="deg/s")
     x = run.rate[:6000, 0]
     res = fogts.allan_deviation(np.asarray(x), fs_hz=100.0)
-    with pytest.warns(UnidentifiableTermWarning, match="R .* not identifiable.*upper limit"):
+    with pytest.warns(UnidentifiableTermWarning,
+                      match="R .*(not identifiable|EDF <).*upper limit"):
         model = fogts.fit_noise(res, method="gmwm")
     r = model["R"]
-    assert r.status == "fitted" and r.z_score >= Z_MEASURED and not r.identifiable
-    assert r.is_limit and "not identifiable" in r.limit_reason
+    assert r.status == "fitted" and r.z_score >= Z_MEASURED
+    assert r.is_limit and ("not identifiable" in r.limit_reason or "EDF <" in r.limit_reason)
     assert model.noise_dict()["R"]["measured"] is False
     assert model.upper_limit("R") > r.value
     row = next(line for line in model.term_table().to_text().splitlines() if "rate ramp" in line)
