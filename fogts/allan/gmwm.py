@@ -64,7 +64,8 @@ Which components count toward B
     :math:`f_s/(8\\pi)`).  Such a component draws that short-tau roll-off, not bias
     instability (the ADIS16405 runs at 100 Hz: a GM at the lower bound :math:`T_c = \\Delta t`
     in 12 of 18 axes, which made B 3x the slope read-off).  It stays in the fit, in
-    ``NoiseModel.gmwm`` (``in_b`` False) and the fitted curve, but not in B.  If no
+    ``NoiseModel.gmwm`` (``in_b`` False), the fitted curve and the total the terms' shares
+    are taken of (identifiability, dominance), but not in B.  If no
     component is left, this fit does not measure B: it is reported at zero (status
     ``"at_bound"``) with the upper limit of a dropped term (below), and
     :attr:`~fogts.allan.noise_term.NoiseTerm.short_gm` (in ``limit_reason`` and the
@@ -85,7 +86,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import warnings
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from typing import Any
 
 import numpy as np
@@ -108,7 +109,7 @@ from fogts.allan.gmwm_core import (
     whitener,
 )
 from fogts.allan.gmwm_result import GM_MIN_TC_SAMPLES, GaussMarkovTerm, GmwmSummary
-from fogts.allan.markov import split_terms
+from fogts.allan.markov import markov_avar, split_terms
 from fogts.allan.noise_input import FitCurve, read_fit_curve
 from fogts.allan.noise_lsq import MAX_COVARIANCE_POINTS, LsqProblem, octave_density
 from fogts.allan.noise_model import NoiseModel, NoiseTerm
@@ -332,6 +333,20 @@ def _short_gm_reason(theta: np.ndarray, model: Composite, dt: float) -> str:
             "to the fit")
 
 
+def _uncounted_avar(best: GmwmSolution, data: WvData
+                    ) -> Callable[[np.ndarray], np.ndarray] | None:
+    """The Allan variance (curve units) of the Gauss-Markov components left out of B: still
+    part of the fitted curve, so of the total the terms' shares are taken of."""
+    k = len(best.model.powers)
+    short = [(math.exp(float(best.theta[k + 2 * j])) * data.scale,
+              math.exp(float(best.theta[k + 2 * j + 1])))
+             for j, c in enumerate(counted_in_b(best.theta, best.model, data.dt)) if not c]
+    if not short:
+        return None
+    return lambda t: sum((markov_avar(math.sqrt(2 * v / t_c), t_c, t) for v, t_c in short),
+                         np.zeros(np.shape(t)))
+
+
 def _b_gradient(theta: np.ndarray, model: Composite, data: WvData,
                 counted: Sequence[bool]) -> np.ndarray:
     grad = np.zeros(theta.size)
@@ -383,7 +398,7 @@ def _noise_model(curve: FitCurve, names: tuple[str, ...], data: WvData, best: Gm
         readoff=readoff_of(curve, factor, quantity),
         excluded_tau_s=tuple(curve.excluded), significance=significance,
         _a=tuple(a_out), quantity=quantity, gmwm=summary)
-    return _with_warnings(model, curve, best, summary)
+    return _with_warnings(model, curve, best, summary, data)
 
 
 def _term_logs(names: tuple[str, ...], best: GmwmSolution, cov: np.ndarray, data: WvData
@@ -450,9 +465,9 @@ def _gm_terms(best: GmwmSolution, cov: np.ndarray, data: WvData, factor: float
 
 
 def _with_warnings(model: NoiseModel, curve: FitCurve, best: GmwmSolution,
-                   summary: GmwmSummary) -> NoiseModel:
+                   summary: GmwmSummary, data: WvData) -> NoiseModel:
     issued: list[str] = []
-    identified, messages = identify_terms(model, curve.tau)
+    identified, messages = identify_terms(model, curve.tau, _uncounted_avar(best, data))
     for message in messages:
         _warn(issued, UnidentifiableTermWarning, message, curve.axis)
     if not best.converged:

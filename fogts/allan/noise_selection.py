@@ -82,6 +82,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -207,16 +208,22 @@ def term_estimates(names: tuple[str, ...], selection: TermSelection, confidence:
     return tuple(out)
 
 
-def identify_terms(model: NoiseModel, tau: FloatArray) -> tuple[tuple[NoiseTerm, ...],
-                                                                 list[str]]:
+def identify_terms(model: NoiseModel, tau: FloatArray,
+                   extra_avar: Callable[[FloatArray], FloatArray] | None = None
+                   ) -> tuple[tuple[NoiseTerm, ...], list[str]]:
     """The model's terms with their region, identifiability and the low-EDF taus where they
     alone dominate, and a message for each term that is not identifiable or is a limit for
     dominating only at low-EDF points (module docstring).  ``tau``: the fitted taus, those
-    of ``model.edf``."""
-    share = np.vstack(list(model.lines(tau).values())) ** 2 / model.curve(tau) ** 2
+    of ``model.edf``; ``extra_avar``: the Allan variance (curve units) of fitted parts that
+    are no term's line (a GMWM's Gauss-Markov terms left out of B), added to the total the
+    shares are taken of."""
+    def total(t: FloatArray) -> FloatArray:
+        return model.curve(t) ** 2 + (0.0 if extra_avar is None else extra_avar(t))
+
+    share = np.vstack(list(model.lines(tau).values())) ** 2 / total(tau)
     low_edf = _low_edf_dominance(model, tau, share)
     wide = np.logspace(math.log10(tau[0]) - 3, math.log10(tau[-1]) + 3, 601)
-    wide_share = np.vstack(list(model.lines(wide).values())) ** 2 / model.curve(wide) ** 2
+    wide_share = np.vstack(list(model.lines(wide).values())) ** 2 / total(wide)
     out: list[NoiseTerm] = []
     messages: list[str] = []
     for j, term in enumerate(model.terms):

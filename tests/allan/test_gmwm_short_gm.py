@@ -23,6 +23,7 @@ from fogts.allan.gmwm import counted_in_b, fit_gmwm
 from fogts.allan.gmwm_core import Composite
 from fogts.allan.gmwm_result import GM_MIN_TC_SAMPLES
 from fogts.allan.noise import NoiseModel
+from fogts.allan.noise_selection import identify_terms
 from fogts.cli import app
 from fogts.report.summary import J_REJECTS, axis_row, summary_table
 from fogts.simulate.gyro import simulate_gyro
@@ -135,3 +136,27 @@ def test_mpu6050_summary_says_the_j_test_rejects(tmp_path: Path) -> None:
     assert rows["gyro_x_deg_s"]["fit"] == J_REJECTS
     gmwm = next(a for a in d["axes"] if a["axis"] == "gyro_x_deg_s")["noise_fit"]["gmwm"]
     assert gmwm["consistent"] is False
+
+
+def test_shares_are_taken_of_the_curve_with_the_uncounted_gm() -> None:
+    """identify_terms' ``extra_avar`` (the GMs left out of B) enters the total: a part 1e6
+    times the curve leaves every term below 25 % at every tau."""
+    m = _gmwm(allan_deviation(simulate_gyro({"N": 0.01, "K": 1.0}, fs_hz=FS_HZ,
+                                            duration_s=3600, rng=5), taus="octave"))
+    alone, _ = identify_terms(m, m.tau_s)
+    assert alone[m.names.index("N")].n_covered > 0
+    drowned, _ = identify_terms(m, m.tau_s, lambda t: 1e6 * m.curve(t) ** 2)
+    assert all(t.n_covered == 0 for t in drowned)
+
+
+def test_adis_run5_z_shares_count_the_white_gm() -> None:
+    """ADIS16405 run 5, Z: Q + K + 1 GM at T_c = 0.01 s.  Without the GM in the total, Q
+    would make up 25 % of it at 9 taus and K at 11 (the white GM is most of the curve);
+    with it, Q at most at one and K only beyond 100 s."""
+    path = shared_path("imu", "adis_16405_imu5_gyro.npz")
+    res = fogts.allan_deviation(fogts.read_run(path, units="deg/s"), axis="Gyro. Z")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        m = fogts.fit_noise(res, method="gmwm")
+    assert m["Q"].n_covered <= 1
+    assert m["K"].region_tau_s[0] > 50 and m["K"].n_covered <= 6
