@@ -477,7 +477,9 @@ def _noise_model(curve: FitCurve, names: tuple[str, ...], st: Structure, theta: 
     issued = []
     identified, messages = identify_terms(model, curve.tau)
     identified, floor_message = floorless_flicker(dataclasses.replace(model, terms=identified))
-    for message in [*messages, floor_message] if floor_message else messages:
+    if floor_message:
+        messages.append(floor_message)
+    for message in messages:
         issued.append(message)
         warnings.warn(message, UnidentifiableTermWarning, stacklevel=3)
     if not converged:

@@ -268,30 +268,34 @@ def floorless_flicker(model: NoiseModel) -> tuple[tuple[NoiseTerm, ...], str]:
 def _trusted_dominance(model: NoiseModel, tau: FloatArray) -> list[int]:
     """Per term: the number of taus where it dominates the fitted sigma^2 (its line the
     largest) and the point has EDF >= MIN_EDF_FOR_MINIMUM."""
-    share = np.vstack(list(model.lines(tau).values())) ** 2
-    edf = np.asarray(model.edf, dtype=np.float64)
-    trusted = (np.isfinite(edf) & (edf >= MIN_EDF_FOR_MINIMUM) if edf.shape == tau.shape
-               else np.zeros(tau.shape, dtype=bool))
+    dominates, trusted = _dominance(model, np.vstack(list(model.lines(tau).values())) ** 2)
+    if trusted is None:
+        return [0] * len(model.terms)
+    return [int(np.count_nonzero(d & trusted)) for d in dominates]
+
+
+def _dominance(model: NoiseModel, share: FloatArray) -> tuple[np.ndarray, np.ndarray | None]:
+    """Per term and tau whether the term dominates there (its share of sigma^2, or its
+    line, the largest and positive), and per tau whether the point has EDF >=
+    MIN_EDF_FOR_MINIMUM (a NaN EDF counts as too few; None when the model's EDF are not
+    those of these taus)."""
     winner = np.argmax(share, axis=0)
-    return [int(np.count_nonzero((winner == j) & (share[j] > 0) & trusted))
-            for j in range(share.shape[0])]
+    dominates = (winner == np.arange(share.shape[0])[:, None]) & (share > 0)
+    edf = np.asarray(model.edf, dtype=np.float64)
+    if edf.shape != share.shape[1:]:
+        return dominates, None
+    return dominates, np.isfinite(edf) & (edf >= MIN_EDF_FOR_MINIMUM)
 
 
 def _low_edf_dominance(model: NoiseModel, tau: FloatArray, share: FloatArray
                        ) -> list[tuple[float, ...]]:
     """Per term: the taus where it dominates, if all have EDF < MIN_EDF_FOR_MINIMUM (a NaN
     EDF counts as too few), else () (module docstring)."""
-    edf = np.asarray(model.edf, dtype=np.float64)
-    if edf.shape != tau.shape:
+    dominates, trusted = _dominance(model, share)
+    if trusted is None:
         return [()] * len(model.terms)
-    trusted = np.isfinite(edf) & (edf >= MIN_EDF_FOR_MINIMUM)
-    winner = np.argmax(share, axis=0)
-    out: list[tuple[float, ...]] = []
-    for j in range(len(model.terms)):
-        dominates = (winner == j) & (share[j] > 0)
-        out.append(tuple(float(t) for t in tau[dominates])
-                   if dominates.any() and not trusted[dominates].any() else ())
-    return out
+    return [tuple(float(t) for t in tau[d]) if d.any() and not trusted[d].any() else ()
+            for d in dominates]
 
 
 def _low_edf_message(model: NoiseModel, term: NoiseTerm, tau: FloatArray,
